@@ -1,0 +1,35 @@
+# dhdr: two commands for a fresh Debian 12 machine.
+#   make demo   install what is missing, build (Release), run the pipeline on the Cornell box
+#   make test   install what is missing, build, run the test suite (ctest)
+
+BUILD ?= build
+JOBS  ?= $(shell nproc)
+BUILD_TYPE ?= Release
+
+.PHONY: all deps configure build test demo bench format clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) >/dev/null
+
+build: configure
+	@cmake --build $(BUILD) -j $(JOBS)
+
+test: build
+	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+demo: build
+	@bash scripts/demo.sh $(BUILD)/apps out/demo
+
+bench: build
+	@python3 bench/pipeline.py --bin $(BUILD)/apps
+
+format:
+	@clang-format -i $$(git ls-files '*.h' '*.cpp')
+
+clean:
+	@rm -rf $(BUILD) out

@@ -1,0 +1,47 @@
+// Luminance of linear RGB and its image statistics (the metering of the tone-map stage).
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+
+namespace dhdr {
+
+// Weights of R, G, B in the luminance sum.
+struct LuminanceWeights {
+    float r, g, b;
+};
+
+// The seeds' weights (Reinhard et al. 2002 use these for their images).
+inline constexpr LuminanceWeights kSeedLuminanceWeights{0.27f, 0.67f, 0.06f};
+// ITU-R BT.709 / sRGB primaries.
+inline constexpr LuminanceWeights kRec709LuminanceWeights{0.2126f, 0.7152f, 0.0722f};
+
+inline float luminance(float r, float g, float b, LuminanceWeights w) {
+    return w.r * r + w.g * g + w.b * b;
+}
+
+struct LuminanceStatsParams {
+    LuminanceWeights weights = kSeedLuminanceWeights;
+    // δ of the log-average, which keeps black pixels from sending it to zero.
+    double delta = 1e-4;
+};
+
+struct LuminanceStats {
+    // exp(mean ln(δ + Lw)), Reinhard et al. 2002 eq. 1 (natural log and exp, consistently).
+    double logAverage = 0.0;
+    double maxLuminance = 0.0;
+    double minLuminance = 0.0;
+    long long pixels = 0;
+    // Pixels whose luminance was negative; they are metered as 0.
+    long long negativePixels = 0;
+    // Pixels with a NaN or infinite channel; they are left out of every statistic.
+    long long nonFinitePixels = 0;
+};
+
+// Luminance statistics of the first three channels of `src` over `roi`. The sums are
+// accumulated per row in double and added in row order, so the result does not depend on
+// the thread count. Returns false when `src` is empty or has fewer than three channels.
+bool computeLuminanceStats(LuminanceStats& stats, const OIIO::ImageBuf& src,
+                           const LuminanceStatsParams& params = {}, OIIO::ROI roi = {},
+                           int nthreads = 0);
+
+} // namespace dhdr
