@@ -1,0 +1,70 @@
+// The glTF 2.0 metallic-roughness BRDF (glTF spec, Appendix B): Lambert diffuse plus a
+// Cook-Torrance microfacet specular lobe with GGX distribution, height-correlated Smith
+// visibility and Schlick Fresnel.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+
+namespace dhdr {
+
+inline constexpr float kPi = 3.14159265358979323846f;
+// Below this α the GGX lobe is narrower than float precision can integrate; glTF's
+// roughness 0 is shaded as this.
+inline constexpr float kMinAlpha = 1e-3f;
+
+// GGX / Trowbridge-Reitz normal distribution, Walter et al. 2007 eq. 33.
+inline float ggxDistribution(float NdotH, float alpha) {
+    const float a2 = alpha * alpha;
+    const float d = NdotH * NdotH * (a2 - 1.0f) + 1.0f;
+    return a2 / (kPi * d * d);
+}
+
+// Height-correlated Smith visibility V = G2 / (4 N·L N·V), Heitz 2014 eq. 99.
+inline float smithGgxCorrelatedVisibility(float NdotL, float NdotV, float alpha) {
+    const float a2 = alpha * alpha;
+    const float gv = NdotL * std::sqrt(NdotV * NdotV * (1.0f - a2) + a2);
+    const float gl = NdotV * std::sqrt(NdotL * NdotL * (1.0f - a2) + a2);
+    return 0.5f / (gv + gl);
+}
+
+// Schlick 1994 Fresnel approximation.
+inline glm::vec3 schlickFresnel(const glm::vec3& F0, float VdotH) {
+    const float m = std::clamp(1.0f - VdotH, 0.0f, 1.0f);
+    const float m2 = m * m;
+    return F0 + (glm::vec3(1.0f) - F0) * (m2 * m2 * m);
+}
+
+// The surface a BRDF is evaluated for, in glTF's parameters.
+struct PbrSurface {
+    glm::vec3 baseColor{1.0f};
+    float roughness = 1.0f;
+    float metallic = 0.0f;
+
+    float alpha() const { return std::max(roughness * roughness, kMinAlpha); }
+    // Normal-incidence reflectance: 4 % for dielectrics, the base colour for metals.
+    glm::vec3 F0() const { return glm::mix(glm::vec3(0.04f), baseColor, metallic); }
+    glm::vec3 diffuseColor() const { return baseColor * (1.0f - metallic); }
+};
+
+// f(l, v) in 1/sr for unit vectors N, V (towards the viewer) and L (towards the light);
+// zero when either is below the surface.
+inline glm::vec3 evaluateBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
+                              const glm::vec3& L) {
+    const float NdotL = glm::dot(N, L);
+    const float NdotV = glm::dot(N, V);
+    if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
+    const glm::vec3 H = glm::normalize(L + V);
+    const float NdotH = std::max(glm::dot(N, H), 0.0f);
+    const float VdotH = std::max(glm::dot(V, H), 0.0f);
+    const float alpha = s.alpha();
+    const glm::vec3 F = schlickFresnel(s.F0(), VdotH);
+    const glm::vec3 specular =
+        F * (ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(NdotL, NdotV, alpha));
+    // glTF's fresnel_mix: the diffuse layer gets what the specular layer does not reflect.
+    const glm::vec3 diffuse = (glm::vec3(1.0f) - F) * s.diffuseColor() * (1.0f / kPi);
+    return diffuse + specular;
+}
+
+} // namespace dhdr

@@ -1,0 +1,33 @@
+// A pinhole camera in the glTF / OpenGL convention: it looks down its local −Z, +Y is up.
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace dhdr {
+
+struct Ray {
+    glm::dvec3 origin;
+    glm::dvec3 direction; // unit length
+};
+
+struct Camera {
+    glm::dmat4 cameraToWorld{1.0};
+    // Full vertical field of view, radians.
+    double yfov = 0.6911112; // 39.6°, Blender's default 50 mm lens
+    double znear = 0.01;
+    double zfar = 1000.0;
+
+    static Camera lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up,
+                         double yfov);
+
+    glm::dvec3 position() const { return glm::dvec3(cameraToWorld[3]); }
+    glm::dmat4 worldToCamera() const;
+    // OpenGL projection (NDC in [−1, 1]³) for an image of the given aspect (width / height).
+    glm::dmat4 cameraToNDC(double aspect) const;
+    glm::dmat4 worldToNDC(double aspect) const { return cameraToNDC(aspect) * worldToCamera(); }
+
+    // The primary ray through the centre of pixel (x, y) of a width × height image, y down.
+    Ray primaryRay(int x, int y, int width, int height) const;
+};
+
+} // namespace dhdr

@@ -1,0 +1,56 @@
+// The G-buffer contract (docs/gbuffer.md): channel names and types, the camera in the header,
+// and how a stage finds the channels it needs in a file someone else wrote.
+#pragma once
+
+#include <OpenImageIO/oiioversion.h>
+#include <glm/glm.hpp>
+
+#include <string>
+#include <vector>
+
+OIIO_NAMESPACE_BEGIN
+class ImageSpec;
+OIIO_NAMESPACE_END
+
+namespace dhdr::gbuffer {
+
+// Channel names, in the order dhdr-gbuffer writes them.
+inline constexpr const char* kCoverage = "A";
+inline constexpr const char* kDepth = "Z";
+inline constexpr const char* kPosition[3] = {"P.X", "P.Y", "P.Z"};
+inline constexpr const char* kNormal[3] = {"N.X", "N.Y", "N.Z"};
+inline constexpr const char* kAlbedo[3] = {"albedo.R", "albedo.G", "albedo.B"};
+inline constexpr const char* kRoughness = "roughness";
+inline constexpr const char* kMetallic = "metallic";
+inline constexpr const char* kEmission[3] = {"emission.R", "emission.G", "emission.B"};
+inline constexpr const char* kObjectId = "id.object";
+inline constexpr const char* kMaterialId = "id.material";
+
+// Index of each channel within a G-buffer's channel list (of its first component for the
+// 3-vectors, whose components must follow in X Y Z / R G B order).
+struct Layout {
+    int coverage = -1, depth = -1, position = -1, normal = -1, albedo = -1;
+    int roughness = -1, metallic = -1, emission = -1, objectId = -1, materialId = -1;
+};
+
+// All channels of the contract in writing order.
+std::vector<std::string> channelNames();
+
+// Finds the channels that dhdr-light shades with (A, Z, P, N, albedo, roughness, metallic;
+// emission and ids are optional). On a missing channel returns false and names it in
+// `missing`.
+bool findLayout(const OIIO::ImageSpec& spec, Layout& layout, std::string& missing);
+
+// What the header says of the camera that rendered the buffer.
+struct CameraInfo {
+    glm::dmat4 worldToCamera{1.0};
+    glm::dmat4 worldToNDC{1.0};
+    glm::dvec3 position{0.0};
+};
+
+// Reads worldToCamera and worldToNDC (OpenEXR's standard attributes) from `spec`; the
+// position follows from worldToCamera. False when either attribute is missing.
+bool readCamera(const OIIO::ImageSpec& spec, CameraInfo& camera);
+void writeCamera(OIIO::ImageSpec& spec, const CameraInfo& camera);
+
+} // namespace dhdr::gbuffer

@@ -1,0 +1,75 @@
+// Light arriving at a surface point from one light, in KHR_lights_punctual units.
+#pragma once
+
+#include <dhdr/deferred/brdf.h>
+#include <dhdr/deferred/lights.h>
+
+#include <cmath>
+
+namespace dhdr {
+
+// The smooth range window of KHR_lights_punctual's recommended falloff,
+// (clamp(1 − (d / range)⁴, 0, 1))²: exactly zero at and beyond `range`, so a light can be
+// culled there without changing the image.
+inline float rangeWindow(float distance, float range) {
+    if (!std::isfinite(range)) return 1.0f;
+    const float r = distance / range;
+    const float r2 = r * r;
+    const float w = std::clamp(1.0f - r2 * r2, 0.0f, 1.0f);
+    return w * w;
+}
+
+// Angular falloff of a spot light: 1 inside the inner cone, 0 outside the outer one, a
+// smoothstep between them in cos θ.
+inline float spotFalloff(float cosTheta, float cosInner, float cosOuter) {
+    const float t = std::clamp((cosTheta - cosOuter) / std::max(cosInner - cosOuter, 1e-6f),
+                               0.0f, 1.0f);
+    return t * t * (3.0f - 2.0f * t);
+}
+
+// A light as seen from a point: unit direction towards it and the illuminance it would give a
+// surface facing it (lux, per colour channel).
+struct IncidentLight {
+    glm::vec3 L{0.0f};
+    glm::vec3 illuminance{0.0f};
+};
+
+// For point, spot and directional lights (ambient light is not directional).
+inline IncidentLight incidentLight(const Light& light, const glm::vec3& P) {
+    IncidentLight in;
+    if (light.type == LightType::Directional) {
+        in.L = -light.direction;
+        in.illuminance = light.color * light.intensity;
+        return in;
+    }
+    const glm::vec3 toLight = light.position - P;
+    const float d2 = glm::dot(toLight, toLight);
+    const float d = std::sqrt(d2);
+    if (d <= 0.0f) return in;
+    in.L = toLight / d;
+    // E = I / d² (inverse-square law) × the range window.
+    float e = light.intensity * rangeWindow(d, light.range) / d2;
+    if (light.type == LightType::Spot)
+        e *= spotFalloff(glm::dot(-in.L, light.direction), std::cos(light.innerConeAngle),
+                         std::cos(light.outerConeAngle));
+    in.illuminance = light.color * e;
+    return in;
+}
+
+// Radiance reflected towards V from `light` at a surface point.
+inline glm::vec3 shadeLight(const Light& light, const PbrSurface& s, const glm::vec3& P,
+                            const glm::vec3& N, const glm::vec3& V) {
+    if (light.type == LightType::Ambient) {
+        // Uniform incident radiance La: Lo = La · ∫ f cos dω, with the directional albedo
+        // approximated by its value at normal incidence, c_diff (1 − F0) + F0.
+        const glm::vec3 F0 = s.F0();
+        return light.color * light.intensity * (s.diffuseColor() * (glm::vec3(1.0f) - F0) + F0);
+    }
+    const IncidentLight in = incidentLight(light, P);
+    const float NdotL = glm::dot(N, in.L);
+    if (NdotL <= 0.0f || in.illuminance == glm::vec3(0.0f)) return glm::vec3(0.0f);
+    // Lo = f · E · cos θ, the rendering equation for a punctual light.
+    return evaluateBrdf(s, N, V, in.L) * in.illuminance * NdotL;
+}
+
+} // namespace dhdr

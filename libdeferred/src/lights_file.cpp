@@ -1,0 +1,193 @@
+#include <dhdr/deferred/lights.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace dhdr {
+
+using nlohmann::json;
+
+namespace {
+
+// Thrown inside the parser only; becomes the `error` string.
+struct LightError {
+    std::string message;
+};
+
+class LightReader {
+public:
+    LightReader(const json& j, size_t index) : m_j(j), m_index(index) {}
+
+    [[noreturn]] void fail(const std::string& field, const std::string& what) const {
+        throw LightError{"light " + std::to_string(m_index) + ": \"" + field + "\" " + what};
+    }
+
+    bool has(const char* field) const { return m_j.contains(field); }
+
+    float number(const char* field, float fallback, bool required = false) const {
+        if (!m_j.contains(field)) {
+            if (required) fail(field, "is required");
+            return fallback;
+        }
+        const json& v = m_j.at(field);
+        if (!v.is_number() || !std::isfinite(v.get<double>())) fail(field, "must be a number");
+        return v.get<float>();
+    }
+
+    glm::vec3 vec3(const char* field, glm::vec3 fallback, bool required = false) const {
+        if (!m_j.contains(field)) {
+            if (required) fail(field, "is required");
+            return fallback;
+        }
+        const json& v = m_j.at(field);
+        if (!v.is_array() || v.size() != 3) fail(field, "must be an array of 3 numbers");
+        glm::vec3 out;
+        for (int i = 0; i < 3; ++i) {
+            if (!v[size_t(i)].is_number() || !std::isfinite(v[size_t(i)].get<double>()))
+                fail(field, "must be an array of 3 numbers");
+            out[i] = v[size_t(i)].get<float>();
+        }
+        return out;
+    }
+
+private:
+    const json& m_j;
+    size_t m_index;
+};
+
+Light parseLight(const json& j, size_t index) {
+    LightReader r(j, index);
+    if (!j.is_object()) throw LightError{"light " + std::to_string(index) + ": not an object"};
+    if (!j.contains("type") || !j.at("type").is_string()) r.fail("type", "is required");
+    const std::string type = j.at("type").get<std::string>();
+
+    Light light;
+    if (type == "point")
+        light.type = LightType::Point;
+    else if (type == "spot")
+        light.type = LightType::Spot;
+    else if (type == "directional")
+        light.type = LightType::Directional;
+    else if (type == "ambient")
+        light.type = LightType::Ambient;
+    else
+        r.fail("type", "must be point, spot, directional or ambient, not \"" + type + "\"");
+
+    if (j.contains("name")) {
+        if (!j.at("name").is_string()) r.fail("name", "must be a string");
+        light.name = j.at("name").get<std::string>();
+    }
+    light.color = r.vec3("color", glm::vec3(1.0f));
+    if (light.color.r < 0 || light.color.g < 0 || light.color.b < 0)
+        r.fail("color", "must not be negative");
+    light.intensity = r.number("intensity", 1.0f);
+    if (light.intensity < 0) r.fail("intensity", "must not be negative");
+
+    if (light.isLocal()) {
+        light.position = r.vec3("position", glm::vec3(0.0f), true);
+        if (r.has("range")) {
+            light.range = r.number("range", 0.0f);
+            if (!(light.range > 0)) r.fail("range", "must be a positive number");
+        }
+    }
+    if (light.type == LightType::Spot || light.type == LightType::Directional) {
+        const glm::vec3 d = r.vec3("direction", glm::vec3(0.0f, 0.0f, -1.0f), true);
+        if (glm::length(d) == 0.0f) r.fail("direction", "must not be zero");
+        light.direction = glm::normalize(d);
+    }
+    if (light.type == LightType::Spot) {
+        light.innerConeAngle = r.number("innerConeAngle", 0.0f);
+        light.outerConeAngle = r.number("outerConeAngle", 0.7853982f);
+        if (!(light.outerConeAngle > 0 && light.outerConeAngle <= 1.5707964f))
+            r.fail("outerConeAngle", "must be in (0, π/2]");
+        if (!(light.innerConeAngle >= 0 && light.innerConeAngle < light.outerConeAngle))
+            r.fail("innerConeAngle", "must be in [0, outerConeAngle)");
+    }
+    return light;
+}
+
+const char* typeName(LightType t) {
+    switch (t) {
+    case LightType::Point: return "point";
+    case LightType::Spot: return "spot";
+    case LightType::Directional: return "directional";
+    case LightType::Ambient: return "ambient";
+    }
+    return "point";
+}
+
+} // namespace
+
+bool parseLights(const std::string& text, std::vector<Light>& lights, std::string& error) {
+    lights.clear();
+    json doc;
+    try {
+        doc = json::parse(text);
+    } catch (const json::parse_error& e) {
+        error = std::string("not valid JSON: ") + e.what();
+        return false;
+    }
+    const json* list = &doc;
+    if (doc.is_object()) {
+        if (!doc.contains("lights")) {
+            error = "no \"lights\" array";
+            return false;
+        }
+        list = &doc.at("lights");
+    }
+    if (!list->is_array()) {
+        error = "\"lights\" must be an array";
+        return false;
+    }
+    try {
+        for (size_t i = 0; i < list->size(); ++i) lights.push_back(parseLight((*list)[i], i));
+    } catch (const LightError& e) {
+        lights.clear();
+        error = e.message;
+        return false;
+    }
+    return true;
+}
+
+bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::string& error) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        error = path + ": cannot open the lights file";
+        return false;
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!parseLights(text.str(), lights, error)) {
+        error = path + ": " + error;
+        return false;
+    }
+    return true;
+}
+
+std::string formatLights(const std::vector<Light>& lights) {
+    json list = json::array();
+    for (const Light& l : lights) {
+        json j;
+        j["type"] = typeName(l.type);
+        if (!l.name.empty()) j["name"] = l.name;
+        j["color"] = {l.color.r, l.color.g, l.color.b};
+        j["intensity"] = l.intensity;
+        if (l.isLocal()) {
+            j["position"] = {l.position.x, l.position.y, l.position.z};
+            if (std::isfinite(l.range)) j["range"] = l.range;
+        }
+        if (l.type == LightType::Spot || l.type == LightType::Directional)
+            j["direction"] = {l.direction.x, l.direction.y, l.direction.z};
+        if (l.type == LightType::Spot) {
+            j["innerConeAngle"] = l.innerConeAngle;
+            j["outerConeAngle"] = l.outerConeAngle;
+        }
+        list.push_back(j);
+    }
+    return json{{"lights", list}}.dump(2) + "\n";
+}
+
+} // namespace dhdr

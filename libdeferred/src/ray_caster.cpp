@@ -1,0 +1,85 @@
+#include <dhdr/deferred/ray_caster.h>
+
+#include <dhdr/deferred/scene.h>
+
+#include <embree3/rtcore.h>
+
+#include <limits>
+
+namespace dhdr {
+
+struct RayCaster::Impl {
+    RTCDevice device = nullptr;
+    RTCScene scene = nullptr;
+
+    ~Impl() {
+        if (scene) rtcReleaseScene(scene);
+        if (device) rtcReleaseDevice(device);
+    }
+};
+
+RayCaster::RayCaster(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
+    // Embree's own threads only build the BVH; they do not change which surface a ray hits.
+    m_impl->device = rtcNewDevice(nullptr);
+    if (!m_impl->device) {
+        m_error = "cannot create an Embree device";
+        return;
+    }
+    m_impl->scene = rtcNewScene(m_impl->device);
+    rtcSetSceneBuildQuality(m_impl->scene, RTC_BUILD_QUALITY_HIGH);
+    for (size_t i = 0; i < scene.meshes.size(); ++i) {
+        const Mesh& mesh = scene.meshes[i];
+        RTCGeometry geom = rtcNewGeometry(m_impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* vertices = static_cast<float*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                    3 * sizeof(float), mesh.positions.size()));
+        for (size_t v = 0; v < mesh.positions.size(); ++v)
+            for (int c = 0; c < 3; ++c) vertices[3 * v + size_t(c)] = mesh.positions[v][c];
+        auto* indices = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(unsigned), mesh.triangles.size()));
+        for (size_t t = 0; t < mesh.triangles.size(); ++t)
+            for (int c = 0; c < 3; ++c) indices[3 * t + size_t(c)] = mesh.triangles[t][c];
+        rtcCommitGeometry(geom);
+        rtcAttachGeometryByID(m_impl->scene, geom, unsigned(i));
+        rtcReleaseGeometry(geom);
+    }
+    rtcCommitScene(m_impl->scene);
+    if (rtcGetDeviceError(m_impl->device) != RTC_ERROR_NONE)
+        m_error = "Embree could not build the scene";
+}
+
+RayCaster::~RayCaster() = default;
+
+RayHit RayCaster::intersect(const Ray& ray, double tnear) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRayHit rh;
+    rh.ray.org_x = float(ray.origin.x);
+    rh.ray.org_y = float(ray.origin.y);
+    rh.ray.org_z = float(ray.origin.z);
+    rh.ray.dir_x = float(ray.direction.x);
+    rh.ray.dir_y = float(ray.direction.y);
+    rh.ray.dir_z = float(ray.direction.z);
+    rh.ray.tnear = float(tnear);
+    rh.ray.tfar = std::numeric_limits<float>::infinity();
+    rh.ray.time = 0.0f;
+    rh.ray.mask = ~0u;
+    rh.ray.id = 0;
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(m_impl->scene, &context, &rh);
+
+    RayHit hit;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
+    hit.hit = true;
+    hit.t = rh.ray.tfar;
+    hit.mesh = int(rh.hit.geomID);
+    hit.triangle = int(rh.hit.primID);
+    hit.u = rh.hit.u;
+    hit.v = rh.hit.v;
+    return hit;
+}
+
+} // namespace dhdr

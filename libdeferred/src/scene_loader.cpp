@@ -1,0 +1,249 @@
+#include <dhdr/deferred/scene.h>
+
+#include "gltf_json.h"
+#include "texture_loader.h"
+
+#include <assimp/Importer.hpp>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+
+namespace dhdr {
+
+namespace {
+
+glm::dmat4 toGlm(const aiMatrix4x4& m) {
+    // Assimp is row-major with translation in a4, b4, c4; glm is column-major.
+    glm::dmat4 out;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) out[c][r] = m[r][c];
+    return out;
+}
+
+bool isGltf(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    return ext == ".gltf" || ext == ".glb";
+}
+
+class SceneBuilder {
+public:
+    SceneBuilder(const aiScene& ai, const std::string& path, Scene& scene)
+        : m_ai(ai), m_path(path), m_scene(scene), m_gltf(isGltf(path)) {}
+
+    bool build(std::string& error) {
+        if (!loadMaterials(error)) return false;
+        visit(*m_ai.mRootNode, glm::dmat4(1.0));
+        loadCameras();
+        return true;
+    }
+
+private:
+    bool loadMaterials(std::string& error) {
+        const auto strengths = m_gltf ? detail::gltfEmissiveStrengths(m_path)
+                                      : std::map<std::string, float>{};
+        for (unsigned i = 0; i < m_ai.mNumMaterials; ++i) {
+            const aiMaterial& am = *m_ai.mMaterials[i];
+            Material m;
+            m.name = am.GetName().C_Str();
+            aiColor4D base;
+            if (am.Get(AI_MATKEY_BASE_COLOR, base) == AI_SUCCESS ||
+                am.Get(AI_MATKEY_COLOR_DIFFUSE, base) == AI_SUCCESS) {
+                m.baseColor = glm::vec3(base.r, base.g, base.b);
+                m.alpha = base.a;
+            }
+            float metallic = 0.0f, roughness = 1.0f;
+            if (am.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS) {
+                m.metallic = metallic;
+                if (am.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness) == AI_SUCCESS)
+                    m.roughness = roughness;
+            } else {
+                // Not a PBR material (OBJ/MTL): a dielectric, roughness from the Phong
+                // exponent by the usual α = sqrt(2 / (Ns + 2)) match.
+                m.metallic = 0.0f;
+                float shininess = 0.0f;
+                m.roughness = am.Get(AI_MATKEY_SHININESS, shininess) == AI_SUCCESS
+                                  ? std::sqrt(std::sqrt(2.0f / (shininess + 2.0f)))
+                                  : 1.0f;
+            }
+            aiColor3D emissive(0.0f, 0.0f, 0.0f);
+            am.Get(AI_MATKEY_COLOR_EMISSIVE, emissive);
+            float strength = 1.0f;
+            // Assimp 5.2 drops KHR_materials_emissive_strength; newer ones report it here.
+            if (am.Get(AI_MATKEY_EMISSIVE_INTENSITY, strength) != AI_SUCCESS) {
+                const auto it = strengths.find(m.name);
+                strength = it != strengths.end() ? it->second : 1.0f;
+            }
+            m.emission = glm::vec3(emissive.r, emissive.g, emissive.b) * strength;
+
+            aiString texPath;
+            if (am.GetTexture(aiTextureType_BASE_COLOR, 0, &texPath) == AI_SUCCESS ||
+                am.GetTexture(aiTextureType_DIFFUSE, 0, &texPath) == AI_SUCCESS) {
+                if (!loadTexture(texPath.C_Str(), m.baseColorTexture, error)) return false;
+            }
+            m_scene.materials.push_back(m);
+        }
+        if (m_scene.materials.empty()) m_scene.materials.push_back(Material{});
+        return true;
+    }
+
+    bool loadTexture(const std::string& ref, int& index, std::string& error) {
+        if (auto it = m_textureIndex.find(ref); it != m_textureIndex.end()) {
+            index = it->second;
+            return true;
+        }
+        Texture texture;
+        if (const aiTexture* embedded = m_ai.GetEmbeddedTexture(ref.c_str())) {
+            if (embedded->mHeight != 0) {
+                error = m_path + ": texture " + ref + ": uncompressed embedded textures are not "
+                                                      "supported";
+                return false;
+            }
+            const std::string hint = std::string("embedded.") + embedded->achFormatHint;
+            if (!detail::loadTexture(texture, hint, embedded->pcData, embedded->mWidth, error))
+                return false;
+            texture.name = ref;
+        } else {
+            const auto file = std::filesystem::path(m_path).parent_path() / ref;
+            if (!detail::loadTexture(texture, file.string(), nullptr, 0, error)) return false;
+        }
+        index = int(m_scene.textures.size());
+        m_textureIndex[ref] = index;
+        m_scene.textures.push_back(std::move(texture));
+        return true;
+    }
+
+    void visit(const aiNode& node, const glm::dmat4& parent) {
+        const glm::dmat4 world = parent * toGlm(node.mTransformation);
+        if (node.mNumMeshes > 0) {
+            const int object = int(m_scene.objectNames.size());
+            std::string name = node.mName.C_Str();
+            if (name.empty()) name = m_ai.mMeshes[node.mMeshes[0]]->mName.C_Str();
+            m_scene.objectNames.push_back(name);
+            const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
+            for (unsigned i = 0; i < node.mNumMeshes; ++i)
+                addMesh(*m_ai.mMeshes[node.mMeshes[i]], world, normalMatrix, object);
+        }
+        for (unsigned i = 0; i < node.mNumChildren; ++i) visit(*node.mChildren[i], world);
+    }
+
+    void addMesh(const aiMesh& am, const glm::dmat4& world, const glm::dmat3& normalMatrix,
+                 int object) {
+        if (!(am.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return; // points and lines
+        Mesh mesh;
+        mesh.object = object;
+        mesh.material = std::min<int>(int(am.mMaterialIndex), int(m_scene.materials.size()) - 1);
+        mesh.positions.reserve(am.mNumVertices);
+        for (unsigned v = 0; v < am.mNumVertices; ++v) {
+            const aiVector3D& p = am.mVertices[v];
+            mesh.positions.emplace_back(world * glm::dvec4(p.x, p.y, p.z, 1.0));
+            const aiVector3D& n = am.mNormals[v];
+            glm::dvec3 wn = normalMatrix * glm::dvec3(n.x, n.y, n.z);
+            const double len = glm::length(wn);
+            mesh.normals.emplace_back(len > 0.0 ? wn / len : glm::dvec3(0.0, 0.0, 1.0));
+            if (am.HasTextureCoords(0))
+                mesh.uvs.emplace_back(am.mTextureCoords[0][v].x, am.mTextureCoords[0][v].y);
+        }
+        for (unsigned f = 0; f < am.mNumFaces; ++f) {
+            const aiFace& face = am.mFaces[f];
+            if (face.mNumIndices == 3)
+                mesh.triangles.emplace_back(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
+        }
+        if (!mesh.triangles.empty()) m_scene.meshes.push_back(std::move(mesh));
+    }
+
+    const aiNode* findNode(const aiNode& node, const aiString& name, glm::dmat4 parent,
+                           glm::dmat4& world) const {
+        parent = parent * toGlm(node.mTransformation);
+        if (node.mName == name) {
+            world = parent;
+            return &node;
+        }
+        for (unsigned i = 0; i < node.mNumChildren; ++i)
+            if (const aiNode* n = findNode(*node.mChildren[i], name, parent, world)) return n;
+        return nullptr;
+    }
+
+    void loadCameras() {
+        for (unsigned i = 0; i < m_ai.mNumCameras; ++i) {
+            const aiCamera& ac = *m_ai.mCameras[i];
+            glm::dmat4 world(1.0);
+            findNode(*m_ai.mRootNode, ac.mName, glm::dmat4(1.0), world);
+            SceneCamera sc;
+            sc.name = ac.mName.C_Str();
+            sc.aspect = ac.mAspect;
+            sc.camera.znear = ac.mClipPlaneNear > 0.0f ? ac.mClipPlaneNear : 0.01;
+            sc.camera.zfar = ac.mClipPlaneFar > sc.camera.znear ? ac.mClipPlaneFar : 1000.0;
+            if (m_gltf) {
+                // Assimp 5.2's glTF importer copies the node's translation into mPosition
+                // (applying it would move the camera twice) and reports yfov · aspect as
+                // mHorizontalFOV. A glTF camera sits at its node, looking down −Z.
+                sc.camera.cameraToWorld = world;
+                sc.camera.yfov = ac.mAspect > 0.0f ? ac.mHorizontalFOV / ac.mAspect
+                                                   : ac.mHorizontalFOV;
+            } else {
+                // Assimp's documented convention: a camera in its node's space, and half the
+                // horizontal angle.
+                const glm::dvec3 eye(ac.mPosition.x, ac.mPosition.y, ac.mPosition.z);
+                const glm::dvec3 look(ac.mLookAt.x, ac.mLookAt.y, ac.mLookAt.z);
+                const glm::dvec3 up(ac.mUp.x, ac.mUp.y, ac.mUp.z);
+                sc.camera.cameraToWorld = world * glm::inverse(glm::lookAt(eye, eye + look, up));
+                const double aspect = ac.mAspect > 0.0f ? ac.mAspect : 1.0;
+                sc.camera.yfov = 2.0 * std::atan(std::tan(double(ac.mHorizontalFOV)) / aspect);
+            }
+            m_scene.cameras.push_back(sc);
+        }
+    }
+
+    const aiScene& m_ai;
+    const std::string& m_path;
+    Scene& m_scene;
+    const bool m_gltf;
+    std::map<std::string, int> m_textureIndex;
+};
+
+} // namespace
+
+bool loadScene(const std::string& path, Scene& scene, std::string& error) {
+    scene = Scene{};
+    if (!std::filesystem::exists(path)) {
+        error = path + ": no such file";
+        return false;
+    }
+    Assimp::Importer importer;
+    const unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals |
+                           aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
+    const aiScene* ai = importer.ReadFile(path, flags);
+    if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
+        error = path + ": cannot load the scene: " + importer.GetErrorString();
+        return false;
+    }
+    if (!SceneBuilder(*ai, path, scene).build(error)) return false;
+    if (scene.meshes.empty()) {
+        error = path + ": the scene has no triangles";
+        return false;
+    }
+    return true;
+}
+
+glm::dvec3 Scene::boundsMin() const {
+    glm::dvec3 lo(std::numeric_limits<double>::infinity());
+    for (const Mesh& m : meshes)
+        for (const glm::vec3& p : m.positions) lo = glm::min(lo, glm::dvec3(p));
+    return lo;
+}
+
+glm::dvec3 Scene::boundsMax() const {
+    glm::dvec3 hi(-std::numeric_limits<double>::infinity());
+    for (const Mesh& m : meshes)
+        for (const glm::vec3& p : m.positions) hi = glm::max(hi, glm::dvec3(p));
+    return hi;
+}
+
+} // namespace dhdr

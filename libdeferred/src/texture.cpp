@@ -1,0 +1,24 @@
+#include <dhdr/deferred/scene.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace dhdr {
+
+glm::vec4 Texture::sample(glm::vec2 uv) const {
+    if (width <= 0 || height <= 0) return glm::vec4(1.0f);
+    const float x = (uv.x - std::floor(uv.x)) * float(width) - 0.5f;
+    const float y = (uv.y - std::floor(uv.y)) * float(height) - 0.5f;
+    const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+    const float tx = x - float(x0), ty = y - float(y0);
+    auto texel = [&](int xi, int yi) {
+        xi = ((xi % width) + width) % width;
+        yi = ((yi % height) + height) % height;
+        const float* p = &rgba[(size_t(yi) * size_t(width) + size_t(xi)) * 4];
+        return glm::vec4(p[0], p[1], p[2], p[3]);
+    };
+    return glm::mix(glm::mix(texel(x0, y0), texel(x0 + 1, y0), tx),
+                    glm::mix(texel(x0, y0 + 1), texel(x0 + 1, y0 + 1), tx), ty);
+}
+
+} // namespace dhdr
