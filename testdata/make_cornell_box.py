@@ -136,7 +136,7 @@ def main():
     nodes.append({"name": "camera", "camera": 0, "translation": [0.278, 0.273, -0.8],
                   "rotation": [0.0, 1.0, 0.0, 0.0]})
     # A point light just below the ceiling light, pointing nowhere in particular.
-    nodes.append({"name": "ceiling_light", "translation": [0.278, 0.5388, 0.2795],
+    nodes.append({"name": "ceiling_light", "translation": [0.278, 0.45, 0.2795],
                   "extensions": {"KHR_lights_punctual": {"light": 0}}})
 
     gltf = {
@@ -161,7 +161,7 @@ def main():
         f.write("\n")
 
     lights = {"lights": [
-        {"name": "ceiling_light", "type": "point", "position": [0.278, 0.5388, 0.2795],
+        {"name": "ceiling_light", "type": "point", "position": [0.278, 0.45, 0.2795],
          "color": [1.0, 0.85, 0.6], "intensity": 0.35, "range": 2.0},
         {"name": "key_spot", "type": "spot", "position": [0.10, 0.45, 0.05], "direction": [0.35, -0.6, 0.72],
          "color": [1.0, 0.95, 0.9], "intensity": 0.25, "range": 1.6,

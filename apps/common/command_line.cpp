@@ -1,0 +1,180 @@
+#include "command_line.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+
+namespace dhdr::app {
+
+CommandLine::CommandLine(std::string tool, std::string synopsis, std::string description)
+    : m_tool(std::move(tool)), m_synopsis(std::move(synopsis)),
+      m_description(std::move(description)) {}
+
+void CommandLine::flag(const std::string& name, bool& target, const std::string& help) {
+    m_options.push_back({name, "", help, nullptr, &target});
+}
+
+void CommandLine::option(const std::string& name, const std::string& metavar,
+                         const std::string& help,
+                         std::function<bool(const std::string&, std::string&)> parse) {
+    m_options.push_back({name, metavar, help, std::move(parse), nullptr});
+}
+
+void CommandLine::option(const std::string& name, std::string& target, const std::string& metavar,
+                         const std::string& help) {
+    option(name, metavar, help, [&target](const std::string& v, std::string&) {
+        target = v;
+        return true;
+    });
+}
+
+void CommandLine::option(const std::string& name, double& target, const std::string& metavar,
+                         const std::string& help) {
+    option(name, metavar, help, [&target](const std::string& v, std::string& err) {
+        char* end = nullptr;
+        const double d = std::strtod(v.c_str(), &end);
+        if (v.empty() || *end != '\0') {
+            err = "'" + v + "' is not a number";
+            return false;
+        }
+        target = d;
+        return true;
+    });
+}
+
+void CommandLine::option(const std::string& name, int& target, const std::string& metavar,
+                         const std::string& help) {
+    option(name, metavar, help, [&target](const std::string& v, std::string& err) {
+        char* end = nullptr;
+        const long n = std::strtol(v.c_str(), &end, 10);
+        if (v.empty() || *end != '\0') {
+            err = "'" + v + "' is not a whole number";
+            return false;
+        }
+        target = int(n);
+        return true;
+    });
+}
+
+void CommandLine::printHelp() const {
+    std::printf("Usage: %s %s\n\n%s\n\nOptions:\n", m_tool.c_str(), m_synopsis.c_str(),
+                m_description.c_str());
+    auto row = [](const std::string& left, const std::string& help) {
+        std::printf("  %-26s %s\n", left.c_str(), help.c_str());
+    };
+    row("-o, --output FILE", "output file (written to a temporary name, then renamed)");
+    for (const Option& o : m_options)
+        row(o.name + (o.metavar.empty() ? "" : " " + o.metavar), o.help);
+    row("--threads N", "worker threads (0: one per core; default 0)");
+    row("-v, --verbose", "report what is measured and done");
+    row("-q, --quiet", "print nothing but errors");
+    row("-h, --help", "show this help and exit");
+    row("--version", "show the version and exit");
+    if (!m_epilog.empty()) std::printf("\n%s\n", m_epilog.c_str());
+    std::printf("\nExit status: 0 success, 1 failure, 2 usage error.\n");
+}
+
+int CommandLine::usageError(const std::string& message) const {
+    std::fprintf(stderr, "%s: usage error: %s\nTry '%s --help'.\n", m_tool.c_str(),
+                 message.c_str(), m_tool.c_str());
+    return kExitUsage;
+}
+
+int CommandLine::parse(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        std::string arg = argv[i];
+        std::string value;
+        bool hasValue = false;
+        if (arg.rfind("--", 0) == 0) {
+            if (const size_t eq = arg.find('='); eq != std::string::npos) {
+                value = arg.substr(eq + 1);
+                arg = arg.substr(0, eq);
+                hasValue = true;
+            }
+        }
+        auto takeValue = [&](std::string& out) {
+            if (hasValue) {
+                out = value;
+                return true;
+            }
+            if (i + 1 >= argc) return false;
+            out = argv[++i];
+            return true;
+        };
+        if (arg == "-h" || arg == "--help") {
+            printHelp();
+            return kExitSuccess;
+        }
+        if (arg == "--version") {
+            std::printf("%s (dhdr) %s\n", m_tool.c_str(), DHDR_VERSION);
+            return kExitSuccess;
+        }
+        if (arg == "-v" || arg == "--verbose") {
+            m_verbosity = 2;
+            continue;
+        }
+        if (arg == "-q" || arg == "--quiet") {
+            m_verbosity = 0;
+            continue;
+        }
+        if (arg == "-o" || arg == "--output") {
+            if (!takeValue(m_output)) return usageError(arg + " needs a file name");
+            continue;
+        }
+        if (arg == "--threads") {
+            std::string v;
+            char* end = nullptr;
+            if (!takeValue(v)) return usageError("--threads needs a number");
+            const long n = std::strtol(v.c_str(), &end, 10);
+            if (v.empty() || *end != '\0' || n < 0)
+                return usageError("--threads: '" + v + "' is not a count of threads");
+            m_threads = int(n);
+            continue;
+        }
+        if (arg.size() > 1 && arg[0] == '-') {
+            const Option* found = nullptr;
+            for (const Option& o : m_options)
+                if (o.name == arg) found = &o;
+            if (!found) return usageError("unknown option " + arg);
+            if (found->flag) {
+                if (hasValue) return usageError(arg + " takes no value");
+                *found->flag = true;
+                continue;
+            }
+            std::string v, err;
+            if (!takeValue(v)) return usageError(arg + " needs a value (" + found->metavar + ")");
+            if (!found->parse(v, err)) return usageError(arg + ": " + err);
+            continue;
+        }
+        m_inputs.push_back(arg);
+    }
+    return -1;
+}
+
+bool parseSize(const std::string& text, int& width, int& height) {
+    const size_t x = text.find_first_of("xX");
+    if (x == std::string::npos) return false;
+    char* end = nullptr;
+    const long w = std::strtol(text.c_str(), &end, 10);
+    if (end != text.c_str() + x) return false;
+    const long h = std::strtol(text.c_str() + x + 1, &end, 10);
+    if (*end != '\0' || w <= 0 || h <= 0 || w > 65536 || h > 65536) return false;
+    width = int(w);
+    height = int(h);
+    return true;
+}
+
+bool parseNumbers(const std::string& text, std::vector<double>& values, size_t count) {
+    values.clear();
+    std::stringstream in(text);
+    std::string item;
+    while (std::getline(in, item, ',')) {
+        char* end = nullptr;
+        const double d = std::strtod(item.c_str(), &end);
+        if (item.empty() || *end != '\0') return false;
+        values.push_back(d);
+    }
+    return count == 0 ? !values.empty() : values.size() == count;
+}
+
+} // namespace dhdr::app

@@ -1,0 +1,66 @@
+// Command-line parsing with the conventions every dhdr tool shares (docs/tools.md):
+// `dhdr-<stage> INPUT... -o OUTPUT [options]`, --help, --version, -v, -q, --threads N.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace dhdr::app {
+
+inline constexpr int kExitSuccess = 0;
+inline constexpr int kExitFailure = 1;
+inline constexpr int kExitUsage = 2;
+
+class CommandLine {
+public:
+    CommandLine(std::string tool, std::string synopsis, std::string description);
+
+    // A switch without a value.
+    void flag(const std::string& name, bool& target, const std::string& help);
+    // An option with a value; `parse` converts it and returns false with a message when it
+    // cannot. `metavar` names the value in --help.
+    void option(const std::string& name, const std::string& metavar, const std::string& help,
+                std::function<bool(const std::string&, std::string&)> parse);
+    void option(const std::string& name, std::string& target, const std::string& metavar,
+                const std::string& help);
+    void option(const std::string& name, double& target, const std::string& metavar,
+                const std::string& help);
+    void option(const std::string& name, int& target, const std::string& metavar,
+                const std::string& help);
+    // Text printed after the options in --help (examples, notes).
+    void epilog(const std::string& text) { m_epilog = text; }
+
+    // Parses argv. Returns -1 to go on, or the exit status to leave with (0 after --help or
+    // --version, 2 after a usage error, which is printed).
+    int parse(int argc, char** argv);
+
+    const std::vector<std::string>& inputs() const { return m_inputs; }
+    const std::string& output() const { return m_output; }
+    int threads() const { return m_threads; }
+    // 0 quiet, 1 normal, 2 verbose.
+    int verbosity() const { return m_verbosity; }
+
+private:
+    struct Option {
+        std::string name, metavar, help;
+        std::function<bool(const std::string&, std::string&)> parse; // null for flags
+        bool* flag = nullptr;
+    };
+    void printHelp() const;
+    int usageError(const std::string& message) const;
+
+    std::string m_tool, m_synopsis, m_description, m_epilog;
+    std::vector<Option> m_options;
+    std::vector<std::string> m_inputs;
+    std::string m_output;
+    int m_threads = 0;
+    int m_verbosity = 1;
+};
+
+// "WxH" → width, height.
+bool parseSize(const std::string& text, int& width, int& height);
+// "a,b,c,..." → numbers; false unless exactly `count` (count 0: any).
+bool parseNumbers(const std::string& text, std::vector<double>& values, size_t count = 0);
+
+} // namespace dhdr::app

@@ -1,0 +1,98 @@
+// dhdr-gbuffer: a scene in, a multi-channel EXR G-buffer out (docs/tools.md).
+#include "../common/tool.h"
+
+#include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/deferred/scene.h>
+
+#include <glm/gtc/constants.hpp>
+
+#include <chrono>
+#include <cmath>
+
+using namespace dhdr;
+
+int main(int argc, char** argv) {
+    app::CommandLine cl("dhdr-gbuffer", "SCENE -o GBUFFER.exr [options]",
+                        "Casts one primary ray per pixel (Embree) through a glTF 2.0 or OBJ scene "
+                        "(Assimp) and\nwrites the G-buffer channels of docs/gbuffer.md: A Z P.* N.* "
+                        "albedo.* roughness\nmetallic emission.* id.object id.material.");
+    std::string size = "1920x1080", cameraName, lookat;
+    double fov = 0.0;
+    cl.option("--size", size, "WxH", "image size in pixels (default 1920x1080)");
+    cl.option("--camera", cameraName, "NAME", "the scene camera to use (default: the first)");
+    cl.option("--lookat", lookat, "EX,EY,EZ,TX,TY,TZ[,UX,UY,UZ]",
+              "a camera at E looking at T (up U, default 0,1,0) instead of the scene's");
+    cl.option("--fov", fov, "DEG", "vertical field of view in degrees (default: the scene "
+                                   "camera's, or 39.6 with --lookat)");
+    cl.epilog("Example:\n  dhdr-gbuffer testdata/cornell_box.gltf --size 1280x720 -o frame.gbuf.exr");
+    if (const int status = cl.parse(argc, argv); status >= 0) return status;
+    app::Tool tool("dhdr-gbuffer", cl);
+    if (cl.inputs().size() != 1) {
+        std::fprintf(stderr, "dhdr-gbuffer: usage error: give one scene file\n");
+        return app::kExitUsage;
+    }
+    const std::string& path = cl.inputs()[0];
+    if (const int status = tool.start(cl.inputs()); status >= 0) return status;
+
+    GBufferParams params;
+    if (!app::parseSize(size, params.width, params.height)) {
+        std::fprintf(stderr, "dhdr-gbuffer: usage error: --size '%s' is not WxH\n", size.c_str());
+        return app::kExitUsage;
+    }
+    if (fov < 0.0 || fov >= 180.0) {
+        std::fprintf(stderr, "dhdr-gbuffer: usage error: --fov must be in (0, 180)\n");
+        return app::kExitUsage;
+    }
+
+    const auto t0 = std::chrono::steady_clock::now();
+    Scene scene;
+    std::string error;
+    if (!loadScene(path, scene, error)) return tool.fail(error);
+
+    Camera camera;
+    if (!lookat.empty()) {
+        std::vector<double> v;
+        if (!app::parseNumbers(lookat, v) || (v.size() != 6 && v.size() != 9)) {
+            std::fprintf(stderr, "dhdr-gbuffer: usage error: --lookat needs 6 or 9 numbers\n");
+            return app::kExitUsage;
+        }
+        const glm::dvec3 up = v.size() == 9 ? glm::dvec3(v[6], v[7], v[8]) : glm::dvec3(0, 1, 0);
+        camera = Camera::lookAt({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, up, glm::radians(39.6));
+    } else if (!scene.cameras.empty()) {
+        const SceneCamera* chosen = &scene.cameras[0];
+        if (!cameraName.empty()) {
+            chosen = nullptr;
+            std::string names;
+            for (const SceneCamera& c : scene.cameras) {
+                if (c.name == cameraName) chosen = &c;
+                names += (names.empty() ? "" : ", ") + c.name;
+            }
+            if (!chosen)
+                return tool.fail(path + ": no camera named '" + cameraName + "' (it has: " +
+                                 names + ")");
+        }
+        camera = chosen->camera;
+        tool.info("camera '" + chosen->name + "'");
+    } else {
+        return tool.fail(path + ": the scene has no camera; give one with --lookat");
+    }
+    if (fov > 0.0) camera.yfov = glm::radians(fov);
+
+    const auto t1 = std::chrono::steady_clock::now();
+    OIIO::ImageBuf gbuf;
+    {
+        app::Progress progress(tool, "dhdr-gbuffer: rendering");
+        params.progress = [&](float f) { progress.update(f); };
+        if (!renderGBuffer(gbuf, scene, camera, params, tool.threads()))
+            return tool.fail(path + ": " + gbuf.geterror());
+    }
+    const auto t2 = std::chrono::steady_clock::now();
+    gbuf.specmod().attribute("dhdr:source", path);
+    if (!tool.writeImage(gbuf, cl.output(), gbufferChannelFormats())) return app::kExitFailure;
+    const auto t3 = std::chrono::steady_clock::now();
+    auto ms = [](auto a, auto b) {
+        return std::to_string(std::chrono::duration<double, std::milli>(b - a).count()) + " ms";
+    };
+    tool.info("load " + ms(t0, t1) + ", trace " + ms(t1, t2) + ", write " + ms(t2, t3));
+    return app::kExitSuccess;
+}
