@@ -41,7 +41,11 @@ bool edgeBlurFactor(OIIO::ImageBuf& dst, const OIIO::ImageBuf* normal,
     }
     const OIIO::ImageBuf& geometry = normal ? *normal : *depth;
     if (!roi.defined()) roi = geometry.roi();
-    if (normal && depth && normal->roi() != depth->roi()) {
+    auto samePixels = [](const OIIO::ROI& a, const OIIO::ROI& b) {
+        return a.xbegin == b.xbegin && a.xend == b.xend && a.ybegin == b.ybegin &&
+               a.yend == b.yend;
+    };
+    if (normal && depth && !samePixels(normal->roi(), depth->roi())) {
         dst.errorfmt("normal and depth images differ in size");
         return false;
     }
