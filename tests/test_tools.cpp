@@ -1,0 +1,305 @@
+// The five executables as a user runs them: exit codes, messages, no partial output, thread
+// independence. The fixture renders its inputs with the tools themselves.
+#include <OpenImageIO/imagebuf.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+using OIIO::ImageBuf;
+
+namespace {
+
+const std::string kTools = DHDR_TOOLS_DIR;
+const std::string kTestdata = DHDR_TESTDATA;
+
+struct Result {
+    int status = -1;
+    std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+class Tools : public ::testing::Test {
+protected:
+    static fs::path dir;
+
+    static void SetUpTestSuite() {
+        char pattern[] = "/tmp/dhdr_tools_XXXXXX";
+        dir = mkdtemp(pattern);
+        ASSERT_EQ(run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 96x72 -o " +
+                      path("g.exr"))
+                      .status,
+                  0);
+        ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kTestdata +
+                      "/cornell_box.lights.json --aovs --type float -o " + path("h.exr"))
+                      .status,
+                  0);
+        // A truncated copy of the HDR frame.
+        const std::string bytes = slurp(dir / "h.exr");
+        std::ofstream(dir / "truncated.exr", std::ios::binary)
+            .write(bytes.data(), std::streamsize(bytes.size() / 2));
+        std::ofstream(dir / "bad_lights.json")
+            << R"({"lights": [{"type": "point", "intensity": 1}]})";
+    }
+    static void TearDownTestSuite() { fs::remove_all(dir); }
+
+    static std::string path(const std::string& name) { return (dir / name).string(); }
+
+    static Result run(const std::string& args) {
+        Result r;
+        const std::string cmd = kTools + "/" + args + " >" + path("stdout.txt") + " 2>" +
+                                path("stderr.txt") + " </dev/null";
+        const int raw = std::system(cmd.c_str());
+        r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+        r.out = slurp(dir / "stdout.txt");
+        r.err = slurp(dir / "stderr.txt");
+        return r;
+    }
+
+    static bool noTemporaries() {
+        for (const auto& e : fs::directory_iterator(dir))
+            if (e.path().filename().string().find(".tmp") != std::string::npos) return false;
+        return true;
+    }
+
+    static ImageBuf read(const std::string& name) {
+        ImageBuf img(path(name));
+        img.read(0, 0, true, OIIO::TypeDesc::FLOAT);
+        return img;
+    }
+
+    static bool samePixels(const std::string& a, const std::string& b) {
+        const ImageBuf A = read(a), B = read(b);
+        if (!A.initialized() || !B.initialized() || A.spec().image_bytes() != B.spec().image_bytes())
+            return false;
+        return std::memcmp(A.localpixels(), B.localpixels(), A.spec().image_bytes()) == 0;
+    }
+
+    // Writes a float RGBA EXR with NaN and ±Inf pixels.
+    static void writePoisoned(const std::string& name) {
+        ImageBuf img(OIIO::ImageSpec(32, 16, 4, OIIO::TypeDesc::FLOAT));
+        for (int y = 0; y < 16; ++y)
+            for (int x = 0; x < 32; ++x) {
+                float* p = static_cast<float*>(img.pixeladdr(x, y));
+                p[0] = p[1] = p[2] = 0.1f * float(x + 1);
+                p[3] = 1.0f;
+            }
+        static_cast<float*>(img.pixeladdr(3, 3))[0] = NAN;
+        static_cast<float*>(img.pixeladdr(4, 3))[1] = INFINITY;
+        static_cast<float*>(img.pixeladdr(5, 3))[2] = -INFINITY;
+        img.write(path(name));
+    }
+
+    static bool allFinite(const ImageBuf& img) {
+        const float* p = static_cast<const float*>(img.localpixels());
+        for (size_t i = 0; i < img.spec().image_pixels() * size_t(img.nchannels()); ++i)
+            if (!std::isfinite(p[i])) return false;
+        return true;
+    }
+};
+
+fs::path Tools::dir;
+
+const char* kAllTools[] = {"dhdr-gbuffer", "dhdr-light", "dhdr-tonemap", "dhdr-bloom", "dhdr-aa"};
+
+} // namespace
+
+TEST_F(Tools, HelpAndVersion) {
+    for (const char* tool : kAllTools) {
+        Result r = run(std::string(tool) + " --help");
+        EXPECT_EQ(r.status, 0) << tool;
+        EXPECT_NE(r.out.find("Usage: " + std::string(tool)), std::string::npos) << tool;
+        EXPECT_NE(r.out.find("--threads"), std::string::npos) << tool;
+        r = run(std::string(tool) + " --version");
+        EXPECT_EQ(r.status, 0);
+        EXPECT_NE(r.out.find("dhdr"), std::string::npos);
+    }
+}
+
+TEST_F(Tools, UsageErrorsExitWithTwo) {
+    for (const char* tool : kAllTools) {
+        Result r = run(std::string(tool) + " --no-such-option");
+        EXPECT_EQ(r.status, 2) << tool;
+        EXPECT_NE(r.err.find("unknown option --no-such-option"), std::string::npos) << tool;
+        r = run(std::string(tool) + " " + path("h.exr")); // no -o
+        EXPECT_EQ(r.status, 2) << tool;
+    }
+}
+
+TEST_F(Tools, MissingInputIsNamedAndLeavesNoOutput) {
+    const std::string missing = path("nowhere.exr");
+    const std::string out = path("missing_out.exr");
+    const std::string commands[] = {
+        "dhdr-gbuffer " + path("nowhere.gltf") + " -o " + out,
+        "dhdr-light " + missing + " --lights " + kTestdata + "/cornell_box.lights.json -o " + out,
+        "dhdr-tonemap " + missing + " -o " + out,
+        "dhdr-bloom " + missing + " -o " + out,
+        "dhdr-aa " + missing + " -o " + out,
+    };
+    for (const std::string& c : commands) {
+        const Result r = run(c);
+        EXPECT_EQ(r.status, 1) << c;
+        EXPECT_NE(r.err.find("nowhere."), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("no such file"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(out)) << c;
+    }
+}
+
+TEST_F(Tools, TruncatedExrIsAnErrorAndLeavesNoOutput) {
+    const std::string in = path("truncated.exr"), out = path("truncated_out.exr");
+    for (const std::string tool : {"dhdr-tonemap", "dhdr-bloom", "dhdr-aa"}) {
+        const Result r = run(tool + " " + in + " -o " + out);
+        EXPECT_EQ(r.status, 1) << tool;
+        EXPECT_NE(r.err.find("truncated.exr: cannot read"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(out));
+    }
+    const Result r = run("dhdr-light " + in + " --lights " + kTestdata +
+                      "/cornell_box.lights.json -o " + out);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("truncated.exr: cannot read"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    EXPECT_TRUE(noTemporaries());
+}
+
+TEST_F(Tools, MissingChannelIsNamed) {
+    const std::string out = path("channel_out.exr");
+    Result r = run("dhdr-light " + path("h.exr") + " --lights " + kTestdata +
+                "/cornell_box.lights.json -o " + out);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("h.exr: no channel 'P.X' — is this a G-buffer?"), std::string::npos)
+        << r.err;
+    ImageBuf grey(OIIO::ImageSpec(96, 72, 1, OIIO::TypeDesc::FLOAT));
+    grey.write(path("grey.exr"));
+    // Geometry without normals cannot drive normal-based edge AA.
+    r = run("dhdr-aa " + path("h.exr") + " --use normal --gbuffer " + path("grey.exr") + " -o " +
+            out);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("grey.exr: no channel 'N.X'"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    r = run("dhdr-tonemap " + path("grey.exr") + " -o " + path("grey.png"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("grey.exr: has 1 channels"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("grey.png")));
+}
+
+TEST_F(Tools, NonFinitePixelsAreReplacedAndReported) {
+    writePoisoned("poisoned.exr");
+    Result r = run("dhdr-tonemap " + path("poisoned.exr") + " -o " + path("poisoned.png"));
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("replaced 3 non-finite values (1 NaN → 0, 1 +Inf → largest finite, "
+                         "1 -Inf → 0)"),
+              std::string::npos)
+        << r.err;
+    ImageBuf png = read("poisoned.png");
+    ASSERT_TRUE(png.initialized());
+    EXPECT_EQ(png.spec().width, 32);
+    r = run("dhdr-bloom " + path("poisoned.exr") + " -o " + path("poisoned_bloom.exr"));
+    EXPECT_EQ(r.status, 0);
+    EXPECT_TRUE(allFinite(read("poisoned_bloom.exr")));
+    r = run("dhdr-tonemap -q " + path("poisoned.exr") + " -o " + path("quiet.png"));
+    EXPECT_EQ(r.status, 0);
+    EXPECT_EQ(r.err, "");
+}
+
+TEST_F(Tools, MalformedLightsFileIsNamed) {
+    const std::string out = path("lights_out.exr");
+    Result r = run("dhdr-light " + path("g.exr") + " --lights " + path("bad_lights.json") + " -o " +
+                out);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("bad_lights.json: light 0: \"position\" is required"), std::string::npos)
+        << r.err;
+    EXPECT_FALSE(fs::exists(out));
+    std::ofstream(path("not_json.json")) << "{ lights: [";
+    r = run("dhdr-light " + path("g.exr") + " --lights " + path("not_json.json") + " -o " + out);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("not_json.json: not valid JSON"), std::string::npos) << r.err;
+}
+
+TEST_F(Tools, UnwritableOutputFolder) {
+    const Result r = run("dhdr-tonemap " + path("h.exr") + " -o /nonexistent-folder/out.png");
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("/nonexistent-folder/out.png: the folder"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("does not exist"), std::string::npos);
+}
+
+TEST_F(Tools, RefusesToOverwriteItsInput) {
+    const auto before = fs::file_size(path("h.exr"));
+    for (const std::string tool : {"dhdr-tonemap", "dhdr-bloom", "dhdr-aa"}) {
+        const Result r = run(tool + " " + path("h.exr") + " -o " + path("h.exr"));
+        EXPECT_EQ(r.status, 2) << tool;
+        EXPECT_NE(r.err.find("is also an input"), std::string::npos) << r.err;
+    }
+    EXPECT_EQ(fs::file_size(path("h.exr")), before);
+}
+
+TEST_F(Tools, OutputDoesNotDependOnThreadCount) {
+    const std::string lights = " --lights " + kTestdata + "/cornell_box.lights.json";
+    const std::pair<std::string, std::string> jobs[] = {
+        {"dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 96x72", "exr"},
+        {"dhdr-light " + path("g.exr") + lights, "exr"},
+        {"dhdr-tonemap " + path("h.exr"), "png"},
+        {"dhdr-bloom " + path("h.exr"), "exr"},
+        {"dhdr-aa " + path("h.exr") + " --gbuffer " + path("g.exr"), "exr"},
+    };
+    int i = 0;
+    for (const auto& [command, ext] : jobs) {
+        const std::string one = "t1_" + std::to_string(i) + "." + ext;
+        const std::string two = "t2_" + std::to_string(i) + "." + ext;
+        ASSERT_EQ(run(command + " --threads 1 -o " + path(one)).status, 0) << command;
+        ASSERT_EQ(run(command + " --threads 2 -o " + path(two)).status, 0) << command;
+        EXPECT_TRUE(samePixels(one, two)) << command;
+        ++i;
+    }
+    EXPECT_TRUE(noTemporaries());
+}
+
+TEST_F(Tools, GBufferFileFollowsTheContract) {
+    const ImageBuf g = read("g.exr");
+    const OIIO::ImageSpec& spec = g.nativespec();
+    for (const char* name : {"A", "Z", "P.X", "N.Z", "albedo.G", "roughness", "metallic",
+                             "emission.R", "id.object", "id.material"})
+        EXPECT_GE(spec.channelindex(name), 0) << name;
+    EXPECT_EQ(spec.channelformat(spec.channelindex("Z")), OIIO::TypeDesc::FLOAT);
+    EXPECT_EQ(spec.channelformat(spec.channelindex("N.X")), OIIO::TypeDesc::HALF);
+    EXPECT_EQ(spec.channelformat(spec.channelindex("id.object")), OIIO::TypeDesc::UINT);
+    EXPECT_NE(spec.find_attribute("worldToCamera"), nullptr);
+    EXPECT_NE(spec.find_attribute("worldToNDC"), nullptr);
+    const OIIO::ParamValue* names = spec.find_attribute("dhdr:objectNames");
+    ASSERT_NE(names, nullptr);
+    EXPECT_EQ(names->type().numelements() * names->nvalues(), 9); // background + 8 objects
+}
+
+TEST_F(Tools, PipelineEndToEnd) {
+    ASSERT_EQ(run("dhdr-aa " + path("h.exr") + " --gbuffer " + path("g.exr") + " -o " +
+                  path("aa.exr"))
+                  .status,
+              0);
+    ASSERT_EQ(run("dhdr-bloom " + path("aa.exr") + " -o " + path("bloom.exr")).status, 0);
+    const Result r = run("dhdr-tonemap -v " + path("bloom.exr") + " -o " + path("final.png"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("log-average luminance"), std::string::npos);
+    const ImageBuf png = read("final.png");
+    ASSERT_TRUE(png.initialized());
+    EXPECT_EQ(png.spec().width, 96);
+    EXPECT_EQ(png.spec().height, 72);
+    EXPECT_EQ(png.nativespec().format, OIIO::TypeDesc::UINT8);
+    // The lit HDR keeps the G-buffer's camera.
+    const ImageBuf hdr = read("h.exr");
+    EXPECT_NE(hdr.spec().find_attribute("worldToCamera"), nullptr);
+    EXPECT_GE(hdr.spec().channelindex("N.X"), 0); // --aovs
+    // 16-bit PNG by option.
+    ASSERT_EQ(run("dhdr-tonemap " + path("h.exr") + " --bits 16 -o " + path("deep.png")).status, 0);
+    EXPECT_EQ(read("deep.png").nativespec().format, OIIO::TypeDesc::UINT16);
+}
