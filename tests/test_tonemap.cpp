@@ -309,3 +309,24 @@ TEST(EdgeAA, BlurFactorIsTheSumOfSquaredNormalDifferences) {
     EXPECT_NEAR(px(factor, 1, 1)[0], 2.0 * 0.09, 1e-6);
     EXPECT_EQ(px(factor, 0, 1)[0], 0.0f); // two pixels away
 }
+
+TEST(Luminance, TransparentPixelsAreNotMetered) {
+    ImageBuf img = floatImage(3, 2, 4);
+    const ImageBuf greys = fourGreys();
+    for (int y = 0; y < 2; ++y)
+        for (int x = 0; x < 2; ++x) {
+            std::memcpy(px(img, x, y), px(greys, x, y), 12);
+            px(img, x, y)[3] = 1.0f;
+        }
+    // Column 2 is background: black and transparent.
+    LuminanceStats stats;
+    computeLuminanceStats(stats, img);
+    EXPECT_EQ(stats.transparentPixels, 2);
+    EXPECT_NEAR(stats.logAverage, 3.1631557056521333, 1e-6);
+    LuminanceStatsParams all;
+    all.skipTransparent = false;
+    computeLuminanceStats(stats, img, all);
+    // Two more pixels at ln(1e-4): exp((4 ln 3.16316 + 2 ln 1e-4) / 6).
+    EXPECT_NEAR(stats.logAverage, std::exp((4.0 * std::log(3.1631557056521333) +
+                                            2.0 * std::log(1e-4)) / 6.0), 1e-7);
+}

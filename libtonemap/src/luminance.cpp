@@ -18,7 +18,7 @@ struct RowStats {
     double sumLog = 0.0;
     double maxL = -std::numeric_limits<double>::infinity();
     double minL = std::numeric_limits<double>::infinity();
-    long long pixels = 0, negative = 0, nonFinite = 0;
+    long long pixels = 0, negative = 0, nonFinite = 0, transparent = 0;
 };
 
 } // namespace
@@ -32,12 +32,17 @@ bool computeLuminanceStats(LuminanceStats& stats, const OIIO::ImageBuf& src,
     if (roi.npixels() == 0) return true;
 
     const detail::FloatPixels pixels(src);
+    const bool skipTransparent = params.skipTransparent && src.nchannels() >= 4;
     std::vector<RowStats> rows(static_cast<size_t>(roi.height()));
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y) {
             RowStats& row = rows[size_t(y - roi.ybegin)];
             for (int x = r.xbegin; x < r.xend; ++x) {
                 const float* p = pixels.at(x, y);
+                if (skipTransparent && p[3] == 0.0f) {
+                    ++row.transparent;
+                    continue;
+                }
                 if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) {
                     ++row.nonFinite;
                     continue;
@@ -63,10 +68,12 @@ bool computeLuminanceStats(LuminanceStats& stats, const OIIO::ImageBuf& src,
         total.pixels += row.pixels;
         total.negative += row.negative;
         total.nonFinite += row.nonFinite;
+        total.transparent += row.transparent;
     }
     stats.pixels = total.pixels;
     stats.negativePixels = total.negative;
     stats.nonFinitePixels = total.nonFinite;
+    stats.transparentPixels = total.transparent;
     if (total.pixels > 0) {
         stats.logAverage = std::exp(total.sumLog / double(total.pixels));
         stats.maxLuminance = total.maxL;

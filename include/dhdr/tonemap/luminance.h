@@ -23,6 +23,9 @@ struct LuminanceStatsParams {
     LuminanceWeights weights = kSeedLuminanceWeights;
     // δ of the log-average, which keeps black pixels from sending it to zero.
     double delta = 1e-4;
+    // Leave out pixels whose alpha (channel 3, when there is one) is 0: where a render has no
+    // surface there is nothing to meter, and black would drag the log-average down.
+    bool skipTransparent = true;
 };
 
 struct LuminanceStats {
@@ -35,6 +38,8 @@ struct LuminanceStats {
     long long negativePixels = 0;
     // Pixels with a NaN or infinite channel; they are left out of every statistic.
     long long nonFinitePixels = 0;
+    // Pixels left out for alpha = 0 (LuminanceStatsParams::skipTransparent).
+    long long transparentPixels = 0;
 };
 
 // Luminance statistics of the first three channels of `src` over `roi`. The sums are
