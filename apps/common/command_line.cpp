@@ -65,6 +65,8 @@ void CommandLine::printHelp() const {
     row("-o, --output FILE", "output file (written to a temporary name, then renamed)");
     for (const Option& o : m_options)
         row(o.name + (o.metavar.empty() ? "" : " " + o.metavar), o.help);
+    row("--compression NAME", "output compression, e.g. zip, zips, piz, none for EXR; zip:1 "
+                              "for a faster zip (default: the format's)");
     row("--threads N", "worker threads (0: one per core; default 0)");
     row("-v, --verbose", "report what is measured and done");
     row("-q, --quiet", "print nothing but errors");
@@ -119,6 +121,10 @@ int CommandLine::parse(int argc, char** argv) {
         }
         if (arg == "-o" || arg == "--output") {
             if (!takeValue(m_output)) return usageError(arg + " needs a file name");
+            continue;
+        }
+        if (arg == "--compression") {
+            if (!takeValue(m_compression)) return usageError("--compression needs a name");
             continue;
         }
         if (arg == "--threads") {

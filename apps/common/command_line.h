@@ -38,6 +38,8 @@ public:
     const std::vector<std::string>& inputs() const { return m_inputs; }
     const std::string& output() const { return m_output; }
     int threads() const { return m_threads; }
+    // --compression: the output's compression as OpenImageIO names it; empty: its default.
+    const std::string& compression() const { return m_compression; }
     // 0 quiet, 1 normal, 2 verbose.
     int verbosity() const { return m_verbosity; }
 
@@ -54,6 +56,7 @@ private:
     std::vector<Option> m_options;
     std::vector<std::string> m_inputs;
     std::string m_output;
+    std::string m_compression;
     int m_threads = 0;
     int m_verbosity = 1;
 };

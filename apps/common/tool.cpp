@@ -105,50 +105,88 @@ void Tool::replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int 
 
 bool Tool::writeImage(const OIIO::ImageBuf& image, const std::string& path,
                       const std::vector<OIIO::TypeDesc>& formats) const {
-    const fs::path target(path);
-    // Same folder (so rename is atomic) and same extension (so OIIO picks the format).
-    const fs::path temporary =
-        target.parent_path() / ("." + target.stem().string() + ".tmp" +
-                                std::to_string(getpid()) + target.extension().string());
-    std::strncpy(g_temporary, temporary.c_str(), sizeof(g_temporary) - 1);
-    std::signal(SIGINT, removeTemporaryAndExit);
-    std::signal(SIGTERM, removeTemporaryAndExit);
+    const OIIO::ImageBuf copy = image.spec().format == OIIO::TypeDesc::FLOAT && image.localpixels()
+                                    ? OIIO::ImageBuf()
+                                    : image.copy(OIIO::TypeDesc::FLOAT);
+    const OIIO::ImageBuf& pixels = copy.initialized() ? copy : image;
+    AtomicOutput out(*this, path);
+    if (!out.open(pixels.spec(), formats)) return false;
+    // In strips, which keeps the conversion to file types in cache.
+    constexpr int kStrip = 64;
+    const OIIO::ROI roi = pixels.roi();
+    for (int y = roi.ybegin; y < roi.yend; y += kStrip) {
+        const auto* rows = static_cast<const float*>(pixels.pixeladdr(roi.xbegin, y));
+        if (!out.writeRows(y, std::min(y + kStrip, roi.yend), rows)) return false;
+    }
+    return out.commit();
+}
 
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out) {
-        g_temporary[0] = 0;
-        fail(path + ": cannot write this format: " + oneLine(OIIO::geterror()));
+AtomicOutput::AtomicOutput(const Tool& tool, std::string path)
+    : m_tool(tool), m_path(std::move(path)) {
+    const fs::path target(m_path);
+    m_temporary = (target.parent_path() / ("." + target.stem().string() + ".tmp" +
+                                           std::to_string(getpid()) + target.extension().string()))
+                      .string();
+}
+
+AtomicOutput::~AtomicOutput() {
+    if (m_committed) return;
+    if (m_out) m_out->close();
+    std::error_code ec;
+    fs::remove(m_temporary, ec);
+    g_temporary[0] = 0;
+}
+
+bool AtomicOutput::open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats) {
+    m_out = OIIO::ImageOutput::create(m_path);
+    if (!m_out) {
+        m_tool.fail(m_path + ": cannot write this format: " + oneLine(OIIO::geterror()));
         return false;
     }
-    OIIO::ImageSpec spec = image.spec();
-    if (formats.size() == 1) {
-        spec.set_format(formats[0]);
-        spec.channelformats.clear();
-    } else if (formats.size() == size_t(spec.nchannels) &&
-               out->supports("channelformats")) {
+    if (formats.size() == size_t(spec.nchannels) && formats.size() > 1 &&
+        m_out->supports("channelformats")) {
         spec.channelformats = formats;
-    } else if (!formats.empty()) {
-        spec.set_format(formats[0]);
+    } else {
+        spec.set_format(formats.empty() ? OIIO::TypeDesc::FLOAT : formats[0]);
         spec.channelformats.clear();
     }
-    spec.attribute("Software", m_name + " (dhdr " DHDR_VERSION ")");
-    const OIIO::ImageBuf pixels = image.spec().format == OIIO::TypeDesc::FLOAT && image.localpixels()
-                                      ? OIIO::ImageBuf()
-                                      : image.copy(OIIO::TypeDesc::FLOAT);
-    const void* data = pixels.initialized() ? pixels.localpixels() : image.localpixels();
-    bool ok = out->open(temporary.string(), spec) &&
-              out->write_image(OIIO::TypeDesc::FLOAT, data) && out->close();
-    std::error_code ec;
-    if (ok) {
-        fs::rename(temporary, target, ec);
-        ok = !ec;
-        if (!ok) fail(path + ": cannot move the output into place: " + ec.message());
-    } else {
-        fail(path + ": cannot write: " + oneLine(out->geterror()));
+    spec.attribute("Software", m_tool.name() + " (dhdr " DHDR_VERSION ")");
+    if (!m_tool.commandLine().compression().empty())
+        spec.attribute("compression", m_tool.commandLine().compression());
+    std::strncpy(g_temporary, m_temporary.c_str(), sizeof(g_temporary) - 1);
+    std::signal(SIGINT, removeTemporaryAndExit);
+    std::signal(SIGTERM, removeTemporaryAndExit);
+    if (!m_out->open(m_temporary, spec)) {
+        m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
+        m_out.reset();
+        return false;
     }
-    if (!ok) fs::remove(temporary, ec);
+    return true;
+}
+
+bool AtomicOutput::writeRows(int ybegin, int yend, const float* pixels) {
+    if (!m_out->write_scanlines(ybegin, yend, 0, OIIO::TypeDesc::FLOAT, pixels)) {
+        m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
+        return false;
+    }
+    return true;
+}
+
+bool AtomicOutput::commit() {
+    if (!m_out->close()) {
+        m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
+        return false;
+    }
+    m_out.reset();
+    std::error_code ec;
+    fs::rename(m_temporary, m_path, ec);
+    if (ec) {
+        m_tool.fail(m_path + ": cannot move the output into place: " + ec.message());
+        return false;
+    }
+    m_committed = true;
     g_temporary[0] = 0;
-    return ok;
+    return true;
 }
 
 Progress::Progress(const Tool& tool, std::string label)

@@ -5,8 +5,10 @@
 #include "command_line.h"
 
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
 
 #include <atomic>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
@@ -39,15 +41,41 @@ public:
     void replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin,
                           int chend) const;
 
-    // Writes `image` to a temporary file beside `path` and renames it into place, so that a
-    // failed or interrupted run leaves no partial output. `formats`: one type for all
-    // channels, or one per channel; empty keeps float.
+    // Writes `image` through an AtomicOutput (below). `formats`: one type for all channels,
+    // or one per channel; empty keeps float.
     bool writeImage(const OIIO::ImageBuf& image, const std::string& path,
                     const std::vector<OIIO::TypeDesc>& formats = {}) const;
+
+    const CommandLine& commandLine() const { return m_cl; }
 
 private:
     std::string m_name;
     const CommandLine& m_cl;
+};
+
+// An output file written under a temporary name in its folder (same extension, so the
+// format is the same) and renamed into place by commit(): a failed or interrupted run never
+// leaves a partial file. Rows can be written as they are produced.
+class AtomicOutput {
+public:
+    AtomicOutput(const Tool& tool, std::string path);
+    ~AtomicOutput();
+    AtomicOutput(const AtomicOutput&) = delete;
+    AtomicOutput& operator=(const AtomicOutput&) = delete;
+
+    // Opens the temporary file for an image of `spec`; rows are then given as float pixels.
+    // `formats` as for Tool::writeImage. Errors are printed, naming the output.
+    bool open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats);
+    // Rows [ybegin, yend), contiguous float pixels of all channels.
+    bool writeRows(int ybegin, int yend, const float* pixels);
+    // Closes the file and renames it into place.
+    bool commit();
+
+private:
+    const Tool& m_tool;
+    std::string m_path, m_temporary;
+    std::unique_ptr<OIIO::ImageOutput> m_out;
+    bool m_committed = false;
 };
 
 // A progress line on stderr when stderr is a terminal and the tool is not quiet.

@@ -79,20 +79,37 @@ int main(int argc, char** argv) {
     if (fov > 0.0) camera.yfov = glm::radians(fov);
 
     const auto t1 = std::chrono::steady_clock::now();
-    OIIO::ImageBuf gbuf;
+    const GBufferRenderer renderer(scene, camera, params);
+    if (!renderer.ok()) return tool.fail(path + ": " + renderer.error());
+    OIIO::ImageSpec spec = renderer.spec();
+    spec.attribute("dhdr:source", path);
+    app::AtomicOutput output(tool, cl.output());
+    if (!output.open(spec, gbufferChannelFormats())) return app::kExitFailure;
+    // Strip by strip: each strip is traced in parallel and written while it is warm in cache,
+    // and memory stays at one strip whatever the image size.
+    constexpr int kStrip = 64;
+    OIIO::ImageBuf strip;
+    double traceMs = 0.0;
     {
         app::Progress progress(tool, "dhdr-gbuffer: rendering");
-        params.progress = [&](float f) { progress.update(f); };
-        if (!renderGBuffer(gbuf, scene, camera, params, tool.threads()))
-            return tool.fail(path + ": " + gbuf.geterror());
+        for (int y = 0; y < params.height; y += kStrip) {
+            const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
+            const auto s0 = std::chrono::steady_clock::now();
+            if (!renderer.render(strip, rows, tool.threads()))
+                return tool.fail(path + ": " + strip.geterror());
+            traceMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0)
+                           .count();
+            if (!output.writeRows(rows.ybegin, rows.yend,
+                                  static_cast<const float*>(strip.localpixels())))
+                return app::kExitFailure;
+            progress.update(float(rows.yend) / float(params.height));
+        }
     }
+    if (!output.commit()) return app::kExitFailure;
     const auto t2 = std::chrono::steady_clock::now();
-    gbuf.specmod().attribute("dhdr:source", path);
-    if (!tool.writeImage(gbuf, cl.output(), gbufferChannelFormats())) return app::kExitFailure;
-    const auto t3 = std::chrono::steady_clock::now();
-    auto ms = [](auto a, auto b) {
-        return std::to_string(std::chrono::duration<double, std::milli>(b - a).count()) + " ms";
-    };
-    tool.info("load " + ms(t0, t1) + ", trace " + ms(t1, t2) + ", write " + ms(t2, t3));
+    auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
+    const double totalMs = std::chrono::duration<double, std::milli>(t2 - t1).count();
+    tool.info("load " + ms(std::chrono::duration<double, std::milli>(t1 - t0).count()) +
+              ", trace " + ms(traceMs) + ", write " + ms(totalMs - traceMs));
     return app::kExitSuccess;
 }

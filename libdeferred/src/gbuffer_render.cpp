@@ -72,53 +72,78 @@ std::vector<OIIO::TypeDesc> gbufferChannelFormats() {
     return formats;
 }
 
-bool renderGBuffer(OIIO::ImageBuf& dst, const Scene& scene, const Camera& camera,
-                   const GBufferParams& params, int nthreads) {
-    if (params.width <= 0 || params.height <= 0) {
-        dst.errorfmt("image size {}x{} is not positive", params.width, params.height);
-        return false;
-    }
-    const RayCaster caster(scene);
-    if (!caster.ok()) {
-        dst.errorfmt("{}", caster.error());
-        return false;
-    }
+GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
+                                 const GBufferParams& params)
+    : m_scene(scene), m_camera(camera), m_params(params),
+      m_caster(std::make_unique<RayCaster>(scene)) {
     const std::vector<std::string> names = gbuffer::channelNames();
-    OIIO::ImageSpec spec(params.width, params.height, int(names.size()), OIIO::TypeDesc::FLOAT);
-    spec.channelnames = names;
-    spec.alpha_channel = 0;
-    spec.z_channel = 1;
-    const double aspect = double(params.width) / double(params.height);
+    m_spec = OIIO::ImageSpec(std::max(params.width, 1), std::max(params.height, 1),
+                             int(names.size()), OIIO::TypeDesc::FLOAT);
+    m_spec.channelnames = names;
+    m_spec.alpha_channel = 0;
+    m_spec.z_channel = 1;
+    const double aspect = double(m_spec.width) / double(m_spec.height);
     gbuffer::CameraInfo info;
     info.worldToCamera = camera.worldToCamera();
     info.worldToNDC = camera.worldToNDC(aspect);
-    gbuffer::writeCamera(spec, info);
+    gbuffer::writeCamera(m_spec, info);
     const glm::dvec3 eye = camera.position();
     const float eyeF[3] = {float(eye.x), float(eye.y), float(eye.z)};
-    spec.attribute("dhdr:cameraPosition", OIIO::TypeVector, eyeF);
-    spec.attribute("dhdr:yfovDegrees", float(glm::degrees(camera.yfov)));
+    m_spec.attribute("dhdr:cameraPosition", OIIO::TypeVector, eyeF);
+    m_spec.attribute("dhdr:yfovDegrees", float(glm::degrees(camera.yfov)));
     std::vector<std::string> materialNames;
     for (const Material& m : scene.materials) materialNames.push_back(m.name);
-    setNameTable(spec, "dhdr:objectNames", scene.objectNames);
-    setNameTable(spec, "dhdr:materialNames", materialNames);
-    dst.reset(spec);
+    setNameTable(m_spec, "dhdr:objectNames", scene.objectNames);
+    setNameTable(m_spec, "dhdr:materialNames", materialNames);
+}
 
-    const glm::dmat4 worldToCamera = info.worldToCamera;
+GBufferRenderer::~GBufferRenderer() = default;
+
+bool GBufferRenderer::ok() const { return m_caster->ok(); }
+const std::string& GBufferRenderer::error() const { return m_caster->error(); }
+
+bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) const {
+    if (m_params.width <= 0 || m_params.height <= 0) {
+        dst.errorfmt("image size {}x{} is not positive", m_params.width, m_params.height);
+        return false;
+    }
+    if (!ok()) {
+        dst.errorfmt("{}", error());
+        return false;
+    }
+    const OIIO::ROI frame = OIIO::get_roi_full(m_spec);
+    roi = roi.defined() ? OIIO::roi_intersection(roi, frame) : frame;
+    if (!dst.initialized() || dst.spec().format != OIIO::TypeDesc::FLOAT ||
+        dst.nchannels() != m_spec.nchannels || dst.roi().xbegin != roi.xbegin ||
+        dst.roi().xend != roi.xend || dst.roi().ybegin != roi.ybegin ||
+        dst.roi().yend != roi.yend) {
+        OIIO::ImageSpec spec = m_spec;
+        spec.x = roi.xbegin;
+        spec.y = roi.ybegin;
+        spec.width = roi.width();
+        spec.height = roi.height();
+        dst.reset(spec);
+    }
+    roi.chbegin = 0;
+    roi.chend = m_spec.nchannels;
+
+    const int nch = m_spec.nchannels;
+    const glm::dmat4 worldToCamera = m_camera.worldToCamera();
     std::atomic<int> rowsDone{0};
-    const OIIO::ROI roi = dst.roi();
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y) {
             for (int x = r.xbegin; x < r.xend; ++x) {
                 float* px = static_cast<float*>(dst.pixeladdr(x, y));
-                const Ray ray = camera.primaryRay(x, y, params.width, params.height);
-                const RayHit hit = caster.intersect(ray);
+                const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
+                const RayHit hit = m_caster->intersect(ray);
                 if (!hit.hit) {
-                    std::fill(px, px + names.size(), 0.0f);
+                    std::fill(px, px + nch, 0.0f);
                     px[1] = std::numeric_limits<float>::infinity();
                     continue;
                 }
-                const SurfaceSample s = surfaceAt(scene, ray, hit);
+                const SurfaceSample s = surfaceAt(m_scene, ray, hit);
                 const Material& m = *s.material;
+                const Mesh& mesh = m_scene.meshes[size_t(hit.mesh)];
                 float* out = px;
                 *out++ = 1.0f;
                 *out++ = float(-(worldToCamera * glm::dvec4(s.position, 1.0)).z);
@@ -128,15 +153,21 @@ bool renderGBuffer(OIIO::ImageBuf& dst, const Scene& scene, const Camera& camera
                 *out++ = m.roughness;
                 *out++ = m.metallic;
                 for (int c = 0; c < 3; ++c) *out++ = m.emission[c];
-                *out++ = float(scene.meshes[size_t(hit.mesh)].object + 1);
-                *out++ = float(scene.meshes[size_t(hit.mesh)].material + 1);
+                *out++ = float(mesh.object + 1);
+                *out++ = float(mesh.material + 1);
             }
             const int done = ++rowsDone;
-            if (params.progress && (done % 64 == 0 || done == params.height))
-                params.progress(float(done) / float(params.height));
+            if (m_params.progress && (done % 64 == 0 || done == roi.height()))
+                m_params.progress(float(done) / float(roi.height()));
         }
     });
     return true;
+}
+
+bool renderGBuffer(OIIO::ImageBuf& dst, const Scene& scene, const Camera& camera,
+                   const GBufferParams& params, int nthreads) {
+    const GBufferRenderer renderer(scene, camera, params);
+    return renderer.render(dst, {}, nthreads);
 }
 
 } // namespace dhdr
