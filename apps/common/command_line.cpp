@@ -60,7 +60,10 @@ void CommandLine::printHelp() const {
     std::printf("Usage: %s %s\n\n%s\n\nOptions:\n", m_tool.c_str(), m_synopsis.c_str(),
                 m_description.c_str());
     auto row = [](const std::string& left, const std::string& help) {
-        std::printf("  %-26s %s\n", left.c_str(), help.c_str());
+        if (left.size() > 26)
+            std::printf("  %s\n  %-26s %s\n", left.c_str(), "", help.c_str());
+        else
+            std::printf("  %-26s %s\n", left.c_str(), help.c_str());
     };
     row("-o, --output FILE", "output file (written to a temporary name, then renamed)");
     for (const Option& o : m_options)
