@@ -248,6 +248,66 @@ TEST(SceneLoading, GltfFieldOfViewIsYfovWhateverTheAspect) {
     EXPECT_NEAR(std::abs(scene.meshes[0].normals[0].z), 1.0f, 1e-6);
 }
 
+TEST(SceneLoading, BaseColourTextureIsSampledWithGltfUvs) {
+    // A unit quad facing +z with glTF UVs (0, 0) at its top-left corner, textured with a 2×2
+    // PNG: red, green / blue, grey 128. Seen face-on by a 2×2 camera, each pixel centre falls
+    // on one texel centre.
+    const auto dir = std::filesystem::temp_directory_path();
+    OIIO::ImageBuf png(OIIO::ImageSpec(2, 2, 3, OIIO::TypeDesc::UINT8));
+    const unsigned char texels[4][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {128, 128, 128}};
+    for (int i = 0; i < 4; ++i) {
+        const float rgb[3] = {texels[i][0] / 255.0f, texels[i][1] / 255.0f, texels[i][2] / 255.0f};
+        png.setpixel(i % 2, i / 2, rgb);
+    }
+    ASSERT_TRUE(png.write((dir / "dhdr_test_texels.png").string()));
+    const float positions[4][3] = {{0, 1, 0}, {1, 1, 0}, {1, 0, 0}, {0, 0, 0}};
+    const float uvs[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const unsigned short indices[6] = {0, 3, 2, 0, 2, 1};
+    {
+        std::ofstream bin(dir / "dhdr_test_quad.bin", std::ios::binary);
+        bin.write(reinterpret_cast<const char*>(positions), sizeof positions);
+        bin.write(reinterpret_cast<const char*>(uvs), sizeof uvs);
+        bin.write(reinterpret_cast<const char*>(indices), sizeof indices);
+    }
+    const std::string gltf = R"({
+      "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}],
+      "nodes": [{"mesh": 0, "name": "quad"}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1},
+                                  "indices": 2, "material": 0}]}],
+      "materials": [{"name": "textured", "pbrMetallicRoughness": {
+          "baseColorTexture": {"index": 0}, "metallicFactor": 0}}],
+      "textures": [{"source": 0}], "images": [{"uri": "dhdr_test_texels.png"}],
+      "accessors": [
+        {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+         "min": [0, 0, 0], "max": [1, 1, 0]},
+        {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+        {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}],
+      "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                      {"buffer": 0, "byteOffset": 48, "byteLength": 32},
+                      {"buffer": 0, "byteOffset": 80, "byteLength": 12}],
+      "buffers": [{"byteLength": 92, "uri": "dhdr_test_quad.bin"}]
+    })";
+    Scene scene;
+    std::string error;
+    ASSERT_TRUE(loadScene(writeTemp("quad.gltf", gltf), scene, error)) << error;
+    ASSERT_EQ(scene.textures.size(), 1u);
+    const Camera camera =
+        Camera::lookAt({0.5, 0.5, 1.0}, {0.5, 0.5, 0.0}, {0.0, 1.0, 0.0}, 2.0 * std::atan(0.5));
+    GBufferParams params;
+    params.width = 2;
+    params.height = 2;
+    ImageBuf gbuf;
+    ASSERT_TRUE(renderGBuffer(gbuf, scene, camera, params));
+    // 128/255 decoded from sRGB.
+    const float grey = float(std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4));
+    const float expected[4][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {grey, grey, grey}};
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_NEAR(channel(gbuf, i % 2, i / 2, "albedo.R"), expected[i][0], 1e-5) << i;
+        EXPECT_NEAR(channel(gbuf, i % 2, i / 2, "albedo.G"), expected[i][1], 1e-5) << i;
+        EXPECT_NEAR(channel(gbuf, i % 2, i / 2, "albedo.B"), expected[i][2], 1e-5) << i;
+    }
+}
+
 TEST(SceneLoading, ObjQuadsAreTriangulated) {
     const std::string obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
     Scene scene;

@@ -147,8 +147,9 @@ private:
             glm::dvec3 wn = normalMatrix * glm::dvec3(n.x, n.y, n.z);
             const double len = glm::length(wn);
             mesh.normals.emplace_back(len > 0.0 ? wn / len : glm::dvec3(0.0, 0.0, 1.0));
+            // Assimp's UVs have their origin at the image's bottom-left (it flips glTF's).
             if (am.HasTextureCoords(0))
-                mesh.uvs.emplace_back(am.mTextureCoords[0][v].x, am.mTextureCoords[0][v].y);
+                mesh.uvs.emplace_back(am.mTextureCoords[0][v].x, 1.0f - am.mTextureCoords[0][v].y);
         }
         for (unsigned f = 0; f < am.mNumFaces; ++f) {
             const aiFace& face = am.mFaces[f];

@@ -17,7 +17,7 @@ struct Texture {
     int width = 0, height = 0;
     std::vector<float> rgba;
 
-    // Bilinear lookup with repeat wrapping, glTF's default sampler.
+    // Bilinear lookup with repeat wrapping, glTF's default sampler; uv (0, 0) is the top-left.
     glm::vec4 sample(glm::vec2 uv) const;
 };
 
@@ -34,7 +34,7 @@ struct Material {
 struct Mesh {
     std::vector<glm::vec3> positions; // world space
     std::vector<glm::vec3> normals;   // world space, unit
-    std::vector<glm::vec2> uvs;       // empty when the mesh has none
+    std::vector<glm::vec2> uvs;       // origin at the image's top-left, as glTF; may be empty
     std::vector<glm::uvec3> triangles;
     int material = 0;
     int object = 0; // index into Scene::objectNames
