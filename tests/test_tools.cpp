@@ -188,10 +188,12 @@ TEST_F(Tools, MissingChannelIsNamed) {
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("grey.exr: no channel 'N.X'"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out));
-    r = run("dhdr-tonemap " + path("grey.exr") + " -o " + path("grey.png"));
-    EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.err.find("grey.exr: has 1 channels"), std::string::npos) << r.err;
-    EXPECT_FALSE(fs::exists(path("grey.png")));
+    for (const std::string tool : {"dhdr-tonemap", "dhdr-bloom"}) {
+        r = run(tool + " " + path("grey.exr") + " -o " + path("grey_out.exr"));
+        EXPECT_EQ(r.status, 1);
+        EXPECT_NE(r.err.find("grey.exr: has 1 channels"), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(path("grey_out.exr")));
+    }
 }
 
 TEST_F(Tools, NonFinitePixelsAreReplacedAndReported) {
@@ -228,10 +230,70 @@ TEST_F(Tools, MalformedLightsFileIsNamed) {
 }
 
 TEST_F(Tools, UnwritableOutputFolder) {
-    const Result r = run("dhdr-tonemap " + path("h.exr") + " -o /nonexistent-folder/out.png");
+    const std::string out = " -o /nonexistent-folder/out.exr";
+    const std::string commands[] = {
+        "dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 8x8" + out,
+        "dhdr-light " + path("g.exr") + " --lights " + kTestdata + "/cornell_box.lights.json" + out,
+        "dhdr-tonemap " + path("h.exr") + out,
+        "dhdr-bloom " + path("h.exr") + out,
+        "dhdr-aa " + path("h.exr") + out,
+    };
+    for (const std::string& c : commands) {
+        const Result r = run(c);
+        EXPECT_EQ(r.status, 1) << c;
+        EXPECT_NE(r.err.find("/nonexistent-folder/out.exr: the folder /nonexistent-folder does "
+                             "not exist"),
+                  std::string::npos)
+            << r.err;
+    }
+}
+
+TEST_F(Tools, BrokenSceneIsAnErrorAndLeavesNoOutput) {
+    const std::string scene = slurp(kTestdata + "/cornell_box.gltf");
+    std::ofstream(dir / "truncated.gltf") << scene.substr(0, scene.size() / 2);
+    const Result r = run("dhdr-gbuffer " + path("truncated.gltf") + " -o " + path("scene_out.exr"));
     EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.err.find("/nonexistent-folder/out.png: the folder"), std::string::npos) << r.err;
-    EXPECT_NE(r.err.find("does not exist"), std::string::npos);
+    EXPECT_NE(r.err.find("truncated.gltf: cannot load the scene"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("scene_out.exr")));
+    const Result cam = run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --camera nope -o " +
+                           path("scene_out.exr"));
+    EXPECT_EQ(cam.status, 1);
+    EXPECT_NE(cam.err.find("no camera named 'nope' (it has: camera)"), std::string::npos)
+        << cam.err;
+    EXPECT_FALSE(fs::exists(path("scene_out.exr")));
+}
+
+TEST_F(Tools, NonFiniteGBufferAndGeometryAreReplaced) {
+    // A G-buffer with a NaN albedo and an infinite normal on covered pixels.
+    ImageBuf g = read("g.exr");
+    const int albedo = g.spec().channelindex("albedo.R"), normal = g.spec().channelindex("N.X");
+    static_cast<float*>(g.pixeladdr(48, 36))[albedo] = NAN;
+    static_cast<float*>(g.pixeladdr(50, 36))[normal] = INFINITY;
+    ASSERT_TRUE(g.write(path("g_nan.exr")));
+    Result r = run("dhdr-light " + path("g_nan.exr") + " --lights " + kTestdata +
+                   "/cornell_box.lights.json --type float -o " + path("h_nan.exr"));
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("g_nan.exr: replaced 1 non-finite values (1 NaN"), std::string::npos)
+        << r.err;
+    EXPECT_TRUE(allFinite(read("h_nan.exr")));
+    // An HDR frame carrying its own N and Z (--aovs), with a NaN colour and an infinite normal.
+    ImageBuf h = read("h.exr");
+    static_cast<float*>(h.pixeladdr(48, 36))[0] = NAN;
+    static_cast<float*>(h.pixeladdr(50, 36))[h.spec().channelindex("N.X")] = INFINITY;
+    ASSERT_TRUE(h.write(path("h_poisoned.exr")));
+    r = run("dhdr-aa " + path("h_poisoned.exr") + " -o " + path("aa_nan.exr"));
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("h_poisoned.exr: replaced 1 non-finite values (1 NaN"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("h_poisoned.exr: replaced 1 non-finite values (0 NaN → 0, 1 +Inf"),
+              std::string::npos)
+        << r.err;
+    const ImageBuf aa = read("aa_nan.exr");
+    for (int y = 0; y < 72; ++y)
+        for (int x = 0; x < 96; ++x)
+            for (int c = 0; c < 4; ++c)
+                ASSERT_TRUE(std::isfinite(static_cast<const float*>(aa.pixeladdr(x, y))[c]));
 }
 
 TEST_F(Tools, RefusesToOverwriteItsInput) {
