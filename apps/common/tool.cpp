@@ -4,11 +4,13 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <system_error>
+#include <thread>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -51,7 +53,12 @@ void Tool::info(const std::string& message) const {
 }
 
 int Tool::start(const std::vector<std::string>& inputs) const {
-    if (m_cl.threads() > 0) OIIO::attribute("threads", m_cl.threads());
+    const int threads = m_cl.threads() > 0 ? m_cl.threads()
+                                           : int(std::max(1u, std::thread::hardware_concurrency()));
+    OIIO::attribute("threads", threads);
+    // OpenEXR's own pool (compression and decompression of line blocks) is separate, and
+    // left at its default it does not run in parallel.
+    OIIO::attribute("exr_threads", threads);
     const std::string& out = m_cl.output();
     if (out.empty()) {
         std::fprintf(stderr, "%s: usage error: no output file (-o FILE)\nTry '%s --help'.\n",

@@ -113,10 +113,13 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
     }
     const OIIO::ROI frame = OIIO::get_roi_full(m_spec);
     roi = roi.defined() ? OIIO::roi_intersection(roi, frame) : frame;
-    if (!dst.initialized() || dst.spec().format != OIIO::TypeDesc::FLOAT ||
-        dst.nchannels() != m_spec.nchannels || dst.roi().xbegin != roi.xbegin ||
-        dst.roi().xend != roi.xend || dst.roi().ybegin != roi.ybegin ||
-        dst.roi().yend != roi.yend) {
+    const bool reusable = dst.initialized() && dst.spec().format == OIIO::TypeDesc::FLOAT &&
+                          dst.localpixels() && dst.nchannels() == m_spec.nchannels &&
+                          dst.spec().width == roi.width() && dst.spec().height == roi.height();
+    if (reusable) {
+        // The next strip of a frame: same memory, moved to the strip's place.
+        dst.set_origin(roi.xbegin, roi.ybegin);
+    } else {
         OIIO::ImageSpec spec = m_spec;
         spec.x = roi.xbegin;
         spec.y = roi.ybegin;
