@@ -98,6 +98,33 @@ bool Tool::readImage(const std::string& path, OIIO::ImageBuf& image) const {
     return true;
 }
 
+bool Tool::readImageChannels(const std::string& path, const std::vector<std::string>& names,
+                             OIIO::ImageBuf& image) const {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) {
+        fail(path + ": no such file");
+        return false;
+    }
+    image.reset(path);
+    if (!image.init_spec(path, 0, 0)) {
+        fail(path + ": cannot read: " + oneLine(image.geterror()));
+        return false;
+    }
+    int chbegin = image.nchannels(), chend = 0;
+    for (const std::string& name : names) {
+        const int c = image.spec().channelindex(name);
+        if (c < 0) continue;
+        chbegin = std::min(chbegin, c);
+        chend = std::max(chend, c + 1);
+    }
+    if (chend <= chbegin) chbegin = 0, chend = image.nchannels();
+    if (!image.read(0, 0, chbegin, chend, true, OIIO::TypeDesc::FLOAT)) {
+        fail(path + ": cannot read: " + oneLine(image.geterror()));
+        return false;
+    }
+    return true;
+}
+
 void Tool::replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin,
                             int chend) const {
     OIIO::ROI roi = image.roi();

@@ -36,6 +36,10 @@ public:
 
     // Reads the whole of `path` into float pixels; false after printing the error.
     bool readImage(const std::string& path, OIIO::ImageBuf& image) const;
+    // Reads only the smallest run of channels that holds those of `names` present in the file
+    // (a G-buffer's geometry without its 18 channels); absent names are left to the caller.
+    bool readImageChannels(const std::string& path, const std::vector<std::string>& names,
+                           OIIO::ImageBuf& image) const;
 
     // Replaces NaN and ±Inf in channels [chbegin, chend) and warns with the counts.
     void replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin,

@@ -65,7 +65,10 @@ int main(int argc, char** argv) {
     OIIO::ImageBuf image, gbuf;
     if (!tool.readImage(path, image)) return app::kExitFailure;
     const std::string& geometryPath = gbufferPath.empty() ? path : gbufferPath;
-    if (!gbufferPath.empty() && !tool.readImage(gbufferPath, gbuf)) return app::kExitFailure;
+    const std::vector<std::string> geometryChannels = {gbuffer::kDepth, gbuffer::kNormal[0],
+                                                       gbuffer::kNormal[1], gbuffer::kNormal[2]};
+    if (!gbufferPath.empty() && !tool.readImageChannels(gbufferPath, geometryChannels, gbuf))
+        return app::kExitFailure;
     const OIIO::ImageBuf& geometry = gbufferPath.empty() ? image : gbuf;
     if (geometry.spec().width != image.spec().width ||
         geometry.spec().height != image.spec().height)
