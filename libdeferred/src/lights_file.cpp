@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -73,8 +74,13 @@ Light parseLight(const json& j, size_t index) {
         light.type = LightType::Directional;
     else if (type == "ambient")
         light.type = LightType::Ambient;
+    else if (type == "sphere")
+        light.type = LightType::Sphere;
+    else if (type == "rectangle")
+        light.type = LightType::Rectangle;
     else
-        r.fail("type", "must be point, spot, directional or ambient, not \"" + type + "\"");
+        r.fail("type", "must be point, spot, directional, ambient, sphere or rectangle, not \"" +
+                           type + "\"");
 
     if (j.contains("name")) {
         if (!j.at("name").is_string()) r.fail("name", "must be a string");
@@ -93,10 +99,31 @@ Light parseLight(const json& j, size_t index) {
             if (!(light.range > 0)) r.fail("range", "must be a positive number");
         }
     }
-    if (light.type == LightType::Spot || light.type == LightType::Directional) {
+    if (light.type == LightType::Spot || light.type == LightType::Directional ||
+        light.type == LightType::Rectangle) {
         const glm::vec3 d = r.vec3("direction", glm::vec3(0.0f, 0.0f, -1.0f), true);
         if (glm::length(d) == 0.0f) r.fail("direction", "must not be zero");
         light.direction = glm::normalize(d);
+    }
+    if (light.type == LightType::Sphere) {
+        light.radius = r.number("radius", 0.0f, true);
+        if (!(light.radius > 0)) r.fail("radius", "must be a positive number");
+        if (light.range <= light.radius) r.fail("range", "must exceed the radius");
+    }
+    if (light.type == LightType::Rectangle) {
+        light.width = r.number("width", 0.0f, true);
+        light.height = r.number("height", 0.0f, true);
+        if (!(light.width > 0)) r.fail("width", "must be a positive number");
+        if (!(light.height > 0)) r.fail("height", "must be a positive number");
+        // `up` need only not be parallel to the normal; it is made perpendicular to it.
+        const glm::vec3 up = r.vec3("up", glm::vec3(0.0f, 1.0f, 0.0f));
+        const glm::vec3 ortho = up - glm::dot(up, light.direction) * light.direction;
+        if (glm::length(ortho) < 1e-4f * std::max(glm::length(up), 1e-30f))
+            r.fail("up", "must not be parallel to \"direction\"");
+        light.up = glm::normalize(ortho);
+        const float halfDiagonal =
+            0.5f * std::sqrt(light.width * light.width + light.height * light.height);
+        if (light.range <= halfDiagonal) r.fail("range", "must exceed half the diagonal");
     }
     if (light.type == LightType::Spot) {
         light.innerConeAngle = r.number("innerConeAngle", 0.0f);
@@ -115,6 +142,8 @@ const char* typeName(LightType t) {
     case LightType::Spot: return "spot";
     case LightType::Directional: return "directional";
     case LightType::Ambient: return "ambient";
+    case LightType::Sphere: return "sphere";
+    case LightType::Rectangle: return "rectangle";
     }
     return "point";
 }
@@ -179,8 +208,15 @@ std::string formatLights(const std::vector<Light>& lights) {
             j["position"] = {l.position.x, l.position.y, l.position.z};
             if (std::isfinite(l.range)) j["range"] = l.range;
         }
-        if (l.type == LightType::Spot || l.type == LightType::Directional)
+        if (l.type == LightType::Spot || l.type == LightType::Directional ||
+            l.type == LightType::Rectangle)
             j["direction"] = {l.direction.x, l.direction.y, l.direction.z};
+        if (l.type == LightType::Sphere) j["radius"] = l.radius;
+        if (l.type == LightType::Rectangle) {
+            j["width"] = l.width;
+            j["height"] = l.height;
+            j["up"] = {l.up.x, l.up.y, l.up.z};
+        }
         if (l.type == LightType::Spot) {
             j["innerConeAngle"] = l.innerConeAngle;
             j["outerConeAngle"] = l.outerConeAngle;

@@ -1,6 +1,7 @@
 // Light arriving at a surface point from one light, in KHR_lights_punctual units.
 #pragma once
 
+#include <dhdr/deferred/area_light.h>
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/lights.h>
 
@@ -34,7 +35,7 @@ struct IncidentLight {
     glm::vec3 illuminance{0.0f};
 };
 
-// For point, spot and directional lights (ambient light is not directional).
+// For point, spot and directional lights (ambient and area lights are not one direction).
 inline IncidentLight incidentLight(const Light& light, const glm::vec3& P) {
     IncidentLight in;
     if (light.type == LightType::Directional) {
@@ -65,6 +66,8 @@ inline glm::vec3 shadeLight(const Light& light, const PbrSurface& s, const glm::
         const glm::vec3 F0 = s.F0();
         return light.color * light.intensity * (s.diffuseColor() * (glm::vec3(1.0f) - F0) + F0);
     }
+    if (light.type == LightType::Sphere || light.type == LightType::Rectangle)
+        return shadeAreaLight(light, s, P, N, V);
     const IncidentLight in = incidentLight(light, P);
     const float NdotL = glm::dot(N, in.L);
     if (NdotL <= 0.0f || in.illuminance == glm::vec3(0.0f)) return glm::vec3(0.0f);

@@ -9,24 +9,36 @@
 
 namespace dhdr {
 
-enum class LightType { Point, Spot, Directional, Ambient };
+enum class LightType { Point, Spot, Directional, Ambient, Sphere, Rectangle };
 
 struct Light {
     LightType type = LightType::Point;
     std::string name;
     glm::vec3 color{1.0f}; // linear RGB, multiplies intensity
-    // Point and spot: candela (lm/sr). Directional: lux (lm/m²). Ambient: nit (cd/m²), the
-    // radiance arriving uniformly from every direction.
+    // Point, spot and sphere: candela (lm/sr). Rectangle: candela along its normal (a
+    // Lambertian emitter, I·cos θ off the normal). Directional: lux (lm/m²). Ambient: nit
+    // (cd/m²), the radiance arriving uniformly from every direction.
     float intensity = 1.0f;
-    glm::vec3 position{0.0f};            // point, spot
-    glm::vec3 direction{0.0f, 0.0f, -1.0f}; // spot, directional: where the light travels; unit
-    // Point, spot: distance at which the light's smooth window reaches exactly zero.
+    glm::vec3 position{0.0f}; // point, spot; the centre of a sphere or rectangle
+    // Spot, directional: where the light travels. Rectangle: its normal, the side it emits
+    // to. Unit length.
+    glm::vec3 direction{0.0f, 0.0f, -1.0f};
+    // Local lights: distance from `position` at which the light's smooth window reaches
+    // exactly zero.
     float range = std::numeric_limits<float>::infinity();
+    float radius = 0.0f; // sphere
+    // Rectangle: extent along `up` (height) and along up × direction (width); `up` is unit
+    // and perpendicular to `direction`.
+    float width = 0.0f, height = 0.0f;
+    glm::vec3 up{0.0f, 1.0f, 0.0f};
     // Spot: angles from the axis, radians; full intensity inside the inner cone.
     float innerConeAngle = 0.0f;
     float outerConeAngle = 0.7853982f; // π/4, glTF's default
 
-    bool isLocal() const { return type == LightType::Point || type == LightType::Spot; }
+    // A light with a position, bounded by its range (all but directional and ambient).
+    bool isLocal() const {
+        return type != LightType::Directional && type != LightType::Ambient;
+    }
 };
 
 // Parses the JSON text of a lights file. On failure returns false with `error` naming the
