@@ -1,48 +1,41 @@
 #include <dhdr/deferred/lighting.h>
 
 #include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/light_bounds.h>
+#include <dhdr/deferred/light_culling.h>
 #include <dhdr/deferred/light_eval.h>
 
 #include <OpenImageIO/imagebufalgo_util.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
+#include <cstdint>
 
 namespace dhdr {
 
 namespace {
 
-// Per-tile light lists, each in ascending light index.
-struct TileLists {
-    int tileSize = 16, tilesX = 0, tilesY = 0;
-    std::vector<std::vector<int>> lights;
+// What the shading loop reads first for every candidate light, packed by field (structure of
+// arrays): enough to skip a light whose range does not reach the pixel without touching the
+// rest of it.
+struct LightReach {
+    std::vector<float> x, y, z, range2;
 
-    const std::vector<int>& at(int x, int y) const {
-        return lights[size_t(y / tileSize) * size_t(tilesX) + size_t(x / tileSize)];
+    explicit LightReach(const std::vector<Light>& lights) {
+        for (const Light& l : lights) {
+            const bool bounded = l.isLocal() && std::isfinite(l.range);
+            x.push_back(l.position.x);
+            y.push_back(l.position.y);
+            z.push_back(l.position.z);
+            range2.push_back(bounded ? l.range * l.range : INFINITY);
+        }
+    }
+    // False when the light's window is zero at P.
+    bool reaches(std::uint32_t i, const glm::vec3& P) const {
+        const float dx = x[i] - P.x, dy = y[i] - P.y, dz = z[i] - P.z;
+        return dx * dx + dy * dy + dz * dz < range2[i];
     }
 };
-
-TileLists buildTileLists(const std::vector<Light>& lights, const gbuffer::CameraInfo& camera,
-                         int width, int height, int tileSize, bool bruteForce) {
-    TileLists tiles;
-    tiles.tileSize = tileSize;
-    tiles.tilesX = (width + tileSize - 1) / tileSize;
-    tiles.tilesY = (height + tileSize - 1) / tileSize;
-    tiles.lights.resize(size_t(tiles.tilesX) * size_t(tiles.tilesY));
-    const glm::dmat4 cameraToNDC = camera.worldToNDC * glm::inverse(camera.worldToCamera);
-    for (int i = 0; i < int(lights.size()); ++i) {
-        const PixelRect r =
-            bruteForce ? PixelRect{0, 0, width, height}
-                       : lightScreenRect(lights[size_t(i)], camera.worldToCamera, cameraToNDC,
-                                         width, height);
-        if (r.empty()) continue;
-        for (int ty = r.y0 / tileSize; ty <= (r.y1 - 1) / tileSize; ++ty)
-            for (int tx = r.x0 / tileSize; tx <= (r.x1 - 1) / tileSize; ++tx)
-                tiles.lights[size_t(ty) * size_t(tiles.tilesX) + size_t(tx)].push_back(i);
-    }
-    return tiles;
-}
 
 } // namespace
 
@@ -90,12 +83,17 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
     spec.channelformats.clear();
     dst.reset(spec);
 
-    const TileLists tiles = buildTileLists(lights, camera, in.width, in.height, params.tileSize,
-                                           params.bruteForce);
+    const size_t nch = size_t(src->nchannels());
+    const DepthView depth{static_cast<const float*>(src->localpixels()) + layout.depth, nch,
+                          nch * size_t(in.width)};
+    TileLightLists tiles;
+    if (!params.bruteForce)
+        tiles.build(lights, camera, depth, in.width, in.height, params.tileSize, nthreads);
+    const LightReach reach(lights);
     const glm::vec3 eye(camera.position);
-    std::atomic<long long> evaluations{0}, covered{0};
+    std::atomic<long long> evaluations{0}, reaching{0}, covered{0};
     OIIO::ImageBufAlgo::parallel_image(dst.roi(), OIIO::paropt(nthreads), [&](OIIO::ROI r) {
-        long long localEvaluations = 0, localCovered = 0;
+        long long localEvaluations = 0, localReaching = 0, localCovered = 0;
         for (int y = r.ybegin; y < r.yend; ++y)
             for (int x = r.xbegin; x < r.xend; ++x) {
                 const float* g = static_cast<const float*>(src->pixeladdr(x, y));
@@ -120,9 +118,20 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
                 if (layout.emission >= 0)
                     Lo = glm::vec3(g[layout.emission], g[layout.emission + 1],
                                    g[layout.emission + 2]);
-                const std::vector<int>& list = tiles.at(x - in.x, y - in.y);
-                for (int i : list) Lo += shadeLight(lights[size_t(i)], s, P, N, V);
-                localEvaluations += (long long)list.size();
+                auto shade = [&](std::uint32_t i) {
+                    ++localEvaluations;
+                    if (!reach.reaches(i, P)) return; // the window is exactly zero there
+                    ++localReaching;
+                    Lo += shadeLight(lights[i], s, P, N, V);
+                };
+                if (params.bruteForce) {
+                    for (std::uint32_t i = 0; i < lights.size(); ++i) shade(i);
+                } else {
+                    const int px = x - in.x, py = y - in.y;
+                    const std::uint32_t slice = tiles.sliceBit(px, py, g[layout.depth]);
+                    for (const TileLightLists::Entry& e : tiles.at(px, py))
+                        if (e.depthMask & slice) shade(e.light);
+                }
                 ++localCovered;
                 out[0] = Lo.r;
                 out[1] = Lo.g;
@@ -130,11 +139,14 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
                 out[3] = coverage;
             }
         evaluations += localEvaluations;
+        reaching += localReaching;
         covered += localCovered;
     });
     if (stats) {
         stats->lightEvaluations = evaluations;
+        stats->lightsReaching = reaching;
         stats->coveredPixels = covered;
+        stats->tileListEntries = (long long)tiles.totalEntries();
     }
     return true;
 }

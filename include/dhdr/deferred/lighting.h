@@ -23,17 +23,22 @@ struct LightingParams {
 };
 
 struct LightingStats {
-    // Light evaluations performed, summed over covered pixels.
+    // Lights considered, summed over covered pixels: those in the pixel's tile list whose
+    // depth slice matches (every light with bruteForce).
     long long lightEvaluations = 0;
+    // Of those, the lights whose range actually reaches the pixel's surface point.
+    long long lightsReaching = 0;
     long long coveredPixels = 0;
+    // Entries of all the tile lists.
+    long long tileListEntries = 0;
 };
 
 // Shades every covered pixel of `gbuffer` with Lambert + Cook-Torrance (brdf.h) under
 // `lights`, adds emission, and writes R, G, B, A (then `passThrough`) as float pixels into
-// `dst`, whose spec keeps `gbuffer`'s metadata. Each light is evaluated only in the tiles its
-// screen rectangle overlaps (light_bounds.h), in the order of `lights`, so the culled and
-// brute-force results agree to rounding. Errors (a missing channel, no camera in the header)
-// are reported on `dst`.
+// `dst`, whose spec keeps `gbuffer`'s metadata. Each light is evaluated only at the pixels of
+// the tiles and depth slices its bound reaches (light_culling.h), in the order of `lights`,
+// so the culled and brute-force results agree to rounding. Errors (a missing channel, no
+// camera in the header) are reported on `dst`.
 bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuffer,
                   const std::vector<Light>& lights, const LightingParams& params = {},
                   LightingStats* stats = nullptr, int nthreads = 0);
