@@ -6,12 +6,15 @@ tools=${1:-build/apps}
 out=${2:-out/demo}
 here=$(cd "$(dirname "$0")/.." && pwd)
 scene="$here/testdata/cornell_box.gltf"
-lights="$here/testdata/cornell_box.lights.json"
 mkdir -p "$out"
 
 step() { echo "== $*"; "$@"; }
-step "$tools/dhdr-gbuffer" "$scene" --size 1024x1024 -o "$out/cornell.gbuf.exr" -v
-step "$tools/dhdr-light" "$out/cornell.gbuf.exr" --lights "$lights" \
+# The scene's own lights (KHR_lights_punctual) travel to the lighting stage as a lights file;
+# an ambient fill is added from a second one.
+step "$tools/dhdr-gbuffer" "$scene" --size 1024x1024 --lights-out "$out/cornell.lights.json" \
+  -o "$out/cornell.gbuf.exr" -v
+step "$tools/dhdr-light" "$out/cornell.gbuf.exr" --lights "$out/cornell.lights.json" \
+  --lights "$here/testdata/cornell_box.fill.lights.json" \
   -o "$out/cornell.hdr.exr" -v
 step "$tools/dhdr-aa" "$out/cornell.hdr.exr" --gbuffer "$out/cornell.gbuf.exr" \
   -o "$out/cornell.aa.exr" -v
@@ -20,6 +23,6 @@ step "$tools/dhdr-tonemap" "$out/cornell.bloom.exr" -o "$out/cornell.png" -v
 
 echo
 echo "Outputs:"
-for f in cornell.gbuf.exr cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png; do
+for f in cornell.gbuf.exr cornell.lights.json cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png; do
   echo "  $out/$f"
 done

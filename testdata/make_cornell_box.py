@@ -46,6 +46,9 @@ MATERIALS = {
     "light": {"baseColorFactor": [0.78, 0.78, 0.78, 1.0], "emissive": [1.0, 12.0 / 17.0, 4.0 / 17.0], "strength": 17.0},
 }
 
+SPOT_POSITION = (0.10, 0.45, 0.05)
+SPOT_DIRECTION = (0.35, -0.6, 0.72)
+
 CENTRE = (0.5 * (556.0 + 0.0) * MM, 0.5 * 548.8 * MM, 0.5 * 559.2 * MM)
 
 
@@ -93,6 +96,16 @@ def mesh_arrays(name, quads):
     return positions, normals, indices
 
 
+def rotation_from_minus_z(direction):
+    """The glTF quaternion (x, y, z, w) turning -z (where glTF lights point) to `direction`."""
+    d = normalize(direction)
+    axis = cross((0.0, 0.0, -1.0), d)
+    s = math.sqrt(sum(a * a for a in axis))
+    angle = math.atan2(s, -d[2])
+    k = math.sin(0.5 * angle) / s
+    return [axis[0] * k, axis[1] * k, axis[2] * k, math.cos(0.5 * angle)]
+
+
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     blob = bytearray()
@@ -135,15 +148,20 @@ def main():
     yfov = 2.0 * math.atan(12.5 / 35.0)
     nodes.append({"name": "camera", "camera": 0, "translation": [0.278, 0.273, -0.8],
                   "rotation": [0.0, 1.0, 0.0, 0.0]})
-    # A point light just below the ceiling light, pointing nowhere in particular.
+    # A point light below the ceiling light, and a spot from the front left corner.
     nodes.append({"name": "ceiling_light", "translation": [0.278, 0.45, 0.2795],
                   "extensions": {"KHR_lights_punctual": {"light": 0}}})
+    nodes.append({"name": "key_spot", "translation": list(SPOT_POSITION),
+                  "rotation": rotation_from_minus_z(SPOT_DIRECTION),
+                  "extensions": {"KHR_lights_punctual": {"light": 1}}})
 
     gltf = {
         "asset": {"version": "2.0", "generator": "dhdr testdata/make_cornell_box.py"},
         "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength"],
         "extensions": {"KHR_lights_punctual": {"lights": [
-            {"name": "ceiling_light", "type": "point", "color": [1.0, 0.85, 0.6], "intensity": 0.35, "range": 2.0}]}},
+            {"name": "ceiling_light", "type": "point", "color": [1.0, 0.85, 0.6], "intensity": 0.35, "range": 2.0},
+            {"name": "key_spot", "type": "spot", "color": [1.0, 0.95, 0.9], "intensity": 0.25, "range": 1.6,
+             "spot": {"innerConeAngle": 0.35, "outerConeAngle": 0.55}}]}},
         "scene": 0,
         "scenes": [{"name": "cornell_box", "nodes": list(range(len(nodes)))}],
         "nodes": nodes,
@@ -163,7 +181,7 @@ def main():
     lights = {"lights": [
         {"name": "ceiling_light", "type": "point", "position": [0.278, 0.45, 0.2795],
          "color": [1.0, 0.85, 0.6], "intensity": 0.35, "range": 2.0},
-        {"name": "key_spot", "type": "spot", "position": [0.10, 0.45, 0.05], "direction": [0.35, -0.6, 0.72],
+        {"name": "key_spot", "type": "spot", "position": list(SPOT_POSITION), "direction": list(SPOT_DIRECTION),
          "color": [1.0, 0.95, 0.9], "intensity": 0.25, "range": 1.6,
          "innerConeAngle": 0.35, "outerConeAngle": 0.55},
         {"name": "fill", "type": "ambient", "color": [1.0, 1.0, 1.0], "intensity": 0.04},

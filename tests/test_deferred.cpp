@@ -208,6 +208,30 @@ TEST(SceneLoading, CornellBoxMaterialsAndObjects) {
     EXPECT_NEAR(hi.z, 0.5592, 1e-6);
 }
 
+TEST(SceneLoading, CornellBoxLightsKeepTheirGltfUnits) {
+    Scene scene;
+    std::string error;
+    ASSERT_TRUE(loadScene(kCornellBox, scene, error)) << error;
+    ASSERT_EQ(scene.lights.size(), 2u);
+    const Light& point = scene.lights[0];
+    EXPECT_EQ(point.type, LightType::Point);
+    EXPECT_NEAR(point.position.x, 0.278f, 1e-6);
+    EXPECT_NEAR(point.position.y, 0.45f, 1e-6);
+    EXPECT_NEAR(point.position.z, 0.2795f, 1e-6);
+    // Intensity and colour apart (Assimp 5.2 multiplies them) and the range (it drops it).
+    EXPECT_NEAR(point.intensity, 0.35f, 1e-6);
+    EXPECT_NEAR(point.color.g, 0.85f, 1e-6);
+    EXPECT_NEAR(point.range, 2.0f, 1e-6);
+    const Light& spot = scene.lights[1];
+    EXPECT_EQ(spot.type, LightType::Spot);
+    const glm::vec3 expected = glm::normalize(glm::vec3(0.35f, -0.6f, 0.72f));
+    EXPECT_NEAR(spot.direction.x, expected.x, 1e-5);
+    EXPECT_NEAR(spot.direction.y, expected.y, 1e-5);
+    EXPECT_NEAR(spot.direction.z, expected.z, 1e-5);
+    EXPECT_NEAR(spot.outerConeAngle, 0.55f, 1e-6);
+    EXPECT_NEAR(spot.innerConeAngle, 0.35f, 1e-6);
+}
+
 namespace {
 
 std::string writeTemp(const std::string& name, const std::string& text) {

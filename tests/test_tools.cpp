@@ -343,6 +343,18 @@ TEST_F(Tools, GBufferFileFollowsTheContract) {
     EXPECT_EQ(names->type().numelements() * names->nvalues(), 9); // background + 8 objects
 }
 
+TEST_F(Tools, SceneLightsFlowIntoTheLightingStage) {
+    const Result g = run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 48x48 --lights-out " +
+                         path("scene.lights.json") + " -o " + path("g48.exr"));
+    ASSERT_EQ(g.status, 0) << g.err;
+    const std::string text = slurp(dir / "scene.lights.json");
+    EXPECT_NE(text.find("\"ceiling_light\""), std::string::npos) << text;
+    EXPECT_NE(text.find("\"spot\""), std::string::npos) << text;
+    const Result l = run("dhdr-light " + path("g48.exr") + " --lights " +
+                         path("scene.lights.json") + " -o " + path("h48.exr"));
+    EXPECT_EQ(l.status, 0) << l.err;
+}
+
 TEST_F(Tools, PipelineEndToEnd) {
     ASSERT_EQ(run("dhdr-aa " + path("h.exr") + " --gbuffer " + path("g.exr") + " -o " +
                   path("aa.exr"))

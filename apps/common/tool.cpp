@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <system_error>
 #include <thread>
 #include <unistd.h>
@@ -153,6 +154,29 @@ bool Tool::writeImage(const OIIO::ImageBuf& image, const std::string& path,
         if (!out.writeRows(y, std::min(y + kStrip, roi.yend), rows)) return false;
     }
     return out.commit();
+}
+
+bool Tool::writeText(const std::string& text, const std::string& path) const {
+    const fs::path target(path);
+    const fs::path temporary = target.parent_path() / ("." + target.filename().string() + ".tmp" +
+                                                       std::to_string(getpid()));
+    std::error_code ec;
+    {
+        std::ofstream out(temporary, std::ios::binary);
+        out << text;
+        if (!out.flush()) {
+            fs::remove(temporary, ec);
+            fail(path + ": cannot write");
+            return false;
+        }
+    }
+    fs::rename(temporary, target, ec);
+    if (ec) {
+        fs::remove(temporary, ec);
+        fail(path + ": cannot move the output into place: " + ec.message());
+        return false;
+    }
+    return true;
 }
 
 AtomicOutput::AtomicOutput(const Tool& tool, std::string path)

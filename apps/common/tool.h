@@ -50,6 +50,9 @@ public:
     bool writeImage(const OIIO::ImageBuf& image, const std::string& path,
                     const std::vector<OIIO::TypeDesc>& formats = {}) const;
 
+    // Writes a small text file (a lights file) the same way: temporary name, then rename.
+    bool writeText(const std::string& text, const std::string& path) const;
+
     const CommandLine& commandLine() const { return m_cl; }
 
 private:

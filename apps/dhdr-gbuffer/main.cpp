@@ -16,7 +16,7 @@ int main(int argc, char** argv) {
                         "Casts one primary ray per pixel (Embree) through a glTF 2.0 or OBJ scene "
                         "(Assimp) and\nwrites the G-buffer channels of docs/gbuffer.md: A Z P.* N.* "
                         "albedo.* roughness\nmetallic emission.* id.object id.material.");
-    std::string size = "1920x1080", cameraName, lookat;
+    std::string size = "1920x1080", cameraName, lookat, lightsOut;
     double fov = 0.0;
     cl.option("--size", size, "WxH", "image size in pixels (default 1920x1080)");
     cl.option("--camera", cameraName, "NAME", "the scene camera to use (default: the first)");
@@ -24,6 +24,8 @@ int main(int argc, char** argv) {
               "a camera at E looking at T (up U, default 0,1,0) instead of the scene's");
     cl.option("--fov", fov, "DEG", "vertical field of view in degrees (default: the scene "
                                    "camera's, or 39.6 with --lookat)");
+    cl.option("--lights-out", lightsOut, "FILE",
+              "also write the scene's punctual lights as a lights file (docs/lights.md)");
     cl.epilog("Example:\n  dhdr-gbuffer testdata/cornell_box.gltf --size 1280x720 -o frame.gbuf.exr");
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-gbuffer", cl);
@@ -33,6 +35,10 @@ int main(int argc, char** argv) {
     }
     const std::string& path = cl.inputs()[0];
     if (const int status = tool.start(cl.inputs()); status >= 0) return status;
+    if (!lightsOut.empty() && (lightsOut == cl.output() || lightsOut == path)) {
+        std::fprintf(stderr, "dhdr-gbuffer: usage error: --lights-out must be another file\n");
+        return app::kExitUsage;
+    }
 
     GBufferParams params;
     if (!app::parseSize(size, params.width, params.height)) {
@@ -106,6 +112,11 @@ int main(int argc, char** argv) {
         }
     }
     if (!output.commit()) return app::kExitFailure;
+    if (!lightsOut.empty()) {
+        if (scene.lights.empty()) tool.warn(path + ": the scene has no lights; writing an empty list");
+        if (!tool.writeText(formatLights(scene.lights), lightsOut)) return app::kExitFailure;
+        tool.info(std::to_string(scene.lights.size()) + " lights written to " + lightsOut);
+    }
     const auto t2 = std::chrono::steady_clock::now();
     auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
     const double totalMs = std::chrono::duration<double, std::milli>(t2 - t1).count();

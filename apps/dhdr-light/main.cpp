@@ -9,16 +9,22 @@
 using namespace dhdr;
 
 int main(int argc, char** argv) {
-    app::CommandLine cl("dhdr-light", "GBUFFER.exr --lights LIGHTS.json -o FRAME.exr [options]",
+    app::CommandLine cl("dhdr-light", "GBUFFER.exr --lights LIGHTS.json... -o FRAME.exr [options]",
                         "Deferred lighting: shades every covered pixel of a G-buffer with Lambert "
                         "diffuse plus\nCook-Torrance specular (GGX, height-correlated Smith, "
                         "Schlick) under point, spot,\ndirectional and ambient lights (docs/lights.md), "
                         "adds emission, and writes linear\nHDR RGBA. Each light is evaluated only "
                         "in the tiles its screen rectangle covers.");
-    std::string lightsPath, background, dataType = "half";
+    std::vector<std::string> lightsPaths;
+    std::string background, dataType = "half";
     bool bruteForce = false, aovs = false;
     int tileSize = 16;
-    cl.option("--lights", lightsPath, "FILE", "lights file (JSON, docs/lights.md); required");
+    cl.option("--lights", "FILE",
+              "lights file (JSON, docs/lights.md); required; repeat to add the lights of several",
+              [&](const std::string& v, std::string&) {
+                  lightsPaths.push_back(v);
+                  return true;
+              });
     cl.option("--background", background, "R,G,B[,A]",
               "colour where there is no surface (default: transparent black)");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
@@ -33,7 +39,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-light: usage error: give one G-buffer file\n");
         return app::kExitUsage;
     }
-    if (lightsPath.empty()) {
+    if (lightsPaths.empty()) {
         std::fprintf(stderr, "dhdr-light: usage error: no lights file (--lights FILE)\n");
         return app::kExitUsage;
     }
@@ -58,11 +64,17 @@ int main(int argc, char** argv) {
     }
     if (aovs) params.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
     const std::string& path = cl.inputs()[0];
-    if (const int status = tool.start({path, lightsPath}); status >= 0) return status;
+    std::vector<std::string> inputs = lightsPaths;
+    inputs.push_back(path);
+    if (const int status = tool.start(inputs); status >= 0) return status;
 
     std::vector<Light> lights;
-    std::string error;
-    if (!readLightsFile(lightsPath, lights, error)) return tool.fail(error);
+    for (const std::string& file : lightsPaths) {
+        std::vector<Light> more;
+        std::string error;
+        if (!readLightsFile(file, more, error)) return tool.fail(error);
+        lights.insert(lights.end(), more.begin(), more.end());
+    }
 
     const auto t0 = std::chrono::steady_clock::now();
     OIIO::ImageBuf gbuf;
@@ -81,7 +93,9 @@ int main(int argc, char** argv) {
     if (!shadeGBuffer(hdr, gbuf, lights, params, &stats, tool.threads()))
         return tool.fail(path + ": " + hdr.geterror());
     const auto t2 = std::chrono::steady_clock::now();
-    hdr.specmod().attribute("dhdr:lights", lightsPath);
+    std::string lightFiles;
+    for (const std::string& file : lightsPaths) lightFiles += (lightFiles.empty() ? "" : ", ") + file;
+    hdr.specmod().attribute("dhdr:lights", lightFiles);
     hdr.specmod().erase_attribute("dhdr:materialNames");
     hdr.specmod().erase_attribute("dhdr:objectNames");
     if (!tool.writeImage(hdr, cl.output(),

@@ -1,6 +1,8 @@
 // What Debian's Assimp 5.2 drops from glTF files, read from the file's own JSON.
 #pragma once
 
+#include <glm/glm.hpp>
+
 #include <map>
 #include <string>
 
@@ -9,5 +11,18 @@ namespace dhdr::detail {
 // KHR_materials_emissive_strength per material name, from a .gltf or .glb file. Empty for
 // other files, or when no material uses the extension.
 std::map<std::string, float> gltfEmissiveStrengths(const std::string& path);
+
+// A KHR_lights_punctual light as the file gives it (Assimp 5.2 folds the intensity into the
+// colour and drops the range).
+struct GltfLight {
+    std::string type = "point";
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    float range = 0.0f; // 0: none given
+    float innerConeAngle = 0.0f, outerConeAngle = 0.7853982f;
+};
+
+// The lights of a .gltf or .glb file by the name of the node that holds them.
+std::map<std::string, GltfLight> gltfLightsByNode(const std::string& path);
 
 } // namespace dhdr::detail

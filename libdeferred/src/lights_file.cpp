@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -196,34 +198,56 @@ bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::st
     return true;
 }
 
+namespace {
+
+// The shortest decimal that reads back as the same float, so that a written file shows 0.85
+// rather than the 0.8500000238418579 a double conversion would.
+double shortest(float v) {
+    for (int digits = 6; digits < 9; ++digits) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.*g", digits, double(v));
+        const double d = std::strtod(text, nullptr);
+        if (float(d) == v) return d;
+    }
+    return double(v);
+}
+
+nlohmann::ordered_json vec3(const glm::vec3& v) {
+    return {shortest(v.x), shortest(v.y), shortest(v.z)};
+}
+
+} // namespace
+
 std::string formatLights(const std::vector<Light>& lights) {
-    json list = json::array();
+    nlohmann::ordered_json list = nlohmann::ordered_json::array();
     for (const Light& l : lights) {
-        json j;
+        nlohmann::ordered_json j;
         j["type"] = typeName(l.type);
         if (!l.name.empty()) j["name"] = l.name;
-        j["color"] = {l.color.r, l.color.g, l.color.b};
-        j["intensity"] = l.intensity;
+        j["color"] = vec3(l.color);
+        j["intensity"] = shortest(l.intensity);
         if (l.isLocal()) {
-            j["position"] = {l.position.x, l.position.y, l.position.z};
-            if (std::isfinite(l.range)) j["range"] = l.range;
+            j["position"] = vec3(l.position);
+            if (std::isfinite(l.range)) j["range"] = shortest(l.range);
         }
         if (l.type == LightType::Spot || l.type == LightType::Directional ||
             l.type == LightType::Rectangle)
-            j["direction"] = {l.direction.x, l.direction.y, l.direction.z};
-        if (l.type == LightType::Sphere) j["radius"] = l.radius;
-        if (l.type == LightType::Rectangle) {
-            j["width"] = l.width;
-            j["height"] = l.height;
-            j["up"] = {l.up.x, l.up.y, l.up.z};
-        }
+            j["direction"] = vec3(l.direction);
         if (l.type == LightType::Spot) {
-            j["innerConeAngle"] = l.innerConeAngle;
-            j["outerConeAngle"] = l.outerConeAngle;
+            j["innerConeAngle"] = shortest(l.innerConeAngle);
+            j["outerConeAngle"] = shortest(l.outerConeAngle);
+        }
+        if (l.type == LightType::Sphere) j["radius"] = shortest(l.radius);
+        if (l.type == LightType::Rectangle) {
+            j["width"] = shortest(l.width);
+            j["height"] = shortest(l.height);
+            j["up"] = vec3(l.up);
         }
         list.push_back(j);
     }
-    return json{{"lights", list}}.dump(2) + "\n";
+    nlohmann::ordered_json doc;
+    doc["lights"] = list;
+    return doc.dump(2) + "\n";
 }
 
 } // namespace dhdr

@@ -41,6 +41,7 @@ public:
         if (!loadMaterials(error)) return false;
         visit(*m_ai.mRootNode, glm::dmat4(1.0));
         loadCameras();
+        loadLights();
         return true;
     }
 
@@ -199,6 +200,48 @@ private:
                 sc.camera.yfov = 2.0 * std::atan(std::tan(double(ac.mHorizontalFOV)) / aspect);
             }
             m_scene.cameras.push_back(sc);
+        }
+    }
+
+    void loadLights() {
+        // Assimp 5.2 folds a glTF light's intensity into its colour and drops its range, so
+        // for glTF the light's own fields come from the file; placement from the node.
+        const auto fromFile = m_gltf ? detail::gltfLightsByNode(m_path)
+                                     : std::map<std::string, detail::GltfLight>{};
+        for (unsigned i = 0; i < m_ai.mNumLights; ++i) {
+            const aiLight& al = *m_ai.mLights[i];
+            glm::dmat4 world(1.0);
+            findNode(*m_ai.mRootNode, al.mName, glm::dmat4(1.0), world);
+            Light light;
+            light.name = al.mName.C_Str();
+            light.position = glm::vec3(
+                world * glm::dvec4(al.mPosition.x, al.mPosition.y, al.mPosition.z, 1.0));
+            const glm::dvec3 dir(world * glm::dvec4(al.mDirection.x, al.mDirection.y,
+                                                    al.mDirection.z, 0.0));
+            light.direction = glm::length(dir) > 0.0 ? glm::vec3(glm::normalize(dir))
+                                                     : glm::vec3(0.0f, 0.0f, -1.0f);
+            switch (al.mType) {
+            case aiLightSource_DIRECTIONAL: light.type = LightType::Directional; break;
+            case aiLightSource_SPOT: light.type = LightType::Spot; break;
+            case aiLightSource_AMBIENT: light.type = LightType::Ambient; break;
+            default: light.type = LightType::Point; break;
+            }
+            const auto it = fromFile.find(light.name);
+            if (it != fromFile.end()) {
+                const detail::GltfLight& g = it->second;
+                light.color = g.color;
+                light.intensity = g.intensity;
+                if (g.range > 0.0f) light.range = g.range;
+                light.innerConeAngle = g.innerConeAngle;
+                light.outerConeAngle = g.outerConeAngle;
+            } else {
+                const glm::vec3 c(al.mColorDiffuse.r, al.mColorDiffuse.g, al.mColorDiffuse.b);
+                light.intensity = std::max({c.r, c.g, c.b});
+                light.color = light.intensity > 0.0f ? c / light.intensity : glm::vec3(1.0f);
+                light.innerConeAngle = al.mAngleInnerCone;
+                light.outerConeAngle = al.mAngleOuterCone;
+            }
+            if (light.type != LightType::Ambient) m_scene.lights.push_back(light);
         }
     }
 

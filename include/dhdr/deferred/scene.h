@@ -1,8 +1,9 @@
 // A scene flattened for primary-ray casting: triangle meshes in world space, glTF
-// metallic-roughness materials and cameras.
+// metallic-roughness materials, cameras and punctual lights.
 #pragma once
 
 #include <dhdr/deferred/camera.h>
+#include <dhdr/deferred/lights.h>
 
 #include <glm/glm.hpp>
 
@@ -52,6 +53,7 @@ struct Scene {
     std::vector<Texture> textures;
     std::vector<std::string> objectNames;
     std::vector<SceneCamera> cameras;
+    std::vector<Light> lights; // world space, KHR_lights_punctual units
 
     glm::dvec3 boundsMin() const;
     glm::dvec3 boundsMax() const;
