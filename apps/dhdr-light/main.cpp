@@ -4,7 +4,9 @@
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/lighting.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 using namespace dhdr;
 
@@ -106,11 +108,15 @@ int main(int argc, char** argv) {
     auto ms = [](auto a, auto b) {
         return std::to_string(std::chrono::duration<double, std::milli>(b - a).count()) + " ms";
     };
-    const double perPixel = stats.coveredPixels > 0 ? double(stats.lightEvaluations) /
-                                                          double(stats.coveredPixels)
-                                                    : 0.0;
-    tool.info(std::to_string(lights.size()) + " lights, " + std::to_string(perPixel) +
-              " evaluated per covered pixel" + (bruteForce ? " (brute force)" : ""));
+    const double pixels = double(std::max<long long>(stats.coveredPixels, 1));
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "%zu lights; per covered pixel %.2f considered, %.2f within range%s; "
+                  "%lld tile-list entries",
+                  lights.size(), double(stats.lightEvaluations) / pixels,
+                  double(stats.lightsReaching) / pixels, bruteForce ? " (brute force)" : "",
+                  stats.tileListEntries);
+    tool.info(line);
     tool.info("read " + ms(t0, t1) + ", shade " + ms(t1, t2) + ", write " + ms(t2, t3));
     return app::kExitSuccess;
 }
