@@ -387,6 +387,12 @@ TEST(Lights, ErrorsNameTheLightAndField) {
     EXPECT_EQ(error, "light 0: \"position\" is required");
     EXPECT_FALSE(parseLights(R"([{"type": "laser"}])", lights, error));
     EXPECT_NE(error.find("light 0: \"type\""), std::string::npos);
+    EXPECT_FALSE(parseLights(R"({"lights": [{"type": "ambient"}, 7]})", lights, error));
+    EXPECT_EQ(error, "light 1: not an object");
+    EXPECT_FALSE(parseLights(R"({"lights": [[]]})", lights, error));
+    EXPECT_EQ(error, "light 0: not an object");
+    EXPECT_FALSE(parseLights(R"({"lamps": []})", lights, error));
+    EXPECT_EQ(error, "no \"lights\" array");
     EXPECT_FALSE(parseLights("{\"lights\": [", lights, error));
     EXPECT_NE(error.find("not valid JSON"), std::string::npos);
 }

@@ -118,19 +118,25 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
                 if (layout.emission >= 0)
                     Lo = glm::vec3(g[layout.emission], g[layout.emission + 1],
                                    g[layout.emission + 2]);
-                auto shade = [&](std::uint32_t i) {
-                    ++localEvaluations;
-                    if (!reach.reaches(i, P)) return; // the window is exactly zero there
-                    ++localReaching;
-                    Lo += shadeLight(lights[i], s, P, N, V);
-                };
                 if (params.bruteForce) {
-                    for (std::uint32_t i = 0; i < lights.size(); ++i) shade(i);
+                    // The reference: every light's full evaluation, which is exactly zero
+                    // where it does not reach.
+                    for (std::uint32_t i = 0; i < lights.size(); ++i) {
+                        localReaching += reach.reaches(i, P);
+                        Lo += shadeLight(lights[i], s, P, N, V);
+                    }
+                    localEvaluations += (long long)lights.size();
                 } else {
                     const int px = x - in.x, py = y - in.y;
                     const std::uint32_t slice = tiles.sliceBit(px, py, g[layout.depth]);
-                    for (const TileLightLists::Entry& e : tiles.at(px, py))
-                        if (e.depthMask & slice) shade(e.light);
+                    for (const TileLightLists::Entry& e : tiles.at(px, py)) {
+                        if (!(e.depthMask & slice)) continue;
+                        ++localEvaluations;
+                        // Out of range, the window is exactly zero: skip before reading more.
+                        if (!reach.reaches(e.light, P)) continue;
+                        ++localReaching;
+                        Lo += shadeLight(lights[e.light], s, P, N, V);
+                    }
                 }
                 ++localCovered;
                 out[0] = Lo.r;

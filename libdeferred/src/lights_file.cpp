@@ -154,30 +154,53 @@ const char* typeName(LightType t) {
 
 bool parseLights(const std::string& text, std::vector<Light>& lights, std::string& error) {
     lights.clear();
-    json doc;
-    try {
-        doc = json::parse(text);
-    } catch (const json::parse_error& e) {
-        error = std::string("not valid JSON: ") + e.what();
-        return false;
-    }
-    const json* list = &doc;
-    if (doc.is_object()) {
-        if (!doc.contains("lights")) {
-            error = "no \"lights\" array";
+    // Each light is converted as soon as the parser has read it, and dropped from the
+    // document, so that a file of 100,000 lights never exists as a whole JSON tree.
+    enum class Root { Unknown, Object, Array } root = Root::Unknown;
+    std::string key; // the current key of the root object
+    bool sawLights = false;
+    const json::parser_callback_t collect = [&](int depth, json::parse_event_t event,
+                                                json& parsed) {
+        if (depth == 0 && event == json::parse_event_t::object_start) root = Root::Object;
+        if (depth == 0 && event == json::parse_event_t::array_start) root = Root::Array;
+        if (depth == 1 && event == json::parse_event_t::key && root == Root::Object) {
+            key = parsed.get<std::string>();
+            sawLights = sawLights || key == "lights";
+        }
+        const bool lightDepth = (root == Root::Object && depth == 2 && key == "lights") ||
+                                (root == Root::Array && depth == 1);
+        if (lightDepth && event == json::parse_event_t::object_end) {
+            lights.push_back(parseLight(parsed, lights.size()));
             return false;
         }
-        list = &doc.at("lights");
-    }
-    if (!list->is_array()) {
-        error = "\"lights\" must be an array";
-        return false;
-    }
+        if (lightDepth && (event == json::parse_event_t::value ||
+                           event == json::parse_event_t::array_end))
+            throw LightError{"light " + std::to_string(lights.size()) + ": not an object"};
+        return true;
+    };
+    json doc;
     try {
-        for (size_t i = 0; i < list->size(); ++i) lights.push_back(parseLight((*list)[i], i));
+        doc = json::parse(text, collect);
+    } catch (const json::parse_error& e) {
+        lights.clear();
+        error = std::string("not valid JSON: ") + e.what();
+        return false;
     } catch (const LightError& e) {
         lights.clear();
         error = e.message;
+        return false;
+    }
+    if (root == Root::Object && !sawLights) {
+        error = "no \"lights\" array";
+        return false;
+    }
+    if (root == Root::Object && !doc["lights"].is_array()) {
+        lights.clear();
+        error = "\"lights\" must be an array";
+        return false;
+    }
+    if (root == Root::Unknown) {
+        error = "expected an object with a \"lights\" array, or an array of lights";
         return false;
     }
     return true;
