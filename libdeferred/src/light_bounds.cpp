@@ -5,12 +5,13 @@
 
 namespace dhdr {
 
-PixelRect lightScreenRect(const Light& light, const glm::dmat4& worldToCamera,
-                          const glm::dmat4& cameraToNDC, int width, int height) {
+PixelRect sphereScreenRect(const glm::dvec3& centre, double radius,
+                           const glm::dmat4& worldToCamera, const glm::dmat4& cameraToNDC,
+                           int width, int height) {
     const PixelRect whole{0, 0, width, height};
-    if (!light.isLocal() || !std::isfinite(light.range)) return whole;
-    const double r = light.range;
-    const glm::dvec3 c = glm::dvec3(worldToCamera * glm::dvec4(glm::dvec3(light.position), 1.0));
+    if (!std::isfinite(radius)) return whole;
+    const double r = radius;
+    const glm::dvec3 c = glm::dvec3(worldToCamera * glm::dvec4(centre, 1.0));
     // The camera looks down −z: a sphere wholly at z > 0 is behind it, one reaching z > −ε
     // crosses the plane where projection breaks down.
     if (c.z - r > 0.0) return {};

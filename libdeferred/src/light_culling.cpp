@@ -179,12 +179,8 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
             // A little wider than the bound: the G-buffer's positions and depths are floats.
             span.radius = double(b.radius) * (1.0 + 1e-4) + 1e-6;
             span.centre = glm::dvec3(camera.worldToCamera * glm::dvec4(glm::dvec3(b.centre), 1.0));
-            Light sphere;
-            sphere.type = LightType::Point;
-            sphere.position = b.centre;
-            sphere.range = float(span.radius);
-            const PixelRect r =
-                lightScreenRect(sphere, camera.worldToCamera, cameraToNDC, width, height);
+            const PixelRect r = sphereScreenRect(glm::dvec3(b.centre), span.radius,
+                                                 camera.worldToCamera, cameraToNDC, width, height);
             if (r.empty()) continue;
             span.tx0 = r.x0 / tileSize;
             span.tx1 = (r.x1 - 1) / tileSize;

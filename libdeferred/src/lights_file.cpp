@@ -7,7 +7,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 
 namespace dhdr {
 
@@ -207,14 +206,19 @@ bool parseLights(const std::string& text, std::vector<Light>& lights, std::strin
 }
 
 bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::string& error) {
-    std::ifstream in(path, std::ios::binary);
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
     if (!in) {
         error = path + ": cannot open the lights file";
         return false;
     }
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (!parseLights(text.str(), lights, error)) {
+    // Read straight into one string: a file of 100,000 lights is 13 MB.
+    std::string text(size_t(in.tellg()), '\0');
+    in.seekg(0);
+    if (!in.read(text.data(), std::streamsize(text.size()))) {
+        error = path + ": cannot read the lights file";
+        return false;
+    }
+    if (!parseLights(text, lights, error)) {
         error = path + ": " + error;
         return false;
     }

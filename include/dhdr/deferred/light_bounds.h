@@ -1,8 +1,6 @@
 // Where on screen a light can reach: the seed's per-light scissor rectangle.
 #pragma once
 
-#include <dhdr/deferred/lights.h>
-
 #include <glm/glm.hpp>
 
 namespace dhdr {
@@ -13,11 +11,12 @@ struct PixelRect {
     bool empty() const { return x0 >= x1 || y0 >= y1; }
 };
 
-// The pixels whose surface points may lie within `light`'s range sphere, for a camera given
-// by its world-to-camera and camera-to-NDC (OpenGL) matrices: the projection of the sphere's
-// camera-space bounding box, widened by a pixel. Whole image for lights without a finite
-// range or a sphere that crosses the camera plane; empty for a sphere behind the camera.
-PixelRect lightScreenRect(const Light& light, const glm::dmat4& worldToCamera,
-                          const glm::dmat4& cameraToNDC, int width, int height);
+// The pixels whose surface points may lie within a world-space sphere, for a camera given by
+// its world-to-camera and camera-to-NDC (OpenGL) matrices: the projection of the sphere's
+// camera-space bounding box, widened by a pixel. The whole image for a sphere that crosses the
+// camera plane; empty for one wholly behind the camera.
+PixelRect sphereScreenRect(const glm::dvec3& centre, double radius,
+                           const glm::dmat4& worldToCamera, const glm::dmat4& cameraToNDC,
+                           int width, int height);
 
 } // namespace dhdr
