@@ -355,6 +355,22 @@ TEST_F(Tools, SceneLightsFlowIntoTheLightingStage) {
     EXPECT_EQ(l.status, 0) << l.err;
 }
 
+TEST_F(Tools, CulledLightingEqualsBruteForce) {
+    // The Cornell box's lights plus a fill, culled and brute force, compared pixel by pixel.
+    const std::string lights = " --lights " + kTestdata + "/cornell_box.lights.json --lights " +
+                               kTestdata + "/cornell_box.fill.lights.json --type float";
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + lights + " -o " + path("culled.exr")).status, 0);
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + lights + " --brute-force -o " + path("brute.exr"))
+                  .status,
+              0);
+    const ImageBuf a = read("culled.exr"), b = read("brute.exr");
+    ASSERT_EQ(a.spec().image_pixels(), b.spec().image_pixels());
+    const float* pa = static_cast<const float*>(a.localpixels());
+    const float* pb = static_cast<const float*>(b.localpixels());
+    for (size_t i = 0; i < a.spec().image_pixels() * 4; ++i)
+        ASSERT_NEAR(pa[i], pb[i], 1e-5 * std::max(1e-6f, std::abs(pb[i]))) << i;
+}
+
 TEST_F(Tools, PipelineEndToEnd) {
     ASSERT_EQ(run("dhdr-aa " + path("h.exr") + " --gbuffer " + path("g.exr") + " -o " +
                   path("aa.exr"))
