@@ -127,15 +127,17 @@ bool Tool::readImageChannels(const std::string& path, const std::vector<std::str
 }
 
 void Tool::replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin,
-                            int chend) const {
+                            int chend, bool zeroNegative) const {
     OIIO::ROI roi = image.roi();
     roi.chbegin = chbegin;
     roi.chend = std::min(chend, image.nchannels());
-    const NonFiniteCount n = dhdr::replaceNonFinite(image, roi, threads());
+    const NonFiniteCount n = dhdr::replaceNonFinite(image, roi, threads(), zeroNegative);
     if (n.total() == 0) return;
-    warn(path + ": replaced " + std::to_string(n.total()) + " non-finite values (" +
-         std::to_string(n.nan) + " NaN → 0, " + std::to_string(n.positiveInf) +
-         " +Inf → largest finite, " + std::to_string(n.negativeInf) + " -Inf → 0)");
+    const std::string what = zeroNegative ? " non-finite or negative values (" : " non-finite values (";
+    warn(path + ": replaced " + std::to_string(n.total()) + what + std::to_string(n.nan) +
+         " NaN → 0, " + std::to_string(n.positiveInf) + " +Inf → largest finite, " +
+         std::to_string(n.negativeInf) + " -Inf → 0" +
+         (zeroNegative ? ", " + std::to_string(n.negative) + " negative → 0)" : ")"));
 }
 
 bool Tool::writeImage(const OIIO::ImageBuf& image, const std::string& path,

@@ -41,9 +41,10 @@ public:
     bool readImageChannels(const std::string& path, const std::vector<std::string>& names,
                            OIIO::ImageBuf& image) const;
 
-    // Replaces NaN and ±Inf in channels [chbegin, chend) and warns with the counts.
-    void replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin,
-                          int chend) const;
+    // Replaces NaN and ±Inf (and with `zeroNegative` negative values) in channels
+    // [chbegin, chend) and warns with the counts, in one line.
+    void replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
+                          bool zeroNegative = false) const;
 
     // Writes `image` through an AtomicOutput (below). `formats`: one type for all channels,
     // or one per channel; empty keeps float.

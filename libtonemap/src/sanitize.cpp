@@ -8,7 +8,8 @@
 
 namespace dhdr {
 
-NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads) {
+NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads,
+                                bool zeroNegative) {
     NonFiniteCount count;
     if (!img.initialized() || img.spec().format != OIIO::TypeDesc::FLOAT || !img.localpixels())
         return count;
@@ -34,6 +35,8 @@ NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads
                         ++row.count.nan;
                     else if (std::isinf(p[c]))
                         ++(p[c] > 0 ? row.count.positiveInf : row.count.negativeInf);
+                    else if (zeroNegative && p[c] < 0.0f)
+                        ++row.count.negative;
                     else
                         row.maxFinite[size_t(c)] = std::max(row.maxFinite[size_t(c)], p[c]);
                 }
@@ -45,6 +48,7 @@ NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads
         count.nan += row.count.nan;
         count.positiveInf += row.count.positiveInf;
         count.negativeInf += row.count.negativeInf;
+        count.negative += row.count.negative;
         for (int c = 0; c < nch; ++c)
             maxFinite[size_t(c)] = std::max(maxFinite[size_t(c)], row.maxFinite[size_t(c)]);
     }
@@ -56,7 +60,7 @@ NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads
             for (int x = r.xbegin; x < r.xend; ++x) {
                 float* p = pixel(x, y);
                 for (int c = roi.chbegin; c < roi.chend; ++c) {
-                    if (std::isnan(p[c]) || p[c] == -INFINITY)
+                    if (std::isnan(p[c]) || p[c] == -INFINITY || (zeroNegative && p[c] < 0.0f))
                         p[c] = 0.0f;
                     else if (p[c] == INFINITY)
                         p[c] = maxFinite[size_t(c)];

@@ -9,12 +9,15 @@ struct NonFiniteCount {
     long long nan = 0;
     long long positiveInf = 0;
     long long negativeInf = 0;
-    long long total() const { return nan + positiveInf + negativeInf; }
+    long long negative = 0; // finite negatives, counted (and zeroed) only when asked
+    long long total() const { return nan + positiveInf + negativeInf + negative; }
 };
 
 // Replaces, in the channels [roi.chbegin, roi.chend) of `img`, NaN and -Inf by 0 and +Inf by
-// the largest finite value found in that channel (0 if there is none). Returns the counts of
-// replaced values. `img` must hold float pixels (as read by dhdr's tools).
-NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi = {}, int nthreads = 0);
+// the largest finite value found in that channel (0 if there is none), and with
+// `zeroNegative` also finite negative values by 0 (colour that a display cannot show).
+// Returns the counts of replaced values. `img` must hold float pixels (as dhdr's tools read).
+NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi = {}, int nthreads = 0,
+                                bool zeroNegative = false);
 
 } // namespace dhdr

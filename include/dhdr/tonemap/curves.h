@@ -1,0 +1,60 @@
+// Global tone curves: each maps scene-linear values to display-linear [0, 1], written the way
+// its paper or specification writes it.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace dhdr {
+
+// Hable's filmic curve ("Uncharted 2"), with its published constants.
+struct HableParams {
+    float shoulderStrength = 0.15f; // A
+    float linearStrength = 0.50f;   // B
+    float linearAngle = 0.10f;      // C
+    float toeStrength = 0.20f;      // D
+    float toeNumerator = 0.02f;     // E
+    float toeDenominator = 0.30f;   // F
+    float linearWhite = 11.2f;      // W
+    float exposureBias = 2.0f;
+};
+
+// f(x) = (x (A x + C B) + D E) / (x (A x + B) + D F) − E / F.
+inline float hableCurve(float x, const HableParams& p) {
+    const float A = p.shoulderStrength, B = p.linearStrength, C = p.linearAngle,
+                D = p.toeStrength, E = p.toeNumerator, F = p.toeDenominator;
+    return (x * (A * x + C * B) + D * E) / (x * (A * x + B) + D * F) - E / F;
+}
+
+// Per channel: f(bias · x) / f(W).
+inline float hable(float x, const HableParams& p) {
+    return hableCurve(p.exposureBias * std::max(x, 0.0f), p) / hableCurve(p.linearWhite, p);
+}
+
+// Drago et al. 2003, eq. 4: adaptive logarithmic mapping of world luminance Lw (in units of
+// the world adaptation luminance) with the largest Lwmax, bias b, display maximum Ldmax.
+inline double dragoCurve(double Lw, double Lwmax, double bias = 0.85, double Ldmax = 100.0) {
+    const double exponent = std::log(bias) / std::log(0.5);
+    return (Ldmax * 0.01 / std::log10(Lwmax + 1.0)) * std::log(Lw + 1.0) /
+           std::log(2.0 + 8.0 * std::pow(Lw / Lwmax, exponent));
+}
+
+// Khronos PBR Neutral tone mapper (2024 specification), on linear Rec.709 RGB.
+inline glm::vec3 pbrNeutral(glm::vec3 color) {
+    constexpr float startCompression = 0.8f - 0.04f;
+    constexpr float desaturation = 0.15f;
+    const float x = std::min(color.r, std::min(color.g, color.b));
+    const float offset = x < 0.08f ? x - 6.25f * x * x : 0.04f;
+    color -= offset;
+    const float peak = std::max(color.r, std::max(color.g, color.b));
+    if (peak < startCompression) return color;
+    constexpr float d = 1.0f - startCompression;
+    const float newPeak = 1.0f - d * d / (peak + d - startCompression);
+    color *= newPeak / peak;
+    const float g = 1.0f - 1.0f / (desaturation * (peak - newPeak) + 1.0f);
+    return glm::mix(color, glm::vec3(newPeak), g);
+}
+
+} // namespace dhdr

@@ -1,0 +1,143 @@
+#include <dhdr/tonemap/tone_map.h>
+
+#include <dhdr/tonemap/local_reinhard.h>
+#include <dhdr/tonemap/reinhard.h>
+
+#include "float_pixels.h"
+
+#include <OpenImageIO/imagebufalgo_util.h>
+
+#include <cmath>
+#include <functional>
+
+namespace dhdr {
+
+namespace {
+
+struct Named {
+    ToneOperator op;
+    const char* name;
+};
+constexpr Named kOperators[] = {
+    {ToneOperator::Reinhard, "reinhard"},       {ToneOperator::ReinhardLocal, "reinhard-local"},
+    {ToneOperator::Drago, "drago"},             {ToneOperator::Hable, "hable"},
+    {ToneOperator::PbrNeutral, "pbr-neutral"},  {ToneOperator::Exposure, "exposure"},
+};
+
+// Applies f(rgb, x, y) → rgb to every pixel of roi, copying the other channels.
+bool perPixel(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int nthreads,
+              const std::function<glm::vec3(const float*, int, int)>& f) {
+    if (!detail::prepareFloatDst(dst, src, roi, 3)) return false;
+    const detail::FloatPixels in(src);
+    OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
+        for (int y = r.ybegin; y < r.yend; ++y)
+            for (int x = r.xbegin; x < r.xend; ++x) {
+                const float* p = in.at(x, y);
+                float* q = detail::floatPixel(dst, x, y);
+                const glm::vec3 c = f(p, x, y);
+                q[0] = c.r;
+                q[1] = c.g;
+                q[2] = c.b;
+                for (int k = 3; k < r.chend; ++k) q[k] = p[k];
+            }
+    });
+    return true;
+}
+
+} // namespace
+
+bool parseToneOperator(const std::string& name, ToneOperator& op) {
+    for (const Named& n : kOperators)
+        if (name == n.name) {
+            op = n.op;
+            return true;
+        }
+    return false;
+}
+
+const char* toneOperatorName(ToneOperator op) {
+    for (const Named& n : kOperators)
+        if (n.op == op) return n.name;
+    return "reinhard";
+}
+
+bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams& params,
+             OIIO::ROI roi, int nthreads) {
+    if (!src.initialized() || src.nchannels() < 3) {
+        dst.errorfmt("tone mapping needs an image with at least three channels");
+        return false;
+    }
+    const double gain = std::exp2(params.exposure);
+    if (params.op == ToneOperator::Exposure) {
+        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+            return glm::clamp(glm::vec3(p[0], p[1], p[2]) * float(gain), 0.0f, 1.0f);
+        });
+    }
+    LuminanceStats measured;
+    const LuminanceStats* stats = params.stats;
+    if (!stats) {
+        meter(measured, src, params.metering, {}, nthreads);
+        stats = &measured;
+    }
+    const double logAverage = stats->logAverage > 0.0 ? stats->logAverage : 1.0;
+    const double scale = gain * params.key / logAverage; // L = scale · Lw
+    const LuminanceWeights w = params.metering.luminance.weights;
+    auto Lw = [&](const float* p) { return double(luminance(p[0], p[1], p[2], w)); };
+    // Colour × Ld / Lw.
+    auto byLuminance = [](const float* p, double Lw, double Ld) {
+        const float ratio = Lw > 0.0 ? float(Ld / Lw) : 0.0f;
+        return glm::vec3(p[0], p[1], p[2]) * ratio;
+    };
+
+    switch (params.op) {
+    case ToneOperator::Reinhard: {
+        ReinhardParams rp;
+        rp.key = params.key;
+        rp.exposure = params.exposure;
+        rp.white = params.white;
+        rp.metering = params.metering.luminance;
+        rp.stats = stats;
+        return reinhard(dst, src, rp, roi, nthreads);
+    }
+    case ToneOperator::ReinhardLocal: {
+        OIIO::ImageSpec spec(src.spec().width, src.spec().height, 1, OIIO::TypeDesc::FLOAT);
+        spec.x = src.spec().x;
+        spec.y = src.spec().y;
+        OIIO::ImageBuf scaled(spec), mapped;
+        perPixel(scaled, src, {}, nthreads, [&](const float* p, int, int) {
+            return glm::vec3(float(scale * std::max(Lw(p), 0.0)));
+        });
+        LocalReinhardParams lp;
+        lp.key = params.key;
+        lp.phi = params.phi;
+        lp.epsilon = params.epsilon;
+        localReinhard(mapped, scaled, lp, nthreads);
+        return perPixel(dst, src, roi, nthreads, [&](const float* p, int x, int y) {
+            const float Ld = *static_cast<const float*>(mapped.pixeladdr(x, y));
+            return byLuminance(p, Lw(p), Ld);
+        });
+    }
+    case ToneOperator::Drago: {
+        // World luminance in units of the metered adaptation luminance.
+        const double Lwmax = std::max(scale * stats->maxLuminance, 1e-6);
+        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+            const double lw = Lw(p);
+            return byLuminance(p, lw, dragoCurve(scale * std::max(lw, 0.0), Lwmax, params.dragoBias));
+        });
+    }
+    case ToneOperator::Hable:
+        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+            return glm::vec3(hable(float(scale * p[0]), params.hable),
+                             hable(float(scale * p[1]), params.hable),
+                             hable(float(scale * p[2]), params.hable));
+        });
+    case ToneOperator::PbrNeutral:
+        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+            return pbrNeutral(glm::max(glm::vec3(p[0], p[1], p[2]) * float(scale), 0.0f));
+        });
+    case ToneOperator::Exposure: break;
+    }
+    return true;
+}
+
+} // namespace dhdr

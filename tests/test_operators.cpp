@@ -1,0 +1,239 @@
+// dhdr-tonemap's operators, metering and dithering against references computed here in double
+// precision from the published formulas, and against values worked out by hand.
+#include <dhdr/tonemap/display.h>
+#include <dhdr/tonemap/local_reinhard.h>
+#include <dhdr/tonemap/metering.h>
+#include <dhdr/tonemap/tone_map.h>
+
+#include <OpenImageIO/imagebuf.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+using namespace dhdr;
+using OIIO::ImageBuf;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+namespace {
+
+float* px(ImageBuf& img, int x, int y) { return static_cast<float*>(img.pixeladdr(x, y)); }
+const float* px(const ImageBuf& img, int x, int y) {
+    return static_cast<const float*>(img.pixeladdr(x, y));
+}
+
+// One row of grey pixels.
+ImageBuf greys(const std::vector<float>& values) {
+    ImageBuf img(ImageSpec(int(values.size()), 1, 3, TypeDesc::FLOAT));
+    for (size_t i = 0; i < values.size(); ++i)
+        for (int c = 0; c < 3; ++c) px(img, int(i), 0)[c] = values[i];
+    return img;
+}
+
+// Metering that makes the scale key / L̄w exactly 1.
+LuminanceStats unitScale(double maxLuminance) {
+    LuminanceStats s;
+    s.logAverage = 0.18;
+    s.maxLuminance = maxLuminance;
+    s.pixels = 1;
+    return s;
+}
+
+} // namespace
+
+TEST(Operators, NamesRoundTrip) {
+    for (const char* name :
+         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure"}) {
+        ToneOperator op;
+        ASSERT_TRUE(parseToneOperator(name, op));
+        EXPECT_STREQ(toneOperatorName(op), name);
+    }
+    ToneOperator op;
+    EXPECT_FALSE(parseToneOperator("aces2", op));
+}
+
+TEST(Operators, HableMatchesThePublishedCurve) {
+    // f(x) = ((x(Ax + CB) + DE) / (x(Ax + B) + DF)) − E/F with A..F = 0.15, 0.50, 0.10, 0.20,
+    // 0.02, 0.30, W = 11.2; out = f(2 v) / f(W).
+    auto f = [](double x) {
+        const double A = 0.15, B = 0.50, C = 0.10, D = 0.20, E = 0.02, F = 0.30;
+        return (x * (A * x + C * B) + D * E) / (x * (A * x + B) + D * F) - E / F;
+    };
+    const std::vector<float> v = {0.0f, 0.05f, 0.18f, 1.0f, 4.0f, 5.6f};
+    const LuminanceStats stats = unitScale(5.6);
+    ToneMapParams p;
+    p.op = ToneOperator::Hable;
+    p.stats = &stats;
+    ImageBuf out;
+    ASSERT_TRUE(toneMap(out, greys(v), p));
+    for (size_t i = 0; i < v.size(); ++i)
+        EXPECT_NEAR(px(out, int(i), 0)[1], f(2.0 * v[i]) / f(11.2), 1e-6) << v[i];
+    EXPECT_NEAR(px(out, 5, 0)[0], 1.0, 1e-6); // 2 × 5.6 = W: white
+}
+
+TEST(Operators, DragoMatchesEquationFourAndMapsTheMaximumToOne) {
+    auto drago = [](double Lw, double Lwmax) {
+        const double b = 0.85;
+        return (100.0 * 0.01 / std::log10(Lwmax + 1.0)) * std::log(Lw + 1.0) /
+               std::log(2.0 + 8.0 * std::pow(Lw / Lwmax, std::log(b) / std::log(0.5)));
+    };
+    const std::vector<float> v = {0.01f, 0.3f, 2.0f, 50.0f};
+    const LuminanceStats stats = unitScale(50.0);
+    ToneMapParams p;
+    p.op = ToneOperator::Drago;
+    p.stats = &stats;
+    ImageBuf out;
+    ASSERT_TRUE(toneMap(out, greys(v), p));
+    for (size_t i = 0; i < v.size(); ++i)
+        EXPECT_NEAR(px(out, int(i), 0)[0], drago(v[i], 50.0), 1e-6) << v[i];
+    // At Lw = Lwmax the denominator is ln 10 and the result (1/log10(Lwmax+1)) ln(Lwmax+1)/ln 10.
+    EXPECT_NEAR(px(out, 3, 0)[0], 1.0, 1e-6);
+}
+
+TEST(Operators, PbrNeutralMatchesHandComputedValues) {
+    ImageBuf img(ImageSpec(2, 1, 3, TypeDesc::FLOAT));
+    const float a[3] = {0.5f, 0.5f, 0.5f}, b[3] = {2.0f, 1.0f, 0.5f};
+    std::memcpy(px(img, 0, 0), a, 12);
+    std::memcpy(px(img, 1, 0), b, 12);
+    const LuminanceStats stats = unitScale(2.0);
+    ToneMapParams p;
+    p.op = ToneOperator::PbrNeutral;
+    p.stats = &stats;
+    ImageBuf out;
+    ASSERT_TRUE(toneMap(out, img, p));
+    // Below the compression start only the 0.04 offset applies.
+    EXPECT_NEAR(px(out, 0, 0)[0], 0.46, 1e-6);
+    // (2, 1, 0.5) − 0.04 → peak 1.96 → new peak 1 − 0.24²/1.44 = 0.96, scaled by 0.96/1.96,
+    // then mixed towards 0.96 by g = 1 − 1/1.15.
+    EXPECT_NEAR(px(out, 1, 0)[0], 0.96, 1e-5);
+    EXPECT_NEAR(px(out, 1, 0)[1], 0.534091, 1e-5);
+    EXPECT_NEAR(px(out, 1, 0)[2], 0.321136, 1e-5);
+}
+
+TEST(Operators, ExposureIsLinearAndClipped) {
+    ToneMapParams p;
+    p.op = ToneOperator::Exposure;
+    p.exposure = 2.0;
+    ImageBuf out;
+    ASSERT_TRUE(toneMap(out, greys({0.1f, 0.2f, 0.3f, -1.0f}), p));
+    EXPECT_FLOAT_EQ(px(out, 0, 0)[0], 0.4f);
+    EXPECT_FLOAT_EQ(px(out, 1, 0)[0], 0.8f);
+    EXPECT_FLOAT_EQ(px(out, 2, 0)[0], 1.0f);
+    EXPECT_FLOAT_EQ(px(out, 3, 0)[0], 0.0f);
+}
+
+TEST(Operators, LocalReinhardOnAFlatImageIsTheGlobalCurve) {
+    // No activity at any scale: the largest scale is chosen and V1 = L, so Ld = L / (1 + L).
+    ImageBuf L(ImageSpec(40, 30, 1, TypeDesc::FLOAT));
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x) px(L, x, y)[0] = 2.5f;
+    ImageBuf out;
+    ASSERT_TRUE(localReinhard(out, L));
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x) ASSERT_NEAR(px(out, x, y)[0], 2.5 / 3.5, 1e-6);
+}
+
+namespace {
+
+// V1(x, y, s) by direct 2-D summation of the Gaussian of scale s (σ = s/4, window ⌈3σ⌉,
+// edges clamped), in double.
+double centreSurround(const std::vector<double>& L, int w, int h, int x, int y, double s) {
+    const double sigma = s / 4.0;
+    const int r = std::max(1, int(std::ceil(3.0 * sigma)));
+    double sum = 0.0, weight = 0.0;
+    for (int dy = -r; dy <= r; ++dy)
+        for (int dx = -r; dx <= r; ++dx) {
+            const double g = std::exp(-0.5 * (dx * dx + dy * dy) / (sigma * sigma));
+            const int xx = std::clamp(x + dx, 0, w - 1), yy = std::clamp(y + dy, 0, h - 1);
+            sum += g * L[size_t(yy * w + xx)];
+            weight += g;
+        }
+    return sum / weight;
+}
+
+} // namespace
+
+TEST(Operators, LocalReinhardMatchesDirectCentreSurround) {
+    // A bright square on a dim ground: near its edge the activity passes ε at small scales.
+    const int w = 48, h = 40;
+    std::vector<double> L(size_t(w * h));
+    ImageBuf img(ImageSpec(w, h, 1, TypeDesc::FLOAT));
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const bool bright = x >= 20 && x < 30 && y >= 15 && y < 25;
+            L[size_t(y * w + x)] = bright ? 8.0 : 0.05 + 0.002 * x;
+            px(img, x, y)[0] = float(L[size_t(y * w + x)]);
+        }
+    LocalReinhardParams params;
+    ImageBuf out;
+    ASSERT_TRUE(localReinhard(out, img, params));
+    int local = 0;
+    for (int y = 0; y < h; y += 3)
+        for (int x = 0; x < w; x += 3) {
+            double chosen = centreSurround(L, w, h, x, y, 1.0);
+            for (int i = 0; i < params.scales; ++i) {
+                const double s = std::pow(1.6, i);
+                const double v1 = centreSurround(L, w, h, x, y, s);
+                const double v2 = centreSurround(L, w, h, x, y, 1.6 * s);
+                const double activity = (v1 - v2) / (std::pow(2.0, 8.0) * 0.18 / (s * s) + v1);
+                if (std::abs(activity) >= 0.05) break;
+                chosen = v1;
+            }
+            const double Lxy = L[size_t(y * w + x)];
+            EXPECT_NEAR(px(out, x, y)[0], Lxy / (1.0 + chosen), 1e-5 * (1.0 + Lxy)) << x << "," << y;
+            local += std::abs(chosen - Lxy) > 0.01;
+        }
+    EXPECT_GT(local, 10); // the surround differs from the pixel: the operator is local
+}
+
+TEST(Metering, HistogramWindowIgnoresOutliers) {
+    // 92 pixels at 1, 4 at 0.001 and 4 at 1000: the 5–95 % window holds only the ones.
+    std::vector<float> v(100, 1.0f);
+    for (int i = 0; i < 4; ++i) {
+        v[size_t(i)] = 0.001f;
+        v[size_t(99 - i)] = 1000.0f;
+    }
+    MeteringParams p;
+    p.mode = MeteringMode::Histogram;
+    LuminanceStats stats;
+    ASSERT_TRUE(meter(stats, greys(v), p));
+    EXPECT_NEAR(stats.logAverage, 1.0001, 1e-6); // exp(ln(δ + 1))
+    p.mode = MeteringMode::LogAverage;
+    meter(stats, greys(v), p);
+    // The plain log-average moves with the outliers: exp((4 ln 0.0011 + 4 ln 1000.0001 + 92 ln 1.0001)/100).
+    EXPECT_NEAR(stats.logAverage,
+                std::exp((4 * std::log(0.0011) + 4 * std::log(1000.0001) + 92 * std::log(1.0001)) /
+                         100.0),
+                1e-5);
+}
+
+TEST(Dither, IsDeterministicAndUnbiased) {
+    // A gradient from 0.2 to 0.8 over 256 columns, 64 rows, quantized to 8 bits by rounding.
+    const int w = 256, h = 64;
+    auto gradient = [&] {
+        ImageBuf img(ImageSpec(w, h, 3, TypeDesc::FLOAT));
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < 3; ++c) px(img, x, y)[c] = 0.2f + 0.6f * x / (w - 1);
+        return img;
+    };
+    ImageBuf a = gradient(), b = gradient(), c = gradient();
+    ASSERT_TRUE(addDither(a, 8, 0, {}, 1));
+    ASSERT_TRUE(addDither(b, 8, 0, {}, 2));
+    ASSERT_EQ(std::memcmp(a.localpixels(), b.localpixels(), a.spec().image_bytes()), 0);
+    double total = 0.0, worstColumn = 0.0, worstPlain = 0.0;
+    for (int x = 0; x < w; ++x) {
+        const double truth = 0.2 + 0.6 * x / (w - 1);
+        double column = 0.0;
+        for (int y = 0; y < h; ++y)
+            column += std::round(px(a, x, y)[1] * 255.0) / 255.0 - truth;
+        total += column;
+        worstColumn = std::max(worstColumn, std::abs(column / h) * 255.0);
+        worstPlain = std::max(worstPlain, std::abs(std::round(px(c, x, 0)[1] * 255.0) / 255.0 - truth) * 255.0);
+    }
+    EXPECT_LT(std::abs(total / (w * h)) * 255.0, 0.02); // mean error, in 8-bit steps
+    EXPECT_LT(worstColumn, 0.2); // each column's average tracks the gradient
+    EXPECT_GT(worstPlain, 0.35); // which plain rounding misses by up to half a step
+}
