@@ -1,5 +1,6 @@
 // dhdr-tonemap's operators, metering and dithering against references computed here in double
 // precision from the published formulas, and against values worked out by hand.
+#include <dhdr/tonemap/adaptation.h>
 #include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/local_reinhard.h>
 #include <dhdr/tonemap/metering.h>
@@ -20,9 +21,6 @@ using OIIO::TypeDesc;
 namespace {
 
 float* px(ImageBuf& img, int x, int y) { return static_cast<float*>(img.pixeladdr(x, y)); }
-const float* px(const ImageBuf& img, int x, int y) {
-    return static_cast<const float*>(img.pixeladdr(x, y));
-}
 
 // One row of grey pixels.
 ImageBuf greys(const std::vector<float>& values) {
@@ -236,4 +234,19 @@ TEST(Dither, IsDeterministicAndUnbiased) {
     EXPECT_LT(std::abs(total / (w * h)) * 255.0, 0.02); // mean error, in 8-bit steps
     EXPECT_LT(worstColumn, 0.2); // each column's average tracks the gradient
     EXPECT_GT(worstPlain, 0.35); // which plain rounding misses by up to half a step
+}
+
+TEST(Adaptation, StepChangeFollowsTheSeedsFormula) {
+    // adapted += (L − adapted)(1 − 0.98^(30 dt)) at 24 fps: each frame closes
+    // 1 − 0.98^1.25 = 2.4937 % of the gap.
+    const std::vector<double> L = {2.0, 2.0, 10.0, 10.0, 10.0, 1.0};
+    const std::vector<double> adapted = adaptLuminance(L);
+    const double k = 1.0 - std::pow(0.98, 30.0 / 24.0);
+    EXPECT_NEAR(k, 0.024937, 1e-6);
+    double a = 2.0;
+    for (size_t i = 0; i < L.size(); ++i) {
+        if (i > 0) a += (L[i] - a) * k;
+        EXPECT_NEAR(adapted[i], a, 1e-12) << i;
+    }
+    EXPECT_EQ(adapted[0], 2.0); // starts adapted to the first frame
 }

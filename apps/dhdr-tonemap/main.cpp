@@ -1,122 +1,84 @@
-// dhdr-tonemap: linear HDR in, a display image out (docs/tools.md).
+// dhdr-tonemap: linear HDR in, a display image out; one frame or a sequence (docs/tools.md).
+#include "../common/frames.h"
 #include "../common/tool.h"
 
+#include <dhdr/tonemap/adaptation.h>
 #include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/reinhard.h>
+#include <dhdr/tonemap/sanitize.h>
 #include <dhdr/tonemap/tone_map.h>
 
+#include <OpenImageIO/parallel.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <mutex>
 
 using namespace dhdr;
 
 namespace {
 
-int usage(const char* message) {
-    std::fprintf(stderr, "dhdr-tonemap: usage error: %s\nTry 'dhdr-tonemap --help'.\n", message);
+int usage(const std::string& message) {
+    std::fprintf(stderr, "dhdr-tonemap: usage error: %s\nTry 'dhdr-tonemap --help'.\n",
+                 message.c_str());
     return app::kExitUsage;
 }
 
-} // namespace
-
-int main(int argc, char** argv) {
-    app::CommandLine cl("dhdr-tonemap", "HDR.exr -o IMAGE.png [options]",
-                        "Tone mapping: meters the image's luminance, maps it with an operator "
-                        "(default the\nphotographic operator of Reinhard et al. 2002) and encodes "
-                        "it for an sRGB display.\nPNG (8- or 16-bit), JPEG and TIFF are "
-                        "sRGB-encoded, 8-bit output dithered; EXR output\nkeeps display-linear "
-                        "half floats.");
-    double key = 0.18, exposure = 0.0, delta = 1e-4;
-    std::string white = "auto", weights = "seed", opName = "reinhard", metering = "log-average",
-                percentiles = "5,95";
-    int bits = 8;
-    bool noDither = false;
-    cl.option("--op", opName, "NAME",
-              "reinhard (default), reinhard-local, drago, hable, pbr-neutral or exposure");
-    cl.option("--key", key, "A", "key α: the metered luminance maps to this (default 0.18)");
-    cl.option("--exposure", exposure, "STOPS", "extra exposure in stops (default 0)");
-    cl.option("--white", white, "L|auto|inf",
-              "reinhard's white point in scaled luminance (default auto: the largest in the "
-              "image; inf: L/(1+L))");
-    cl.option("--metering", metering, "log-average|histogram",
-              "the log-average of all pixels (default), or of those between two percentiles");
-    cl.option("--percentiles", percentiles, "LO,HI",
-              "the percentile window of --metering histogram (default 5,95)");
-    cl.option("--weights", weights, "seed|rec709",
-              "luminance weights: 0.27/0.67/0.06 (default) or 0.2126/0.7152/0.0722");
-    cl.option("--delta", delta, "D", "δ of the log-average (default 1e-4)");
-    cl.option("--bits", bits, "8|16", "bits per channel of PNG/TIFF output (default 8)");
-    cl.flag("--no-dither", noDither, "quantize 8-bit output without dithering");
-    cl.epilog("Example:\n  dhdr-tonemap frame.hdr.exr -o frame.png -v\n"
-              "  dhdr-tonemap frame.hdr.exr --op hable --exposure 0.5 -o frame.jpg");
-    if (const int status = cl.parse(argc, argv); status >= 0) return status;
-    app::Tool tool("dhdr-tonemap", cl);
-    if (cl.inputs().size() != 1) return usage("give one HDR image");
-
+// Everything the command line says about mapping one frame.
+struct FrameJob {
     ToneMapParams params;
-    if (!parseToneOperator(opName, params.op))
-        return usage("--op must be reinhard, reinhard-local, drago, hable, pbr-neutral or exposure");
-    params.key = key;
-    params.exposure = exposure;
-    LuminanceStatsParams& lum = params.metering.luminance;
-    lum.delta = delta;
-    if (weights == "seed")
-        lum.weights = kSeedLuminanceWeights;
-    else if (weights == "rec709")
-        lum.weights = kRec709LuminanceWeights;
-    else
-        return usage("--weights must be seed or rec709");
-    if (metering == "histogram")
-        params.metering.mode = MeteringMode::Histogram;
-    else if (metering != "log-average")
-        return usage("--metering must be log-average or histogram");
-    std::vector<double> window;
-    if (!app::parseNumbers(percentiles, window, 2) || !(window[0] >= 0.0) ||
-        !(window[0] < window[1]) || !(window[1] <= 100.0))
-        return usage("--percentiles must be LO,HI with 0 <= LO < HI <= 100");
-    params.metering.lowPercentile = window[0];
-    params.metering.highPercentile = window[1];
-    if (white == "inf")
-        params.white = INFINITY;
-    else if (white != "auto") {
-        char* end = nullptr;
-        params.white = std::strtod(white.c_str(), &end);
-        if (*end != '\0' || !(params.white > 0.0))
-            return usage("--white must be a positive number, auto or inf");
-    }
-    if (!(key > 0.0) || !(delta > 0.0) || (bits != 8 && bits != 16))
-        return usage("--key and --delta must be positive, --bits 8 or 16");
-    const std::string& path = cl.inputs()[0];
-    if (const int status = tool.start(cl.inputs()); status >= 0) return status;
+    std::string white, weights, metering, percentiles;
+    int bits = 8;
+    bool dither = true;
+};
 
+std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    return ext;
+}
+
+// Reads `path`, replacing what a display cannot show (and warning when `warn`).
+bool readFrame(const app::Tool& tool, const std::string& path, OIIO::ImageBuf& hdr, bool warn,
+               int nthreads) {
+    if (!tool.readImage(path, hdr)) return false;
+    if (hdr.nchannels() < 3) {
+        tool.fail(path + ": has " + std::to_string(hdr.nchannels()) +
+                  " channels; tone mapping needs R, G, B");
+        return false;
+    }
+    if (warn) {
+        // A display shows no negative light: negatives go with NaN and Inf, in one warning.
+        tool.replaceNonFinite(path, hdr, 0, 3, true);
+        if (hdr.nchannels() >= 4) tool.replaceNonFinite(path, hdr, 3, 4);
+    } else {
+        OIIO::ROI colour = hdr.roi();
+        colour.chend = std::min(hdr.nchannels(), 4);
+        replaceNonFinite(hdr, colour, nthreads, true);
+    }
+    return true;
+}
+
+// Meters `in` (or uses `given`), tone-maps it and writes `out`; `used` receives the metering.
+bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
+              const std::string& out, const LuminanceStats* given, LuminanceStats& used,
+              int nthreads) {
     OIIO::ImageBuf hdr;
-    if (!tool.readImage(path, hdr)) return app::kExitFailure;
-    if (hdr.nchannels() < 3)
-        return tool.fail(path + ": has " + std::to_string(hdr.nchannels()) +
-                         " channels; tone mapping needs R, G, B");
-    // A display shows no negative light: negatives go with NaN and Inf, in one warning.
-    tool.replaceNonFinite(path, hdr, 0, 3, true);
-    if (hdr.nchannels() >= 4) tool.replaceNonFinite(path, hdr, 3, 4);
-
-    LuminanceStats stats;
-    meter(stats, hdr, params.metering, {}, tool.threads());
-    params.stats = &stats;
-    char line[256];
-    std::snprintf(line, sizeof line, "%s metering: %.6g (largest luminance %.6g, %lld pixels)",
-                  metering.c_str(), stats.logAverage, stats.maxLuminance, stats.pixels);
+    if (!readFrame(tool, in, hdr, true, nthreads)) return false;
+    ToneMapParams params = job.params;
+    if (given)
+        used = *given;
+    else
+        meter(used, hdr, params.metering, {}, nthreads);
+    params.stats = &used;
+    char line[320];
+    std::snprintf(line, sizeof line, "%s: %s luminance %.6g (largest %.6g)", in.c_str(),
+                  given ? "adapted" : job.metering.c_str(), used.logAverage, used.maxLuminance);
     tool.info(line);
-    if (params.op == ToneOperator::Reinhard) {
-        ReinhardParams rp;
-        rp.key = key;
-        rp.exposure = exposure;
-        rp.white = params.white;
-        const ReinhardMapping mapping = resolveReinhard(stats, rp);
-        std::snprintf(line, sizeof line, "reinhard: scale %.6g, white %.6g (scaled)",
-                      mapping.scale, mapping.white);
-        tool.info(line);
-    }
 
     // Only R, G, B (and alpha) go to a display image.
     const int nch = std::min(hdr.nchannels(), 4);
@@ -128,31 +90,238 @@ int main(int argc, char** argv) {
     spec.channelformats.clear();
     spec.set_format(OIIO::TypeDesc::FLOAT);
     OIIO::ImageBuf mapped(spec);
-    if (!toneMap(mapped, hdr, params, {}, tool.threads()))
-        return tool.fail(path + ": " + mapped.geterror());
+    if (!toneMap(mapped, hdr, params, {}, nthreads)) {
+        tool.fail(in + ": " + mapped.geterror());
+        return false;
+    }
 
-    std::string ext = std::filesystem::path(cl.output()).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    OIIO::ImageSpec& out = mapped.specmod();
     // Strings, which every format keeps (PNG drops numeric attributes).
-    out.attribute("dhdr:toneMap", toneOperatorName(params.op));
+    OIIO::ImageSpec& meta = mapped.specmod();
+    meta.attribute("dhdr:toneMap", toneOperatorName(params.op));
     std::snprintf(line, sizeof line,
-                  "key %g, exposure %g, white %s, weights %s, delta %g, metering %s %s -> %.6g",
-                  key, exposure, white.c_str(), weights.c_str(), delta, metering.c_str(),
-                  metering == "histogram" ? percentiles.c_str() : "", stats.logAverage);
-    out.attribute("dhdr:toneMapParameters", line);
-    out.attribute("dhdr:source", path);
+                  "key %g, exposure %g, white %s, weights %s, delta %g, metering %s%s%s -> %.6g",
+                  params.key, params.exposure, job.white.c_str(), job.weights.c_str(),
+                  params.metering.luminance.delta, job.metering.c_str(),
+                  job.metering == "histogram" ? " " : "",
+                  job.metering == "histogram" ? job.percentiles.c_str() : "", used.logAverage);
+    meta.attribute("dhdr:toneMapParameters", line);
+    meta.attribute("dhdr:source", in);
+    const std::string ext = lowerExtension(out);
     if (ext == ".exr") {
-        out.attribute("oiio:ColorSpace", "Linear");
-        return tool.writeImage(mapped, cl.output(), {OIIO::TypeDesc::HALF}) ? 0 : 1;
+        meta.attribute("oiio:ColorSpace", "Linear");
+        return tool.writeImage(mapped, out, {OIIO::TypeDesc::HALF});
     }
-    encodeSRGB(mapped, mapped, {}, tool.threads());
-    out.attribute("oiio:ColorSpace", "sRGB");
-    const bool sixteen = bits == 16 && ext != ".jpg" && ext != ".jpeg";
-    if (!sixteen && !noDither) {
-        addDither(mapped, 8, 0, {}, tool.threads());
-        out.attribute("dhdr:dither", "triangular, 1 LSB");
+    encodeSRGB(mapped, mapped, {}, nthreads);
+    meta.attribute("oiio:ColorSpace", "sRGB");
+    const bool sixteen = job.bits == 16 && ext != ".jpg" && ext != ".jpeg";
+    if (!sixteen && job.dither) {
+        addDither(mapped, 8, 0, {}, nthreads);
+        meta.attribute("dhdr:dither", "triangular, 1 LSB");
     }
-    const OIIO::TypeDesc type = sixteen ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8;
-    return tool.writeImage(mapped, cl.output(), {type}) ? app::kExitSuccess : app::kExitFailure;
+    return tool.writeImage(mapped, out, {sixteen ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8});
+}
+
+// A string as a JSON string literal.
+std::string jsonString(const std::string& text) {
+    std::string out = "\"";
+    for (const char c : text) {
+        if (c == '"' || c == '\\') out += '\\';
+        out += c;
+    }
+    return out + "\"";
+}
+
+// "frames done, rate, time left" on a terminal.
+class SequenceProgress {
+public:
+    SequenceProgress(const app::Tool& tool, size_t total) : m_progress(tool, "dhdr-tonemap"), m_total(total) {}
+    void frameDone() {
+        const size_t done = ++m_done;
+        m_progress.update(float(done) / float(m_total));
+    }
+
+private:
+    app::Progress m_progress;
+    size_t m_total;
+    std::atomic<size_t> m_done{0};
+};
+
+} // namespace
+
+int main(int argc, char** argv) {
+    app::CommandLine cl("dhdr-tonemap", "HDR.exr -o IMAGE.png [options]",
+                        "Tone mapping: meters the image's luminance, maps it with an operator "
+                        "(default the\nphotographic operator of Reinhard et al. 2002) and encodes "
+                        "it for an sRGB display.\nPNG (8- or 16-bit), JPEG and TIFF are "
+                        "sRGB-encoded, 8-bit output dithered; EXR output\nkeeps display-linear "
+                        "half floats. A frame pattern (shot.####.exr or shot.%04d.exr) in\nboth "
+                        "input and output maps a sequence in one process; --adapt lets the "
+                        "exposure follow\nthe eye's adaptation across it.");
+    double key = 0.18, exposure = 0.0, delta = 1e-4, fps = 24.0;
+    FrameJob job;
+    job.white = "auto";
+    job.weights = "seed";
+    job.metering = "log-average";
+    job.percentiles = "5,95";
+    std::string opName = "reinhard", frames, statsOut;
+    bool noDither = false, adapt = false;
+    cl.option("--op", opName, "NAME",
+              "reinhard (default), reinhard-local, drago, hable, pbr-neutral or exposure");
+    cl.option("--key", key, "A", "key α: the metered luminance maps to this (default 0.18)");
+    cl.option("--exposure", exposure, "STOPS", "extra exposure in stops (default 0)");
+    cl.option("--white", job.white, "L|auto|inf",
+              "reinhard's white point in scaled luminance (default auto: the largest in the "
+              "image; inf: L/(1+L))");
+    cl.option("--metering", job.metering, "log-average|histogram",
+              "the log-average of all pixels (default), or of those between two percentiles");
+    cl.option("--percentiles", job.percentiles, "LO,HI",
+              "the percentile window of --metering histogram (default 5,95)");
+    cl.option("--weights", job.weights, "seed|rec709",
+              "luminance weights: 0.27/0.67/0.06 (default) or 0.2126/0.7152/0.0722");
+    cl.option("--delta", delta, "D", "δ of the log-average (default 1e-4)");
+    cl.option("--bits", job.bits, "8|16", "bits per channel of PNG/TIFF output (default 8)");
+    cl.flag("--no-dither", noDither, "quantize 8-bit output without dithering");
+    cl.option("--frames", frames, "A-B",
+              "frames of a pattern to map (default: every frame whose file exists)");
+    cl.flag("--adapt", adapt,
+            "eye adaptation over the sequence: adapted += (L - adapted)(1 - 0.98^(30 dt))");
+    cl.option("--fps", fps, "N", "frames per second of the sequence, dt = 1/fps (default 24)");
+    cl.option("--stats-out", statsOut, "FILE.json",
+              "write each frame's metered and adapted luminance");
+    cl.epilog("Examples:\n  dhdr-tonemap frame.hdr.exr -o frame.png -v\n"
+              "  dhdr-tonemap frame.hdr.exr --op hable --exposure 0.5 -o frame.jpg\n"
+              "  dhdr-tonemap shot.####.exr --frames 1-100 --adapt -o shot.####.png");
+    if (const int status = cl.parse(argc, argv); status >= 0) return status;
+    app::Tool tool("dhdr-tonemap", cl);
+    if (cl.inputs().size() != 1) return usage("give one HDR image or frame pattern");
+
+    ToneMapParams& params = job.params;
+    if (!parseToneOperator(opName, params.op))
+        return usage("--op must be reinhard, reinhard-local, drago, hable, pbr-neutral or exposure");
+    params.key = key;
+    params.exposure = exposure;
+    LuminanceStatsParams& lum = params.metering.luminance;
+    lum.delta = delta;
+    if (job.weights == "seed")
+        lum.weights = kSeedLuminanceWeights;
+    else if (job.weights == "rec709")
+        lum.weights = kRec709LuminanceWeights;
+    else
+        return usage("--weights must be seed or rec709");
+    if (job.metering == "histogram")
+        params.metering.mode = MeteringMode::Histogram;
+    else if (job.metering != "log-average")
+        return usage("--metering must be log-average or histogram");
+    std::vector<double> window;
+    if (!app::parseNumbers(job.percentiles, window, 2) || !(window[0] >= 0.0) ||
+        !(window[0] < window[1]) || !(window[1] <= 100.0))
+        return usage("--percentiles must be LO,HI with 0 <= LO < HI <= 100");
+    params.metering.lowPercentile = window[0];
+    params.metering.highPercentile = window[1];
+    if (job.white == "inf")
+        params.white = INFINITY;
+    else if (job.white != "auto") {
+        char* end = nullptr;
+        params.white = std::strtod(job.white.c_str(), &end);
+        if (*end != '\0' || !(params.white > 0.0))
+            return usage("--white must be a positive number, auto or inf");
+    }
+    if (!(key > 0.0) || !(delta > 0.0) || (job.bits != 8 && job.bits != 16) || !(fps > 0.0))
+        return usage("--key, --delta and --fps must be positive, --bits 8 or 16");
+    job.dither = !noDither;
+
+    const app::FramePattern input(cl.inputs()[0]), output(cl.output());
+    if (input.isSequence() != output.isSequence())
+        return usage("give a frame pattern for both the input and the output, or for neither");
+    if (!input.isSequence() && (adapt || !frames.empty()))
+        return usage("--adapt and --frames need a frame pattern (shot.####.exr)");
+    if (const int status = tool.start(cl.inputs()); status >= 0) return status;
+
+    if (!input.isSequence()) {
+        LuminanceStats used;
+        return mapFrame(tool, job, input.path(0), output.path(0), nullptr, used, tool.threads())
+                   ? app::kExitSuccess
+                   : app::kExitFailure;
+    }
+
+    // A sequence: frames are independent except for adaptation, which is a scan over the
+    // per-frame metering: meter every frame (in parallel), scan, then map every frame (in
+    // parallel). Each frame runs on one thread, so the result does not depend on how many.
+    std::vector<int> numbers;
+    if (!frames.empty()) {
+        int first = 0, last = 0;
+        if (!app::parseFrameRange(frames, first, last)) return usage("--frames must be A-B");
+        for (int f = first; f <= last; ++f) numbers.push_back(f);
+    } else {
+        numbers = input.existingFrames();
+        if (numbers.empty()) return tool.fail(input.text() + ": no frames match the pattern");
+    }
+    for (int f : numbers)
+        if (input.path(f) == output.path(f))
+            return usage(output.path(f) + " is also an input; refusing to overwrite it");
+    const size_t n = numbers.size();
+    const int workers = tool.threads() > 0 ? tool.threads() : 0;
+    const auto start = std::chrono::steady_clock::now();
+
+    std::vector<LuminanceStats> metered(n);
+    std::vector<double> measured(n); // each frame's own metering, before adaptation
+    std::vector<char> failed(n, 0);
+    if (adapt) {
+        OIIO::parallel_for(int64_t(0), int64_t(n), [&](int64_t i) {
+            OIIO::ImageBuf hdr;
+            if (!readFrame(tool, input.path(numbers[size_t(i)]), hdr, false, 1)) {
+                failed[size_t(i)] = 1;
+                return;
+            }
+            meter(metered[size_t(i)], hdr, params.metering, {}, 1);
+        }, OIIO::paropt(workers));
+        // Nothing is written when any frame cannot be read.
+        if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return app::kExitFailure;
+        for (size_t i = 0; i < n; ++i) measured[i] = metered[i].logAverage;
+        AdaptationParams ap;
+        ap.fps = fps;
+        const std::vector<double> adapted = adaptLuminance(measured, ap);
+        for (size_t i = 0; i < n; ++i) metered[i].logAverage = adapted[i];
+    }
+
+    std::vector<LuminanceStats> used(n); // the metering each frame was mapped with
+    {
+        SequenceProgress progress(tool, n);
+        OIIO::parallel_for(int64_t(0), int64_t(n), [&](int64_t i) {
+            const int f = numbers[size_t(i)];
+            if (!mapFrame(tool, job, input.path(f), output.path(f),
+                          adapt ? &metered[size_t(i)] : nullptr, used[size_t(i)], 1))
+                failed[size_t(i)] = 1;
+            progress.frameDone();
+        }, OIIO::paropt(workers));
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    char line[160];
+    std::snprintf(line, sizeof line, "%zu frames in %.2f s (%.1f frames/s)", n, seconds,
+                  double(n) / seconds);
+    tool.info(line);
+    const size_t failures = size_t(std::count(failed.begin(), failed.end(), 1));
+    if (failures > 0)
+        return tool.fail(std::to_string(failures) + " of " + std::to_string(n) +
+                         " frames failed (see above)");
+
+    if (!statsOut.empty()) {
+        std::string json = "{\n  \"fps\": " + std::to_string(fps) +
+                           ",\n  \"adapt\": " + (adapt ? "true" : "false") + ",\n  \"frames\": [\n";
+        for (size_t i = 0; i < n; ++i) {
+            // Without --adapt, each frame is mapped with its own metering.
+            char row[320];
+            std::snprintf(row, sizeof row,
+                          "    {\"frame\": %d, \"file\": %s, \"logAverage\": %.9g, "
+                          "\"adapted\": %.9g}%s\n",
+                          numbers[i], jsonString(input.path(numbers[i])).c_str(),
+                          adapt ? measured[i] : used[i].logAverage, used[i].logAverage,
+                          i + 1 < n ? "," : "");
+            json += row;
+        }
+        json += "  ]\n}\n";
+        if (!tool.writeText(json, statsOut)) return app::kExitFailure;
+    }
+    return app::kExitSuccess;
 }

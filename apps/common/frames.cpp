@@ -1,0 +1,80 @@
+#include "frames.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <regex>
+
+namespace fs = std::filesystem;
+
+namespace dhdr::app {
+
+FramePattern::FramePattern(std::string path) : m_text(std::move(path)) {
+    // `####`: the last run of hashes in the file name.
+    const size_t name = m_text.find_last_of('/') == std::string::npos ? 0 : m_text.find_last_of('/') + 1;
+    const size_t end = m_text.find_last_of('#');
+    if (end != std::string::npos && end >= name) {
+        size_t begin = end;
+        while (begin > name && m_text[begin - 1] == '#') --begin;
+        m_prefix = m_text.substr(0, begin);
+        m_suffix = m_text.substr(end + 1);
+        m_width = int(end - begin + 1);
+        return;
+    }
+    // `%d` or `%0Nd`.
+    static const std::regex printfStyle("%(0?([0-9]*))d");
+    std::smatch m;
+    const std::string file = m_text.substr(name);
+    if (std::regex_search(file, m, printfStyle)) {
+        m_prefix = m_text.substr(0, name + size_t(m.position(0)));
+        m_suffix = m_text.substr(name + size_t(m.position(0) + m.length(0)));
+        m_width = m[2].length() ? std::atoi(m[2].str().c_str()) : 0;
+    }
+}
+
+std::string FramePattern::path(int frame) const {
+    if (!isSequence()) return m_text;
+    char digits[32];
+    std::snprintf(digits, sizeof digits, "%0*d", m_width, frame);
+    return m_prefix + digits + m_suffix;
+}
+
+std::vector<int> FramePattern::existingFrames() const {
+    std::vector<int> frames;
+    if (!isSequence()) return frames;
+    const fs::path prefix(m_prefix);
+    const fs::path folder = prefix.has_parent_path() ? prefix.parent_path() : fs::path(".");
+    const std::string stem = prefix.filename().string();
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.size() <= stem.size() + m_suffix.size() || name.rfind(stem, 0) != 0 ||
+            name.compare(name.size() - m_suffix.size(), m_suffix.size(), m_suffix) != 0)
+            continue;
+        const std::string digits =
+            name.substr(stem.size(), name.size() - stem.size() - m_suffix.size());
+        if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos)
+            continue;
+        if (m_width > 0 && int(digits.size()) != m_width) continue;
+        frames.push_back(std::atoi(digits.c_str()));
+    }
+    std::sort(frames.begin(), frames.end());
+    return frames;
+}
+
+bool parseFrameRange(const std::string& text, int& first, int& last) {
+    char* end = nullptr;
+    first = int(std::strtol(text.c_str(), &end, 10));
+    if (end == text.c_str()) return false;
+    if (*end == '\0') {
+        last = first;
+        return true;
+    }
+    if (*end != '-') return false;
+    const char* second = end + 1;
+    last = int(std::strtol(second, &end, 10));
+    return end != second && *end == '\0' && last >= first;
+}
+
+} // namespace dhdr::app

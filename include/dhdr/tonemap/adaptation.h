@@ -1,0 +1,22 @@
+// Eye adaptation over a sequence: the luminance the eye is adapted to follows the metered
+// luminance with a lag.
+#pragma once
+
+#include <vector>
+
+namespace dhdr {
+
+struct AdaptationParams {
+    double fps = 24.0;
+    // The seed's adapted += (L − adapted)(1 − rate^(speed·dt)): with rate 0.98 and speed 30 the
+    // eye closes 2 % of the gap per 1/30 s.
+    double rate = 0.98;
+    double speed = 30.0;
+};
+
+// The adapted luminance of each frame, starting adapted to the first: a sequential scan over
+// the per-frame metered luminances (which may be computed in any order or in parallel).
+std::vector<double> adaptLuminance(const std::vector<double>& metered,
+                                   const AdaptationParams& params = {});
+
+} // namespace dhdr
