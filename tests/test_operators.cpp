@@ -43,7 +43,7 @@ LuminanceStats unitScale(double maxLuminance) {
 
 TEST(Operators, NamesRoundTrip) {
     for (const char* name :
-         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure"}) {
+         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure", "aces"}) {
         ToneOperator op;
         ASSERT_TRUE(parseToneOperator(name, op));
         EXPECT_STREQ(toneOperatorName(op), name);

@@ -60,7 +60,8 @@ protected:
 
     static Result run(const std::string& args) {
         Result r;
-        const std::string cmd = kTools + "/" + args + " >" + path("stdout.txt") + " 2>" +
+        // The tools' defaults (the built-in OCIO config) whatever the caller's environment.
+        const std::string cmd = "env -u OCIO " + kTools + "/" + args + " >" + path("stdout.txt") + " 2>" +
                                 path("stderr.txt") + " </dev/null";
         const int raw = std::system(cmd.c_str());
         r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -377,7 +378,7 @@ TEST_F(Tools, CulledLightingEqualsBruteForce) {
 
 TEST_F(Tools, ToneMapOperatorsAndMetadata) {
     for (const std::string op :
-         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure"}) {
+         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure", "aces"}) {
         const Result r = run("dhdr-tonemap " + path("h.exr") + " --op " + op + " -o " +
                              path("op_" + op + ".png"));
         ASSERT_EQ(r.status, 0) << op << ": " << r.err;
@@ -386,7 +387,14 @@ TEST_F(Tools, ToneMapOperatorsAndMetadata) {
         EXPECT_NE(png.spec().get_string_attribute("dhdr:toneMapParameters").find("key 0.18"),
                   std::string::npos);
         EXPECT_NE(png.spec().get_string_attribute("dhdr:source").find("h.exr"), std::string::npos);
+        EXPECT_EQ(png.spec().get_string_attribute("dhdr:display"),
+                  op == "aces" ? "sRGB / ACES (built-in config)" : "sRGB / Standard (built-in config)");
     }
+    const Result view = run("dhdr-tonemap " + path("h.exr") + " --view Filmic -o " + path("x.png"));
+    EXPECT_EQ(view.status, 1);
+    EXPECT_NE(view.err.find("unknown view 'Filmic' of display 'sRGB' (it has: Standard, ACES)"),
+              std::string::npos)
+        << view.err;
     const Result bad = run("dhdr-tonemap " + path("h.exr") + " --op aces9 -o " + path("x.png"));
     EXPECT_EQ(bad.status, 2);
     EXPECT_NE(bad.err.find("--op must be"), std::string::npos);

@@ -4,6 +4,7 @@
 
 #include <dhdr/tonemap/adaptation.h>
 #include <dhdr/tonemap/display.h>
+#include <dhdr/tonemap/display_transform.h>
 #include <dhdr/tonemap/reinhard.h>
 #include <dhdr/tonemap/sanitize.h>
 #include <dhdr/tonemap/tone_map.h>
@@ -31,6 +32,7 @@ int usage(const std::string& message) {
 // Everything the command line says about mapping one frame.
 struct FrameJob {
     ToneMapParams params;
+    DisplayTransform display;
     std::string white, weights, metering, percentiles;
     int bits = 8;
     bool dither = true;
@@ -63,12 +65,18 @@ bool readFrame(const app::Tool& tool, const std::string& path, OIIO::ImageBuf& h
     return true;
 }
 
+// Reads a frame and brings it to scene-linear, where metering and operators work.
+bool readSceneLinear(const app::Tool& tool, const FrameJob& job, const std::string& path,
+                     OIIO::ImageBuf& hdr, bool warn, int nthreads) {
+    return readFrame(tool, path, hdr, warn, nthreads) && job.display.toSceneLinear(hdr, nthreads);
+}
+
 // Meters `in` (or uses `given`), tone-maps it and writes `out`; `used` receives the metering.
 bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
               const std::string& out, const LuminanceStats* given, LuminanceStats& used,
               int nthreads) {
     OIIO::ImageBuf hdr;
-    if (!readFrame(tool, in, hdr, true, nthreads)) return false;
+    if (!readSceneLinear(tool, job, in, hdr, true, nthreads)) return false;
     ToneMapParams params = job.params;
     if (given)
         used = *given;
@@ -106,13 +114,11 @@ bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
                   job.metering == "histogram" ? job.percentiles.c_str() : "", used.logAverage);
     meta.attribute("dhdr:toneMapParameters", line);
     meta.attribute("dhdr:source", in);
+    meta.attribute("dhdr:display", job.display.describe());
+    // Every format gets the same display-referred values; only their quantization differs.
+    job.display.toDisplay(mapped, nthreads);
     const std::string ext = lowerExtension(out);
-    if (ext == ".exr") {
-        meta.attribute("oiio:ColorSpace", "Linear");
-        return tool.writeImage(mapped, out, {OIIO::TypeDesc::HALF});
-    }
-    encodeSRGB(mapped, mapped, {}, nthreads);
-    meta.attribute("oiio:ColorSpace", "sRGB");
+    if (ext == ".exr") return tool.writeImage(mapped, out, {OIIO::TypeDesc::HALF});
     const bool sixteen = job.bits == 16 && ext != ".jpg" && ext != ".jpeg";
     if (!sixteen && job.dither) {
         addDither(mapped, 8, 0, {}, nthreads);
@@ -164,9 +170,11 @@ int main(int argc, char** argv) {
     job.metering = "log-average";
     job.percentiles = "5,95";
     std::string opName = "reinhard", frames, statsOut;
+    DisplaySettings display;
     bool noDither = false, adapt = false;
     cl.option("--op", opName, "NAME",
-              "reinhard (default), reinhard-local, drago, hable, pbr-neutral or exposure");
+              "reinhard (default), reinhard-local, drago, hable, pbr-neutral, exposure or aces "
+              "(the ACES 1.0 SDR output transform, as the view)");
     cl.option("--key", key, "A", "key α: the metered luminance maps to this (default 0.18)");
     cl.option("--exposure", exposure, "STOPS", "extra exposure in stops (default 0)");
     cl.option("--white", job.white, "L|auto|inf",
@@ -181,6 +189,15 @@ int main(int argc, char** argv) {
     cl.option("--delta", delta, "D", "δ of the log-average (default 1e-4)");
     cl.option("--bits", job.bits, "8|16", "bits per channel of PNG/TIFF output (default 8)");
     cl.flag("--no-dither", noDither, "quantize 8-bit output without dithering");
+    cl.option("--ocio-config", display.config, "FILE",
+              "OpenColorIO config (default: $OCIO, else a built-in one: scene-linear Rec.709 in, "
+              "display sRGB, views Standard and ACES)");
+    cl.option("--colorspace", display.colorspace, "NAME",
+              "colour space of the input (default: the config's scene_linear)");
+    cl.option("--display", display.display, "NAME", "display (default: the config's default)");
+    cl.option("--view", display.view, "NAME",
+              "view (default: the display's default; ACES with --op aces)");
+    cl.option("--look", display.look, "NAME", "look applied in scene-linear before the view");
     cl.option("--frames", frames, "A-B",
               "frames of a pattern to map (default: every frame whose file exists)");
     cl.flag("--adapt", adapt,
@@ -197,7 +214,9 @@ int main(int argc, char** argv) {
 
     ToneMapParams& params = job.params;
     if (!parseToneOperator(opName, params.op))
-        return usage("--op must be reinhard, reinhard-local, drago, hable, pbr-neutral or exposure");
+        return usage("--op must be reinhard, reinhard-local, drago, hable, pbr-neutral, exposure "
+                     "or aces");
+    if (params.op == ToneOperator::Aces && display.view.empty()) display.view = "ACES";
     params.key = key;
     params.exposure = exposure;
     LuminanceStatsParams& lum = params.metering.luminance;
@@ -236,6 +255,8 @@ int main(int argc, char** argv) {
     if (!input.isSequence() && (adapt || !frames.empty()))
         return usage("--adapt and --frames need a frame pattern (shot.####.exr)");
     if (const int status = tool.start(cl.inputs()); status >= 0) return status;
+    if (std::string error; !job.display.init(display, error)) return tool.fail(error);
+    tool.info("display " + job.display.describe());
 
     if (!input.isSequence()) {
         LuminanceStats used;
@@ -269,7 +290,7 @@ int main(int argc, char** argv) {
     if (adapt) {
         OIIO::parallel_for(int64_t(0), int64_t(n), [&](int64_t i) {
             OIIO::ImageBuf hdr;
-            if (!readFrame(tool, input.path(numbers[size_t(i)]), hdr, false, 1)) {
+            if (!readSceneLinear(tool, job, input.path(numbers[size_t(i)]), hdr, false, 1)) {
                 failed[size_t(i)] = 1;
                 return;
             }

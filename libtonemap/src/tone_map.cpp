@@ -22,6 +22,7 @@ constexpr Named kOperators[] = {
     {ToneOperator::Reinhard, "reinhard"},       {ToneOperator::ReinhardLocal, "reinhard-local"},
     {ToneOperator::Drago, "drago"},             {ToneOperator::Hable, "hable"},
     {ToneOperator::PbrNeutral, "pbr-neutral"},  {ToneOperator::Exposure, "exposure"},
+    {ToneOperator::Aces, "aces"},
 };
 
 // Applies f(rgb, x, y) → rgb to every pixel of roi, copying the other channels.
@@ -134,6 +135,11 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
     case ToneOperator::PbrNeutral:
         return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
             return pbrNeutral(glm::max(glm::vec3(p[0], p[1], p[2]) * float(scale), 0.0f));
+        });
+    case ToneOperator::Aces:
+        // Scene-linear still: the ACES RRT and ODT follow as the display transform.
+        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+            return glm::vec3(p[0], p[1], p[2]) * float(scale);
         });
     case ToneOperator::Exposure: break;
     }

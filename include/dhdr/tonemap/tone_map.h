@@ -15,9 +15,10 @@ enum class ToneOperator {
     Hable,         // Hable's filmic curve, per channel
     PbrNeutral,    // Khronos PBR Neutral
     Exposure,      // linear: × 2^exposure, clipped
+    Aces,          // metered exposure only; the ACES output transform is the display's view
 };
 
-// "reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure".
+// "reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure", "aces".
 bool parseToneOperator(const std::string& name, ToneOperator& op);
 const char* toneOperatorName(ToneOperator op);
 

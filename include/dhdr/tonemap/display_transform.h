@@ -1,0 +1,47 @@
+// Colour management through OpenColorIO: the input's colour space to scene-linear, and
+// scene-linear to a display and view. Without a config, a built-in one (below) is used.
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+
+#include <memory>
+#include <string>
+
+namespace dhdr {
+
+struct DisplaySettings {
+    std::string config;     // a config file; empty: $OCIO, else the built-in config
+    std::string colorspace; // the input's colour space; empty: the scene_linear role
+    std::string display;    // empty: the config's default display
+    std::string view;       // empty: the display's default view
+    std::string look;       // empty: none
+};
+
+// The built-in config, made from OpenColorIO's built-in transforms: scene-linear Rec.709
+// ("Linear Rec.709 (sRGB)", the scene_linear role), ACEScg and ACES2065-1 (the reference);
+// display "sRGB" with views "Standard" (colour encoded as it is) and "ACES" (the ACES 1.0 SDR
+// video output transform).
+inline constexpr const char* kBuiltinSceneLinear = "Linear Rec.709 (sRGB)";
+
+class DisplayTransform {
+public:
+    DisplayTransform();
+    ~DisplayTransform();
+
+    // Loads the config and checks every name; an unknown one gets an error listing the valid
+    // ones.
+    bool init(const DisplaySettings& settings, std::string& error);
+    // "sRGB / Standard (built-in config)" and the like.
+    std::string describe() const;
+
+    // In place on the colour channels (the first three): input colour space → scene-linear
+    // (a no-op when they are the same), and scene-linear → display (look, view, display).
+    bool toSceneLinear(OIIO::ImageBuf& img, int nthreads = 0) const;
+    bool toDisplay(OIIO::ImageBuf& img, int nthreads = 0) const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+} // namespace dhdr
