@@ -43,7 +43,8 @@ LuminanceStats unitScale(double maxLuminance) {
 
 TEST(Operators, NamesRoundTrip) {
     for (const char* name :
-         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure", "aces"}) {
+         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure", "aces",
+          "agx"}) {
         ToneOperator op;
         ASSERT_TRUE(parseToneOperator(name, op));
         EXPECT_STREQ(toneOperatorName(op), name);
@@ -108,6 +109,42 @@ TEST(Operators, PbrNeutralMatchesHandComputedValues) {
     EXPECT_NEAR(px(out, 1, 0)[0], 0.96, 1e-5);
     EXPECT_NEAR(px(out, 1, 0)[1], 0.534091, 1e-5);
     EXPECT_NEAR(px(out, 1, 0)[2], 0.321136, 1e-5);
+}
+
+TEST(Operators, AgxMatchesThePublishedPolynomialForm) {
+    // Inset (rows of the column-major published matrix), log2 window, sigmoid fit, outset,
+    // power 2.2, in double.
+    const double inset[3][3] = {{0.842479062253094, 0.0784335999999992, 0.0792237451477643},
+                                {0.0423282422610123, 0.878468636469772, 0.0791661274605434},
+                                {0.0423756549057051, 0.0784336, 0.879142973793104}};
+    const double outset[3][3] = {{1.19687900512017, -0.0980208811401368, -0.0990297440797205},
+                                 {-0.0528968517574562, 1.15190312990417, -0.0989611768448433},
+                                 {-0.0529716355144438, -0.0980434501171241, 1.15107367264116}};
+    auto reference = [&](const double rgb[3], double out[3]) {
+        double v[3], w[3];
+        for (int r = 0; r < 3; ++r) {
+            v[r] = inset[r][0] * rgb[0] + inset[r][1] * rgb[1] + inset[r][2] * rgb[2];
+            const double ev = std::clamp(std::log2(std::max(v[r], 1e-10)), -12.47393, 4.026069);
+            const double x = (ev + 12.47393) / (4.026069 + 12.47393);
+            v[r] = 15.5 * std::pow(x, 6) - 40.14 * std::pow(x, 5) + 31.96 * std::pow(x, 4) -
+                   6.868 * std::pow(x, 3) + 0.4298 * x * x + 0.1191 * x - 0.00232;
+        }
+        for (int r = 0; r < 3; ++r) {
+            w[r] = outset[r][0] * v[0] + outset[r][1] * v[1] + outset[r][2] * v[2];
+            out[r] = std::pow(std::max(w[r], 0.0), 2.2);
+        }
+    };
+    const double samples[4][3] = {{0.18, 0.18, 0.18}, {1.0, 0.5, 0.1}, {0.002, 0.01, 0.05}, {16, 12, 4}};
+    for (const auto& rgb : samples) {
+        double expected[3];
+        reference(rgb, expected);
+        const glm::vec3 got = agx(glm::vec3(float(rgb[0]), float(rgb[1]), float(rgb[2])));
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expected[c], 2e-5 * (1.0 + expected[c]));
+    }
+    // Grey stays grey.
+    const glm::vec3 grey = agx(glm::vec3(0.18f));
+    EXPECT_NEAR(grey.r, grey.g, 1e-4);
+    EXPECT_NEAR(grey.g, grey.b, 1e-4);
 }
 
 TEST(Operators, ExposureIsLinearAndClipped) {

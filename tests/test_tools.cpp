@@ -378,7 +378,8 @@ TEST_F(Tools, CulledLightingEqualsBruteForce) {
 
 TEST_F(Tools, ToneMapOperatorsAndMetadata) {
     for (const std::string op :
-         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure", "aces"}) {
+         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "agx", "exposure",
+          "aces"}) {
         const Result r = run("dhdr-tonemap " + path("h.exr") + " --op " + op + " -o " +
                              path("op_" + op + ".png"));
         ASSERT_EQ(r.status, 0) << op << ": " << r.err;

@@ -173,8 +173,8 @@ int main(int argc, char** argv) {
     DisplaySettings display;
     bool noDither = false, adapt = false;
     cl.option("--op", opName, "NAME",
-              "reinhard (default), reinhard-local, drago, hable, pbr-neutral, exposure or aces "
-              "(the ACES 1.0 SDR output transform, as the view)");
+              "reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure or "
+              "aces (the ACES 1.0 SDR output transform, as the view)");
     cl.option("--key", key, "A", "key α: the metered luminance maps to this (default 0.18)");
     cl.option("--exposure", exposure, "STOPS", "extra exposure in stops (default 0)");
     cl.option("--white", job.white, "L|auto|inf",
@@ -214,8 +214,8 @@ int main(int argc, char** argv) {
 
     ToneMapParams& params = job.params;
     if (!parseToneOperator(opName, params.op))
-        return usage("--op must be reinhard, reinhard-local, drago, hable, pbr-neutral, exposure "
-                     "or aces");
+        return usage("--op must be reinhard, reinhard-local, drago, hable, pbr-neutral, agx, "
+                     "exposure or aces");
     if (params.op == ToneOperator::Aces && display.view.empty()) display.view = "ACES";
     params.key = key;
     params.exposure = exposure;

@@ -22,7 +22,7 @@ constexpr Named kOperators[] = {
     {ToneOperator::Reinhard, "reinhard"},       {ToneOperator::ReinhardLocal, "reinhard-local"},
     {ToneOperator::Drago, "drago"},             {ToneOperator::Hable, "hable"},
     {ToneOperator::PbrNeutral, "pbr-neutral"},  {ToneOperator::Exposure, "exposure"},
-    {ToneOperator::Aces, "aces"},
+    {ToneOperator::Aces, "aces"},               {ToneOperator::Agx, "agx"},
 };
 
 // Applies f(rgb, x, y) → rgb to every pixel of roi, copying the other channels.
@@ -135,6 +135,10 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
     case ToneOperator::PbrNeutral:
         return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
             return pbrNeutral(glm::max(glm::vec3(p[0], p[1], p[2]) * float(scale), 0.0f));
+        });
+    case ToneOperator::Agx:
+        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+            return agx(glm::vec3(p[0], p[1], p[2]) * float(scale));
         });
     case ToneOperator::Aces:
         // Scene-linear still: the ACES RRT and ODT follow as the display transform.

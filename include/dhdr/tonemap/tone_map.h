@@ -14,11 +14,12 @@ enum class ToneOperator {
     Drago,         // Drago et al. 2003, adaptive logarithmic
     Hable,         // Hable's filmic curve, per channel
     PbrNeutral,    // Khronos PBR Neutral
+    Agx,           // AgX, polynomial form
     Exposure,      // linear: × 2^exposure, clipped
     Aces,          // metered exposure only; the ACES output transform is the display's view
 };
 
-// "reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure", "aces".
+// "reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "agx", "exposure", "aces".
 bool parseToneOperator(const std::string& name, ToneOperator& op);
 const char* toneOperatorName(ToneOperator op);
 
