@@ -1,10 +1,8 @@
 // Sphere and rectangle lights against closed forms and numerical integration.
+#include <cmath>
 #include <dhdr/deferred/area_light.h>
 #include <dhdr/deferred/light_eval.h>
-
 #include <gtest/gtest.h>
-
-#include <cmath>
 
 using namespace dhdr;
 
@@ -76,8 +74,8 @@ TEST(AreaLights, SphereLightOnAPlaneMatchesTheClosedForm) {
     const glm::vec3 N(0, 1, 0), P(0, 0, 0);
     const glm::vec3 toCentre = sphere.position - P;
     const double d2 = glm::dot(toCentre, toCentre), cosBeta = toCentre.y / std::sqrt(d2);
-    const double E = sphereIrradiance(N, toCentre, sphere.radius) *
-                     sphere.intensity / (kPiD * sphere.radius * sphere.radius);
+    const double E = sphereIrradiance(N, toCentre, sphere.radius) * sphere.intensity /
+                     (kPiD * sphere.radius * sphere.radius);
     EXPECT_NEAR(E, sphere.intensity * cosBeta / d2, 1e-5);
 }
 
@@ -151,7 +149,8 @@ TEST(AreaLights, SpecularNormalizationKeepsTheHighlightsEnergy) {
         double sum = 0.0;
         for (int i = 0; i < 400; ++i)
             for (int j = 0; j < 400; ++j) {
-                const glm::vec3 P(-4.0f + 8.0f * (i + 0.5f) / 400, 0.0f, -4.0f + 8.0f * (j + 0.5f) / 400);
+                const glm::vec3 P(-4.0f + 8.0f * (i + 0.5f) / 400, 0.0f,
+                                  -4.0f + 8.0f * (j + 0.5f) / 400);
                 sum += shadeLight(light, s, P, N, glm::normalize(eye - P)).g;
             }
         return sum;

@@ -1,4 +1,6 @@
 // libdeferred against closed forms and independent references.
+#include <OpenImageIO/imagebuf.h>
+#include <cmath>
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/camera.h>
 #include <dhdr/deferred/gbuffer.h>
@@ -7,13 +9,9 @@
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/scene.h>
-
-#include <OpenImageIO/imagebuf.h>
-#include <gtest/gtest.h>
-
-#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <gtest/gtest.h>
 #include <random>
 
 using namespace dhdr;
@@ -114,8 +112,7 @@ TEST(GBuffer, AnalyticPlaneAndSphereMatchClosedForm) {
             n = onSphere ? glm::normalize(P - glm::dvec3(0, 1, 0)) : glm::dvec3(0, 1, 0);
             // Grazing rays near the silhouette see the facets, not the sphere: skip them, and
             // pixels whose plane hit is shadowed by the sphere's silhouette in the mesh.
-            if (std::abs(glm::dot(n, ray.direction)) < 0.3 || (disc > -0.02 && !onSphere))
-                continue;
+            if (std::abs(glm::dot(n, ray.direction)) < 0.3 || (disc > -0.02 && !onSphere)) continue;
             ASSERT_EQ(channel(gbuf, x, y, "A"), 1.0f);
             const double Z = -(view * glm::dvec4(P, 1.0)).z;
             EXPECT_NEAR(channel(gbuf, x, y, "Z"), Z, 1e-4);
@@ -382,8 +379,8 @@ TEST(Lights, ErrorsNameTheLightAndField) {
                                              "range": -1}]})",
                              lights, error));
     EXPECT_EQ(error, "light 1: \"range\" must be a positive number");
-    EXPECT_FALSE(parseLights(R"({"lights": [{"type": "spot", "direction": [0, 0, 1]}]})", lights,
-                             error));
+    EXPECT_FALSE(
+        parseLights(R"({"lights": [{"type": "spot", "direction": [0, 0, 1]}]})", lights, error));
     EXPECT_EQ(error, "light 0: \"position\" is required");
     EXPECT_FALSE(parseLights(R"([{"type": "laser"}])", lights, error));
     EXPECT_NE(error.find("light 0: \"type\""), std::string::npos);
@@ -454,8 +451,8 @@ TEST(Brdf, RoughMetalAlbedoAtNormalIncidenceIsOneMinusLnTwo) {
     s.roughness = 1.0f;
     s.metallic = 1.0f;
     const glm::vec3 N(0, 0, 1);
-    const double albedo = hemisphereIntegral(
-        [&](const glm::vec3& L) { return evaluateBrdf(s, N, N, L).g * L.z; });
+    const double albedo =
+        hemisphereIntegral([&](const glm::vec3& L) { return evaluateBrdf(s, N, N, L).g * L.z; });
     EXPECT_NEAR(albedo, 1.0 - std::log(2.0), 1e-3);
 }
 
@@ -506,8 +503,8 @@ double referenceRadiance(const glm::dvec3& P, const glm::dvec3& eye, const glm::
     const double VH = glm::dot(V, H);
     const double a = roughness * roughness, a2 = a * a;
     const double D = a2 / (kPiD * std::pow(NH * NH * (a2 - 1.0) + 1.0, 2.0));
-    const double Vis = 0.5 / (NL * std::sqrt(NV * NV * (1 - a2) + a2) +
-                              NV * std::sqrt(NL * NL * (1 - a2) + a2));
+    const double Vis =
+        0.5 / (NL * std::sqrt(NV * NV * (1 - a2) + a2) + NV * std::sqrt(NL * NL * (1 - a2) + a2));
     const double F = 0.04 + 0.96 * std::pow(1.0 - VH, 5.0);
     const double window = std::pow(std::max(0.0, 1.0 - std::pow(d / range, 4.0)), 2.0);
     // Irradiance from a point source on a plane at height h: E = I cos θ / d² = I h / d³.
@@ -544,9 +541,8 @@ TEST(Lighting, PlaneUnderOnePointLightMatchesClosedForm) {
             const glm::dvec3 P(channel(gbuf, x, y, "P.X"), channel(gbuf, x, y, "P.Y"),
                                channel(gbuf, x, y, "P.Z"));
             // albedo.R of the floor is 0.5, roughness 0.75.
-            const double expected = referenceRadiance(P, camera.position(),
-                                                      glm::dvec3(light.position), 10.0, 3.0,
-                                                      0.5, 0.75);
+            const double expected = referenceRadiance(
+                P, camera.position(), glm::dvec3(light.position), 10.0, 3.0, 0.5, 0.75);
             EXPECT_NEAR(px(hdr, x, y)[0], expected, 1e-5 + 1e-4 * expected) << x << "," << y;
             EXPECT_EQ(px(hdr, x, y)[3], 1.0f);
             if (expected > 0.0) ++checked;
@@ -574,7 +570,8 @@ TEST(Lighting, AmbientAndDirectionalLights) {
                        channel(gbuf, 8, 10, "P.Z"));
     // A directional light is a point light infinitely far straight up: E = 3 lux.
     const glm::dvec3 far = P + glm::dvec3(0.0, 1e4, 0.0);
-    const double expected = referenceRadiance(P, camera.position(), far, 3.0e8, INFINITY, 0.5, 0.75);
+    const double expected =
+        referenceRadiance(P, camera.position(), far, 3.0e8, INFINITY, 0.5, 0.75);
     EXPECT_NEAR(px(hdr, 8, 10)[0], expected, 1e-4 * expected);
 }
 
@@ -630,8 +627,8 @@ TEST(Lighting, ScreenBoundedEqualsBruteForceOnCornellBoxWith200Lights) {
         l.color = glm::vec3(uniform(0.2, 1.0), uniform(0.2, 1.0), uniform(0.2, 1.0));
         l.intensity = float(uniform(0.001, 0.02));
         l.range = float(uniform(0.03, 0.15));
-        l.direction = glm::normalize(
-            glm::vec3(uniform(-1.0, 1.0), uniform(-1.0, 0.0), uniform(-1.0, 1.0)));
+        l.direction =
+            glm::normalize(glm::vec3(uniform(-1.0, 1.0), uniform(-1.0, 0.0), uniform(-1.0, 1.0)));
         l.innerConeAngle = 0.3f;
         l.outerConeAngle = 0.6f;
         lights.push_back(l);

@@ -1,16 +1,14 @@
 // The colour management of dhdr-tonemap against OpenColorIO's own processors and closed forms.
+#include <OpenColorIO/OpenColorIO.h>
+#include <OpenImageIO/imagebuf.h>
+#include <cmath>
+#include <cstdlib>
 #include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/display_transform.h>
 #include <dhdr/tonemap/tone_map.h>
-
-#include <OpenColorIO/OpenColorIO.h>
-#include <OpenImageIO/imagebuf.h>
-#include <gtest/gtest.h>
-
-#include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <gtest/gtest.h>
 
 namespace OCIO = OCIO_NAMESPACE;
 using namespace dhdr;
@@ -24,7 +22,9 @@ ImageBuf row(const std::vector<float>& rgb) {
     return img;
 }
 
-const float* px(const ImageBuf& img, int x) { return static_cast<const float*>(img.pixeladdr(x, 0)); }
+const float* px(const ImageBuf& img, int x) {
+    return static_cast<const float*>(img.pixeladdr(x, 0));
+}
 
 struct NoOcioEnv : ::testing::Test {
     void SetUp() override { unsetenv("OCIO"); }
@@ -39,13 +39,15 @@ TEST_F(NoOcioEnv, BuiltinStandardViewIsTheSrgbEncoding) {
     EXPECT_EQ(display.describe(), "sRGB / Standard (built-in config)");
     const std::vector<float> v = {0.0f, 0.002f, 0.01f, 0.18f, 0.5f, 0.9f};
     std::vector<float> rgb;
-    for (float x : v) rgb.insert(rgb.end(), {x, x, x});
+    for (float x : v)
+        rgb.insert(rgb.end(), {x, x, x});
     ImageBuf img = row(rgb);
     ASSERT_TRUE(display.toDisplay(img));
     // Linear Rec.709 → ACES → XYZ → sRGB is the sRGB transfer function, to float rounding of
     // the primaries' round trip.
     for (size_t i = 0; i < v.size(); ++i)
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(px(img, int(i))[c], srgbEncode(v[i]), 2e-4) << v[i];
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(px(img, int(i))[c], srgbEncode(v[i]), 2e-4) << v[i];
 }
 
 TEST_F(NoOcioEnv, AcesOperatorEqualsOpenColorIOsOutputTransform) {
@@ -82,7 +84,8 @@ TEST_F(NoOcioEnv, AcesOperatorEqualsOpenColorIOsOutputTransform) {
     for (size_t i = 0; i < rgb.size() / 3; ++i) {
         float ref[3] = {rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]};
         cpu->applyRGB(ref);
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(px(mapped, int(i))[c], ref[c], 1e-5) << i;
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(px(mapped, int(i))[c], ref[c], 1e-5) << i;
     }
     // A tone curve, not the identity: mid grey lands below its sRGB encoding.
     EXPECT_LT(px(mapped, 0)[0], srgbEncode(0.02f));

@@ -1,14 +1,12 @@
 // Tiled light culling against the brute-force reference: it may skip only what is exactly zero.
+#include <OpenImageIO/imagebuf.h>
+#include <cmath>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
 #include <dhdr/deferred/light_culling.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/scene.h>
-
-#include <OpenImageIO/imagebuf.h>
 #include <gtest/gtest.h>
-
-#include <cmath>
 #include <random>
 
 using namespace dhdr;
@@ -203,7 +201,8 @@ TEST(LightCulling, LightEndingJustAboveTheSurfaceIsInNoTile) {
     p.bruteForce = true;
     ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {light}, p));
     for (int y = 0; y < 128; ++y)
-        for (int x = 0; x < 128; ++x) ASSERT_EQ(px(hdr, x, y)[1], 0.0f);
+        for (int x = 0; x < 128; ++x)
+            ASSERT_EQ(px(hdr, x, y)[1], 0.0f);
     // A millimetre more and it reaches the floor right below it, in the tiles there only.
     light.range = 1.001f;
     const TileLightLists tiles = cull(gbuf, {light});
@@ -240,7 +239,9 @@ TEST(LightCulling, SpotConeBoundsTheTiles) {
             const glm::vec3 P(g[gbuf.spec().channelindex("P.X")], 0.0f,
                               g[gbuf.spec().channelindex("P.Z")]);
             const float angle = std::atan(std::hypot(P.x, P.z) / 1.0f);
-            if (angle > 0.301f) ASSERT_EQ(px(hdr, x, y)[idx], 0.0f) << x << "," << y;
+            if (angle > 0.301f) {
+                ASSERT_EQ(px(hdr, x, y)[idx], 0.0f) << x << "," << y;
+            }
             if (angle < 0.299f) {
                 ASSERT_GT(px(hdr, x, y)[idx], 0.0f);
                 ++lit;

@@ -1,16 +1,14 @@
 // dhdr-tonemap's operators, metering and dithering against references computed here in double
 // precision from the published formulas, and against values worked out by hand.
+#include <OpenImageIO/imagebuf.h>
+#include <cmath>
+#include <cstring>
 #include <dhdr/tonemap/adaptation.h>
 #include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/local_reinhard.h>
 #include <dhdr/tonemap/metering.h>
 #include <dhdr/tonemap/tone_map.h>
-
-#include <OpenImageIO/imagebuf.h>
 #include <gtest/gtest.h>
-
-#include <cmath>
-#include <cstring>
 #include <vector>
 
 using namespace dhdr;
@@ -20,13 +18,16 @@ using OIIO::TypeDesc;
 
 namespace {
 
-float* px(ImageBuf& img, int x, int y) { return static_cast<float*>(img.pixeladdr(x, y)); }
+float* px(ImageBuf& img, int x, int y) {
+    return static_cast<float*>(img.pixeladdr(x, y));
+}
 
 // One row of grey pixels.
 ImageBuf greys(const std::vector<float>& values) {
     ImageBuf img(ImageSpec(int(values.size()), 1, 3, TypeDesc::FLOAT));
     for (size_t i = 0; i < values.size(); ++i)
-        for (int c = 0; c < 3; ++c) px(img, int(i), 0)[c] = values[i];
+        for (int c = 0; c < 3; ++c)
+            px(img, int(i), 0)[c] = values[i];
     return img;
 }
 
@@ -42,9 +43,8 @@ LuminanceStats unitScale(double maxLuminance) {
 } // namespace
 
 TEST(Operators, NamesRoundTrip) {
-    for (const char* name :
-         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "exposure", "aces",
-          "agx"}) {
+    for (const char* name : {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral",
+                             "exposure", "aces", "agx"}) {
         ToneOperator op;
         ASSERT_TRUE(parseToneOperator(name, op));
         EXPECT_STREQ(toneOperatorName(op), name);
@@ -134,12 +134,14 @@ TEST(Operators, AgxMatchesThePublishedPolynomialForm) {
             out[r] = std::pow(std::max(w[r], 0.0), 2.2);
         }
     };
-    const double samples[4][3] = {{0.18, 0.18, 0.18}, {1.0, 0.5, 0.1}, {0.002, 0.01, 0.05}, {16, 12, 4}};
+    const double samples[4][3] = {
+        {0.18, 0.18, 0.18}, {1.0, 0.5, 0.1}, {0.002, 0.01, 0.05}, {16, 12, 4}};
     for (const auto& rgb : samples) {
         double expected[3];
         reference(rgb, expected);
         const glm::vec3 got = agx(glm::vec3(float(rgb[0]), float(rgb[1]), float(rgb[2])));
-        for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expected[c], 2e-5 * (1.0 + expected[c]));
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(got[c], expected[c], 2e-5 * (1.0 + expected[c]));
     }
     // Grey stays grey.
     const glm::vec3 grey = agx(glm::vec3(0.18f));
@@ -163,11 +165,13 @@ TEST(Operators, LocalReinhardOnAFlatImageIsTheGlobalCurve) {
     // No activity at any scale: the largest scale is chosen and V1 = L, so Ld = L / (1 + L).
     ImageBuf L(ImageSpec(40, 30, 1, TypeDesc::FLOAT));
     for (int y = 0; y < 30; ++y)
-        for (int x = 0; x < 40; ++x) px(L, x, y)[0] = 2.5f;
+        for (int x = 0; x < 40; ++x)
+            px(L, x, y)[0] = 2.5f;
     ImageBuf out;
     ASSERT_TRUE(localReinhard(out, L));
     for (int y = 0; y < 30; ++y)
-        for (int x = 0; x < 40; ++x) ASSERT_NEAR(px(out, x, y)[0], 2.5 / 3.5, 1e-6);
+        for (int x = 0; x < 40; ++x)
+            ASSERT_NEAR(px(out, x, y)[0], 2.5 / 3.5, 1e-6);
 }
 
 namespace {
@@ -217,7 +221,8 @@ TEST(Operators, LocalReinhardMatchesDirectCentreSurround) {
                 chosen = v1;
             }
             const double Lxy = L[size_t(y * w + x)];
-            EXPECT_NEAR(px(out, x, y)[0], Lxy / (1.0 + chosen), 1e-5 * (1.0 + Lxy)) << x << "," << y;
+            EXPECT_NEAR(px(out, x, y)[0], Lxy / (1.0 + chosen), 1e-5 * (1.0 + Lxy))
+                << x << "," << y;
             local += std::abs(chosen - Lxy) > 0.01;
         }
     EXPECT_GT(local, 10); // the surround differs from the pixel: the operator is local
@@ -237,11 +242,12 @@ TEST(Metering, HistogramWindowIgnoresOutliers) {
     EXPECT_NEAR(stats.logAverage, 1.0001, 1e-6); // exp(ln(δ + 1))
     p.mode = MeteringMode::LogAverage;
     meter(stats, greys(v), p);
-    // The plain log-average moves with the outliers: exp((4 ln 0.0011 + 4 ln 1000.0001 + 92 ln 1.0001)/100).
-    EXPECT_NEAR(stats.logAverage,
-                std::exp((4 * std::log(0.0011) + 4 * std::log(1000.0001) + 92 * std::log(1.0001)) /
-                         100.0),
-                1e-5);
+    // The plain log-average moves with the outliers: exp((4 ln 0.0011 + 4 ln 1000.0001 + 92
+    // ln 1.0001)/100).
+    EXPECT_NEAR(
+        stats.logAverage,
+        std::exp((4 * std::log(0.0011) + 4 * std::log(1000.0001) + 92 * std::log(1.0001)) / 100.0),
+        1e-5);
 }
 
 TEST(Dither, IsDeterministicAndUnbiased) {
@@ -251,7 +257,8 @@ TEST(Dither, IsDeterministicAndUnbiased) {
         ImageBuf img(ImageSpec(w, h, 3, TypeDesc::FLOAT));
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x)
-                for (int c = 0; c < 3; ++c) px(img, x, y)[c] = 0.2f + 0.6f * x / (w - 1);
+                for (int c = 0; c < 3; ++c)
+                    px(img, x, y)[c] = 0.2f + 0.6f * x / (w - 1);
         return img;
     };
     ImageBuf a = gradient(), b = gradient(), c = gradient();
@@ -266,10 +273,11 @@ TEST(Dither, IsDeterministicAndUnbiased) {
             column += std::round(px(a, x, y)[1] * 255.0) / 255.0 - truth;
         total += column;
         worstColumn = std::max(worstColumn, std::abs(column / h) * 255.0);
-        worstPlain = std::max(worstPlain, std::abs(std::round(px(c, x, 0)[1] * 255.0) / 255.0 - truth) * 255.0);
+        worstPlain = std::max(worstPlain,
+                              std::abs(std::round(px(c, x, 0)[1] * 255.0) / 255.0 - truth) * 255.0);
     }
     EXPECT_LT(std::abs(total / (w * h)) * 255.0, 0.02); // mean error, in 8-bit steps
-    EXPECT_LT(worstColumn, 0.2); // each column's average tracks the gradient
+    EXPECT_LT(worstColumn, 0.2);                        // each column's average tracks the gradient
     EXPECT_GT(worstPlain, 0.35); // which plain rounding misses by up to half a step
 }
 

@@ -1,17 +1,15 @@
 // libtonemap against hand-computed values (numbers worked out with a calculator, not with the
 // code under test).
+#include <OpenImageIO/imagebuf.h>
+#include <cmath>
+#include <cstring>
 #include <dhdr/tonemap/bloom.h>
 #include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/edge_aa.h>
 #include <dhdr/tonemap/luminance.h>
 #include <dhdr/tonemap/reinhard.h>
 #include <dhdr/tonemap/sanitize.h>
-
-#include <OpenImageIO/imagebuf.h>
 #include <gtest/gtest.h>
-
-#include <cmath>
-#include <cstring>
 #include <random>
 
 using namespace dhdr;
@@ -26,7 +24,9 @@ ImageBuf floatImage(int w, int h, int nch) {
     return img;
 }
 
-float* px(ImageBuf& img, int x, int y) { return static_cast<float*>(img.pixeladdr(x, y)); }
+float* px(ImageBuf& img, int x, int y) {
+    return static_cast<float*>(img.pixeladdr(x, y));
+}
 const float* px(const ImageBuf& img, int x, int y) {
     return static_cast<const float*>(img.pixeladdr(x, y));
 }
@@ -36,7 +36,8 @@ ImageBuf fourGreys() {
     ImageBuf img = floatImage(2, 2, 3);
     const float v[4] = {0.1f, 1.0f, 10.0f, 100.0f};
     for (int i = 0; i < 4; ++i)
-        for (int c = 0; c < 3; ++c) px(img, i % 2, i / 2)[c] = v[i];
+        for (int c = 0; c < 3; ++c)
+            px(img, i % 2, i / 2)[c] = v[i];
     return img;
 }
 
@@ -78,7 +79,8 @@ TEST(Luminance, NonFinitePixelsAreLeftOutOfTheAverage) {
     ImageBuf img = fourGreys();
     ImageBuf bigger = floatImage(3, 2, 3);
     for (int y = 0; y < 2; ++y)
-        for (int x = 0; x < 2; ++x) std::memcpy(px(bigger, x, y), px(img, x, y), 12);
+        for (int x = 0; x < 2; ++x)
+            std::memcpy(px(bigger, x, y), px(img, x, y), 12);
     px(bigger, 2, 0)[1] = NAN;
     px(bigger, 2, 1)[0] = INFINITY;
     LuminanceStats stats;
@@ -92,7 +94,8 @@ TEST(Luminance, ResultDoesNotDependOnThreadCount) {
     std::mt19937 rng(7);
     for (int y = 0; y < 257; ++y)
         for (int x = 0; x < 333; ++x)
-            for (int c = 0; c < 3; ++c) px(img, x, y)[c] = float(rng() % 100000) * 1e-3f;
+            for (int c = 0; c < 3; ++c)
+                px(img, x, y)[c] = float(rng() % 100000) * 1e-3f;
     LuminanceStats one, two, eight;
     computeLuminanceStats(one, img, {}, {}, 1);
     computeLuminanceStats(two, img, {}, {}, 2);
@@ -106,15 +109,15 @@ TEST(Reinhard, MatchesHandComputedValues) {
     ASSERT_TRUE(reinhard(out, fourGreys()));
     // L = 0.18 / 3.16315570565 · Lw; Lwhite = L(100) = 5.69051974515;
     // Ld = L (1 + L / Lwhite²) / (1 + L); grey in, grey out.
-    const double expected[4] = {0.005659315299693897, 0.053935960944239594, 0.369045757514846,
-                                1.0};
+    const double expected[4] = {0.005659315299693897, 0.053935960944239594, 0.369045757514846, 1.0};
     for (int i = 0; i < 4; ++i)
         for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(px(out, i % 2, i / 2)[c], expected[i], 1e-6) << "pixel " << i;
 }
 
 TEST(Reinhard, WhitePointMapsToExactlyOne) {
-    for (double white : {0.5, 1.0, 3.0, 17.25, 1e4}) EXPECT_EQ(reinhardCurve(white, white), 1.0);
+    for (double white : {0.5, 1.0, 3.0, 17.25, 1e4})
+        EXPECT_EQ(reinhardCurve(white, white), 1.0);
 }
 
 TEST(Reinhard, InfiniteWhiteIsLOverOnePlusL) {
@@ -124,7 +127,8 @@ TEST(Reinhard, InfiniteWhiteIsLOverOnePlusL) {
     ASSERT_TRUE(reinhard(out, fourGreys(), p));
     const double expected[4] = {0.005658320958014855, 0.053841345078747466, 0.36267248233822824,
                                 0.8505347808404898};
-    for (int i = 0; i < 4; ++i) EXPECT_NEAR(px(out, i % 2, i / 2)[0], expected[i], 1e-6);
+    for (int i = 0; i < 4; ++i)
+        EXPECT_NEAR(px(out, i % 2, i / 2)[0], expected[i], 1e-6);
 }
 
 TEST(Reinhard, KeepsChromaticityAndAlpha) {
@@ -236,18 +240,21 @@ TEST(Bloom, ConservesTheEnergyOfTheBrightPass) {
     bloomLayer(layer, brightSpot());
     double sum = 0.0;
     for (int y = 0; y < 256; ++y)
-        for (int x = 0; x < 256; ++x) sum += px(layer, x, y)[0];
+        for (int x = 0; x < 256; ++x)
+            sum += px(layer, x, y)[0];
     EXPECT_NEAR(sum, 64000.0, 64000.0 * 0.02);
 }
 
 TEST(Bloom, FlatImageDoesNotBloom) {
     ImageBuf img = floatImage(64, 64, 3);
     for (int y = 0; y < 64; ++y)
-        for (int x = 0; x < 64; ++x) px(img, x, y)[0] = px(img, x, y)[1] = px(img, x, y)[2] = 5.0f;
+        for (int x = 0; x < 64; ++x)
+            px(img, x, y)[0] = px(img, x, y)[1] = px(img, x, y)[2] = 5.0f;
     ImageBuf layer;
     bloomLayer(layer, img);
     for (int y = 0; y < 64; ++y)
-        for (int x = 0; x < 64; ++x) ASSERT_EQ(px(layer, x, y)[0], 0.0f);
+        for (int x = 0; x < 64; ++x)
+            ASSERT_EQ(px(layer, x, y)[0], 0.0f);
 }
 
 namespace {
@@ -257,7 +264,8 @@ ImageBuf randomColour(int w, int h, unsigned seed) {
     std::mt19937 rng(seed);
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x)
-            for (int c = 0; c < 4; ++c) px(img, x, y)[c] = float(rng() % 1000) * 0.01f;
+            for (int c = 0; c < 4; ++c)
+                px(img, x, y)[c] = float(rng() % 1000) * 0.01f;
     return img;
 }
 
@@ -281,7 +289,8 @@ TEST(EdgeAA, ChangesPixelsOnlyAlongADepthEdge) {
     const ImageBuf colour = randomColour(64, 48, 2);
     ImageBuf depth = floatImage(64, 48, 1);
     for (int y = 0; y < 48; ++y)
-        for (int x = 0; x < 64; ++x) px(depth, x, y)[0] = x < 32 ? 1.0f : 5.0f;
+        for (int x = 0; x < 64; ++x)
+            px(depth, x, y)[0] = x < 32 ? 1.0f : 5.0f;
     ImageBuf out;
     ASSERT_TRUE(edgeAA(out, colour, nullptr, &depth));
     int changed = 0;
@@ -300,7 +309,8 @@ TEST(EdgeAA, ChangesPixelsOnlyAlongADepthEdge) {
 TEST(EdgeAA, BlurFactorIsTheSumOfSquaredNormalDifferences) {
     ImageBuf normal = floatImage(3, 3, 3);
     for (int y = 0; y < 3; ++y)
-        for (int x = 0; x < 3; ++x) px(normal, x, y)[2] = 1.0f;
+        for (int x = 0; x < 3; ++x)
+            px(normal, x, y)[2] = 1.0f;
     px(normal, 2, 1)[0] = 0.3f; // one neighbour of the centre differs by (0.3, 0, 0)
     EdgeAAParams p;
     p.normalWeight = 2.0f;
@@ -327,6 +337,6 @@ TEST(Luminance, TransparentPixelsAreNotMetered) {
     all.skipTransparent = false;
     computeLuminanceStats(stats, img, all);
     // Two more pixels at ln(1e-4): exp((4 ln 3.16316 + 2 ln 1e-4) / 6).
-    EXPECT_NEAR(stats.logAverage, std::exp((4.0 * std::log(3.1631557056521333) +
-                                            2.0 * std::log(1e-4)) / 6.0), 1e-7);
+    EXPECT_NEAR(stats.logAverage,
+                std::exp((4.0 * std::log(3.1631557056521333) + 2.0 * std::log(1e-4)) / 6.0), 1e-7);
 }

@@ -2,13 +2,12 @@
 // independence. The fixture renders its inputs with the tools themselves.
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <gtest/gtest.h>
 #include <sstream>
 #include <sys/wait.h>
 
@@ -39,10 +38,10 @@ protected:
     static void SetUpTestSuite() {
         char pattern[] = "/tmp/dhdr_tools_XXXXXX";
         dir = mkdtemp(pattern);
-        ASSERT_EQ(run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 96x72 -o " +
-                      path("g.exr"))
-                      .status,
-                  0);
+        ASSERT_EQ(
+            run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 96x72 -o " + path("g.exr"))
+                .status,
+            0);
         ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kTestdata +
                       "/cornell_box.lights.json --aovs --type float -o " + path("h.exr"))
                       .status,
@@ -61,8 +60,8 @@ protected:
     static Result run(const std::string& args) {
         Result r;
         // The tools' defaults (the built-in OCIO config) whatever the caller's environment.
-        const std::string cmd = "env -u OCIO " + kTools + "/" + args + " >" + path("stdout.txt") + " 2>" +
-                                path("stderr.txt") + " </dev/null";
+        const std::string cmd = "env -u OCIO " + kTools + "/" + args + " >" + path("stdout.txt") +
+                                " 2>" + path("stderr.txt") + " </dev/null";
         const int raw = std::system(cmd.c_str());
         r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
         r.out = slurp(dir / "stdout.txt");
@@ -84,7 +83,8 @@ protected:
 
     static bool samePixels(const std::string& a, const std::string& b) {
         const ImageBuf A = read(a), B = read(b);
-        if (!A.initialized() || !B.initialized() || A.spec().image_bytes() != B.spec().image_bytes())
+        if (!A.initialized() || !B.initialized() ||
+            A.spec().image_bytes() != B.spec().image_bytes())
             return false;
         return std::memcmp(A.localpixels(), B.localpixels(), A.spec().image_bytes()) == 0;
     }
@@ -168,8 +168,8 @@ TEST_F(Tools, TruncatedExrIsAnErrorAndLeavesNoOutput) {
         EXPECT_NE(r.err.find("truncated.exr: cannot read"), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(out));
     }
-    const Result r = run("dhdr-light " + in + " --lights " + kTestdata +
-                      "/cornell_box.lights.json -o " + out);
+    const Result r =
+        run("dhdr-light " + in + " --lights " + kTestdata + "/cornell_box.lights.json -o " + out);
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("truncated.exr: cannot read"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out));
@@ -179,7 +179,7 @@ TEST_F(Tools, TruncatedExrIsAnErrorAndLeavesNoOutput) {
 TEST_F(Tools, MissingChannelIsNamed) {
     const std::string out = path("channel_out.exr");
     Result r = run("dhdr-light " + path("h.exr") + " --lights " + kTestdata +
-                "/cornell_box.lights.json -o " + out);
+                   "/cornell_box.lights.json -o " + out);
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("h.exr: no channel 'P.X' — is this a G-buffer?"), std::string::npos)
         << r.err;
@@ -222,8 +222,8 @@ TEST_F(Tools, NonFinitePixelsAreReplacedAndReported) {
 
 TEST_F(Tools, MalformedLightsFileIsNamed) {
     const std::string out = path("lights_out.exr");
-    Result r = run("dhdr-light " + path("g.exr") + " --lights " + path("bad_lights.json") + " -o " +
-                out);
+    Result r =
+        run("dhdr-light " + path("g.exr") + " --lights " + path("bad_lights.json") + " -o " + out);
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("bad_lights.json: light 0: \"position\" is required"), std::string::npos)
         << r.err;
@@ -288,8 +288,7 @@ TEST_F(Tools, NonFiniteGBufferAndGeometryAreReplaced) {
     ASSERT_TRUE(h.write(path("h_poisoned.exr")));
     r = run("dhdr-aa " + path("h_poisoned.exr") + " -o " + path("aa_nan.exr"));
     EXPECT_EQ(r.status, 0) << r.err;
-    EXPECT_NE(r.err.find("h_poisoned.exr: replaced 1 non-finite values (1 NaN"),
-              std::string::npos)
+    EXPECT_NE(r.err.find("h_poisoned.exr: replaced 1 non-finite values (1 NaN"), std::string::npos)
         << r.err;
     EXPECT_NE(r.err.find("h_poisoned.exr: replaced 1 non-finite values (0 NaN → 0, 1 +Inf"),
               std::string::npos)
@@ -349,8 +348,9 @@ TEST_F(Tools, GBufferFileFollowsTheContract) {
 }
 
 TEST_F(Tools, SceneLightsFlowIntoTheLightingStage) {
-    const Result g = run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 48x48 --lights-out " +
-                         path("scene.lights.json") + " -o " + path("g48.exr"));
+    const Result g =
+        run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 48x48 --lights-out " +
+            path("scene.lights.json") + " -o " + path("g48.exr"));
     ASSERT_EQ(g.status, 0) << g.err;
     const std::string text = slurp(dir / "scene.lights.json");
     EXPECT_NE(text.find("\"ceiling_light\""), std::string::npos) << text;
@@ -377,9 +377,8 @@ TEST_F(Tools, CulledLightingEqualsBruteForce) {
 }
 
 TEST_F(Tools, ToneMapOperatorsAndMetadata) {
-    for (const std::string op :
-         {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "agx", "exposure",
-          "aces"}) {
+    for (const std::string op : {"reinhard", "reinhard-local", "drago", "hable", "pbr-neutral",
+                                 "agx", "exposure", "aces"}) {
         const Result r = run("dhdr-tonemap " + path("h.exr") + " --op " + op + " -o " +
                              path("op_" + op + ".png"));
         ASSERT_EQ(r.status, 0) << op << ": " << r.err;
@@ -389,7 +388,8 @@ TEST_F(Tools, ToneMapOperatorsAndMetadata) {
                   std::string::npos);
         EXPECT_NE(png.spec().get_string_attribute("dhdr:source").find("h.exr"), std::string::npos);
         EXPECT_EQ(png.spec().get_string_attribute("dhdr:display"),
-                  op == "aces" ? "sRGB / ACES (built-in config)" : "sRGB / Standard (built-in config)");
+                  op == "aces" ? "sRGB / ACES (built-in config)"
+                               : "sRGB / Standard (built-in config)");
     }
     const Result view = run("dhdr-tonemap " + path("h.exr") + " --view Filmic -o " + path("x.png"));
     EXPECT_EQ(view.status, 1);
@@ -454,11 +454,33 @@ TEST_F(Tools, SequenceAdaptationFollowsTheFormulaFrameByFrame) {
     EXPECT_EQ(r.status, 2);
 }
 
+TEST_F(Tools, EveryToolTakesFramePatterns) {
+    // Two G-buffer frames of the same scene, lit, anti-aliased and bloomed as sequences.
+    Result r = run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 32x24 --frames 1-2 -o " +
+                   path("f.####.gbuf.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = run("dhdr-light " + path("f.####.gbuf.exr") + " --lights " + kTestdata +
+            "/cornell_box.lights.json -o " + path("f.%04d.hdr.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = run("dhdr-aa " + path("f.####.hdr.exr") + " --gbuffer " + path("f.####.gbuf.exr") +
+            " -o " + path("f.####.aa.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = run("dhdr-bloom " + path("f.####.aa.exr") + " --frames 2-2 -o " + path("f.####.bloom.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (const char* name : {"f.0001.gbuf.exr", "f.0002.gbuf.exr", "f.0001.hdr.exr",
+                             "f.0002.hdr.exr", "f.0001.aa.exr", "f.0002.aa.exr", "f.0002.bloom.exr"})
+        EXPECT_TRUE(fs::exists(path(name))) << name;
+    EXPECT_FALSE(fs::exists(path("f.0001.bloom.exr")));
+    // A pattern on one side only is a usage error.
+    r = run("dhdr-bloom " + path("f.####.aa.exr") + " -o " + path("single.exr"));
+    EXPECT_EQ(r.status, 2);
+}
+
 TEST_F(Tools, PipelineEndToEnd) {
-    ASSERT_EQ(run("dhdr-aa " + path("h.exr") + " --gbuffer " + path("g.exr") + " -o " +
-                  path("aa.exr"))
-                  .status,
-              0);
+    ASSERT_EQ(
+        run("dhdr-aa " + path("h.exr") + " --gbuffer " + path("g.exr") + " -o " + path("aa.exr"))
+            .status,
+        0);
     ASSERT_EQ(run("dhdr-bloom " + path("aa.exr") + " -o " + path("bloom.exr")).status, 0);
     const Result r = run("dhdr-tonemap -v " + path("bloom.exr") + " -o " + path("final.png"));
     ASSERT_EQ(r.status, 0) << r.err;

@@ -70,6 +70,8 @@ void CommandLine::printHelp() const {
         row(o.name + (o.metavar.empty() ? "" : " " + o.metavar), o.help);
     row("--compression NAME", "output compression, e.g. zip, zips, piz, none for EXR; zip:1 "
                               "for a faster zip (default: the format's)");
+    row("--frames A-B", "frames of a pattern (in.####.exr, in.%04d.exr) in the input and "
+                        "output (default: every frame whose input exists)");
     row("--threads N", "worker threads (0: one per core; default 0)");
     row("-v, --verbose", "report what is measured and done");
     row("-q, --quiet", "print nothing but errors");
@@ -80,8 +82,8 @@ void CommandLine::printHelp() const {
 }
 
 int CommandLine::usageError(const std::string& message) const {
-    std::fprintf(stderr, "%s: usage error: %s\nTry '%s --help'.\n", m_tool.c_str(),
-                 message.c_str(), m_tool.c_str());
+    std::fprintf(stderr, "%s: usage error: %s\nTry '%s --help'.\n", m_tool.c_str(), message.c_str(),
+                 m_tool.c_str());
     return kExitUsage;
 }
 
@@ -124,6 +126,10 @@ int CommandLine::parse(int argc, char** argv) {
         }
         if (arg == "-o" || arg == "--output") {
             if (!takeValue(m_output)) return usageError(arg + " needs a file name");
+            continue;
+        }
+        if (arg == "--frames") {
+            if (!takeValue(m_frames)) return usageError("--frames needs A-B");
             continue;
         }
         if (arg == "--compression") {

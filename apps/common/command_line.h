@@ -40,6 +40,8 @@ public:
     int threads() const { return m_threads; }
     // --compression: the output's compression as OpenImageIO names it; empty: its default.
     const std::string& compression() const { return m_compression; }
+    // --frames A-B for frame patterns; empty when not given.
+    const std::string& frames() const { return m_frames; }
     // 0 quiet, 1 normal, 2 verbose.
     int verbosity() const { return m_verbosity; }
 
@@ -57,6 +59,7 @@ private:
     std::vector<std::string> m_inputs;
     std::string m_output;
     std::string m_compression;
+    std::string m_frames;
     int m_threads = 0;
     int m_verbosity = 1;
 };

@@ -1,5 +1,7 @@
 #include "frames.h"
 
+#include "tool.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
@@ -12,11 +14,13 @@ namespace dhdr::app {
 
 FramePattern::FramePattern(std::string path) : m_text(std::move(path)) {
     // `####`: the last run of hashes in the file name.
-    const size_t name = m_text.find_last_of('/') == std::string::npos ? 0 : m_text.find_last_of('/') + 1;
+    const size_t name =
+        m_text.find_last_of('/') == std::string::npos ? 0 : m_text.find_last_of('/') + 1;
     const size_t end = m_text.find_last_of('#');
     if (end != std::string::npos && end >= name) {
         size_t begin = end;
-        while (begin > name && m_text[begin - 1] == '#') --begin;
+        while (begin > name && m_text[begin - 1] == '#')
+            --begin;
         m_prefix = m_text.substr(0, begin);
         m_suffix = m_text.substr(end + 1);
         m_width = int(end - begin + 1);
@@ -54,8 +58,7 @@ std::vector<int> FramePattern::existingFrames() const {
             continue;
         const std::string digits =
             name.substr(stem.size(), name.size() - stem.size() - m_suffix.size());
-        if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos)
-            continue;
+        if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos) continue;
         if (m_width > 0 && int(digits.size()) != m_width) continue;
         frames.push_back(std::atoi(digits.c_str()));
     }
@@ -75,6 +78,75 @@ bool parseFrameRange(const std::string& text, int& first, int& last) {
     const char* second = end + 1;
     last = int(std::strtol(second, &end, 10));
     return end != second && *end == '\0' && last >= first;
+}
+
+int resolveFrames(const Tool& tool, const std::vector<FramePattern>& inputs,
+                  const FramePattern& output, std::vector<int>& frames) {
+    const FramePattern* first = nullptr;
+    for (const FramePattern& p : inputs)
+        if (p.isSequence() && !first) first = &p;
+    const std::string& range = tool.commandLine().frames();
+    if (!output.isSequence()) {
+        if (first || !range.empty()) {
+            std::fprintf(stderr,
+                         "%s: usage error: a frame pattern or --frames needs a frame "
+                         "pattern in the output too (out.####.exr)\n",
+                         tool.name().c_str());
+            return kExitUsage;
+        }
+        frames = {0};
+        return -1;
+    }
+    frames.clear();
+    if (!range.empty()) {
+        int a = 0, b = 0;
+        if (!parseFrameRange(range, a, b)) {
+            std::fprintf(stderr, "%s: usage error: --frames must be A-B\n", tool.name().c_str());
+            return kExitUsage;
+        }
+        for (int f = a; f <= b; ++f)
+            frames.push_back(f);
+        return -1;
+    }
+    if (!first) {
+        std::fprintf(stderr,
+                     "%s: usage error: a frame pattern in the output needs --frames or "
+                     "a patterned input\n",
+                     tool.name().c_str());
+        return kExitUsage;
+    }
+    frames = first->existingFrames();
+    if (frames.empty()) return tool.fail(first->text() + ": no frames match the pattern");
+    return -1;
+}
+
+int runFrames(
+    const Tool& tool, const std::vector<int>& frames, const std::vector<FramePattern>& inputs,
+    const FramePattern& output,
+    const std::function<bool(int, const std::vector<std::string>&, const std::string&)>& frame) {
+    std::error_code ec;
+    for (int f : frames)
+        for (const FramePattern& in : inputs)
+            if (in.path(f) == output.path(f) ||
+                (fs::exists(in.path(f), ec) && fs::exists(output.path(f), ec) &&
+                 fs::equivalent(in.path(f), output.path(f), ec))) {
+                tool.fail(output.path(f) + ": is also an input; refusing to overwrite it");
+                return kExitUsage;
+            }
+    Progress progress(tool, tool.name());
+    size_t failures = 0, done = 0;
+    for (int f : frames) {
+        std::vector<std::string> paths;
+        for (const FramePattern& in : inputs)
+            paths.push_back(in.path(f));
+        if (!frame(f, paths, output.path(f))) ++failures;
+        if (output.isSequence()) progress.update(float(++done) / float(frames.size()));
+    }
+    if (failures == 0) return kExitSuccess;
+    if (frames.size() > 1)
+        tool.fail(std::to_string(failures) + " of " + std::to_string(frames.size()) +
+                  " frames failed (see above)");
+    return kExitFailure;
 }
 
 } // namespace dhdr::app

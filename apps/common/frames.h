@@ -2,6 +2,7 @@
 // frame ranges that go with them (`--frames 1-100`).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -26,5 +27,21 @@ private:
 
 // "A-B" or "A" → [A, B]; false when malformed or B < A.
 bool parseFrameRange(const std::string& text, int& first, int& last);
+
+class Tool;
+
+// The frames a command line names. With a frame pattern in the output, every pattern among
+// the inputs expands frame by frame (plain paths stay as they are) over --frames, or over the
+// frames whose first patterned input exists. Without one, there is one frame and no input
+// may be a pattern. Returns −1 to go on, or the exit status after printing why not.
+int resolveFrames(const Tool& tool, const std::vector<FramePattern>& inputs,
+                  const FramePattern& output, std::vector<int>& frames);
+
+// Runs `frame(number, inputs, output)` for each frame in turn, with a progress line for
+// sequences, after checking that no output is one of its inputs. Returns the exit status.
+int runFrames(
+    const Tool& tool, const std::vector<int>& frames, const std::vector<FramePattern>& inputs,
+    const FramePattern& output,
+    const std::function<bool(int, const std::vector<std::string>&, const std::string&)>& frame);
 
 } // namespace dhdr::app

@@ -1,13 +1,11 @@
 #include "tool.h"
 
-#include <dhdr/tonemap/sanitize.h>
-
 #include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <dhdr/tonemap/sanitize.h>
 #include <filesystem>
 #include <fstream>
 #include <system_error>
@@ -126,14 +124,15 @@ bool Tool::readImageChannels(const std::string& path, const std::vector<std::str
     return true;
 }
 
-void Tool::replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin,
-                            int chend, bool zeroNegative) const {
+void Tool::replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
+                            bool zeroNegative) const {
     OIIO::ROI roi = image.roi();
     roi.chbegin = chbegin;
     roi.chend = std::min(chend, image.nchannels());
     const NonFiniteCount n = dhdr::replaceNonFinite(image, roi, threads(), zeroNegative);
     if (n.total() == 0) return;
-    const std::string what = zeroNegative ? " non-finite or negative values (" : " non-finite values (";
+    const std::string what =
+        zeroNegative ? " non-finite or negative values (" : " non-finite values (";
     warn(path + ": replaced " + std::to_string(n.total()) + what + std::to_string(n.nan) +
          " NaN → 0, " + std::to_string(n.positiveInf) + " +Inf → largest finite, " +
          std::to_string(n.negativeInf) + " -Inf → 0" +

@@ -6,7 +6,6 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
-
 #include <atomic>
 #include <memory>
 #include <mutex>

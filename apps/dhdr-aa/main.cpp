@@ -1,10 +1,10 @@
 // dhdr-aa: edge-detect anti-aliasing of an image from its geometry (docs/tools.md).
+#include "../common/frames.h"
 #include "../common/tool.h"
 
+#include <OpenImageIO/imagebufalgo.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/tonemap/edge_aa.h>
-
-#include <OpenImageIO/imagebufalgo.h>
 
 using namespace dhdr;
 
@@ -57,49 +57,63 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-aa: usage error: --use must be normal, depth or both\n");
         return app::kExitUsage;
     }
-    const std::string& path = cl.inputs()[0];
-    std::vector<std::string> inputs = cl.inputs();
-    if (!gbufferPath.empty()) inputs.push_back(gbufferPath);
-    if (const int status = tool.start(inputs); status >= 0) return status;
-
-    OIIO::ImageBuf image, gbuf;
-    if (!tool.readImage(path, image)) return app::kExitFailure;
-    const std::string& geometryPath = gbufferPath.empty() ? path : gbufferPath;
-    const std::vector<std::string> geometryChannels = {gbuffer::kDepth, gbuffer::kNormal[0],
-                                                       gbuffer::kNormal[1], gbuffer::kNormal[2]};
-    if (!gbufferPath.empty() && !tool.readImageChannels(gbufferPath, geometryChannels, gbuf))
-        return app::kExitFailure;
-    const OIIO::ImageBuf& geometry = gbufferPath.empty() ? image : gbuf;
-    if (geometry.spec().width != image.spec().width ||
-        geometry.spec().height != image.spec().height)
-        return tool.fail(geometryPath + ": is " + std::to_string(geometry.spec().width) + "x" +
-                         std::to_string(geometry.spec().height) + " but " + path + " is " +
-                         std::to_string(image.spec().width) + "x" +
-                         std::to_string(image.spec().height));
-
-    OIIO::ImageBuf normal, depth;
-    bool hasNormal = false, hasDepth = false;
-    extractGeometry(geometry, normal, depth, hasNormal, hasDepth);
-    if (use != "depth" && !hasNormal)
-        return tool.fail(geometryPath + ": no channel 'N.X' — give a G-buffer with --gbuffer");
-    if (use != "normal" && !hasDepth)
-        return tool.fail(geometryPath + ": no channel 'Z' — give a G-buffer with --gbuffer");
-    const int colour = std::min(image.nchannels(), 4);
-    tool.replaceNonFinite(path, image, 0, colour);
-    if (hasNormal) tool.replaceNonFinite(geometryPath, normal, 0, 3);
-
+    std::vector<std::string> paths = cl.inputs();
+    if (!gbufferPath.empty()) paths.push_back(gbufferPath);
+    if (const int status = tool.start(paths); status >= 0) return status;
+    std::vector<app::FramePattern> inputs;
+    for (const std::string& p : paths)
+        inputs.emplace_back(p);
+    const app::FramePattern output(cl.output());
+    std::vector<int> frames;
+    if (const int status = app::resolveFrames(tool, inputs, output, frames); status >= 0)
+        return status;
     EdgeAAParams params;
     params.normalWeight = float(normalWeight);
     params.depthWeight = float(depthWeight);
     params.maxOffset = float(maxOffset);
-    // Only colour is filtered; geometry channels carried by the image stay as they are.
-    OIIO::ROI roi = image.roi();
-    roi.chend = colour;
-    OIIO::ImageBuf out = image.copy(OIIO::TypeDesc::FLOAT);
-    if (!edgeAA(out, image, use != "depth" ? &normal : nullptr, use != "normal" ? &depth : nullptr,
-                params, roi, tool.threads()))
-        return tool.fail(path + ": " + out.geterror());
-    std::vector<OIIO::TypeDesc> formats = image.nativespec().channelformats;
-    if (formats.empty()) formats = {image.nativespec().format};
-    return tool.writeImage(out, cl.output(), formats) ? app::kExitSuccess : app::kExitFailure;
+    const std::vector<std::string> geometryChannels = {gbuffer::kDepth, gbuffer::kNormal[0],
+                                                       gbuffer::kNormal[1], gbuffer::kNormal[2]};
+    return app::runFrames(tool, frames, inputs, output, [&](int, const auto& in, const auto& out) {
+        const std::string& path = in[0];
+        const bool separate = in.size() > 1;
+        OIIO::ImageBuf image, gbuf;
+        if (!tool.readImage(path, image)) return false;
+        const std::string& geometryPath = separate ? in[1] : path;
+        if (separate && !tool.readImageChannels(geometryPath, geometryChannels, gbuf)) return false;
+        const OIIO::ImageBuf& geometry = separate ? gbuf : image;
+        if (geometry.spec().width != image.spec().width ||
+            geometry.spec().height != image.spec().height) {
+            tool.fail(geometryPath + ": is " + std::to_string(geometry.spec().width) + "x" +
+                      std::to_string(geometry.spec().height) + " but " + path + " is " +
+                      std::to_string(image.spec().width) + "x" +
+                      std::to_string(image.spec().height));
+            return false;
+        }
+        OIIO::ImageBuf normal, depth;
+        bool hasNormal = false, hasDepth = false;
+        extractGeometry(geometry, normal, depth, hasNormal, hasDepth);
+        if (use != "depth" && !hasNormal) {
+            tool.fail(geometryPath + ": no channel 'N.X' — give a G-buffer with --gbuffer");
+            return false;
+        }
+        if (use != "normal" && !hasDepth) {
+            tool.fail(geometryPath + ": no channel 'Z' — give a G-buffer with --gbuffer");
+            return false;
+        }
+        const int colour = std::min(image.nchannels(), 4);
+        tool.replaceNonFinite(path, image, 0, colour);
+        if (hasNormal) tool.replaceNonFinite(geometryPath, normal, 0, 3);
+        // Only colour is filtered; geometry channels carried by the image stay as they are.
+        OIIO::ROI roi = image.roi();
+        roi.chend = colour;
+        OIIO::ImageBuf result = image.copy(OIIO::TypeDesc::FLOAT);
+        if (!edgeAA(result, image, use != "depth" ? &normal : nullptr,
+                    use != "normal" ? &depth : nullptr, params, roi, tool.threads())) {
+            tool.fail(path + ": " + result.geterror());
+            return false;
+        }
+        std::vector<OIIO::TypeDesc> formats = image.nativespec().channelformats;
+        if (formats.empty()) formats = {image.nativespec().format};
+        return tool.writeImage(result, out, formats);
+    });
 }

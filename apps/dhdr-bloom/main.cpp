@@ -1,4 +1,5 @@
 // dhdr-bloom: linear HDR in, the same with bloom added out (docs/tools.md).
+#include "../common/frames.h"
 #include "../common/tool.h"
 
 #include <dhdr/tonemap/bloom.h>
@@ -35,19 +36,29 @@ int main(int argc, char** argv) {
     params.sigma = float(sigma);
     params.strength = float(strength);
     params.key = float(key);
-    const std::string& path = cl.inputs()[0];
     if (const int status = tool.start(cl.inputs()); status >= 0) return status;
-
-    OIIO::ImageBuf hdr;
-    if (!tool.readImage(path, hdr)) return app::kExitFailure;
-    if (hdr.nchannels() < 3)
-        return tool.fail(path + ": has " + std::to_string(hdr.nchannels()) +
-                         " channels; bloom needs R, G, B");
-    tool.replaceNonFinite(path, hdr, 0, 3);
-    const OIIO::TypeDesc fileType = hdr.nativespec().format;
-    if (!bloom(hdr, hdr, params, {}, tool.threads())) return tool.fail(path + ": " + hdr.geterror());
-    hdr.specmod().attribute("dhdr:bloomStrength", float(strength));
-    std::vector<OIIO::TypeDesc> formats = hdr.nativespec().channelformats;
-    if (formats.empty()) formats = {fileType};
-    return tool.writeImage(hdr, cl.output(), formats) ? app::kExitSuccess : app::kExitFailure;
+    const std::vector<app::FramePattern> inputs = {app::FramePattern(cl.inputs()[0])};
+    const app::FramePattern output(cl.output());
+    std::vector<int> frames;
+    if (const int status = app::resolveFrames(tool, inputs, output, frames); status >= 0)
+        return status;
+    return app::runFrames(tool, frames, inputs, output, [&](int, const auto& in, const auto& out) {
+        const std::string& path = in[0];
+        OIIO::ImageBuf hdr;
+        if (!tool.readImage(path, hdr)) return false;
+        if (hdr.nchannels() < 3) {
+            tool.fail(path + ": has " + std::to_string(hdr.nchannels()) +
+                      " channels; bloom needs R, G, B");
+            return false;
+        }
+        tool.replaceNonFinite(path, hdr, 0, 3);
+        if (!bloom(hdr, hdr, params, {}, tool.threads())) {
+            tool.fail(path + ": " + hdr.geterror());
+            return false;
+        }
+        hdr.specmod().attribute("dhdr:bloomStrength", float(strength));
+        std::vector<OIIO::TypeDesc> formats = hdr.nativespec().channelformats;
+        if (formats.empty()) formats = {hdr.nativespec().format};
+        return tool.writeImage(hdr, out, formats);
+    });
 }

@@ -1,32 +1,34 @@
 // dhdr-gbuffer: a scene in, a multi-channel EXR G-buffer out (docs/tools.md).
+#include "../common/frames.h"
 #include "../common/tool.h"
-
-#include <dhdr/deferred/gbuffer_render.h>
-#include <dhdr/deferred/scene.h>
-
-#include <glm/gtc/constants.hpp>
 
 #include <chrono>
 #include <cmath>
+#include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/deferred/scene.h>
+#include <glm/gtc/constants.hpp>
 
 using namespace dhdr;
 
 int main(int argc, char** argv) {
-    app::CommandLine cl("dhdr-gbuffer", "SCENE -o GBUFFER.exr [options]",
-                        "Casts one primary ray per pixel (Embree) through a glTF 2.0 or OBJ scene "
-                        "(Assimp) and\nwrites the G-buffer channels of docs/gbuffer.md: A Z P.* N.* "
-                        "albedo.* roughness\nmetallic emission.* id.object id.material.");
+    app::CommandLine cl(
+        "dhdr-gbuffer", "SCENE -o GBUFFER.exr [options]",
+        "Casts one primary ray per pixel (Embree) through a glTF 2.0 or OBJ scene "
+        "(Assimp) and\nwrites the G-buffer channels of docs/gbuffer.md: A Z P.* N.* "
+        "albedo.* roughness\nmetallic emission.* id.object id.material.");
     std::string size = "1920x1080", cameraName, lookat, lightsOut;
     double fov = 0.0;
     cl.option("--size", size, "WxH", "image size in pixels (default 1920x1080)");
     cl.option("--camera", cameraName, "NAME", "the scene camera to use (default: the first)");
     cl.option("--lookat", lookat, "EX,EY,EZ,TX,TY,TZ[,UX,UY,UZ]",
               "a camera at E looking at T (up U, default 0,1,0) instead of the scene's");
-    cl.option("--fov", fov, "DEG", "vertical field of view in degrees (default: the scene "
-                                   "camera's, or 39.6 with --lookat)");
+    cl.option("--fov", fov, "DEG",
+              "vertical field of view in degrees (default: the scene "
+              "camera's, or 39.6 with --lookat)");
     cl.option("--lights-out", lightsOut, "FILE",
               "also write the scene's punctual lights as a lights file (docs/lights.md)");
-    cl.epilog("Example:\n  dhdr-gbuffer testdata/cornell_box.gltf --size 1280x720 -o frame.gbuf.exr");
+    cl.epilog(
+        "Example:\n  dhdr-gbuffer testdata/cornell_box.gltf --size 1280x720 -o frame.gbuf.exr");
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-gbuffer", cl);
     if (cl.inputs().size() != 1) {
@@ -39,6 +41,11 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-gbuffer: usage error: --lights-out must be another file\n");
         return app::kExitUsage;
     }
+    const std::vector<app::FramePattern> inputs = {app::FramePattern(path)};
+    const app::FramePattern output(cl.output()), lightsOutput(lightsOut);
+    std::vector<int> frames;
+    if (const int status = app::resolveFrames(tool, inputs, output, frames); status >= 0)
+        return status;
 
     GBufferParams params;
     if (!app::parseSize(size, params.width, params.height)) {
@@ -50,77 +57,97 @@ int main(int argc, char** argv) {
         return app::kExitUsage;
     }
 
-    const auto t0 = std::chrono::steady_clock::now();
-    Scene scene;
-    std::string error;
-    if (!loadScene(path, scene, error)) return tool.fail(error);
-
-    Camera camera;
-    if (!lookat.empty()) {
-        std::vector<double> v;
-        if (!app::parseNumbers(lookat, v) || (v.size() != 6 && v.size() != 9)) {
-            std::fprintf(stderr, "dhdr-gbuffer: usage error: --lookat needs 6 or 9 numbers\n");
-            return app::kExitUsage;
-        }
-        const glm::dvec3 up = v.size() == 9 ? glm::dvec3(v[6], v[7], v[8]) : glm::dvec3(0, 1, 0);
-        camera = Camera::lookAt({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, up, glm::radians(39.6));
-    } else if (!scene.cameras.empty()) {
-        const SceneCamera* chosen = &scene.cameras[0];
-        if (!cameraName.empty()) {
-            chosen = nullptr;
-            std::string names;
-            for (const SceneCamera& c : scene.cameras) {
-                if (c.name == cameraName) chosen = &c;
-                names += (names.empty() ? "" : ", ") + c.name;
+    return app::runFrames(
+        tool, frames, inputs, output, [&](int frame, const auto& in, const std::string& outPath) {
+            const std::string& scenePath = in[0];
+            const auto t0 = std::chrono::steady_clock::now();
+            Scene scene;
+            std::string error;
+            if (!loadScene(scenePath, scene, error)) {
+                tool.fail(error);
+                return false;
             }
-            if (!chosen)
-                return tool.fail(path + ": no camera named '" + cameraName + "' (it has: " +
-                                 names + ")");
-        }
-        camera = chosen->camera;
-        tool.info("camera '" + chosen->name + "'");
-    } else {
-        return tool.fail(path + ": the scene has no camera; give one with --lookat");
-    }
-    if (fov > 0.0) camera.yfov = glm::radians(fov);
 
-    const auto t1 = std::chrono::steady_clock::now();
-    const GBufferRenderer renderer(scene, camera, params);
-    if (!renderer.ok()) return tool.fail(path + ": " + renderer.error());
-    OIIO::ImageSpec spec = renderer.spec();
-    spec.attribute("dhdr:source", path);
-    app::AtomicOutput output(tool, cl.output());
-    if (!output.open(spec, gbufferChannelFormats())) return app::kExitFailure;
-    // Strip by strip: each strip is traced in parallel and written while it is warm in cache,
-    // and memory stays at one strip whatever the image size.
-    constexpr int kStrip = 64;
-    OIIO::ImageBuf strip;
-    double traceMs = 0.0;
-    {
-        app::Progress progress(tool, "dhdr-gbuffer: rendering");
-        for (int y = 0; y < params.height; y += kStrip) {
-            const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
-            const auto s0 = std::chrono::steady_clock::now();
-            if (!renderer.render(strip, rows, tool.threads()))
-                return tool.fail(path + ": " + strip.geterror());
-            traceMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0)
-                           .count();
-            if (!output.writeRows(rows.ybegin, rows.yend,
-                                  static_cast<const float*>(strip.localpixels())))
-                return app::kExitFailure;
-            progress.update(float(rows.yend) / float(params.height));
-        }
-    }
-    if (!output.commit()) return app::kExitFailure;
-    if (!lightsOut.empty()) {
-        if (scene.lights.empty()) tool.warn(path + ": the scene has no lights; writing an empty list");
-        if (!tool.writeText(formatLights(scene.lights), lightsOut)) return app::kExitFailure;
-        tool.info(std::to_string(scene.lights.size()) + " lights written to " + lightsOut);
-    }
-    const auto t2 = std::chrono::steady_clock::now();
-    auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
-    const double totalMs = std::chrono::duration<double, std::milli>(t2 - t1).count();
-    tool.info("load " + ms(std::chrono::duration<double, std::milli>(t1 - t0).count()) +
-              ", trace " + ms(traceMs) + ", write " + ms(totalMs - traceMs));
-    return app::kExitSuccess;
+            Camera camera;
+            if (!lookat.empty()) {
+                std::vector<double> v;
+                if (!app::parseNumbers(lookat, v) || (v.size() != 6 && v.size() != 9)) {
+                    tool.fail("--lookat needs 6 or 9 numbers");
+                    return false;
+                }
+                const glm::dvec3 up =
+                    v.size() == 9 ? glm::dvec3(v[6], v[7], v[8]) : glm::dvec3(0, 1, 0);
+                camera =
+                    Camera::lookAt({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, up, glm::radians(39.6));
+            } else if (!scene.cameras.empty()) {
+                const SceneCamera* chosen = &scene.cameras[0];
+                if (!cameraName.empty()) {
+                    chosen = nullptr;
+                    std::string names;
+                    for (const SceneCamera& c : scene.cameras) {
+                        if (c.name == cameraName) chosen = &c;
+                        names += (names.empty() ? "" : ", ") + c.name;
+                    }
+                    if (!chosen) {
+                        tool.fail(scenePath + ": no camera named '" + cameraName +
+                                  "' (it has: " + names + ")");
+                        return false;
+                    }
+                }
+                camera = chosen->camera;
+                tool.info("camera '" + chosen->name + "'");
+            } else {
+                tool.fail(scenePath + ": the scene has no camera; give one with --lookat");
+                return false;
+            }
+            if (fov > 0.0) camera.yfov = glm::radians(fov);
+
+            const auto t1 = std::chrono::steady_clock::now();
+            const GBufferRenderer renderer(scene, camera, params);
+            if (!renderer.ok()) {
+                tool.fail(scenePath + ": " + renderer.error());
+                return false;
+            }
+            OIIO::ImageSpec spec = renderer.spec();
+            spec.attribute("dhdr:source", scenePath);
+            app::AtomicOutput file(tool, outPath);
+            if (!file.open(spec, gbufferChannelFormats())) return false;
+            // Strip by strip: each strip is traced in parallel and written while it is warm in
+            // cache, and memory stays at one strip whatever the image size.
+            constexpr int kStrip = 64;
+            OIIO::ImageBuf strip;
+            double traceMs = 0.0;
+            {
+                app::Progress progress(tool, "dhdr-gbuffer: rendering");
+                for (int y = 0; y < params.height; y += kStrip) {
+                    const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
+                    const auto s0 = std::chrono::steady_clock::now();
+                    if (!renderer.render(strip, rows, tool.threads())) {
+                        tool.fail(scenePath + ": " + strip.geterror());
+                        return false;
+                    }
+                    traceMs += std::chrono::duration<double, std::milli>(
+                                   std::chrono::steady_clock::now() - s0)
+                                   .count();
+                    if (!file.writeRows(rows.ybegin, rows.yend,
+                                        static_cast<const float*>(strip.localpixels())))
+                        return false;
+                    progress.update(float(rows.yend) / float(params.height));
+                }
+            }
+            if (!file.commit()) return false;
+            if (!lightsOut.empty()) {
+                const std::string lightsPath = lightsOutput.path(frame);
+                if (scene.lights.empty())
+                    tool.warn(scenePath + ": the scene has no lights; writing an empty list");
+                if (!tool.writeText(formatLights(scene.lights), lightsPath)) return false;
+                tool.info(std::to_string(scene.lights.size()) + " lights written to " + lightsPath);
+            }
+            const auto t2 = std::chrono::steady_clock::now();
+            auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
+            const double totalMs = std::chrono::duration<double, std::milli>(t2 - t1).count();
+            tool.info("load " + ms(std::chrono::duration<double, std::milli>(t1 - t0).count()) +
+                      ", trace " + ms(traceMs) + ", write " + ms(totalMs - traceMs));
+            return true;
+        });
 }

@@ -1,22 +1,23 @@
 // dhdr-light: a G-buffer and a lights file in, linear HDR radiance out (docs/tools.md).
+#include "../common/frames.h"
 #include "../common/tool.h"
-
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/lighting.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/lighting.h>
 
 using namespace dhdr;
 
 int main(int argc, char** argv) {
-    app::CommandLine cl("dhdr-light", "GBUFFER.exr --lights LIGHTS.json... -o FRAME.exr [options]",
-                        "Deferred lighting: shades every covered pixel of a G-buffer with Lambert "
-                        "diffuse plus\nCook-Torrance specular (GGX, height-correlated Smith, "
-                        "Schlick) under point, spot,\ndirectional and ambient lights (docs/lights.md), "
-                        "adds emission, and writes linear\nHDR RGBA. Each light is evaluated only "
-                        "in the tiles its screen rectangle covers.");
+    app::CommandLine cl(
+        "dhdr-light", "GBUFFER.exr --lights LIGHTS.json... -o FRAME.exr [options]",
+        "Deferred lighting: shades every covered pixel of a G-buffer with Lambert "
+        "diffuse plus\nCook-Torrance specular (GGX, height-correlated Smith, "
+        "Schlick) under point, spot,\ndirectional and ambient lights (docs/lights.md), "
+        "adds emission, and writes linear\nHDR RGBA. Each light is evaluated only "
+        "in the tiles its screen rectangle covers.");
     std::vector<std::string> lightsPaths;
     std::string background, dataType = "half";
     bool bruteForce = false, aovs = false;
@@ -62,61 +63,89 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "dhdr-light: usage error: --background needs 3 or 4 numbers\n");
             return app::kExitUsage;
         }
-        for (size_t i = 0; i < 4; ++i) params.background[i] = i < v.size() ? float(v[i]) : 1.0f;
+        for (size_t i = 0; i < 4; ++i)
+            params.background[i] = i < v.size() ? float(v[i]) : 1.0f;
     }
     if (aovs) params.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
-    const std::string& path = cl.inputs()[0];
-    std::vector<std::string> inputs = lightsPaths;
-    inputs.push_back(path);
-    if (const int status = tool.start(inputs); status >= 0) return status;
+    std::vector<std::string> paths = {cl.inputs()[0]};
+    paths.insert(paths.end(), lightsPaths.begin(), lightsPaths.end());
+    if (const int status = tool.start(paths); status >= 0) return status;
+    std::vector<app::FramePattern> inputs;
+    for (const std::string& p : paths)
+        inputs.emplace_back(p);
+    const app::FramePattern output(cl.output());
+    std::vector<int> frames;
+    if (const int status = app::resolveFrames(tool, inputs, output, frames); status >= 0)
+        return status;
 
-    std::vector<Light> lights;
-    for (const std::string& file : lightsPaths) {
-        std::vector<Light> more;
-        std::string error;
-        if (!readLightsFile(file, more, error)) return tool.fail(error);
-        lights.insert(lights.end(), more.begin(), more.end());
-    }
-
-    const auto t0 = std::chrono::steady_clock::now();
-    OIIO::ImageBuf gbuf;
-    if (!tool.readImage(path, gbuf)) return app::kExitFailure;
-    gbuffer::Layout layout;
-    std::string missing;
-    if (!gbuffer::findLayout(gbuf.spec(), layout, missing))
-        return tool.fail(path + ": no channel '" + missing + "' — is this a G-buffer?");
-    // Z is +∞ on the background by contract; every other channel must be finite.
-    for (int c = 0; c < gbuf.nchannels(); ++c)
-        if (c != layout.depth) tool.replaceNonFinite(path, gbuf, c, c + 1);
-
-    const auto t1 = std::chrono::steady_clock::now();
-    OIIO::ImageBuf hdr;
-    LightingStats stats;
-    if (!shadeGBuffer(hdr, gbuf, lights, params, &stats, tool.threads()))
-        return tool.fail(path + ": " + hdr.geterror());
-    const auto t2 = std::chrono::steady_clock::now();
-    std::string lightFiles;
-    for (const std::string& file : lightsPaths) lightFiles += (lightFiles.empty() ? "" : ", ") + file;
-    hdr.specmod().attribute("dhdr:lights", lightFiles);
-    hdr.specmod().erase_attribute("dhdr:materialNames");
-    hdr.specmod().erase_attribute("dhdr:objectNames");
-    if (!tool.writeImage(hdr, cl.output(),
-                         {dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT}))
-        return app::kExitFailure;
-    const auto t3 = std::chrono::steady_clock::now();
-
-    auto ms = [](auto a, auto b) {
-        return std::to_string(std::chrono::duration<double, std::milli>(b - a).count()) + " ms";
+    auto readLights = [&](const std::vector<std::string>& files, std::vector<Light>& lights) {
+        lights.clear();
+        for (const std::string& file : files) {
+            std::vector<Light> more;
+            std::string error;
+            if (!readLightsFile(file, more, error)) {
+                tool.fail(error);
+                return false;
+            }
+            lights.insert(lights.end(), more.begin(), more.end());
+        }
+        return true;
     };
-    const double pixels = double(std::max<long long>(stats.coveredPixels, 1));
-    char line[200];
-    std::snprintf(line, sizeof line,
-                  "%zu lights; per covered pixel %.2f considered, %.2f within range%s; "
-                  "%lld tile-list entries",
-                  lights.size(), double(stats.lightEvaluations) / pixels,
-                  double(stats.lightsReaching) / pixels, bruteForce ? " (brute force)" : "",
-                  stats.tileListEntries);
-    tool.info(line);
-    tool.info("read " + ms(t0, t1) + ", shade " + ms(t1, t2) + ", write " + ms(t2, t3));
-    return app::kExitSuccess;
+    // Lights files without a frame pattern hold the same lights for every frame: read once.
+    const bool animatedLights =
+        std::any_of(inputs.begin() + 1, inputs.end(),
+                    [](const app::FramePattern& p) { return p.isSequence(); });
+    std::vector<Light> lights;
+    if (!animatedLights && !readLights(lightsPaths, lights)) return app::kExitFailure;
+
+    return app::runFrames(tool, frames, inputs, output, [&](int, const auto& in, const auto& out) {
+        const std::string& path = in[0];
+        if (animatedLights && !readLights({in.begin() + 1, in.end()}, lights)) return false;
+        const auto t0 = std::chrono::steady_clock::now();
+        OIIO::ImageBuf gbuf;
+        if (!tool.readImage(path, gbuf)) return false;
+        gbuffer::Layout layout;
+        std::string missing;
+        if (!gbuffer::findLayout(gbuf.spec(), layout, missing)) {
+            tool.fail(path + ": no channel '" + missing + "' — is this a G-buffer?");
+            return false;
+        }
+        // Z is +∞ on the background by contract; every other channel must be finite.
+        for (int c = 0; c < gbuf.nchannels(); ++c)
+            if (c != layout.depth) tool.replaceNonFinite(path, gbuf, c, c + 1);
+
+        const auto t1 = std::chrono::steady_clock::now();
+        OIIO::ImageBuf hdr;
+        LightingStats stats;
+        if (!shadeGBuffer(hdr, gbuf, lights, params, &stats, tool.threads())) {
+            tool.fail(path + ": " + hdr.geterror());
+            return false;
+        }
+        const auto t2 = std::chrono::steady_clock::now();
+        std::string lightFiles;
+        for (size_t i = 1; i < in.size(); ++i)
+            lightFiles += (i > 1 ? ", " : "") + in[i];
+        hdr.specmod().attribute("dhdr:lights", lightFiles);
+        hdr.specmod().erase_attribute("dhdr:materialNames");
+        hdr.specmod().erase_attribute("dhdr:objectNames");
+        if (!tool.writeImage(hdr, out,
+                             {dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT}))
+            return false;
+        const auto t3 = std::chrono::steady_clock::now();
+
+        auto ms = [](auto a, auto b) {
+            return std::to_string(std::chrono::duration<double, std::milli>(b - a).count()) + " ms";
+        };
+        const double pixels = double(std::max<long long>(stats.coveredPixels, 1));
+        char line[200];
+        std::snprintf(line, sizeof line,
+                      "%zu lights; per covered pixel %.2f considered, %.2f within range%s; "
+                      "%lld tile-list entries",
+                      lights.size(), double(stats.lightEvaluations) / pixels,
+                      double(stats.lightsReaching) / pixels, bruteForce ? " (brute force)" : "",
+                      stats.tileListEntries);
+        tool.info(line);
+        tool.info("read " + ms(t0, t1) + ", shade " + ms(t1, t2) + ", write " + ms(t2, t3));
+        return true;
+    });
 }

@@ -2,20 +2,18 @@
 #include "../common/frames.h"
 #include "../common/tool.h"
 
+#include <OpenImageIO/parallel.h>
+#include <algorithm>
+#include <atomic>
+#include <cctype>
+#include <chrono>
+#include <cmath>
 #include <dhdr/tonemap/adaptation.h>
 #include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/display_transform.h>
 #include <dhdr/tonemap/reinhard.h>
 #include <dhdr/tonemap/sanitize.h>
 #include <dhdr/tonemap/tone_map.h>
-
-#include <OpenImageIO/parallel.h>
-
-#include <algorithm>
-#include <atomic>
-#include <cctype>
-#include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <mutex>
 
@@ -140,7 +138,8 @@ std::string jsonString(const std::string& text) {
 // "frames done, rate, time left" on a terminal.
 class SequenceProgress {
 public:
-    SequenceProgress(const app::Tool& tool, size_t total) : m_progress(tool, "dhdr-tonemap"), m_total(total) {}
+    SequenceProgress(const app::Tool& tool, size_t total)
+        : m_progress(tool, "dhdr-tonemap"), m_total(total) {}
     void frameDone() {
         const size_t done = ++m_done;
         m_progress.update(float(done) / float(m_total));
@@ -169,7 +168,7 @@ int main(int argc, char** argv) {
     job.weights = "seed";
     job.metering = "log-average";
     job.percentiles = "5,95";
-    std::string opName = "reinhard", frames, statsOut;
+    std::string opName = "reinhard", statsOut;
     DisplaySettings display;
     bool noDither = false, adapt = false;
     cl.option("--op", opName, "NAME",
@@ -198,8 +197,6 @@ int main(int argc, char** argv) {
     cl.option("--view", display.view, "NAME",
               "view (default: the display's default; ACES with --op aces)");
     cl.option("--look", display.look, "NAME", "look applied in scene-linear before the view");
-    cl.option("--frames", frames, "A-B",
-              "frames of a pattern to map (default: every frame whose file exists)");
     cl.flag("--adapt", adapt,
             "eye adaptation over the sequence: adapted += (L - adapted)(1 - 0.98^(30 dt))");
     cl.option("--fps", fps, "N", "frames per second of the sequence, dt = 1/fps (default 24)");
@@ -249,6 +246,7 @@ int main(int argc, char** argv) {
         return usage("--key, --delta and --fps must be positive, --bits 8 or 16");
     job.dither = !noDither;
 
+    const std::string& frames = cl.frames();
     const app::FramePattern input(cl.inputs()[0]), output(cl.output());
     if (input.isSequence() != output.isSequence())
         return usage("give a frame pattern for both the input and the output, or for neither");
@@ -272,7 +270,8 @@ int main(int argc, char** argv) {
     if (!frames.empty()) {
         int first = 0, last = 0;
         if (!app::parseFrameRange(frames, first, last)) return usage("--frames must be A-B");
-        for (int f = first; f <= last; ++f) numbers.push_back(f);
+        for (int f = first; f <= last; ++f)
+            numbers.push_back(f);
     } else {
         numbers = input.existingFrames();
         if (numbers.empty()) return tool.fail(input.text() + ": no frames match the pattern");
@@ -288,33 +287,41 @@ int main(int argc, char** argv) {
     std::vector<double> measured(n); // each frame's own metering, before adaptation
     std::vector<char> failed(n, 0);
     if (adapt) {
-        OIIO::parallel_for(int64_t(0), int64_t(n), [&](int64_t i) {
-            OIIO::ImageBuf hdr;
-            if (!readSceneLinear(tool, job, input.path(numbers[size_t(i)]), hdr, false, 1)) {
-                failed[size_t(i)] = 1;
-                return;
-            }
-            meter(metered[size_t(i)], hdr, params.metering, {}, 1);
-        }, OIIO::paropt(workers));
+        OIIO::parallel_for(
+            int64_t(0), int64_t(n),
+            [&](int64_t i) {
+                OIIO::ImageBuf hdr;
+                if (!readSceneLinear(tool, job, input.path(numbers[size_t(i)]), hdr, false, 1)) {
+                    failed[size_t(i)] = 1;
+                    return;
+                }
+                meter(metered[size_t(i)], hdr, params.metering, {}, 1);
+            },
+            OIIO::paropt(workers));
         // Nothing is written when any frame cannot be read.
         if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return app::kExitFailure;
-        for (size_t i = 0; i < n; ++i) measured[i] = metered[i].logAverage;
+        for (size_t i = 0; i < n; ++i)
+            measured[i] = metered[i].logAverage;
         AdaptationParams ap;
         ap.fps = fps;
         const std::vector<double> adapted = adaptLuminance(measured, ap);
-        for (size_t i = 0; i < n; ++i) metered[i].logAverage = adapted[i];
+        for (size_t i = 0; i < n; ++i)
+            metered[i].logAverage = adapted[i];
     }
 
     std::vector<LuminanceStats> used(n); // the metering each frame was mapped with
     {
         SequenceProgress progress(tool, n);
-        OIIO::parallel_for(int64_t(0), int64_t(n), [&](int64_t i) {
-            const int f = numbers[size_t(i)];
-            if (!mapFrame(tool, job, input.path(f), output.path(f),
-                          adapt ? &metered[size_t(i)] : nullptr, used[size_t(i)], 1))
-                failed[size_t(i)] = 1;
-            progress.frameDone();
-        }, OIIO::paropt(workers));
+        OIIO::parallel_for(
+            int64_t(0), int64_t(n),
+            [&](int64_t i) {
+                const int f = numbers[size_t(i)];
+                if (!mapFrame(tool, job, input.path(f), output.path(f),
+                              adapt ? &metered[size_t(i)] : nullptr, used[size_t(i)], 1))
+                    failed[size_t(i)] = 1;
+                progress.frameDone();
+            },
+            OIIO::paropt(workers));
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

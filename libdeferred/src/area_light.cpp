@@ -1,8 +1,6 @@
-#include <dhdr/deferred/area_light.h>
-
-#include <dhdr/deferred/light_eval.h>
-
 #include <cmath>
+#include <dhdr/deferred/area_light.h>
+#include <dhdr/deferred/light_eval.h>
 
 namespace dhdr {
 
@@ -84,7 +82,8 @@ glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec
         if (facing <= 0.0f) return glm::vec3(0.0f);
         glm::vec3 corners[4];
         rectangleCorners(light, corners);
-        for (glm::vec3& c : corners) c -= P;
+        for (glm::vec3& c : corners)
+            c -= P;
         irradiance = polygonIrradiance(N, corners, 4);
         const float area = light.width * light.height;
         radiance = light.intensity / area;
@@ -97,8 +96,8 @@ glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec
         const glm::vec3 right = glm::cross(light.up, light.direction);
         const glm::vec3 local = hit - toCentre;
         const float u = std::clamp(glm::dot(local, right), -0.5f * light.width, 0.5f * light.width);
-        const float v = std::clamp(glm::dot(local, light.up), -0.5f * light.height,
-                                   0.5f * light.height);
+        const float v =
+            std::clamp(glm::dot(local, light.up), -0.5f * light.height, 0.5f * light.height);
         closest = toCentre + u * right + v * light.up;
     }
 
@@ -106,7 +105,8 @@ glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec
     const float NdotV = glm::dot(N, V);
     // Diffuse: (1 − F) c_diff / π × E, with F at the centre's half vector.
     if (irradiance > 0.0f && NdotV > 0.0f) {
-        const glm::vec3 F = schlickFresnel(s.F0(), std::max(glm::dot(V, glm::normalize(Lc + V)), 0.0f));
+        const glm::vec3 F =
+            schlickFresnel(s.F0(), std::max(glm::dot(V, glm::normalize(Lc + V)), 0.0f));
         Lo += (glm::vec3(1.0f) - F) * s.diffuseColor() * (radiance * irradiance / kPi);
     }
     // Specular: the lobe at the representative direction, energy-normalized.

@@ -1,8 +1,6 @@
-#include <dhdr/deferred/camera.h>
-
-#include <glm/gtc/matrix_transform.hpp>
-
 #include <cmath>
+#include <dhdr/deferred/camera.h>
+#include <glm/gtc/matrix_transform.hpp>
 
 namespace dhdr {
 
@@ -14,7 +12,9 @@ Camera Camera::lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm
     return c;
 }
 
-glm::dmat4 Camera::worldToCamera() const { return glm::inverse(cameraToWorld); }
+glm::dmat4 Camera::worldToCamera() const {
+    return glm::inverse(cameraToWorld);
+}
 
 glm::dmat4 Camera::cameraToNDC(double aspect) const {
     return glm::perspective(yfov, aspect, znear, zfar);

@@ -1,19 +1,21 @@
-#include <dhdr/deferred/gbuffer.h>
-
 #include <OpenImageIO/imageio.h>
-
 #include <cstring>
+#include <dhdr/deferred/gbuffer.h>
 
 namespace dhdr::gbuffer {
 
 std::vector<std::string> channelNames() {
     std::vector<std::string> names = {kCoverage, kDepth};
-    for (const char* c : kPosition) names.push_back(c);
-    for (const char* c : kNormal) names.push_back(c);
-    for (const char* c : kAlbedo) names.push_back(c);
+    for (const char* c : kPosition)
+        names.push_back(c);
+    for (const char* c : kNormal)
+        names.push_back(c);
+    for (const char* c : kAlbedo)
+        names.push_back(c);
     names.push_back(kRoughness);
     names.push_back(kMetallic);
-    for (const char* c : kEmission) names.push_back(c);
+    for (const char* c : kEmission)
+        names.push_back(c);
     names.push_back(kObjectId);
     names.push_back(kMaterialId);
     return names;
@@ -27,9 +29,8 @@ bool findGroup(const OIIO::ImageSpec& spec, const char* const* names, int count,
     index = spec.channelindex(names[0]);
     for (int i = 0; i < count; ++i) {
         if (index < 0 || spec.channelindex(names[i]) != index + i) {
-            missing = spec.channelindex(names[i]) < 0
-                          ? names[i]
-                          : std::string(names[i]) + " (out of order)";
+            missing = spec.channelindex(names[i]) < 0 ? names[i]
+                                                      : std::string(names[i]) + " (out of order)";
             index = -1;
             return false;
         }
@@ -69,14 +70,16 @@ bool getMatrix(const OIIO::ImageSpec& spec, const char* name, glm::dmat4& m) {
     // vectors, the same 16 numbers are the same transform.
     const float* f = static_cast<const float*>(p->data());
     for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) m[c][r] = f[4 * c + r];
+        for (int r = 0; r < 4; ++r)
+            m[c][r] = f[4 * c + r];
     return true;
 }
 
 void setMatrix(OIIO::ImageSpec& spec, const char* name, const glm::dmat4& m) {
     float f[16];
     for (int c = 0; c < 4; ++c)
-        for (int r = 0; r < 4; ++r) f[4 * c + r] = float(m[c][r]);
+        for (int r = 0; r < 4; ++r)
+            f[4 * c + r] = float(m[c][r]);
     spec.attribute(name, OIIO::TypeMatrix44, f);
 }
 

@@ -1,13 +1,10 @@
-#include <dhdr/deferred/gbuffer_render.h>
-
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/ray_caster.h>
-#include <dhdr/deferred/scene.h>
-
 #include <OpenImageIO/imagebufalgo_util.h>
-
 #include <atomic>
 #include <cmath>
+#include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/deferred/ray_caster.h>
+#include <dhdr/deferred/scene.h>
 #include <limits>
 
 namespace dhdr {
@@ -52,7 +49,8 @@ SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
 void setNameTable(OIIO::ImageSpec& spec, const char* name, const std::vector<std::string>& names) {
     std::vector<const char*> pointers;
     pointers.push_back(""); // id 0: background
-    for (const std::string& n : names) pointers.push_back(n.c_str());
+    for (const std::string& n : names)
+        pointers.push_back(n.c_str());
     spec.attribute(name, OIIO::TypeDesc(OIIO::TypeDesc::STRING, int(pointers.size())),
                    pointers.data());
 }
@@ -92,15 +90,20 @@ GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
     m_spec.attribute("dhdr:cameraPosition", OIIO::TypeVector, eyeF);
     m_spec.attribute("dhdr:yfovDegrees", float(glm::degrees(camera.yfov)));
     std::vector<std::string> materialNames;
-    for (const Material& m : scene.materials) materialNames.push_back(m.name);
+    for (const Material& m : scene.materials)
+        materialNames.push_back(m.name);
     setNameTable(m_spec, "dhdr:objectNames", scene.objectNames);
     setNameTable(m_spec, "dhdr:materialNames", materialNames);
 }
 
 GBufferRenderer::~GBufferRenderer() = default;
 
-bool GBufferRenderer::ok() const { return m_caster->ok(); }
-const std::string& GBufferRenderer::error() const { return m_caster->error(); }
+bool GBufferRenderer::ok() const {
+    return m_caster->ok();
+}
+const std::string& GBufferRenderer::error() const {
+    return m_caster->error();
+}
 
 bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) const {
     if (m_params.width <= 0 || m_params.height <= 0) {
@@ -150,12 +153,16 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
                 float* out = px;
                 *out++ = 1.0f;
                 *out++ = float(-(worldToCamera * glm::dvec4(s.position, 1.0)).z);
-                for (int c = 0; c < 3; ++c) *out++ = float(s.position[c]);
-                for (int c = 0; c < 3; ++c) *out++ = float(s.normal[c]);
-                for (int c = 0; c < 3; ++c) *out++ = s.albedo[c];
+                for (int c = 0; c < 3; ++c)
+                    *out++ = float(s.position[c]);
+                for (int c = 0; c < 3; ++c)
+                    *out++ = float(s.normal[c]);
+                for (int c = 0; c < 3; ++c)
+                    *out++ = s.albedo[c];
                 *out++ = m.roughness;
                 *out++ = m.metallic;
-                for (int c = 0; c < 3; ++c) *out++ = m.emission[c];
+                for (int c = 0; c < 3; ++c)
+                    *out++ = m.emission[c];
                 *out++ = float(mesh.object + 1);
                 *out++ = float(mesh.material + 1);
             }

@@ -1,11 +1,10 @@
 #include "gltf_json.h"
 
-#include <nlohmann/json.hpp>
-
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 namespace dhdr::detail {

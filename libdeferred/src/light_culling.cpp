@@ -1,11 +1,8 @@
-#include <dhdr/deferred/light_culling.h>
-
-#include <dhdr/deferred/light_bounds.h>
-
 #include <OpenImageIO/parallel.h>
-
 #include <algorithm>
 #include <cmath>
+#include <dhdr/deferred/light_bounds.h>
+#include <dhdr/deferred/light_culling.h>
 
 namespace dhdr {
 
@@ -47,7 +44,9 @@ struct Plane {
 };
 
 // Row r of a column-major glm matrix.
-glm::dvec4 row(const glm::dmat4& m, int r) { return {m[0][r], m[1][r], m[2][r], m[3][r]}; }
+glm::dvec4 row(const glm::dmat4& m, int r) {
+    return {m[0][r], m[1][r], m[2][r], m[3][r]};
+}
 
 // The camera-space point at NDC (x, y) and planar depth z.
 glm::dvec3 unproject(const glm::dmat4& cameraToNDC, const glm::dmat4& ndcToCamera, double x,
@@ -86,7 +85,8 @@ std::uint32_t TileLightLists::sliceBit(int x, int y, float z) const {
 
 size_t TileLightLists::totalEntries() const {
     size_t n = 0;
-    for (const Tile& t : m_tiles) n += t.entries.size();
+    for (const Tile& t : m_tiles)
+        n += t.entries.size();
     return n;
 }
 
@@ -103,49 +103,52 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
 
     // 1. Each tile's depth range over its surfaces, which slices hold a pixel, and the
     // bounds of its sub-frustum between those depths.
-    OIIO::parallel_for(0, m_tilesY, [&](int64_t ty) {
-        for (int tx = 0; tx < m_tilesX; ++tx) {
-            Tile& t = m_tiles[size_t(ty) * size_t(m_tilesX) + size_t(tx)];
-            const int x0 = tx * tileSize, x1 = std::min(width, x0 + tileSize);
-            const int y0 = int(ty) * tileSize, y1 = std::min(height, y0 + tileSize);
-            float zmin = INFINITY, zmax = -INFINITY;
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) {
-                    const float z = depth.at(x, y);
-                    if (!std::isfinite(z)) continue;
-                    zmin = std::min(zmin, z);
-                    zmax = std::max(zmax, z);
+    OIIO::parallel_for(
+        0, m_tilesY,
+        [&](int64_t ty) {
+            for (int tx = 0; tx < m_tilesX; ++tx) {
+                Tile& t = m_tiles[size_t(ty) * size_t(m_tilesX) + size_t(tx)];
+                const int x0 = tx * tileSize, x1 = std::min(width, x0 + tileSize);
+                const int y0 = int(ty) * tileSize, y1 = std::min(height, y0 + tileSize);
+                float zmin = INFINITY, zmax = -INFINITY;
+                for (int y = y0; y < y1; ++y)
+                    for (int x = x0; x < x1; ++x) {
+                        const float z = depth.at(x, y);
+                        if (!std::isfinite(z)) continue;
+                        zmin = std::min(zmin, z);
+                        zmax = std::max(zmax, z);
+                    }
+                if (zmin > zmax) continue; // background only
+                t.zmin = zmin;
+                t.zmax = zmax;
+                for (int y = y0; y < y1; ++y)
+                    for (int x = x0; x < x1; ++x) {
+                        const float z = depth.at(x, y);
+                        if (std::isfinite(z)) t.pixelMask |= 1u << sliceIndex(z, zmin, zmax);
+                    }
+                const double nx[2] = {2.0 * x0 / width - 1.0, 2.0 * x1 / width - 1.0};
+                const double ny[2] = {1.0 - 2.0 * y1 / height, 1.0 - 2.0 * y0 / height};
+                const double nz[2] = {double(zmin), double(zmax)};
+                glm::dvec3 corners[8];
+                t.boxMin = glm::dvec3(INFINITY);
+                t.boxMax = glm::dvec3(-INFINITY);
+                for (int i = 0; i < 8; ++i) {
+                    corners[i] = unproject(cameraToNDC, ndcToCamera, nx[i & 1], ny[(i >> 1) & 1],
+                                           nz[i >> 2]);
+                    t.boxMin = glm::min(t.boxMin, corners[i]);
+                    t.boxMax = glm::max(t.boxMax, corners[i]);
                 }
-            if (zmin > zmax) continue; // background only
-            t.zmin = zmin;
-            t.zmax = zmax;
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) {
-                    const float z = depth.at(x, y);
-                    if (std::isfinite(z)) t.pixelMask |= 1u << sliceIndex(z, zmin, zmax);
-                }
-            const double nx[2] = {2.0 * x0 / width - 1.0, 2.0 * x1 / width - 1.0};
-            const double ny[2] = {1.0 - 2.0 * y1 / height, 1.0 - 2.0 * y0 / height};
-            const double nz[2] = {double(zmin), double(zmax)};
-            glm::dvec3 corners[8];
-            t.boxMin = glm::dvec3(INFINITY);
-            t.boxMax = glm::dvec3(-INFINITY);
-            for (int i = 0; i < 8; ++i) {
-                corners[i] = unproject(cameraToNDC, ndcToCamera, nx[i & 1], ny[(i >> 1) & 1],
-                                       nz[i >> 2]);
-                t.boxMin = glm::min(t.boxMin, corners[i]);
-                t.boxMax = glm::max(t.boxMax, corners[i]);
+                // A little larger than exact: pixel positions are floats in the G-buffer.
+                const glm::dvec3 margin = 1e-5 * (glm::abs(t.boxMin) + glm::abs(t.boxMax)) + 1e-6;
+                t.boxMin -= margin;
+                t.boxMax += margin;
+                t.sphereCentre = 0.5 * (t.boxMin + t.boxMax);
+                for (const glm::dvec3& c : corners)
+                    t.sphereRadius = std::max(t.sphereRadius, glm::length(c - t.sphereCentre));
+                t.sphereRadius += glm::length(margin);
             }
-            // A little larger than exact: pixel positions are floats in the G-buffer.
-            const glm::dvec3 margin = 1e-5 * (glm::abs(t.boxMin) + glm::abs(t.boxMax)) + 1e-6;
-            t.boxMin -= margin;
-            t.boxMax += margin;
-            t.sphereCentre = 0.5 * (t.boxMin + t.boxMax);
-            for (const glm::dvec3& c : corners)
-                t.sphereRadius = std::max(t.sphereRadius, glm::length(c - t.sphereCentre));
-            t.sphereRadius += glm::length(margin);
-        }
-    }, OIIO::paropt(nthreads));
+        },
+        OIIO::paropt(nthreads));
 
     // 2. Each light's screen rectangle, bucketed by tile row in light order.
     struct Span {
@@ -162,11 +165,13 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
     for (size_t i = 0; i < lights.size(); ++i) {
         const Light& light = lights[i];
         const bool bounded = light.isLocal() && std::isfinite(light.range);
-        Span span{std::uint32_t(i), 0, m_tilesX - 1, bounded, glm::dvec3(0.0), 0.0, false,
-                  glm::dvec3(0.0), glm::dvec3(0.0), 0.0, 0.0, 0.0};
+        Span span{std::uint32_t(i), 0,   m_tilesX - 1, bounded,
+                  glm::dvec3(0.0),  0.0, false,        glm::dvec3(0.0),
+                  glm::dvec3(0.0),  0.0, 0.0,          0.0};
         if (bounded && light.type == LightType::Spot) {
             span.spot = true;
-            span.apex = glm::dvec3(camera.worldToCamera * glm::dvec4(glm::dvec3(light.position), 1.0));
+            span.apex =
+                glm::dvec3(camera.worldToCamera * glm::dvec4(glm::dvec3(light.position), 1.0));
             span.axis = glm::normalize(
                 glm::dvec3(camera.worldToCamera * glm::dvec4(glm::dvec3(light.direction), 0.0)));
             span.sinOuter = std::sin(double(light.outerConeAngle));
@@ -187,43 +192,51 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
             ty0 = r.y0 / tileSize;
             ty1 = (r.y1 - 1) / tileSize;
         }
-        for (int ty = ty0; ty <= ty1; ++ty) rows[size_t(ty)].push_back(span);
+        for (int ty = ty0; ty <= ty1; ++ty)
+            rows[size_t(ty)].push_back(span);
     }
 
     // 3. Per tile: the sub-frustum's four side planes, then the depth slices.
     const glm::dvec4 r0 = row(cameraToNDC, 0), r1 = row(cameraToNDC, 1), r3 = row(cameraToNDC, 3);
-    OIIO::parallel_for(0, m_tilesY, [&](int64_t ty) {
-        // NDC y grows upwards, pixel rows downwards.
-        const double yTop = 1.0 - 2.0 * double(ty * tileSize) / height;
-        const double yBottom = 1.0 - 2.0 * double(std::min<int64_t>(height, (ty + 1) * tileSize)) / height;
-        const Plane below{r1 - yBottom * r3}, above{yTop * r3 - r1};
-        for (const Span& s : rows[size_t(ty)]) {
-            for (int tx = s.tx0; tx <= s.tx1; ++tx) {
-                Tile& t = m_tiles[size_t(ty) * size_t(m_tilesX) + size_t(tx)];
-                if (t.pixelMask == 0) continue;
-                if (!s.bounded) {
-                    t.entries.push_back({s.light, ~0u});
-                    continue;
+    OIIO::parallel_for(
+        0, m_tilesY,
+        [&](int64_t ty) {
+            // NDC y grows upwards, pixel rows downwards.
+            const double yTop = 1.0 - 2.0 * double(ty * tileSize) / height;
+            const double yBottom =
+                1.0 - 2.0 * double(std::min<int64_t>(height, (ty + 1) * tileSize)) / height;
+            const Plane below{r1 - yBottom * r3}, above{yTop * r3 - r1};
+            for (const Span& s : rows[size_t(ty)]) {
+                for (int tx = s.tx0; tx <= s.tx1; ++tx) {
+                    Tile& t = m_tiles[size_t(ty) * size_t(m_tilesX) + size_t(tx)];
+                    if (t.pixelMask == 0) continue;
+                    if (!s.bounded) {
+                        t.entries.push_back({s.light, ~0u});
+                        continue;
+                    }
+                    const double near = -s.centre.z - s.radius, far = -s.centre.z + s.radius;
+                    if (far < t.zmin || near > t.zmax) continue;
+                    const double xLeft = 2.0 * double(tx * tileSize) / width - 1.0;
+                    const double xRight =
+                        2.0 * double(std::min(width, (tx + 1) * tileSize)) / width - 1.0;
+                    const Plane left{r0 - xLeft * r3}, right{xRight * r3 - r0};
+                    if (left.outside(s.centre, s.radius) || right.outside(s.centre, s.radius) ||
+                        below.outside(s.centre, s.radius) || above.outside(s.centre, s.radius))
+                        continue;
+                    if (distanceToBox2(s.centre, t.boxMin, t.boxMax) > s.radius * s.radius)
+                        continue;
+                    if (s.spot && coneMissesSphere(s.apex, s.axis, s.sinOuter, s.cosOuter, s.range,
+                                                   t.sphereCentre, t.sphereRadius))
+                        continue;
+                    const int s0 =
+                        sliceIndex(float(std::max(near, double(t.zmin))), t.zmin, t.zmax);
+                    const int s1 = sliceIndex(float(std::min(far, double(t.zmax))), t.zmin, t.zmax);
+                    const std::uint32_t mask = sliceRange(s0, s1) & t.pixelMask;
+                    if (mask) t.entries.push_back({s.light, mask});
                 }
-                const double near = -s.centre.z - s.radius, far = -s.centre.z + s.radius;
-                if (far < t.zmin || near > t.zmax) continue;
-                const double xLeft = 2.0 * double(tx * tileSize) / width - 1.0;
-                const double xRight = 2.0 * double(std::min(width, (tx + 1) * tileSize)) / width - 1.0;
-                const Plane left{r0 - xLeft * r3}, right{xRight * r3 - r0};
-                if (left.outside(s.centre, s.radius) || right.outside(s.centre, s.radius) ||
-                    below.outside(s.centre, s.radius) || above.outside(s.centre, s.radius))
-                    continue;
-                if (distanceToBox2(s.centre, t.boxMin, t.boxMax) > s.radius * s.radius) continue;
-                if (s.spot && coneMissesSphere(s.apex, s.axis, s.sinOuter, s.cosOuter, s.range,
-                                               t.sphereCentre, t.sphereRadius))
-                    continue;
-                const int s0 = sliceIndex(float(std::max(near, double(t.zmin))), t.zmin, t.zmax);
-                const int s1 = sliceIndex(float(std::min(far, double(t.zmax))), t.zmin, t.zmax);
-                const std::uint32_t mask = sliceRange(s0, s1) & t.pixelMask;
-                if (mask) t.entries.push_back({s.light, mask});
             }
-        }
-    }, OIIO::paropt(nthreads));
+        },
+        OIIO::paropt(nthreads));
 }
 
 } // namespace dhdr

@@ -1,15 +1,12 @@
-#include <dhdr/deferred/lighting.h>
-
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/light_culling.h>
-#include <dhdr/deferred/light_eval.h>
-
 #include <OpenImageIO/imagebufalgo_util.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/light_culling.h>
+#include <dhdr/deferred/light_eval.h>
+#include <dhdr/deferred/lighting.h>
 
 namespace dhdr {
 
@@ -76,7 +73,8 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
     OIIO::ImageSpec spec = in;
     spec.nchannels = 4 + int(passIndex.size());
     spec.channelnames = {"R", "G", "B", "A"};
-    for (const std::string& name : params.passThrough) spec.channelnames.push_back(name);
+    for (const std::string& name : params.passThrough)
+        spec.channelnames.push_back(name);
     spec.alpha_channel = 3;
     spec.z_channel = spec.channelindex("Z");
     spec.set_format(OIIO::TypeDesc::FLOAT);
@@ -98,7 +96,8 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
             for (int x = r.xbegin; x < r.xend; ++x) {
                 const float* g = static_cast<const float*>(src->pixeladdr(x, y));
                 float* out = static_cast<float*>(dst.pixeladdr(x, y));
-                for (size_t k = 0; k < passIndex.size(); ++k) out[4 + k] = g[passIndex[k]];
+                for (size_t k = 0; k < passIndex.size(); ++k)
+                    out[4 + k] = g[passIndex[k]];
                 const float coverage = g[layout.coverage];
                 if (!(coverage > 0.0f)) {
                     std::copy(params.background, params.background + 4, out);
@@ -110,8 +109,8 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
                     glm::vec3(g[layout.normal], g[layout.normal + 1], g[layout.normal + 2]));
                 const glm::vec3 V = glm::normalize(eye - P);
                 PbrSurface s;
-                s.baseColor = glm::vec3(g[layout.albedo], g[layout.albedo + 1],
-                                        g[layout.albedo + 2]);
+                s.baseColor =
+                    glm::vec3(g[layout.albedo], g[layout.albedo + 1], g[layout.albedo + 2]);
                 s.roughness = std::clamp(g[layout.roughness], 0.0f, 1.0f);
                 s.metallic = std::clamp(g[layout.metallic], 0.0f, 1.0f);
                 glm::vec3 Lo(0.0f);

@@ -1,12 +1,10 @@
-#include <dhdr/deferred/lights.h>
-
-#include <nlohmann/json.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <dhdr/deferred/lights.h>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 namespace dhdr {
 
@@ -139,12 +137,18 @@ Light parseLight(const json& j, size_t index) {
 
 const char* typeName(LightType t) {
     switch (t) {
-    case LightType::Point: return "point";
-    case LightType::Spot: return "spot";
-    case LightType::Directional: return "directional";
-    case LightType::Ambient: return "ambient";
-    case LightType::Sphere: return "sphere";
-    case LightType::Rectangle: return "rectangle";
+    case LightType::Point:
+        return "point";
+    case LightType::Spot:
+        return "spot";
+    case LightType::Directional:
+        return "directional";
+    case LightType::Ambient:
+        return "ambient";
+    case LightType::Sphere:
+        return "sphere";
+    case LightType::Rectangle:
+        return "rectangle";
     }
     return "point";
 }
@@ -172,8 +176,8 @@ bool parseLights(const std::string& text, std::vector<Light>& lights, std::strin
             lights.push_back(parseLight(parsed, lights.size()));
             return false;
         }
-        if (lightDepth && (event == json::parse_event_t::value ||
-                           event == json::parse_event_t::array_end))
+        if (lightDepth &&
+            (event == json::parse_event_t::value || event == json::parse_event_t::array_end))
             throw LightError{"light " + std::to_string(lights.size()) + ": not an object"};
         return true;
     };

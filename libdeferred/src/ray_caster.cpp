@@ -1,9 +1,6 @@
 #include <dhdr/deferred/ray_caster.h>
-
 #include <dhdr/deferred/scene.h>
-
 #include <embree3/rtcore.h>
-
 #include <limits>
 
 namespace dhdr {
@@ -34,12 +31,14 @@ RayCaster::RayCaster(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
             rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                     3 * sizeof(float), mesh.positions.size()));
         for (size_t v = 0; v < mesh.positions.size(); ++v)
-            for (int c = 0; c < 3; ++c) vertices[3 * v + size_t(c)] = mesh.positions[v][c];
+            for (int c = 0; c < 3; ++c)
+                vertices[3 * v + size_t(c)] = mesh.positions[v][c];
         auto* indices = static_cast<unsigned*>(
             rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                     3 * sizeof(unsigned), mesh.triangles.size()));
         for (size_t t = 0; t < mesh.triangles.size(); ++t)
-            for (int c = 0; c < 3; ++c) indices[3 * t + size_t(c)] = mesh.triangles[t][c];
+            for (int c = 0; c < 3; ++c)
+                indices[3 * t + size_t(c)] = mesh.triangles[t][c];
         rtcCommitGeometry(geom);
         rtcAttachGeometryByID(m_impl->scene, geom, unsigned(i));
         rtcReleaseGeometry(geom);

@@ -1,17 +1,15 @@
-#include <dhdr/deferred/scene.h>
-
 #include "gltf_json.h"
 #include "texture_loader.h"
 
+#include <algorithm>
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
-#include <glm/gtc/matrix_transform.hpp>
-
-#include <algorithm>
 #include <cmath>
+#include <dhdr/deferred/scene.h>
 #include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
 #include <map>
 
 namespace dhdr {
@@ -22,7 +20,8 @@ glm::dmat4 toGlm(const aiMatrix4x4& m) {
     // Assimp is row-major with translation in a4, b4, c4; glm is column-major.
     glm::dmat4 out;
     for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) out[c][r] = m[r][c];
+        for (int c = 0; c < 4; ++c)
+            out[c][r] = m[r][c];
     return out;
 }
 
@@ -47,8 +46,8 @@ public:
 
 private:
     bool loadMaterials(std::string& error) {
-        const auto strengths = m_gltf ? detail::gltfEmissiveStrengths(m_path)
-                                      : std::map<std::string, float>{};
+        const auto strengths =
+            m_gltf ? detail::gltfEmissiveStrengths(m_path) : std::map<std::string, float>{};
         for (unsigned i = 0; i < m_ai.mNumMaterials; ++i) {
             const aiMaterial& am = *m_ai.mMaterials[i];
             Material m;
@@ -102,8 +101,9 @@ private:
         Texture texture;
         if (const aiTexture* embedded = m_ai.GetEmbeddedTexture(ref.c_str())) {
             if (embedded->mHeight != 0) {
-                error = m_path + ": texture " + ref + ": uncompressed embedded textures are not "
-                                                      "supported";
+                error = m_path + ": texture " + ref +
+                        ": uncompressed embedded textures are not "
+                        "supported";
                 return false;
             }
             const std::string hint = std::string("embedded.") + embedded->achFormatHint;
@@ -131,7 +131,8 @@ private:
             for (unsigned i = 0; i < node.mNumMeshes; ++i)
                 addMesh(*m_ai.mMeshes[node.mMeshes[i]], world, normalMatrix, object);
         }
-        for (unsigned i = 0; i < node.mNumChildren; ++i) visit(*node.mChildren[i], world);
+        for (unsigned i = 0; i < node.mNumChildren; ++i)
+            visit(*node.mChildren[i], world);
     }
 
     void addMesh(const aiMesh& am, const glm::dmat4& world, const glm::dmat3& normalMatrix,
@@ -187,8 +188,8 @@ private:
                 // (applying it would move the camera twice) and reports yfov · aspect as
                 // mHorizontalFOV. A glTF camera sits at its node, looking down −Z.
                 sc.camera.cameraToWorld = world;
-                sc.camera.yfov = ac.mAspect > 0.0f ? ac.mHorizontalFOV / ac.mAspect
-                                                   : ac.mHorizontalFOV;
+                sc.camera.yfov =
+                    ac.mAspect > 0.0f ? ac.mHorizontalFOV / ac.mAspect : ac.mHorizontalFOV;
             } else {
                 // Assimp's documented convention: a camera in its node's space, and half the
                 // horizontal angle.
@@ -206,25 +207,33 @@ private:
     void loadLights() {
         // Assimp 5.2 folds a glTF light's intensity into its colour and drops its range, so
         // for glTF the light's own fields come from the file; placement from the node.
-        const auto fromFile = m_gltf ? detail::gltfLightsByNode(m_path)
-                                     : std::map<std::string, detail::GltfLight>{};
+        const auto fromFile =
+            m_gltf ? detail::gltfLightsByNode(m_path) : std::map<std::string, detail::GltfLight>{};
         for (unsigned i = 0; i < m_ai.mNumLights; ++i) {
             const aiLight& al = *m_ai.mLights[i];
             glm::dmat4 world(1.0);
             findNode(*m_ai.mRootNode, al.mName, glm::dmat4(1.0), world);
             Light light;
             light.name = al.mName.C_Str();
-            light.position = glm::vec3(
-                world * glm::dvec4(al.mPosition.x, al.mPosition.y, al.mPosition.z, 1.0));
-            const glm::dvec3 dir(world * glm::dvec4(al.mDirection.x, al.mDirection.y,
-                                                    al.mDirection.z, 0.0));
+            light.position =
+                glm::vec3(world * glm::dvec4(al.mPosition.x, al.mPosition.y, al.mPosition.z, 1.0));
+            const glm::dvec3 dir(
+                world * glm::dvec4(al.mDirection.x, al.mDirection.y, al.mDirection.z, 0.0));
             light.direction = glm::length(dir) > 0.0 ? glm::vec3(glm::normalize(dir))
                                                      : glm::vec3(0.0f, 0.0f, -1.0f);
             switch (al.mType) {
-            case aiLightSource_DIRECTIONAL: light.type = LightType::Directional; break;
-            case aiLightSource_SPOT: light.type = LightType::Spot; break;
-            case aiLightSource_AMBIENT: light.type = LightType::Ambient; break;
-            default: light.type = LightType::Point; break;
+            case aiLightSource_DIRECTIONAL:
+                light.type = LightType::Directional;
+                break;
+            case aiLightSource_SPOT:
+                light.type = LightType::Spot;
+                break;
+            case aiLightSource_AMBIENT:
+                light.type = LightType::Ambient;
+                break;
+            default:
+                light.type = LightType::Point;
+                break;
             }
             const auto it = fromFile.find(light.name);
             if (it != fromFile.end()) {
@@ -279,14 +288,16 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
 glm::dvec3 Scene::boundsMin() const {
     glm::dvec3 lo(std::numeric_limits<double>::infinity());
     for (const Mesh& m : meshes)
-        for (const glm::vec3& p : m.positions) lo = glm::min(lo, glm::dvec3(p));
+        for (const glm::vec3& p : m.positions)
+            lo = glm::min(lo, glm::dvec3(p));
     return lo;
 }
 
 glm::dvec3 Scene::boundsMax() const {
     glm::dvec3 hi(-std::numeric_limits<double>::infinity());
     for (const Mesh& m : meshes)
-        for (const glm::vec3& p : m.positions) hi = glm::max(hi, glm::dvec3(p));
+        for (const glm::vec3& p : m.positions)
+            hi = glm::max(hi, glm::dvec3(p));
     return hi;
 }
 

@@ -1,7 +1,6 @@
-#include <dhdr/deferred/scene.h>
-
 #include <algorithm>
 #include <cmath>
+#include <dhdr/deferred/scene.h>
 
 namespace dhdr {
 

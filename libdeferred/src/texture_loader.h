@@ -2,7 +2,6 @@
 #pragma once
 
 #include <dhdr/deferred/scene.h>
-
 #include <string>
 
 namespace dhdr::detail {

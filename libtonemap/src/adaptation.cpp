@@ -1,6 +1,5 @@
-#include <dhdr/tonemap/adaptation.h>
-
 #include <cmath>
+#include <dhdr/tonemap/adaptation.h>
 
 namespace dhdr {
 

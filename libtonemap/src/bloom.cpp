@@ -1,12 +1,10 @@
-#include <dhdr/tonemap/bloom.h>
-
 #include "float_pixels.h"
 #include "rgb_plane.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <OpenImageIO/parallel.h>
-
 #include <algorithm>
+#include <dhdr/tonemap/bloom.h>
 
 namespace dhdr {
 
@@ -18,12 +16,15 @@ RgbPlane quarterSize(const OIIO::ImageBuf& src, int nthreads) {
     const detail::FloatPixels in(src);
     const OIIO::ROI roi = src.roi();
     RgbPlane full(roi.width(), roi.height());
-    OIIO::parallel_for(0, roi.height(), [&](int64_t y) {
-        for (int x = 0; x < roi.width(); ++x) {
-            const float* p = in.at(roi.xbegin + x, roi.ybegin + int(y));
-            std::copy(p, p + 3, full.at(x, int(y)));
-        }
-    }, OIIO::paropt(nthreads));
+    OIIO::parallel_for(
+        0, roi.height(),
+        [&](int64_t y) {
+            for (int x = 0; x < roi.width(); ++x) {
+                const float* p = in.at(roi.xbegin + x, roi.ybegin + int(y));
+                std::copy(p, p + 3, full.at(x, int(y)));
+            }
+        },
+        OIIO::paropt(nthreads));
     return detail::boxDownsample(full, std::max(1, full.width / 4), std::max(1, full.height / 4),
                                  nthreads);
 }
@@ -40,21 +41,25 @@ RgbPlane brightPass(const RgbPlane& src, const BloomParams& params, int nthreads
     const double scale = stats.logAverage > 0.0 ? params.key / stats.logAverage : 0.0;
 
     RgbPlane out(src.width, src.height);
-    OIIO::parallel_for(0, src.height, [&](int64_t yy) {
-        const int y = int(yy);
-        for (int x = 0; x < src.width; ++x) {
-            float box[3] = {0.0f, 0.0f, 0.0f};
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    if (dx == 0 && dy == 0) continue;
-                    const float* p = src.at(std::clamp(x + dx, 0, src.width - 1),
-                                            std::clamp(y + dy, 0, src.height - 1));
-                    for (int c = 0; c < 3; ++c) box[c] += p[c] / 8.0f;
-                }
-            const double L = scale * luminance(box[0], box[1], box[2], params.metering.weights);
-            if (L / (1.0 + L) > double(params.threshold)) std::copy(box, box + 3, out.at(x, y));
-        }
-    }, OIIO::paropt(nthreads));
+    OIIO::parallel_for(
+        0, src.height,
+        [&](int64_t yy) {
+            const int y = int(yy);
+            for (int x = 0; x < src.width; ++x) {
+                float box[3] = {0.0f, 0.0f, 0.0f};
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        if (dx == 0 && dy == 0) continue;
+                        const float* p = src.at(std::clamp(x + dx, 0, src.width - 1),
+                                                std::clamp(y + dy, 0, src.height - 1));
+                        for (int c = 0; c < 3; ++c)
+                            box[c] += p[c] / 8.0f;
+                    }
+                const double L = scale * luminance(box[0], box[1], box[2], params.metering.weights);
+                if (L / (1.0 + L) > double(params.threshold)) std::copy(box, box + 3, out.at(x, y));
+            }
+        },
+        OIIO::paropt(nthreads));
     return out;
 }
 
@@ -76,17 +81,20 @@ bool bloomLayer(OIIO::ImageBuf& layer, const OIIO::ImageBuf& src, const BloomPar
     layer.set_origin(roi.xbegin, roi.ybegin);
     const float sx = float(blurred.width) / float(roi.width());
     const float sy = float(blurred.height) / float(roi.height());
-    OIIO::parallel_for(0, roi.height(), [&](int64_t y) {
-        for (int x = 0; x < roi.width(); ++x)
-            detail::bilinearSample(blurred, (float(x) + 0.5f) * sx, (float(y) + 0.5f) * sy,
-                                   detail::floatPixel(layer, roi.xbegin + x,
-                                                      roi.ybegin + int(y)));
-    }, OIIO::paropt(nthreads));
+    OIIO::parallel_for(
+        0, roi.height(),
+        [&](int64_t y) {
+            for (int x = 0; x < roi.width(); ++x)
+                detail::bilinearSample(
+                    blurred, (float(x) + 0.5f) * sx, (float(y) + 0.5f) * sy,
+                    detail::floatPixel(layer, roi.xbegin + x, roi.ybegin + int(y)));
+        },
+        OIIO::paropt(nthreads));
     return true;
 }
 
-bool bloom(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const BloomParams& params,
-           OIIO::ROI roi, int nthreads) {
+bool bloom(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const BloomParams& params, OIIO::ROI roi,
+           int nthreads) {
     OIIO::ImageBuf layer;
     if (!bloomLayer(layer, src, params, nthreads)) {
         dst.errorfmt("{}", layer.geterror());
@@ -101,7 +109,8 @@ bool bloom(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const BloomParams& pa
                 const float* p = in.at(x, y);
                 const float* b = static_cast<const float*>(layer.pixeladdr(x, y));
                 float* q = detail::floatPixel(dst, x, y);
-                for (int c = 0; c < 3; ++c) q[c] = p[c] + params.strength * b[c];
+                for (int c = 0; c < 3; ++c)
+                    q[c] = p[c] + params.strength * b[c];
             }
     });
     return true;

@@ -1,11 +1,9 @@
-#include <dhdr/tonemap/display.h>
-
 #include "float_pixels.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
-
 #include <algorithm>
 #include <cstdint>
+#include <dhdr/tonemap/display.h>
 
 namespace dhdr {
 
@@ -17,8 +15,10 @@ bool encodeSRGB(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, i
             for (int x = r.xbegin; x < r.xend; ++x) {
                 const float* p = in.at(x, y);
                 float* q = detail::floatPixel(dst, x, y);
-                for (int c = 0; c < 3; ++c) q[c] = srgbEncode(p[c]);
-                for (int c = 3; c < r.chend; ++c) q[c] = p[c];
+                for (int c = 0; c < 3; ++c)
+                    q[c] = srgbEncode(p[c]);
+                for (int c = 3; c < r.chend; ++c)
+                    q[c] = p[c];
             }
     });
     return true;

@@ -1,9 +1,7 @@
-#include <dhdr/tonemap/display_transform.h>
-
 #include <OpenColorIO/OpenColorIO.h>
 #include <OpenImageIO/parallel.h>
-
 #include <cstdlib>
+#include <dhdr/tonemap/display_transform.h>
 #include <vector>
 
 namespace OCIO = OCIO_NAMESPACE;
@@ -65,20 +63,24 @@ OCIO::ConstConfigRcPtr builtinConfig() {
 
 std::string listOf(const std::vector<std::string>& names) {
     std::string out;
-    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+    for (const std::string& n : names)
+        out += (out.empty() ? "" : ", ") + n;
     return out;
 }
 
 void applyRgb(const OCIO::ConstCPUProcessorRcPtr& cpu, OIIO::ImageBuf& img, int nthreads) {
     const OIIO::ROI roi = img.roi();
     const int nch = img.nchannels();
-    OIIO::parallel_for(int64_t(roi.ybegin), int64_t(roi.yend), [&](int64_t y) {
-        float* row = static_cast<float*>(img.pixeladdr(roi.xbegin, int(y)));
-        OCIO::PackedImageDesc desc(row, roi.width(), 1, 3, OCIO::BIT_DEPTH_F32, sizeof(float),
-                                   ptrdiff_t(nch * sizeof(float)),
-                                   ptrdiff_t(roi.width() * nch * sizeof(float)));
-        cpu->apply(desc);
-    }, OIIO::paropt(nthreads));
+    OIIO::parallel_for(
+        int64_t(roi.ybegin), int64_t(roi.yend),
+        [&](int64_t y) {
+            float* row = static_cast<float*>(img.pixeladdr(roi.xbegin, int(y)));
+            OCIO::PackedImageDesc desc(row, roi.width(), 1, 3, OCIO::BIT_DEPTH_F32, sizeof(float),
+                                       ptrdiff_t(nch * sizeof(float)),
+                                       ptrdiff_t(roi.width() * nch * sizeof(float)));
+            cpu->apply(desc);
+        },
+        OIIO::paropt(nthreads));
 }
 
 } // namespace
@@ -122,7 +124,8 @@ bool DisplayTransform::init(const DisplaySettings& s, std::string& error) {
         std::vector<std::string> names;
         for (int i = 0; i < config->getNumColorSpaces(); ++i)
             names.push_back(config->getColorSpaceNameByIndex(i));
-        error = "unknown colour space '" + input + "' (" + m.source + " has: " + listOf(names) + ")";
+        error =
+            "unknown colour space '" + input + "' (" + m.source + " has: " + listOf(names) + ")";
         return false;
     }
     m.display = s.display.empty() ? config->getDefaultDisplay() : s.display;
@@ -133,7 +136,8 @@ bool DisplayTransform::init(const DisplaySettings& s, std::string& error) {
         displayFound = displayFound || displays.back() == m.display;
     }
     if (!displayFound) {
-        error = "unknown display '" + m.display + "' (" + m.source + " has: " + listOf(displays) + ")";
+        error =
+            "unknown display '" + m.display + "' (" + m.source + " has: " + listOf(displays) + ")";
         return false;
     }
     m.view = s.view.empty() ? config->getDefaultView(m.display.c_str()) : s.view;
@@ -144,21 +148,21 @@ bool DisplayTransform::init(const DisplaySettings& s, std::string& error) {
         viewFound = viewFound || views.back() == m.view;
     }
     if (!viewFound) {
-        error = "unknown view '" + m.view + "' of display '" + m.display + "' (it has: " +
-                listOf(views) + ")";
+        error = "unknown view '" + m.view + "' of display '" + m.display +
+                "' (it has: " + listOf(views) + ")";
         return false;
     }
     if (!s.look.empty() && !config->getLook(s.look.c_str())) {
         std::vector<std::string> looks;
         for (int i = 0; i < config->getNumLooks(); ++i)
             looks.push_back(config->getLookNameByIndex(i));
-        error = "unknown look '" + s.look + "' (" + m.source + " has: " +
-                (looks.empty() ? std::string("none") : listOf(looks)) + ")";
+        error = "unknown look '" + s.look + "' (" + m.source +
+                " has: " + (looks.empty() ? std::string("none") : listOf(looks)) + ")";
         return false;
     }
     try {
-        m.toScene = config->getProcessor(input.c_str(), sceneLinear->getName())
-                        ->getDefaultCPUProcessor();
+        m.toScene =
+            config->getProcessor(input.c_str(), sceneLinear->getName())->getDefaultCPUProcessor();
         OCIO::GroupTransformRcPtr display = OCIO::GroupTransform::Create();
         if (!s.look.empty()) {
             OCIO::LookTransformRcPtr look = OCIO::LookTransform::Create();

@@ -1,11 +1,9 @@
-#include <dhdr/tonemap/edge_aa.h>
-
 #include "float_pixels.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
-
 #include <algorithm>
 #include <cmath>
+#include <dhdr/tonemap/edge_aa.h>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -28,9 +26,8 @@ double relativeDepthStep(float z, float zk) {
 
 } // namespace
 
-bool edgeBlurFactor(OIIO::ImageBuf& dst, const OIIO::ImageBuf* normal,
-                    const OIIO::ImageBuf* depth, const EdgeAAParams& params, OIIO::ROI roi,
-                    int nthreads) {
+bool edgeBlurFactor(OIIO::ImageBuf& dst, const OIIO::ImageBuf* normal, const OIIO::ImageBuf* depth,
+                    const EdgeAAParams& params, OIIO::ROI roi, int nthreads) {
     if (!normal && !depth) {
         dst.errorfmt("edge AA needs a normal or a depth image");
         return false;
@@ -42,8 +39,7 @@ bool edgeBlurFactor(OIIO::ImageBuf& dst, const OIIO::ImageBuf* normal,
     const OIIO::ImageBuf& geometry = normal ? *normal : *depth;
     if (!roi.defined()) roi = geometry.roi();
     auto samePixels = [](const OIIO::ROI& a, const OIIO::ROI& b) {
-        return a.xbegin == b.xbegin && a.xend == b.xend && a.ybegin == b.ybegin &&
-               a.yend == b.yend;
+        return a.xbegin == b.xbegin && a.xend == b.xend && a.ybegin == b.ybegin && a.yend == b.yend;
     };
     if (normal && depth && !samePixels(normal->roi(), depth->roi())) {
         dst.errorfmt("normal and depth images differ in size");
@@ -68,12 +64,13 @@ bool edgeBlurFactor(OIIO::ImageBuf& dst, const OIIO::ImageBuf* normal,
                         const float* n = N->at(x, y);
                         const float* nk = N->clamped(x + o[0], y + o[1]);
                         double d2 = 0.0;
-                        for (int c = 0; c < 3; ++c) d2 += double(nk[c] - n[c]) * (nk[c] - n[c]);
+                        for (int c = 0; c < 3; ++c)
+                            d2 += double(nk[c] - n[c]) * (nk[c] - n[c]);
                         e += params.normalWeight * d2;
                     }
                     if (Z) {
-                        const double s = relativeDepthStep(*Z->at(x, y),
-                                                           *Z->clamped(x + o[0], y + o[1]));
+                        const double s =
+                            relativeDepthStep(*Z->at(x, y), *Z->clamped(x + o[0], y + o[1]));
                         e += params.depthWeight * s * s;
                     }
                 }
@@ -84,8 +81,7 @@ bool edgeBlurFactor(OIIO::ImageBuf& dst, const OIIO::ImageBuf* normal,
 }
 
 bool edgeAA(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const OIIO::ImageBuf* normal,
-            const OIIO::ImageBuf* depth, const EdgeAAParams& params, OIIO::ROI roi,
-            int nthreads) {
+            const OIIO::ImageBuf* depth, const EdgeAAParams& params, OIIO::ROI roi, int nthreads) {
     const OIIO::ImageBuf& geometry = normal ? *normal : *depth;
     if ((normal || depth) && geometry.roi().width() != src.roi().width()) {
         dst.errorfmt("geometry images are {}x{}, the image is {}x{}", geometry.spec().width,
@@ -142,7 +138,8 @@ bool edgeAA(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const OIIO::ImageBuf
                         sum[size_t(k)] += (1 - ty) * ((1 - tx) * a[k] + tx * b[k]) +
                                           ty * ((1 - tx) * c[k] + tx * d[k]);
                 }
-                for (int k = 0; k < nch; ++k) q[k] = float(sum[size_t(k)] / 8.0);
+                for (int k = 0; k < nch; ++k)
+                    q[k] = float(sum[size_t(k)] / 8.0);
             }
     });
     return true;

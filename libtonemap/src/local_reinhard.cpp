@@ -1,9 +1,7 @@
-#include <dhdr/tonemap/local_reinhard.h>
-
 #include <OpenImageIO/parallel.h>
-
 #include <algorithm>
 #include <cmath>
+#include <dhdr/tonemap/local_reinhard.h>
 #include <vector>
 
 namespace dhdr {
@@ -21,26 +19,34 @@ std::vector<float> gaussian(const std::vector<float>& src, int width, int height
         kernel[size_t(i + radius)] = std::exp(-0.5 * i * i / (sigma * sigma));
         total += kernel[size_t(i + radius)];
     }
-    for (double& k : kernel) k /= total;
+    for (double& k : kernel)
+        k /= total;
     std::vector<float> tmp(src.size()), out(src.size());
-    OIIO::parallel_for(0, height, [&](int64_t y) {
-        for (int x = 0; x < width; ++x) {
-            double sum = 0.0;
-            for (int k = -radius; k <= radius; ++k)
-                sum += kernel[size_t(k + radius)] *
-                       src[size_t(y) * size_t(width) + size_t(std::clamp(x + k, 0, width - 1))];
-            tmp[size_t(y) * size_t(width) + size_t(x)] = float(sum);
-        }
-    }, OIIO::paropt(nthreads));
-    OIIO::parallel_for(0, height, [&](int64_t y) {
-        for (int x = 0; x < width; ++x) {
-            double sum = 0.0;
-            for (int k = -radius; k <= radius; ++k)
-                sum += kernel[size_t(k + radius)] *
-                       tmp[size_t(std::clamp(int(y) + k, 0, height - 1)) * size_t(width) + size_t(x)];
-            out[size_t(y) * size_t(width) + size_t(x)] = float(sum);
-        }
-    }, OIIO::paropt(nthreads));
+    OIIO::parallel_for(
+        0, height,
+        [&](int64_t y) {
+            for (int x = 0; x < width; ++x) {
+                double sum = 0.0;
+                for (int k = -radius; k <= radius; ++k)
+                    sum += kernel[size_t(k + radius)] *
+                           src[size_t(y) * size_t(width) + size_t(std::clamp(x + k, 0, width - 1))];
+                tmp[size_t(y) * size_t(width) + size_t(x)] = float(sum);
+            }
+        },
+        OIIO::paropt(nthreads));
+    OIIO::parallel_for(
+        0, height,
+        [&](int64_t y) {
+            for (int x = 0; x < width; ++x) {
+                double sum = 0.0;
+                for (int k = -radius; k <= radius; ++k)
+                    sum += kernel[size_t(k + radius)] *
+                           tmp[size_t(std::clamp(int(y) + k, 0, height - 1)) * size_t(width) +
+                               size_t(x)];
+                out[size_t(y) * size_t(width) + size_t(x)] = float(sum);
+            }
+        },
+        OIIO::paropt(nthreads));
     return out;
 }
 
@@ -66,15 +72,18 @@ bool localReinhard(OIIO::ImageBuf& dst, const OIIO::ImageBuf& scaledLuminance,
         const double s = std::pow(1.6, i);
         const std::vector<float> v2 = blurAt(i + 1);
         const double sharpening = std::pow(2.0, params.phi) * params.key / (s * s);
-        OIIO::parallel_for(int64_t(0), int64_t(L.size()), [&](int64_t k) {
-            if (settled[size_t(k)]) return;
-            const double activity = (double(v1[size_t(k)]) - v2[size_t(k)]) /
-                                    (sharpening + v1[size_t(k)]);
-            if (std::abs(activity) < params.epsilon)
-                chosen[size_t(k)] = v1[size_t(k)];
-            else
-                settled[size_t(k)] = 1;
-        }, OIIO::paropt(nthreads));
+        OIIO::parallel_for(
+            int64_t(0), int64_t(L.size()),
+            [&](int64_t k) {
+                if (settled[size_t(k)]) return;
+                const double activity =
+                    (double(v1[size_t(k)]) - v2[size_t(k)]) / (sharpening + v1[size_t(k)]);
+                if (std::abs(activity) < params.epsilon)
+                    chosen[size_t(k)] = v1[size_t(k)];
+                else
+                    settled[size_t(k)] = 1;
+            },
+            OIIO::paropt(nthreads));
         v1 = v2;
     }
 
@@ -83,7 +92,8 @@ bool localReinhard(OIIO::ImageBuf& dst, const OIIO::ImageBuf& scaledLuminance,
     spec.y = roi.ybegin;
     dst.reset(spec);
     float* out = static_cast<float*>(dst.localpixels());
-    for (size_t k = 0; k < L.size(); ++k) out[k] = L[k] / (1.0f + chosen[k]);
+    for (size_t k = 0; k < L.size(); ++k)
+        out[k] = L[k] / (1.0f + chosen[k]);
     return true;
 }
 

@@ -1,11 +1,9 @@
-#include <dhdr/tonemap/luminance.h>
-
 #include "float_pixels.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
-
 #include <algorithm>
 #include <cmath>
+#include <dhdr/tonemap/luminance.h>
 #include <limits>
 #include <vector>
 

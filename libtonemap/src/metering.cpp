@@ -1,11 +1,9 @@
-#include <dhdr/tonemap/metering.h>
-
 #include "float_pixels.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
-
 #include <algorithm>
 #include <cmath>
+#include <dhdr/tonemap/metering.h>
 #include <mutex>
 #include <vector>
 
@@ -36,7 +34,8 @@ bool meter(LuminanceStats& stats, const OIIO::ImageBuf& src, const MeteringParam
     auto logLuminance = [&](int x, int y) {
         const float* p = pixels.at(x, y);
         if (skipTransparent && p[3] == 0.0f) return double(NAN);
-        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) return double(NAN);
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2]))
+            return double(NAN);
         return std::log(lp.delta + std::max(0.0, double(luminance(p[0], p[1], p[2], lp.weights))));
     };
     auto binOf = [&](double v) { return std::clamp(int((v - lo) / binWidth), 0, kBins - 1); };
@@ -51,7 +50,8 @@ bool meter(LuminanceStats& stats, const OIIO::ImageBuf& src, const MeteringParam
                 if (!std::isnan(v)) ++local[size_t(binOf(v))];
             }
         std::lock_guard<std::mutex> lock(merge);
-        for (int b = 0; b < kBins; ++b) histogram[size_t(b)] += local[size_t(b)];
+        for (int b = 0; b < kBins; ++b)
+            histogram[size_t(b)] += local[size_t(b)];
     });
 
     // The bins holding the two percentiles; whole bins between them are metered.

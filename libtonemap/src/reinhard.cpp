@@ -1,10 +1,8 @@
-#include <dhdr/tonemap/reinhard.h>
-
 #include "float_pixels.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
-
 #include <cmath>
+#include <dhdr/tonemap/reinhard.h>
 
 namespace dhdr {
 
@@ -42,8 +40,10 @@ bool reinhard(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ReinhardPara
                 const double Lw = luminance(p[0], p[1], p[2], w);
                 // Colour scaled by Ld / Lw keeps the chromaticity (the paper maps luminance).
                 const double ratio = Lw > 0.0 ? reinhardCurve(m.scale * Lw, m.white) / Lw : 0.0;
-                for (int c = 0; c < 3; ++c) q[c] = float(double(p[c]) * ratio);
-                for (int c = 3; c < r.chend; ++c) q[c] = p[c];
+                for (int c = 0; c < 3; ++c)
+                    q[c] = float(double(p[c]) * ratio);
+                for (int c = 3; c < r.chend; ++c)
+                    q[c] = p[c];
             }
     });
     return true;

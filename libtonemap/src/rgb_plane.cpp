@@ -1,7 +1,6 @@
 #include "rgb_plane.h"
 
 #include <OpenImageIO/parallel.h>
-
 #include <algorithm>
 #include <cmath>
 
@@ -36,19 +35,24 @@ RgbPlane convolve(const RgbPlane& src, int width, int height, bool horizontal,
                   const std::vector<Footprint>& footprints, int nthreads) {
     RgbPlane dst(width, height);
     const int srcLen = horizontal ? src.width : src.height;
-    OIIO::parallel_for(0, height, [&](int64_t y) {
-        for (int x = 0; x < width; ++x) {
-            const Footprint& f = footprints[size_t(horizontal ? x : y)];
-            double sum[3] = {0.0, 0.0, 0.0};
-            for (size_t k = 0; k < f.weights.size(); ++k) {
-                const int s = std::clamp(f.first + int(k), 0, srcLen - 1);
-                const float* p = horizontal ? src.at(s, int(y)) : src.at(x, s);
-                for (int c = 0; c < 3; ++c) sum[c] += double(f.weights[k]) * p[c];
+    OIIO::parallel_for(
+        0, height,
+        [&](int64_t y) {
+            for (int x = 0; x < width; ++x) {
+                const Footprint& f = footprints[size_t(horizontal ? x : y)];
+                double sum[3] = {0.0, 0.0, 0.0};
+                for (size_t k = 0; k < f.weights.size(); ++k) {
+                    const int s = std::clamp(f.first + int(k), 0, srcLen - 1);
+                    const float* p = horizontal ? src.at(s, int(y)) : src.at(x, s);
+                    for (int c = 0; c < 3; ++c)
+                        sum[c] += double(f.weights[k]) * p[c];
+                }
+                float* q = dst.at(x, int(y));
+                for (int c = 0; c < 3; ++c)
+                    q[c] = float(sum[c]);
             }
-            float* q = dst.at(x, int(y));
-            for (int c = 0; c < 3; ++c) q[c] = float(sum[c]);
-        }
-    }, OIIO::paropt(nthreads));
+        },
+        OIIO::paropt(nthreads));
     return dst;
 }
 
@@ -71,11 +75,13 @@ RgbPlane gaussianBlur(const RgbPlane& src, float sigma, int nthreads) {
         total += g;
     }
     // Normalized so that a flat image stays flat (the seed's weights sum to more than 1).
-    for (float& k : kernel) k = float(k / total);
+    for (float& k : kernel)
+        k = float(k / total);
 
     auto footprints = [&](int size) {
         std::vector<Footprint> out(static_cast<size_t>(size));
-        for (int i = 0; i < size; ++i) out[size_t(i)] = {i - radius, kernel};
+        for (int i = 0; i < size; ++i)
+            out[size_t(i)] = {i - radius, kernel};
         return out;
     };
     const RgbPlane wide =

@@ -1,9 +1,7 @@
-#include <dhdr/tonemap/sanitize.h>
-
 #include <OpenImageIO/imagebufalgo_util.h>
-
 #include <algorithm>
 #include <cmath>
+#include <dhdr/tonemap/sanitize.h>
 #include <vector>
 
 namespace dhdr {

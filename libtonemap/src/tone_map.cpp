@@ -1,13 +1,10 @@
-#include <dhdr/tonemap/tone_map.h>
-
-#include <dhdr/tonemap/local_reinhard.h>
-#include <dhdr/tonemap/reinhard.h>
-
 #include "float_pixels.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
-
 #include <cmath>
+#include <dhdr/tonemap/local_reinhard.h>
+#include <dhdr/tonemap/reinhard.h>
+#include <dhdr/tonemap/tone_map.h>
 #include <functional>
 
 namespace dhdr {
@@ -19,10 +16,14 @@ struct Named {
     const char* name;
 };
 constexpr Named kOperators[] = {
-    {ToneOperator::Reinhard, "reinhard"},       {ToneOperator::ReinhardLocal, "reinhard-local"},
-    {ToneOperator::Drago, "drago"},             {ToneOperator::Hable, "hable"},
-    {ToneOperator::PbrNeutral, "pbr-neutral"},  {ToneOperator::Exposure, "exposure"},
-    {ToneOperator::Aces, "aces"},               {ToneOperator::Agx, "agx"},
+    {ToneOperator::Reinhard, "reinhard"},
+    {ToneOperator::ReinhardLocal, "reinhard-local"},
+    {ToneOperator::Drago, "drago"},
+    {ToneOperator::Hable, "hable"},
+    {ToneOperator::PbrNeutral, "pbr-neutral"},
+    {ToneOperator::Exposure, "exposure"},
+    {ToneOperator::Aces, "aces"},
+    {ToneOperator::Agx, "agx"},
 };
 
 // Applies f(rgb, x, y) → rgb to every pixel of roi, copying the other channels.
@@ -39,7 +40,8 @@ bool perPixel(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int
                 q[0] = c.r;
                 q[1] = c.g;
                 q[2] = c.b;
-                for (int k = 3; k < r.chend; ++k) q[k] = p[k];
+                for (int k = 3; k < r.chend; ++k)
+                    q[k] = p[k];
             }
     });
     return true;
@@ -123,7 +125,8 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
         const double Lwmax = std::max(scale * stats->maxLuminance, 1e-6);
         return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
             const double lw = Lw(p);
-            return byLuminance(p, lw, dragoCurve(scale * std::max(lw, 0.0), Lwmax, params.dragoBias));
+            return byLuminance(p, lw,
+                               dragoCurve(scale * std::max(lw, 0.0), Lwmax, params.dragoBias));
         });
     }
     case ToneOperator::Hable:
@@ -145,7 +148,8 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
         return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
             return glm::vec3(p[0], p[1], p[2]) * float(scale);
         });
-    case ToneOperator::Exposure: break;
+    case ToneOperator::Exposure:
+        break;
     }
     return true;
 }

@@ -3,9 +3,8 @@
 // visibility and Schlick Fresnel.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <algorithm>
+#include <glm/glm.hpp>
 
 namespace dhdr {
 

@@ -4,7 +4,6 @@
 
 #include <OpenImageIO/oiioversion.h>
 #include <glm/glm.hpp>
-
 #include <string>
 #include <vector>
 

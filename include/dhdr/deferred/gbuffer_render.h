@@ -2,7 +2,6 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
-
 #include <functional>
 #include <memory>
 #include <string>

@@ -15,8 +15,7 @@ struct PixelRect {
 // its world-to-camera and camera-to-NDC (OpenGL) matrices: the projection of the sphere's
 // camera-space bounding box, widened by a pixel. The whole image for a sphere that crosses the
 // camera plane; empty for one wholly behind the camera.
-PixelRect sphereScreenRect(const glm::dvec3& centre, double radius,
-                           const glm::dmat4& worldToCamera, const glm::dmat4& cameraToNDC,
-                           int width, int height);
+PixelRect sphereScreenRect(const glm::dvec3& centre, double radius, const glm::dmat4& worldToCamera,
+                           const glm::dmat4& cameraToNDC, int width, int height);
 
 } // namespace dhdr

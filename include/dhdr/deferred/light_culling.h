@@ -2,11 +2,10 @@
 // (seed: per-pixel light lists with per-light min/max depth).
 #pragma once
 
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/lights.h>
-
 #include <cstddef>
 #include <cstdint>
+#include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/lights.h>
 #include <vector>
 
 namespace dhdr {

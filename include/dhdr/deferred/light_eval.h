@@ -1,11 +1,10 @@
 // Light arriving at a surface point from one light, in KHR_lights_punctual units.
 #pragma once
 
+#include <cmath>
 #include <dhdr/deferred/area_light.h>
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/lights.h>
-
-#include <cmath>
 
 namespace dhdr {
 
@@ -23,8 +22,8 @@ inline float rangeWindow(float distance, float range) {
 // Angular falloff of a spot light: 1 inside the inner cone, 0 outside the outer one, a
 // smoothstep between them in cos θ.
 inline float spotFalloff(float cosTheta, float cosInner, float cosOuter) {
-    const float t = std::clamp((cosTheta - cosOuter) / std::max(cosInner - cosOuter, 1e-6f),
-                               0.0f, 1.0f);
+    const float t =
+        std::clamp((cosTheta - cosOuter) / std::max(cosInner - cosOuter, 1e-6f), 0.0f, 1.0f);
     return t * t * (3.0f - 2.0f * t);
 }
 

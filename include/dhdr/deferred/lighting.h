@@ -1,10 +1,8 @@
 // The deferred lighting pass: a G-buffer and a list of lights in, linear HDR radiance out.
 #pragma once
 
-#include <dhdr/deferred/lights.h>
-
 #include <OpenImageIO/imagebuf.h>
-
+#include <dhdr/deferred/lights.h>
 #include <string>
 #include <vector>
 

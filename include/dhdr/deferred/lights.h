@@ -2,7 +2,6 @@
 #pragma once
 
 #include <glm/glm.hpp>
-
 #include <limits>
 #include <string>
 #include <vector>
@@ -36,9 +35,7 @@ struct Light {
     float outerConeAngle = 0.7853982f; // π/4, glTF's default
 
     // A light with a position, bounded by its range (all but directional and ambient).
-    bool isLocal() const {
-        return type != LightType::Directional && type != LightType::Ambient;
-    }
+    bool isLocal() const { return type != LightType::Directional && type != LightType::Ambient; }
 };
 
 // Parses the JSON text of a lights file. On failure returns false with `error` naming the

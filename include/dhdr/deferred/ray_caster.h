@@ -3,7 +3,6 @@
 #pragma once
 
 #include <dhdr/deferred/camera.h>
-
 #include <memory>
 #include <string>
 
@@ -14,8 +13,8 @@ struct Scene;
 struct RayHit {
     bool hit = false;
     double t = 0.0;
-    int mesh = -1;     // index into Scene::meshes
-    int triangle = -1; // index into that mesh's triangles
+    int mesh = -1;            // index into Scene::meshes
+    int triangle = -1;        // index into that mesh's triangles
     float u = 0.0f, v = 0.0f; // barycentrics of vertices 1 and 2
 };
 

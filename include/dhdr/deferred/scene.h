@@ -4,9 +4,7 @@
 
 #include <dhdr/deferred/camera.h>
 #include <dhdr/deferred/lights.h>
-
 #include <glm/glm.hpp>
-
 #include <string>
 #include <vector>
 
@@ -27,8 +25,8 @@ struct Material {
     glm::vec3 baseColor{1.0f}; // linear
     float alpha = 1.0f;
     float roughness = 1.0f;
-    float metallic = 1.0f; // glTF defaults: a material without these is rough metal
-    glm::vec3 emission{0.0f}; // linear radiance: emissiveFactor × emissive strength
+    float metallic = 1.0f;     // glTF defaults: a material without these is rough metal
+    glm::vec3 emission{0.0f};  // linear radiance: emissiveFactor × emissive strength
     int baseColorTexture = -1; // index into Scene::textures
 };
 

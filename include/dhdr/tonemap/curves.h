@@ -2,10 +2,9 @@
 // its paper or specification writes it.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <algorithm>
 #include <cmath>
+#include <glm/glm.hpp>
 
 namespace dhdr {
 
@@ -23,8 +22,8 @@ struct HableParams {
 
 // f(x) = (x (A x + C B) + D E) / (x (A x + B) + D F) − E / F.
 inline float hableCurve(float x, const HableParams& p) {
-    const float A = p.shoulderStrength, B = p.linearStrength, C = p.linearAngle,
-                D = p.toeStrength, E = p.toeNumerator, F = p.toeDenominator;
+    const float A = p.shoulderStrength, B = p.linearStrength, C = p.linearAngle, D = p.toeStrength,
+                E = p.toeNumerator, F = p.toeDenominator;
     return (x * (A * x + C * B) + D * E) / (x * (A * x + B) + D * F) - E / F;
 }
 
@@ -63,8 +62,8 @@ inline glm::vec3 pbrNeutral(glm::vec3 color) {
 inline glm::vec3 agx(const glm::vec3& rgb) {
     // Column-major, as glm (and GLSL) construct matrices.
     const glm::mat3 inset(0.842479062253094f, 0.0423282422610123f, 0.0423756549057051f,
-                          0.0784335999999992f, 0.878468636469772f, 0.0784336f,
-                          0.0792237451477643f, 0.0791661274605434f, 0.879142973793104f);
+                          0.0784335999999992f, 0.878468636469772f, 0.0784336f, 0.0792237451477643f,
+                          0.0791661274605434f, 0.879142973793104f);
     const glm::mat3 outset(1.19687900512017f, -0.0528968517574562f, -0.0529716355144438f,
                            -0.0980208811401368f, 1.15190312990417f, -0.0980434501171241f,
                            -0.0990297440797205f, -0.0989611768448433f, 1.15107367264116f);
@@ -74,11 +73,12 @@ inline glm::vec3 agx(const glm::vec3& rgb) {
         const float ev = std::clamp(std::log2(std::max(v[c], 1e-10f)), minEv, maxEv);
         const float x = (ev - minEv) / (maxEv - minEv);
         const float x2 = x * x, x4 = x2 * x2;
-        v[c] = 15.5f * x4 * x2 - 40.14f * x4 * x + 31.96f * x4 - 6.868f * x2 * x +
-               0.4298f * x2 + 0.1191f * x - 0.00232f;
+        v[c] = 15.5f * x4 * x2 - 40.14f * x4 * x + 31.96f * x4 - 6.868f * x2 * x + 0.4298f * x2 +
+               0.1191f * x - 0.00232f;
     }
     v = outset * v;
-    for (int c = 0; c < 3; ++c) v[c] = std::pow(std::max(v[c], 0.0f), 2.2f);
+    for (int c = 0; c < 3; ++c)
+        v[c] = std::pow(std::max(v[c], 0.0f), 2.2f);
     return v;
 }
 

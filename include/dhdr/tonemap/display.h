@@ -2,7 +2,6 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
-
 #include <cmath>
 
 namespace dhdr {

@@ -3,7 +3,6 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
-
 #include <memory>
 #include <string>
 

@@ -18,9 +18,8 @@ struct EdgeAAParams {
 
 // The per-pixel blur factor as a 1-channel float image. `normal` (3 channels) and `depth`
 // (1 channel) are optional, but not both absent; they must cover `roi`.
-bool edgeBlurFactor(OIIO::ImageBuf& dst, const OIIO::ImageBuf* normal,
-                    const OIIO::ImageBuf* depth, const EdgeAAParams& params = {},
-                    OIIO::ROI roi = {}, int nthreads = 0);
+bool edgeBlurFactor(OIIO::ImageBuf& dst, const OIIO::ImageBuf* normal, const OIIO::ImageBuf* depth,
+                    const EdgeAAParams& params = {}, OIIO::ROI roi = {}, int nthreads = 0);
 
 // Resamples `src` where the blur factor is above zero: each pixel becomes the mean of 8
 // bilinear taps around it at offset e · maxOffset. Where e = 0 the pixel is copied bit for

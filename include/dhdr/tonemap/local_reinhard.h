@@ -6,10 +6,10 @@
 namespace dhdr {
 
 struct LocalReinhardParams {
-    double key = 0.18;  // α
-    double phi = 8.0;   // φ, sharpening
+    double key = 0.18;     // α
+    double phi = 8.0;      // φ, sharpening
     double epsilon = 0.05; // ε, the activity threshold
-    int scales = 8;     // s = 1.6^i, i = 0 … scales − 1
+    int scales = 8;        // s = 1.6^i, i = 0 … scales − 1
 };
 
 // Maps a 1-channel image of scaled luminance L (= α Lw / L̄w) to display luminance

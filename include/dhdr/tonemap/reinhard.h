@@ -1,9 +1,8 @@
 // The photographic tone-reproduction operator of Reinhard et al. 2002 (global version).
 #pragma once
 
-#include <dhdr/tonemap/luminance.h>
-
 #include <cmath>
+#include <dhdr/tonemap/luminance.h>
 #include <limits>
 
 namespace dhdr {

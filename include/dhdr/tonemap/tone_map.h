@@ -3,7 +3,6 @@
 
 #include <dhdr/tonemap/curves.h>
 #include <dhdr/tonemap/metering.h>
-
 #include <string>
 
 namespace dhdr {
