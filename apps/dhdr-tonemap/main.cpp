@@ -119,8 +119,8 @@ bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
     if (ext == ".exr") return tool.writeImage(mapped, out, {OIIO::TypeDesc::HALF});
     const bool sixteen = job.bits == 16 && ext != ".jpg" && ext != ".jpeg";
     if (!sixteen && job.dither) {
-        addDither(mapped, 8, 0, {}, nthreads);
-        meta.attribute("dhdr:dither", "triangular, 1 LSB");
+        addDither(mapped, 8, {}, nthreads);
+        meta.attribute("dhdr:dither", "ordered, 8x8 Bayer");
     }
     return tool.writeImage(mapped, out, {sixteen ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8});
 }

@@ -2,7 +2,6 @@
 
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
-#include <cstdint>
 #include <dhdr/tonemap/display.h>
 
 namespace dhdr {
@@ -26,19 +25,15 @@ bool encodeSRGB(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, i
 
 namespace {
 
-// A uniform number in [0, 1) from a 32-bit integer hash (Wellons' "lowbias32").
-float hashUniform(std::uint32_t v) {
-    v ^= v >> 16;
-    v *= 0x7feb352dU;
-    v ^= v >> 15;
-    v *= 0x846ca68bU;
-    v ^= v >> 16;
-    return float(v >> 8) * (1.0f / 16777216.0f);
-}
+// The 8 × 8 Bayer matrix: every threshold 0..63 once, neighbours far apart.
+constexpr int kBayer[8][8] = {{0, 32, 8, 40, 2, 34, 10, 42},   {48, 16, 56, 24, 50, 18, 58, 26},
+                              {12, 44, 4, 36, 14, 46, 6, 38},  {60, 28, 52, 20, 62, 30, 54, 22},
+                              {3, 35, 11, 43, 1, 33, 9, 41},   {51, 19, 59, 27, 49, 17, 57, 25},
+                              {15, 47, 7, 39, 13, 45, 5, 37},  {63, 31, 55, 23, 61, 29, 53, 21}};
 
 } // namespace
 
-bool addDither(OIIO::ImageBuf& img, int bits, unsigned seed, OIIO::ROI roi, int nthreads) {
+bool addDither(OIIO::ImageBuf& img, int bits, OIIO::ROI roi, int nthreads) {
     if (img.spec().format != OIIO::TypeDesc::FLOAT || !img.localpixels() || img.nchannels() < 3) {
         img.errorfmt("dithering needs float pixels in memory with three colour channels");
         return false;
@@ -48,15 +43,10 @@ bool addDither(OIIO::ImageBuf& img, int bits, unsigned seed, OIIO::ROI roi, int 
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y)
             for (int x = r.xbegin; x < r.xend; ++x) {
+                // An offset in (−½, ½) step whose 64 values average to 0 over every 8 × 8 tile.
+                const float offset = (float(kBayer[y & 7][x & 7]) + 0.5f) / 64.0f - 0.5f;
                 float* p = detail::floatPixel(img, x, y);
-                for (int c = 0; c < 3; ++c) {
-                    const std::uint32_t key = (std::uint32_t(y) * 0x9E3779B1u) ^
-                                              (std::uint32_t(x) * 0x85EBCA77u) ^
-                                              (std::uint32_t(c) * 0xC2B2AE3Du) ^ seed;
-                    // The sum of two uniforms minus one: triangular on (−1, 1), mean 0.
-                    const float noise = hashUniform(key) + hashUniform(key ^ 0x68E31DA4u) - 1.0f;
-                    p[c] = std::clamp(p[c] + noise * step, 0.0f, 1.0f);
-                }
+                for (int c = 0; c < 3; ++c) p[c] = std::clamp(p[c] + offset * step, 0.0f, 1.0f);
             }
     });
     return true;

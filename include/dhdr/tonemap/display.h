@@ -18,11 +18,11 @@ inline float srgbEncode(float v) {
 bool encodeSRGB(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi = {},
                 int nthreads = 0);
 
-// Adds triangular-PDF noise of ±1 step of a `bits`-bit quantizer to the colour channels
-// (the first three) of `img`, so that rounding to that many bits neither bands a smooth
-// gradient nor biases it: the noise has mean 0. It is a hash of (x, y, channel, seed), so the
-// same image always dithers the same way, whatever the thread count.
-bool addDither(OIIO::ImageBuf& img, int bits, unsigned seed = 0, OIIO::ROI roi = {},
-               int nthreads = 0);
+// Ordered dithering for quantization to `bits` bits: adds to the colour channels (the first
+// three) an offset in (−½, ½) step from the 8 × 8 Bayer matrix, so that rounding neither bands a
+// smooth gradient nor biases it (the offsets average to 0 over every 8 × 8 tile). The pattern
+// depends only on the pixel's position: deterministic, whatever the thread count, and
+// repetitive enough for PNG to compress (random noise doubles the encoding time).
+bool addDither(OIIO::ImageBuf& img, int bits, OIIO::ROI roi = {}, int nthreads = 0);
 
 } // namespace dhdr
