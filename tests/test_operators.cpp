@@ -255,7 +255,8 @@ TEST(Dither, IsDeterministicAndUnbiased) {
         ImageBuf img(ImageSpec(16, 16, 3, TypeDesc::FLOAT));
         for (int y = 0; y < 16; ++y)
             for (int x = 0; x < 16; ++x)
-                for (int c = 0; c < 3; ++c) px(img, x, y)[c] = v;
+                for (int c = 0; c < 3; ++c)
+                    px(img, x, y)[c] = v;
         return img;
     };
     // Flat values between two 8-bit levels: the rounded, dithered pixels average back to the
@@ -268,7 +269,8 @@ TEST(Dither, IsDeterministicAndUnbiased) {
         ASSERT_EQ(std::memcmp(a.localpixels(), b.localpixels(), a.spec().image_bytes()), 0);
         double mean = 0.0;
         for (int y = 0; y < 16; ++y)
-            for (int x = 0; x < 16; ++x) mean += std::round(px(a, x, y)[1] * 255.0) / 256.0;
+            for (int x = 0; x < 16; ++x)
+                mean += std::round(px(a, x, y)[1] * 255.0) / 256.0;
         EXPECT_NEAR(mean, 100.0 + fraction, 1.0 / 64.0) << fraction;
         EXPECT_GT(std::abs(std::round(v * 255.0) - (100.0 + fraction)), 0.05);
     }

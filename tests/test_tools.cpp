@@ -462,13 +462,14 @@ TEST_F(Tools, EveryToolTakesFramePatterns) {
     r = run("dhdr-light " + path("f.####.gbuf.exr") + " --lights " + kTestdata +
             "/cornell_box.lights.json -o " + path("f.%04d.hdr.exr"));
     ASSERT_EQ(r.status, 0) << r.err;
-    r = run("dhdr-aa " + path("f.####.hdr.exr") + " --gbuffer " + path("f.####.gbuf.exr") +
-            " -o " + path("f.####.aa.exr"));
+    r = run("dhdr-aa " + path("f.####.hdr.exr") + " --gbuffer " + path("f.####.gbuf.exr") + " -o " +
+            path("f.####.aa.exr"));
     ASSERT_EQ(r.status, 0) << r.err;
     r = run("dhdr-bloom " + path("f.####.aa.exr") + " --frames 2-2 -o " + path("f.####.bloom.exr"));
     ASSERT_EQ(r.status, 0) << r.err;
-    for (const char* name : {"f.0001.gbuf.exr", "f.0002.gbuf.exr", "f.0001.hdr.exr",
-                             "f.0002.hdr.exr", "f.0001.aa.exr", "f.0002.aa.exr", "f.0002.bloom.exr"})
+    for (const char* name :
+         {"f.0001.gbuf.exr", "f.0002.gbuf.exr", "f.0001.hdr.exr", "f.0002.hdr.exr", "f.0001.aa.exr",
+          "f.0002.aa.exr", "f.0002.bloom.exr"})
         EXPECT_TRUE(fs::exists(path(name))) << name;
     EXPECT_FALSE(fs::exists(path("f.0001.bloom.exr")));
     // A pattern on one side only is a usage error.

@@ -3,6 +3,7 @@
 #include "tool.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -78,6 +79,16 @@ bool parseFrameRange(const std::string& text, int& first, int& last) {
     const char* second = end + 1;
     last = int(std::strtol(second, &end, 10));
     return end != second && *end == '\0' && last >= first;
+}
+
+std::string sequenceStatus(size_t done, size_t total, std::chrono::steady_clock::time_point start) {
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double rate = seconds > 0.0 ? double(done) / seconds : 0.0;
+    char text[96];
+    std::snprintf(text, sizeof text, "(%zu/%zu frames, %.1f frames/s, %.0f s left)  ", done, total,
+                  rate, rate > 0.0 ? double(total - done) / rate : 0.0);
+    return text;
 }
 
 int resolveFrames(const Tool& tool, const std::vector<FramePattern>& inputs,

@@ -2,6 +2,7 @@
 // frame ranges that go with them (`--frames 1-100`).
 #pragma once
 
+#include <chrono>
 #include <functional>
 #include <string>
 #include <vector>
@@ -29,6 +30,9 @@ private:
 bool parseFrameRange(const std::string& text, int& first, int& last);
 
 class Tool;
+
+// "(12/100 frames, 4.1 frames/s, 21 s left)" for a progress line.
+std::string sequenceStatus(size_t done, size_t total, std::chrono::steady_clock::time_point start);
 
 // The frames a command line names. With a frame pattern in the output, every pattern among
 // the inputs expands frame by frame (plain paths stay as they are) over --frames, or over the

@@ -255,12 +255,12 @@ Progress::~Progress() {
     if (m_enabled && m_percent >= 0) std::fprintf(stderr, "\r%s: done   \n", m_label.c_str());
 }
 
-void Progress::update(float fraction) {
+void Progress::update(float fraction, const std::string& detail) {
     if (!m_enabled) return;
     const int percent = int(fraction * 100.0f);
     if (percent == m_percent.exchange(percent)) return;
     std::lock_guard<std::mutex> lock(m_mutex);
-    std::fprintf(stderr, "\r%s: %3d%%", m_label.c_str(), percent);
+    std::fprintf(stderr, "\r%s: %3d%% %s", m_label.c_str(), percent, detail.c_str());
     std::fflush(stderr);
 }
 

@@ -90,8 +90,8 @@ class Progress {
 public:
     Progress(const Tool& tool, std::string label);
     ~Progress();
-    // Thread-safe; prints only when the whole percentage changes.
-    void update(float fraction);
+    // Thread-safe; prints only when the whole percentage changes. `detail` follows it.
+    void update(float fraction, const std::string& detail = {});
 
 private:
     std::string m_label;

@@ -8,6 +8,7 @@
 #include <cctype>
 #include <chrono>
 #include <cmath>
+#include <dhdr/common/parallel.h>
 #include <dhdr/tonemap/adaptation.h>
 #include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/display_transform.h>
@@ -70,11 +71,16 @@ bool readSceneLinear(const app::Tool& tool, const FrameJob& job, const std::stri
 }
 
 // Meters `in` (or uses `given`), tone-maps it and writes `out`; `used` receives the metering.
+// `cached`: the frame already read, in scene-linear, by the metering pass (or empty).
 bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
               const std::string& out, const LuminanceStats* given, LuminanceStats& used,
-              int nthreads) {
+              int nthreads, OIIO::ImageBuf* cached = nullptr) {
     OIIO::ImageBuf hdr;
-    if (!readSceneLinear(tool, job, in, hdr, true, nthreads)) return false;
+    if (cached && cached->initialized())
+        hdr = cached->copy(OIIO::TypeDesc::FLOAT);
+    else if (!readSceneLinear(tool, job, in, hdr, true, nthreads))
+        return false;
+    if (cached) cached->clear();
     ToneMapParams params = job.params;
     if (given)
         used = *given;
@@ -163,6 +169,7 @@ int main(int argc, char** argv) {
                         "input and output maps a sequence in one process; --adapt lets the "
                         "exposure follow\nthe eye's adaptation across it.");
     double key = 0.18, exposure = 0.0, delta = 1e-4, fps = 24.0;
+    int cacheMb = 4096;
     FrameJob job;
     job.white = "auto";
     job.weights = "seed";
@@ -200,6 +207,9 @@ int main(int argc, char** argv) {
     cl.flag("--adapt", adapt,
             "eye adaptation over the sequence: adapted += (L - adapted)(1 - 0.98^(30 dt))");
     cl.option("--fps", fps, "N", "frames per second of the sequence, dt = 1/fps (default 24)");
+    cl.option("--cache-mb", cacheMb, "MB",
+              "with --adapt, memory for keeping frames between the metering and the mapping "
+              "pass, so they are read once (default 4096)");
     cl.option("--stats-out", statsOut, "FILE.json",
               "write each frame's metered and adapted luminance");
     cl.epilog("Examples:\n  dhdr-tonemap frame.hdr.exr -o frame.png -v\n"
@@ -286,18 +296,31 @@ int main(int argc, char** argv) {
     std::vector<LuminanceStats> metered(n);
     std::vector<double> measured(n); // each frame's own metering, before adaptation
     std::vector<char> failed(n, 0);
+    // Frames the metering pass keeps (as half floats) for the mapping pass, so that they are
+    // read once: the first ones that fit in --cache-mb, decided by position alone so that the
+    // output does not depend on the order frames finish in.
+    std::vector<OIIO::ImageBuf> cache(n);
+    size_t cached = 0;
     if (adapt) {
+        OIIO::ImageSpec first;
+        if (OIIO::ImageBuf probe(input.path(numbers[0])); probe.init_spec(probe.name(), 0, 0))
+            first = probe.spec();
+        const double frameMb = double(first.width) * first.height * std::min(first.nchannels, 4) *
+                               2.0 / (1024.0 * 1024.0);
+        cached = frameMb > 0.0 ? std::min(n, size_t(double(cacheMb) / frameMb)) : 0;
         OIIO::parallel_for(
             int64_t(0), int64_t(n),
             [&](int64_t i) {
                 OIIO::ImageBuf hdr;
-                if (!readSceneLinear(tool, job, input.path(numbers[size_t(i)]), hdr, false, 1)) {
+                if (!readSceneLinear(tool, job, input.path(numbers[size_t(i)]), hdr,
+                                     size_t(i) < cached, 1)) {
                     failed[size_t(i)] = 1;
                     return;
                 }
                 meter(metered[size_t(i)], hdr, params.metering, {}, 1);
+                if (size_t(i) < cached) cache[size_t(i)] = hdr.copy(OIIO::TypeDesc::HALF);
             },
-            OIIO::paropt(workers));
+            perItem(workers));
         // Nothing is written when any frame cannot be read.
         if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return app::kExitFailure;
         for (size_t i = 0; i < n; ++i)
@@ -317,11 +340,12 @@ int main(int argc, char** argv) {
             [&](int64_t i) {
                 const int f = numbers[size_t(i)];
                 if (!mapFrame(tool, job, input.path(f), output.path(f),
-                              adapt ? &metered[size_t(i)] : nullptr, used[size_t(i)], 1))
+                              adapt ? &metered[size_t(i)] : nullptr, used[size_t(i)], 1,
+                              &cache[size_t(i)]))
                     failed[size_t(i)] = 1;
                 progress.frameDone();
             },
-            OIIO::paropt(workers));
+            perItem(workers));
     }
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -1,6 +1,7 @@
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
 #include <cmath>
+#include <dhdr/common/parallel.h>
 #include <dhdr/deferred/light_bounds.h>
 #include <dhdr/deferred/light_culling.h>
 
@@ -148,7 +149,7 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
                 t.sphereRadius += glm::length(margin);
             }
         },
-        OIIO::paropt(nthreads));
+        perItem(nthreads));
 
     // 2. Each light's screen rectangle, bucketed by tile row in light order.
     struct Span {
@@ -236,7 +237,7 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
                 }
             }
         },
-        OIIO::paropt(nthreads));
+        perItem(nthreads));
 }
 
 } // namespace dhdr

@@ -4,6 +4,7 @@
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
+#include <dhdr/common/parallel.h>
 #include <dhdr/tonemap/bloom.h>
 
 namespace dhdr {
@@ -24,7 +25,7 @@ RgbPlane quarterSize(const OIIO::ImageBuf& src, int nthreads) {
                 std::copy(p, p + 3, full.at(x, int(y)));
             }
         },
-        OIIO::paropt(nthreads));
+        perItem(nthreads));
     return detail::boxDownsample(full, std::max(1, full.width / 4), std::max(1, full.height / 4),
                                  nthreads);
 }
@@ -59,7 +60,7 @@ RgbPlane brightPass(const RgbPlane& src, const BloomParams& params, int nthreads
                 if (L / (1.0 + L) > double(params.threshold)) std::copy(box, box + 3, out.at(x, y));
             }
         },
-        OIIO::paropt(nthreads));
+        perItem(nthreads));
     return out;
 }
 
@@ -89,7 +90,7 @@ bool bloomLayer(OIIO::ImageBuf& layer, const OIIO::ImageBuf& src, const BloomPar
                     blurred, (float(x) + 0.5f) * sx, (float(y) + 0.5f) * sy,
                     detail::floatPixel(layer, roi.xbegin + x, roi.ybegin + int(y)));
         },
-        OIIO::paropt(nthreads));
+        perItem(nthreads));
     return true;
 }
 

@@ -1,6 +1,7 @@
 #include <OpenColorIO/OpenColorIO.h>
 #include <OpenImageIO/parallel.h>
 #include <cstdlib>
+#include <dhdr/common/parallel.h>
 #include <dhdr/tonemap/display_transform.h>
 #include <vector>
 
@@ -80,7 +81,7 @@ void applyRgb(const OCIO::ConstCPUProcessorRcPtr& cpu, OIIO::ImageBuf& img, int 
                                        ptrdiff_t(roi.width() * nch * sizeof(float)));
             cpu->apply(desc);
         },
-        OIIO::paropt(nthreads));
+        perItem(nthreads));
 }
 
 } // namespace

@@ -1,6 +1,7 @@
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
 #include <cmath>
+#include <dhdr/common/parallel.h>
 #include <dhdr/tonemap/local_reinhard.h>
 #include <vector>
 
@@ -33,7 +34,7 @@ std::vector<float> gaussian(const std::vector<float>& src, int width, int height
                 tmp[size_t(y) * size_t(width) + size_t(x)] = float(sum);
             }
         },
-        OIIO::paropt(nthreads));
+        perItem(nthreads));
     OIIO::parallel_for(
         0, height,
         [&](int64_t y) {
@@ -46,7 +47,7 @@ std::vector<float> gaussian(const std::vector<float>& src, int width, int height
                 out[size_t(y) * size_t(width) + size_t(x)] = float(sum);
             }
         },
-        OIIO::paropt(nthreads));
+        perItem(nthreads));
     return out;
 }
 
@@ -83,7 +84,7 @@ bool localReinhard(OIIO::ImageBuf& dst, const OIIO::ImageBuf& scaledLuminance,
                 else
                     settled[size_t(k)] = 1;
             },
-            OIIO::paropt(nthreads));
+            perItem(nthreads));
         v1 = v2;
     }
 

@@ -3,6 +3,7 @@
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
 #include <cmath>
+#include <dhdr/common/parallel.h>
 
 namespace dhdr::detail {
 
@@ -52,7 +53,7 @@ RgbPlane convolve(const RgbPlane& src, int width, int height, bool horizontal,
                     q[c] = float(sum[c]);
             }
         },
-        OIIO::paropt(nthreads));
+        dhdr::perItem(nthreads));
     return dst;
 }
 
