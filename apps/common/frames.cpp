@@ -81,6 +81,10 @@ bool parseFrameRange(const std::string& text, int& first, int& last) {
     return end != second && *end == '\0' && last >= first;
 }
 
+std::vector<FramePattern> framePatterns(const std::vector<std::string>& paths) {
+    return std::vector<FramePattern>(paths.begin(), paths.end());
+}
+
 std::string sequenceStatus(size_t done, size_t total, std::chrono::steady_clock::time_point start) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

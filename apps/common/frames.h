@@ -31,6 +31,9 @@ bool parseFrameRange(const std::string& text, int& first, int& last);
 
 class Tool;
 
+// One FramePattern per path.
+std::vector<FramePattern> framePatterns(const std::vector<std::string>& paths);
+
 // "(12/100 frames, 4.1 frames/s, 21 s left)" for a progress line.
 std::string sequenceStatus(size_t done, size_t total, std::chrono::steady_clock::time_point start);
 

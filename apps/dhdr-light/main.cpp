@@ -70,9 +70,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> paths = {cl.inputs()[0]};
     paths.insert(paths.end(), lightsPaths.begin(), lightsPaths.end());
     if (const int status = tool.start(paths); status >= 0) return status;
-    std::vector<app::FramePattern> inputs;
-    for (const std::string& p : paths)
-        inputs.emplace_back(p);
+    const std::vector<app::FramePattern> inputs = app::framePatterns(paths);
     const app::FramePattern output(cl.output());
     std::vector<int> frames;
     if (const int status = app::resolveFrames(tool, inputs, output, frames); status >= 0)

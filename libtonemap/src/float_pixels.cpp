@@ -1,5 +1,6 @@
 #include "float_pixels.h"
 
+#include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
 
 namespace dhdr::detail {
@@ -57,6 +58,26 @@ bool prepareFloatDst(ImageBuf& dst, const ImageBuf& src, ROI& roi, int minChanne
     roi = OIIO::roi_intersection(roi, dst.roi());
     roi.chbegin = 0;
     roi.chend = std::min(dst.nchannels(), src.nchannels());
+    return true;
+}
+
+bool mapColour(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int nthreads,
+               const std::function<glm::vec3(const float*, int, int)>& f) {
+    if (!prepareFloatDst(dst, src, roi, 3)) return false;
+    const FloatPixels in(src);
+    OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
+        for (int y = r.ybegin; y < r.yend; ++y)
+            for (int x = r.xbegin; x < r.xend; ++x) {
+                const float* p = in.at(x, y);
+                float* q = floatPixel(dst, x, y);
+                const glm::vec3 c = f(p, x, y);
+                q[0] = c.r;
+                q[1] = c.g;
+                q[2] = c.b;
+                for (int k = 3; k < r.chend; ++k)
+                    q[k] = p[k];
+            }
+    });
     return true;
 }
 

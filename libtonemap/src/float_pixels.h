@@ -2,6 +2,8 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <functional>
+#include <glm/glm.hpp>
 
 namespace dhdr::detail {
 
@@ -33,5 +35,10 @@ bool prepareFloatDst(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI& 
 inline float* floatPixel(OIIO::ImageBuf& dst, int x, int y) {
     return static_cast<float*>(dst.pixeladdr(x, y));
 }
+
+// dst = f(src) on the colour channels over `roi`, f(pixel, x, y) → RGB; alpha and further
+// channels copied. The shape of every per-pixel operator here.
+bool mapColour(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int nthreads,
+               const std::function<glm::vec3(const float*, int, int)>& f);
 
 } // namespace dhdr::detail

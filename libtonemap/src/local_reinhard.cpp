@@ -22,32 +22,27 @@ std::vector<float> gaussian(const std::vector<float>& src, int width, int height
     }
     for (double& k : kernel)
         k /= total;
+    // One 1-D pass along x or y, edges clamped.
+    auto pass = [&](const std::vector<float>& in, std::vector<float>& out, bool alongX) {
+        OIIO::parallel_for(
+            0, height,
+            [&](int64_t y) {
+                for (int x = 0; x < width; ++x) {
+                    double sum = 0.0;
+                    for (int k = -radius; k <= radius; ++k) {
+                        const int xx = alongX ? std::clamp(x + k, 0, width - 1) : x;
+                        const int yy = alongX ? int(y) : std::clamp(int(y) + k, 0, height - 1);
+                        sum += kernel[size_t(k + radius)] *
+                               in[size_t(yy) * size_t(width) + size_t(xx)];
+                    }
+                    out[size_t(y) * size_t(width) + size_t(x)] = float(sum);
+                }
+            },
+            perItem(nthreads));
+    };
     std::vector<float> tmp(src.size()), out(src.size());
-    OIIO::parallel_for(
-        0, height,
-        [&](int64_t y) {
-            for (int x = 0; x < width; ++x) {
-                double sum = 0.0;
-                for (int k = -radius; k <= radius; ++k)
-                    sum += kernel[size_t(k + radius)] *
-                           src[size_t(y) * size_t(width) + size_t(std::clamp(x + k, 0, width - 1))];
-                tmp[size_t(y) * size_t(width) + size_t(x)] = float(sum);
-            }
-        },
-        perItem(nthreads));
-    OIIO::parallel_for(
-        0, height,
-        [&](int64_t y) {
-            for (int x = 0; x < width; ++x) {
-                double sum = 0.0;
-                for (int k = -radius; k <= radius; ++k)
-                    sum += kernel[size_t(k + radius)] *
-                           tmp[size_t(std::clamp(int(y) + k, 0, height - 1)) * size_t(width) +
-                               size_t(x)];
-                out[size_t(y) * size_t(width) + size_t(x)] = float(sum);
-            }
-        },
-        perItem(nthreads));
+    pass(src, tmp, true);
+    pass(tmp, out, false);
     return out;
 }
 

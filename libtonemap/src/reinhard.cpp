@@ -21,7 +21,6 @@ ReinhardMapping resolveReinhard(const LuminanceStats& stats, const ReinhardParam
 
 bool reinhard(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ReinhardParams& params,
               OIIO::ROI roi, int nthreads) {
-    if (!detail::prepareFloatDst(dst, src, roi, 3)) return false;
     LuminanceStats measured;
     const LuminanceStats* stats = params.stats;
     if (!stats) {
@@ -30,23 +29,13 @@ bool reinhard(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ReinhardPara
     }
     const ReinhardMapping m = resolveReinhard(*stats, params);
     const LuminanceWeights w = params.metering.weights;
-
-    const detail::FloatPixels in(src);
-    OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
-        for (int y = r.ybegin; y < r.yend; ++y)
-            for (int x = r.xbegin; x < r.xend; ++x) {
-                const float* p = in.at(x, y);
-                float* q = detail::floatPixel(dst, x, y);
-                const double Lw = luminance(p[0], p[1], p[2], w);
-                // Colour scaled by Ld / Lw keeps the chromaticity (the paper maps luminance).
-                const double ratio = Lw > 0.0 ? reinhardCurve(m.scale * Lw, m.white) / Lw : 0.0;
-                for (int c = 0; c < 3; ++c)
-                    q[c] = float(double(p[c]) * ratio);
-                for (int c = 3; c < r.chend; ++c)
-                    q[c] = p[c];
-            }
+    return detail::mapColour(dst, src, roi, nthreads, [&](const float* p, int, int) {
+        const double Lw = luminance(p[0], p[1], p[2], w);
+        // Colour scaled by Ld / Lw keeps the chromaticity (the paper maps luminance).
+        const double ratio = Lw > 0.0 ? reinhardCurve(m.scale * Lw, m.white) / Lw : 0.0;
+        return glm::vec3(float(double(p[0]) * ratio), float(double(p[1]) * ratio),
+                         float(double(p[2]) * ratio));
     });
-    return true;
 }
 
 } // namespace dhdr

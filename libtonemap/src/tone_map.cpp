@@ -26,26 +26,7 @@ constexpr Named kOperators[] = {
     {ToneOperator::Agx, "agx"},
 };
 
-// Applies f(rgb, x, y) → rgb to every pixel of roi, copying the other channels.
-bool perPixel(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int nthreads,
-              const std::function<glm::vec3(const float*, int, int)>& f) {
-    if (!detail::prepareFloatDst(dst, src, roi, 3)) return false;
-    const detail::FloatPixels in(src);
-    OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
-        for (int y = r.ybegin; y < r.yend; ++y)
-            for (int x = r.xbegin; x < r.xend; ++x) {
-                const float* p = in.at(x, y);
-                float* q = detail::floatPixel(dst, x, y);
-                const glm::vec3 c = f(p, x, y);
-                q[0] = c.r;
-                q[1] = c.g;
-                q[2] = c.b;
-                for (int k = 3; k < r.chend; ++k)
-                    q[k] = p[k];
-            }
-    });
-    return true;
-}
+using detail::mapColour;
 
 } // namespace
 
@@ -72,7 +53,7 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
     }
     const double gain = std::exp2(params.exposure);
     if (params.op == ToneOperator::Exposure) {
-        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+        return mapColour(dst, src, roi, nthreads, [&](const float* p, int, int) {
             return glm::clamp(glm::vec3(p[0], p[1], p[2]) * float(gain), 0.0f, 1.0f);
         });
     }
@@ -107,7 +88,7 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
         spec.x = src.spec().x;
         spec.y = src.spec().y;
         OIIO::ImageBuf scaled(spec), mapped;
-        perPixel(scaled, src, {}, nthreads, [&](const float* p, int, int) {
+        mapColour(scaled, src, {}, nthreads, [&](const float* p, int, int) {
             return glm::vec3(float(scale * std::max(Lw(p), 0.0)));
         });
         LocalReinhardParams lp;
@@ -115,7 +96,7 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
         lp.phi = params.phi;
         lp.epsilon = params.epsilon;
         localReinhard(mapped, scaled, lp, nthreads);
-        return perPixel(dst, src, roi, nthreads, [&](const float* p, int x, int y) {
+        return mapColour(dst, src, roi, nthreads, [&](const float* p, int x, int y) {
             const float Ld = *static_cast<const float*>(mapped.pixeladdr(x, y));
             return byLuminance(p, Lw(p), Ld);
         });
@@ -123,29 +104,29 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
     case ToneOperator::Drago: {
         // World luminance in units of the metered adaptation luminance.
         const double Lwmax = std::max(scale * stats->maxLuminance, 1e-6);
-        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+        return mapColour(dst, src, roi, nthreads, [&](const float* p, int, int) {
             const double lw = Lw(p);
             return byLuminance(p, lw,
                                dragoCurve(scale * std::max(lw, 0.0), Lwmax, params.dragoBias));
         });
     }
     case ToneOperator::Hable:
-        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+        return mapColour(dst, src, roi, nthreads, [&](const float* p, int, int) {
             return glm::vec3(hable(float(scale * p[0]), params.hable),
                              hable(float(scale * p[1]), params.hable),
                              hable(float(scale * p[2]), params.hable));
         });
     case ToneOperator::PbrNeutral:
-        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+        return mapColour(dst, src, roi, nthreads, [&](const float* p, int, int) {
             return pbrNeutral(glm::max(glm::vec3(p[0], p[1], p[2]) * float(scale), 0.0f));
         });
     case ToneOperator::Agx:
-        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+        return mapColour(dst, src, roi, nthreads, [&](const float* p, int, int) {
             return agx(glm::vec3(p[0], p[1], p[2]) * float(scale));
         });
     case ToneOperator::Aces:
         // Scene-linear still: the ACES RRT and ODT follow as the display transform.
-        return perPixel(dst, src, roi, nthreads, [&](const float* p, int, int) {
+        return mapColour(dst, src, roi, nthreads, [&](const float* p, int, int) {
             return glm::vec3(p[0], p[1], p[2]) * float(scale);
         });
     case ToneOperator::Exposure:
