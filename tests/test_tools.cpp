@@ -260,6 +260,13 @@ TEST_F(Tools, BrokenSceneIsAnErrorAndLeavesNoOutput) {
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("truncated.gltf: cannot load the scene"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("scene_out.exr")));
+    Result look = run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --lookat 1,2,3 -o " +
+                      path("scene_out.exr"));
+    EXPECT_EQ(look.status, 2);
+    EXPECT_NE(look.err.find("--lookat needs 6 or 9 numbers"), std::string::npos) << look.err;
+    look = run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 16x16 --lookat " +
+               "0.278,0.273,-0.8,0.278,0.273,0 -o " + path("lookat.exr"));
+    EXPECT_EQ(look.status, 0) << look.err;
     const Result cam = run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --camera nope -o " +
                            path("scene_out.exr"));
     EXPECT_EQ(cam.status, 1);

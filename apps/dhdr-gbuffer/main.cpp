@@ -7,6 +7,7 @@
 #include <dhdr/deferred/gbuffer_render.h>
 #include <dhdr/deferred/scene.h>
 #include <glm/gtc/constants.hpp>
+#include <optional>
 
 using namespace dhdr;
 
@@ -57,6 +58,18 @@ int main(int argc, char** argv) {
         return app::kExitUsage;
     }
 
+    std::optional<Camera> lookatCamera;
+    if (!lookat.empty()) {
+        std::vector<double> v;
+        if (!app::parseNumbers(lookat, v) || (v.size() != 6 && v.size() != 9)) {
+            std::fprintf(stderr, "dhdr-gbuffer: usage error: --lookat needs 6 or 9 numbers\n");
+            return app::kExitUsage;
+        }
+        const glm::dvec3 up = v.size() == 9 ? glm::dvec3(v[6], v[7], v[8]) : glm::dvec3(0, 1, 0);
+        lookatCamera =
+            Camera::lookAt({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, up, glm::radians(39.6));
+    }
+
     return app::runFrames(
         tool, frames, inputs, output, [&](int frame, const auto& in, const std::string& outPath) {
             const std::string& scenePath = in[0];
@@ -69,16 +82,8 @@ int main(int argc, char** argv) {
             }
 
             Camera camera;
-            if (!lookat.empty()) {
-                std::vector<double> v;
-                if (!app::parseNumbers(lookat, v) || (v.size() != 6 && v.size() != 9)) {
-                    tool.fail("--lookat needs 6 or 9 numbers");
-                    return false;
-                }
-                const glm::dvec3 up =
-                    v.size() == 9 ? glm::dvec3(v[6], v[7], v[8]) : glm::dvec3(0, 1, 0);
-                camera =
-                    Camera::lookAt({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, up, glm::radians(39.6));
+            if (lookatCamera) {
+                camera = *lookatCamera;
             } else if (!scene.cameras.empty()) {
                 const SceneCamera* chosen = &scene.cameras[0];
                 if (!cameraName.empty()) {
