@@ -77,9 +77,10 @@ bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
               int nthreads, OIIO::ImageBuf* cached = nullptr) {
     OIIO::ImageBuf hdr;
     if (cached && cached->initialized())
-        hdr = std::move(*cached);
+        hdr = cached->copy(OIIO::TypeDesc::FLOAT);
     else if (!readSceneLinear(tool, job, in, hdr, true, nthreads))
         return false;
+    if (cached) cached->clear();
     ToneMapParams params = job.params;
     if (given)
         used = *given;
@@ -295,17 +296,17 @@ int main(int argc, char** argv) {
     std::vector<LuminanceStats> metered(n);
     std::vector<double> measured(n); // each frame's own metering, before adaptation
     std::vector<char> failed(n, 0);
-    // Frames the metering pass keeps for the mapping pass, so that they are read once: the
-    // first ones that fit in --cache-mb, decided by position alone so that the output does
-    // not depend on the order frames finish in.
+    // Frames the metering pass keeps (as half floats) for the mapping pass, so that they are
+    // read once: the first ones that fit in --cache-mb, decided by position alone so that the
+    // output does not depend on the order frames finish in.
     std::vector<OIIO::ImageBuf> cache(n);
     size_t cached = 0;
     if (adapt) {
         OIIO::ImageSpec first;
         if (OIIO::ImageBuf probe(input.path(numbers[0])); probe.init_spec(probe.name(), 0, 0))
             first = probe.spec();
-        const double frameMb = double(first.width) * first.height * first.nchannels *
-                               sizeof(float) / (1024.0 * 1024.0);
+        const double frameMb = double(first.width) * first.height * std::min(first.nchannels, 4) *
+                               2.0 / (1024.0 * 1024.0);
         cached = frameMb > 0.0 ? std::min(n, size_t(double(cacheMb) / frameMb)) : 0;
         OIIO::parallel_for(
             int64_t(0), int64_t(n),
@@ -317,7 +318,7 @@ int main(int argc, char** argv) {
                     return;
                 }
                 meter(metered[size_t(i)], hdr, params.metering, {}, 1);
-                if (size_t(i) < cached) cache[size_t(i)] = std::move(hdr);
+                if (size_t(i) < cached) cache[size_t(i)] = hdr.copy(OIIO::TypeDesc::HALF);
             },
             perItem(workers));
         // Nothing is written when any frame cannot be read.
