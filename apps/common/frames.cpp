@@ -81,10 +81,6 @@ bool parseFrameRange(const std::string& text, int& first, int& last) {
     return end != second && *end == '\0' && last >= first;
 }
 
-std::vector<FramePattern> framePatterns(const std::vector<std::string>& paths) {
-    return std::vector<FramePattern>(paths.begin(), paths.end());
-}
-
 std::string sequenceStatus(size_t done, size_t total, std::chrono::steady_clock::time_point start) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -95,8 +91,15 @@ std::string sequenceStatus(size_t done, size_t total, std::chrono::steady_clock:
     return text;
 }
 
-int resolveFrames(const Tool& tool, const std::vector<FramePattern>& inputs,
-                  const FramePattern& output, std::vector<int>& frames) {
+int planFrames(const Tool& tool, const std::vector<std::string>& paths, FramePlan& plan) {
+    if (const int status = tool.start(paths); status >= 0) return status;
+    plan.inputs.clear();
+    for (const std::string& path : paths)
+        plan.inputs.emplace_back(path);
+    plan.output = FramePattern(tool.commandLine().output());
+    const std::vector<FramePattern>& inputs = plan.inputs;
+    const FramePattern& output = plan.output;
+    std::vector<int>& frames = plan.frames;
     const FramePattern* first = nullptr;
     for (const FramePattern& p : inputs)
         if (p.isSequence() && !first) first = &p;
@@ -136,9 +139,11 @@ int resolveFrames(const Tool& tool, const std::vector<FramePattern>& inputs,
 }
 
 int runFrames(
-    const Tool& tool, const std::vector<int>& frames, const std::vector<FramePattern>& inputs,
-    const FramePattern& output,
+    const Tool& tool, const FramePlan& plan,
     const std::function<bool(int, const std::vector<std::string>&, const std::string&)>& frame) {
+    const std::vector<int>& frames = plan.frames;
+    const std::vector<FramePattern>& inputs = plan.inputs;
+    const FramePattern& output = plan.output;
     std::error_code ec;
     for (int f : frames)
         for (const FramePattern& in : inputs)

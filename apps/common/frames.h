@@ -31,24 +31,27 @@ bool parseFrameRange(const std::string& text, int& first, int& last);
 
 class Tool;
 
-// One FramePattern per path.
-std::vector<FramePattern> framePatterns(const std::vector<std::string>& paths);
-
 // "(12/100 frames, 4.1 frames/s, 21 s left)" for a progress line.
 std::string sequenceStatus(size_t done, size_t total, std::chrono::steady_clock::time_point start);
 
-// The frames a command line names. With a frame pattern in the output, every pattern among
-// the inputs expands frame by frame (plain paths stay as they are) over --frames, or over the
-// frames whose first patterned input exists. Without one, there is one frame and no input
-// may be a pattern. Returns −1 to go on, or the exit status after printing why not.
-int resolveFrames(const Tool& tool, const std::vector<FramePattern>& inputs,
-                  const FramePattern& output, std::vector<int>& frames);
+// What a command line asks to process: its input paths and output as patterns, and the frames.
+struct FramePlan {
+    std::vector<FramePattern> inputs;
+    FramePattern output{std::string()};
+    std::vector<int> frames;
+};
+
+// Checks the output (Tool::start) and resolves the frames. With a frame pattern in the output,
+// every pattern among `inputs` expands frame by frame (plain paths stay as they are) over
+// --frames, or over the frames whose first patterned input exists. Without one, there is one
+// frame and no input may be a pattern. Returns −1 to go on, or the exit status after printing
+// why not.
+int planFrames(const Tool& tool, const std::vector<std::string>& inputs, FramePlan& plan);
 
 // Runs `frame(number, inputs, output)` for each frame in turn, with a progress line for
 // sequences, after checking that no output is one of its inputs. Returns the exit status.
 int runFrames(
-    const Tool& tool, const std::vector<int>& frames, const std::vector<FramePattern>& inputs,
-    const FramePattern& output,
+    const Tool& tool, const FramePlan& plan,
     const std::function<bool(int, const std::vector<std::string>&, const std::string&)>& frame);
 
 } // namespace dhdr::app

@@ -59,19 +59,15 @@ int main(int argc, char** argv) {
     }
     std::vector<std::string> paths = cl.inputs();
     if (!gbufferPath.empty()) paths.push_back(gbufferPath);
-    if (const int status = tool.start(paths); status >= 0) return status;
-    const std::vector<app::FramePattern> inputs = app::framePatterns(paths);
-    const app::FramePattern output(cl.output());
-    std::vector<int> frames;
-    if (const int status = app::resolveFrames(tool, inputs, output, frames); status >= 0)
-        return status;
+    app::FramePlan plan;
+    if (const int status = app::planFrames(tool, paths, plan); status >= 0) return status;
     EdgeAAParams params;
     params.normalWeight = float(normalWeight);
     params.depthWeight = float(depthWeight);
     params.maxOffset = float(maxOffset);
     const std::vector<std::string> geometryChannels = {gbuffer::kDepth, gbuffer::kNormal[0],
                                                        gbuffer::kNormal[1], gbuffer::kNormal[2]};
-    return app::runFrames(tool, frames, inputs, output, [&](int, const auto& in, const auto& out) {
+    return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
         const bool separate = in.size() > 1;
         OIIO::ImageBuf image, gbuf;

@@ -36,13 +36,9 @@ int main(int argc, char** argv) {
     params.sigma = float(sigma);
     params.strength = float(strength);
     params.key = float(key);
-    if (const int status = tool.start(cl.inputs()); status >= 0) return status;
-    const std::vector<app::FramePattern> inputs = {app::FramePattern(cl.inputs()[0])};
-    const app::FramePattern output(cl.output());
-    std::vector<int> frames;
-    if (const int status = app::resolveFrames(tool, inputs, output, frames); status >= 0)
-        return status;
-    return app::runFrames(tool, frames, inputs, output, [&](int, const auto& in, const auto& out) {
+    app::FramePlan plan;
+    if (const int status = app::planFrames(tool, cl.inputs(), plan); status >= 0) return status;
+    return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
         OIIO::ImageBuf hdr;
         if (!tool.readImage(path, hdr)) return false;

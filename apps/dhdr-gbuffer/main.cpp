@@ -37,16 +37,13 @@ int main(int argc, char** argv) {
         return app::kExitUsage;
     }
     const std::string& path = cl.inputs()[0];
-    if (const int status = tool.start(cl.inputs()); status >= 0) return status;
     if (!lightsOut.empty() && (lightsOut == cl.output() || lightsOut == path)) {
         std::fprintf(stderr, "dhdr-gbuffer: usage error: --lights-out must be another file\n");
         return app::kExitUsage;
     }
-    const std::vector<app::FramePattern> inputs = {app::FramePattern(path)};
-    const app::FramePattern output(cl.output()), lightsOutput(lightsOut);
-    std::vector<int> frames;
-    if (const int status = app::resolveFrames(tool, inputs, output, frames); status >= 0)
-        return status;
+    app::FramePlan plan;
+    if (const int status = app::planFrames(tool, cl.inputs(), plan); status >= 0) return status;
+    const app::FramePattern lightsOutput(lightsOut);
 
     GBufferParams params;
     if (!app::parseSize(size, params.width, params.height)) {
@@ -70,89 +67,88 @@ int main(int argc, char** argv) {
             Camera::lookAt({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, up, glm::radians(39.6));
     }
 
-    return app::runFrames(
-        tool, frames, inputs, output, [&](int frame, const auto& in, const std::string& outPath) {
-            const std::string& scenePath = in[0];
-            const auto t0 = std::chrono::steady_clock::now();
-            Scene scene;
-            std::string error;
-            if (!loadScene(scenePath, scene, error)) {
-                tool.fail(error);
-                return false;
-            }
+    return app::runFrames(tool, plan, [&](int frame, const auto& in, const std::string& outPath) {
+        const std::string& scenePath = in[0];
+        const auto t0 = std::chrono::steady_clock::now();
+        Scene scene;
+        std::string error;
+        if (!loadScene(scenePath, scene, error)) {
+            tool.fail(error);
+            return false;
+        }
 
-            Camera camera;
-            if (lookatCamera) {
-                camera = *lookatCamera;
-            } else if (!scene.cameras.empty()) {
-                const SceneCamera* chosen = &scene.cameras[0];
-                if (!cameraName.empty()) {
-                    chosen = nullptr;
-                    std::string names;
-                    for (const SceneCamera& c : scene.cameras) {
-                        if (c.name == cameraName) chosen = &c;
-                        names += (names.empty() ? "" : ", ") + c.name;
-                    }
-                    if (!chosen) {
-                        tool.fail(scenePath + ": no camera named '" + cameraName +
-                                  "' (it has: " + names + ")");
-                        return false;
-                    }
+        Camera camera;
+        if (lookatCamera) {
+            camera = *lookatCamera;
+        } else if (!scene.cameras.empty()) {
+            const SceneCamera* chosen = &scene.cameras[0];
+            if (!cameraName.empty()) {
+                chosen = nullptr;
+                std::string names;
+                for (const SceneCamera& c : scene.cameras) {
+                    if (c.name == cameraName) chosen = &c;
+                    names += (names.empty() ? "" : ", ") + c.name;
                 }
-                camera = chosen->camera;
-                tool.info("camera '" + chosen->name + "'");
-            } else {
-                tool.fail(scenePath + ": the scene has no camera; give one with --lookat");
-                return false;
-            }
-            if (fov > 0.0) camera.yfov = glm::radians(fov);
-
-            const auto t1 = std::chrono::steady_clock::now();
-            const GBufferRenderer renderer(scene, camera, params);
-            if (!renderer.ok()) {
-                tool.fail(scenePath + ": " + renderer.error());
-                return false;
-            }
-            OIIO::ImageSpec spec = renderer.spec();
-            spec.attribute("dhdr:source", scenePath);
-            app::AtomicOutput file(tool, outPath);
-            if (!file.open(spec, gbufferChannelFormats())) return false;
-            // Strip by strip: each strip is traced in parallel and written while it is warm in
-            // cache, and memory stays at one strip whatever the image size.
-            constexpr int kStrip = 64;
-            OIIO::ImageBuf strip;
-            double traceMs = 0.0;
-            {
-                app::Progress progress(tool, "dhdr-gbuffer: rendering");
-                for (int y = 0; y < params.height; y += kStrip) {
-                    const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
-                    const auto s0 = std::chrono::steady_clock::now();
-                    if (!renderer.render(strip, rows, tool.threads())) {
-                        tool.fail(scenePath + ": " + strip.geterror());
-                        return false;
-                    }
-                    traceMs += std::chrono::duration<double, std::milli>(
-                                   std::chrono::steady_clock::now() - s0)
-                                   .count();
-                    if (!file.writeRows(rows.ybegin, rows.yend,
-                                        static_cast<const float*>(strip.localpixels())))
-                        return false;
-                    progress.update(float(rows.yend) / float(params.height));
+                if (!chosen) {
+                    tool.fail(scenePath + ": no camera named '" + cameraName +
+                              "' (it has: " + names + ")");
+                    return false;
                 }
             }
-            if (!file.commit()) return false;
-            if (!lightsOut.empty()) {
-                const std::string lightsPath = lightsOutput.path(frame);
-                if (scene.lights.empty())
-                    tool.warn(scenePath + ": the scene has no lights; writing an empty list");
-                if (!tool.writeText(formatLights(scene.lights), lightsPath)) return false;
-                tool.info(std::to_string(scene.lights.size()) + " lights written to " + lightsPath);
+            camera = chosen->camera;
+            tool.info("camera '" + chosen->name + "'");
+        } else {
+            tool.fail(scenePath + ": the scene has no camera; give one with --lookat");
+            return false;
+        }
+        if (fov > 0.0) camera.yfov = glm::radians(fov);
+
+        const auto t1 = std::chrono::steady_clock::now();
+        const GBufferRenderer renderer(scene, camera, params);
+        if (!renderer.ok()) {
+            tool.fail(scenePath + ": " + renderer.error());
+            return false;
+        }
+        OIIO::ImageSpec spec = renderer.spec();
+        spec.attribute("dhdr:source", scenePath);
+        app::AtomicOutput file(tool, outPath);
+        if (!file.open(spec, gbufferChannelFormats())) return false;
+        // Strip by strip: each strip is traced in parallel and written while it is warm in
+        // cache, and memory stays at one strip whatever the image size.
+        constexpr int kStrip = 64;
+        OIIO::ImageBuf strip;
+        double traceMs = 0.0;
+        {
+            app::Progress progress(tool, "dhdr-gbuffer: rendering");
+            for (int y = 0; y < params.height; y += kStrip) {
+                const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
+                const auto s0 = std::chrono::steady_clock::now();
+                if (!renderer.render(strip, rows, tool.threads())) {
+                    tool.fail(scenePath + ": " + strip.geterror());
+                    return false;
+                }
+                traceMs +=
+                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0)
+                        .count();
+                if (!file.writeRows(rows.ybegin, rows.yend,
+                                    static_cast<const float*>(strip.localpixels())))
+                    return false;
+                progress.update(float(rows.yend) / float(params.height));
             }
-            const auto t2 = std::chrono::steady_clock::now();
-            auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
-            const double totalMs = std::chrono::duration<double, std::milli>(t2 - t1).count();
-            tool.info("load " + ms(std::chrono::duration<double, std::milli>(t1 - t0).count()) +
-                      ", trace " + ms(traceMs) + ", write " + ms(totalMs - traceMs));
-            return true;
-        });
+        }
+        if (!file.commit()) return false;
+        if (!lightsOut.empty()) {
+            const std::string lightsPath = lightsOutput.path(frame);
+            if (scene.lights.empty())
+                tool.warn(scenePath + ": the scene has no lights; writing an empty list");
+            if (!tool.writeText(formatLights(scene.lights), lightsPath)) return false;
+            tool.info(std::to_string(scene.lights.size()) + " lights written to " + lightsPath);
+        }
+        const auto t2 = std::chrono::steady_clock::now();
+        auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
+        const double totalMs = std::chrono::duration<double, std::milli>(t2 - t1).count();
+        tool.info("load " + ms(std::chrono::duration<double, std::milli>(t1 - t0).count()) +
+                  ", trace " + ms(traceMs) + ", write " + ms(totalMs - traceMs));
+        return true;
+    });
 }

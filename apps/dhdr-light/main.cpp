@@ -69,12 +69,8 @@ int main(int argc, char** argv) {
     if (aovs) params.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
     std::vector<std::string> paths = {cl.inputs()[0]};
     paths.insert(paths.end(), lightsPaths.begin(), lightsPaths.end());
-    if (const int status = tool.start(paths); status >= 0) return status;
-    const std::vector<app::FramePattern> inputs = app::framePatterns(paths);
-    const app::FramePattern output(cl.output());
-    std::vector<int> frames;
-    if (const int status = app::resolveFrames(tool, inputs, output, frames); status >= 0)
-        return status;
+    app::FramePlan plan;
+    if (const int status = app::planFrames(tool, paths, plan); status >= 0) return status;
 
     auto readLights = [&](const std::vector<std::string>& files, std::vector<Light>& lights) {
         lights.clear();
@@ -91,12 +87,12 @@ int main(int argc, char** argv) {
     };
     // Lights files without a frame pattern hold the same lights for every frame: read once.
     const bool animatedLights =
-        std::any_of(inputs.begin() + 1, inputs.end(),
+        std::any_of(plan.inputs.begin() + 1, plan.inputs.end(),
                     [](const app::FramePattern& p) { return p.isSequence(); });
     std::vector<Light> lights;
     if (!animatedLights && !readLights(lightsPaths, lights)) return app::kExitFailure;
 
-    return app::runFrames(tool, frames, inputs, output, [&](int, const auto& in, const auto& out) {
+    return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
         if (animatedLights && !readLights({in.begin() + 1, in.end()}, lights)) return false;
         const auto t0 = std::chrono::steady_clock::now();
