@@ -109,7 +109,7 @@ TEST_F(NoOcioEnv, UnknownNamesListTheValidOnes) {
               std::string::npos);
 }
 
-TEST_F(NoOcioEnv, ConfigGivenByPathOrEnvironment) {
+TEST_F(NoOcioEnv, V1AndV2ConfigsByPathOrEnvironment) {
     // An OCIO v1 config: linear in, a gamma 2.2 view.
     const auto path = std::filesystem::temp_directory_path() / "dhdr_test_v1.ocio";
     std::ofstream(path) << R"(ocio_profile_version: 1
@@ -147,6 +147,36 @@ colorspaces:
     ASSERT_TRUE(fromEnv.init({}, error)) << error;
     EXPECT_NE(fromEnv.describe().find("$OCIO"), std::string::npos);
     unsetenv("OCIO");
+    // An OCIO v2 config, with a view transform and a display colour space.
+    const auto v2 = std::filesystem::temp_directory_path() / "dhdr_test_v2.ocio";
+    std::ofstream(v2) << R"(ocio_profile_version: 2
+roles:
+  scene_linear: linear
+  default: linear
+file_rules:
+  - !<Rule> {name: Default, colorspace: default}
+displays:
+  Screen:
+    - !<View> {name: Gamma, view_transform: untouched, display_colorspace: gamma24}
+view_transforms:
+  - !<ViewTransform>
+    name: untouched
+    from_scene_reference: !<MatrixTransform> {}
+display_colorspaces:
+  - !<ColorSpace>
+    name: gamma24
+    from_display_reference: !<ExponentTransform> {value: [2.4, 2.4, 2.4, 1], direction: inverse}
+colorspaces:
+  - !<ColorSpace>
+    name: linear
+)";
+    s.config = v2.string();
+    DisplayTransform fromV2;
+    ASSERT_TRUE(fromV2.init(s, error)) << error;
+    EXPECT_EQ(fromV2.describe(), "Screen / Gamma (" + v2.string() + ")");
+    ImageBuf grey = row({0.5f, 0.5f, 0.5f});
+    ASSERT_TRUE(fromV2.toDisplay(grey));
+    EXPECT_NEAR(px(grey, 0)[0], std::pow(0.5, 1.0 / 2.4), 1e-5);
     // A missing config is an error naming it.
     s.config = "/nonexistent/config.ocio";
     EXPECT_FALSE(display.init(s, error));
