@@ -162,9 +162,10 @@ private:
 int main(int argc, char** argv) {
     app::CommandLine cl("dhdr-tonemap", "HDR.exr -o IMAGE.png [options]",
                         "Tone mapping: meters the image's luminance, maps it with an operator "
-                        "(default the\nphotographic operator of Reinhard et al. 2002) and encodes "
-                        "it for an sRGB display.\nPNG (8- or 16-bit), JPEG and TIFF are "
-                        "sRGB-encoded, 8-bit output dithered; EXR output\nkeeps display-linear "
+                        "(default the\nphotographic operator of Reinhard et al. 2002) in "
+                        "scene-linear, and encodes it for a display\nthrough OpenColorIO (sRGB "
+                        "by default). Every format gets the same display-referred\nvalues: PNG "
+                        "(8- or 16-bit), JPEG and TIFF quantized, 8-bit output dithered, EXR as\n"
                         "half floats. A frame pattern (shot.####.exr or shot.%04d.exr) in\nboth "
                         "input and output maps a sequence in one process; --adapt lets the "
                         "exposure follow\nthe eye's adaptation across it.");
