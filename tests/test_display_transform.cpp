@@ -37,6 +37,7 @@ TEST_F(NoOcioEnv, BuiltinStandardViewIsTheSrgbEncoding) {
     std::string error;
     ASSERT_TRUE(display.init({}, error)) << error;
     EXPECT_EQ(display.describe(), "sRGB / Standard (built-in config)");
+    EXPECT_EQ(display.outputColorSpace(), "sRGB"); // its "sRGB - Display"
     const std::vector<float> v = {0.0f, 0.002f, 0.01f, 0.18f, 0.5f, 0.9f};
     std::vector<float> rgb;
     for (float x : v)
@@ -137,6 +138,7 @@ colorspaces:
     std::string error;
     ASSERT_TRUE(display.init(s, error)) << error;
     EXPECT_EQ(display.describe(), "Monitor / Gamma (" + path.string() + ")");
+    EXPECT_EQ(display.outputColorSpace(), "gamma22");
     ImageBuf img = row({0.5f, 0.25f, 1.0f});
     ASSERT_TRUE(display.toDisplay(img));
     EXPECT_NEAR(px(img, 0)[0], std::pow(0.5, 1.0 / 2.2), 1e-5);
@@ -174,6 +176,7 @@ colorspaces:
     DisplayTransform fromV2;
     ASSERT_TRUE(fromV2.init(s, error)) << error;
     EXPECT_EQ(fromV2.describe(), "Screen / Gamma (" + v2.string() + ")");
+    EXPECT_EQ(fromV2.outputColorSpace(), "gamma24");
     ImageBuf grey = row({0.5f, 0.5f, 0.5f});
     ASSERT_TRUE(fromV2.toDisplay(grey));
     EXPECT_NEAR(px(grey, 0)[0], std::pow(0.5, 1.0 / 2.4), 1e-5);

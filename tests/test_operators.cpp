@@ -1,12 +1,14 @@
 // dhdr-tonemap's operators, metering and dithering against references computed here in double
 // precision from the published formulas, and against values worked out by hand.
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <dhdr/tonemap/adaptation.h>
-#include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/local_reinhard.h>
 #include <dhdr/tonemap/metering.h>
+#include <dhdr/tonemap/quantize.h>
 #include <dhdr/tonemap/tone_map.h>
 #include <gtest/gtest.h>
 #include <vector>
@@ -250,7 +252,7 @@ TEST(Metering, HistogramWindowIgnoresOutliers) {
         1e-5);
 }
 
-TEST(Dither, IsDeterministicAndUnbiased) {
+TEST(Quantize, DitherIsDeterministicAndUnbiased) {
     auto flat = [](float v) {
         ImageBuf img(ImageSpec(16, 16, 3, TypeDesc::FLOAT));
         for (int y = 0; y < 16; ++y)
@@ -259,21 +261,72 @@ TEST(Dither, IsDeterministicAndUnbiased) {
                     px(img, x, y)[c] = v;
         return img;
     };
-    // Flat values between two 8-bit levels: the rounded, dithered pixels average back to the
-    // value (to 1/64 step, the matrix's resolution), where plain rounding is off by up to ½.
+    // Flat values between two 8-bit levels: the dithered pixels average back to the value (to
+    // 1/64 step, the matrix's resolution), where plain rounding is off by up to ½.
     for (double fraction : {0.1, 0.25, 0.5, 0.7, 0.93}) {
         const float v = float((100.0 + fraction) / 255.0);
-        ImageBuf a = flat(v), b = flat(v);
-        ASSERT_TRUE(addDither(a, 8, {}, 1));
-        ASSERT_TRUE(addDither(b, 8, {}, 2));
+        const ImageBuf in = flat(v);
+        ImageBuf a(ImageSpec(16, 16, 3, TypeDesc::UINT8)), b(a.spec()), plain(a.spec());
+        ASSERT_TRUE(quantize(a, in, {}, {}, 1));
+        ASSERT_TRUE(quantize(b, in, {}, {}, 2));
         ASSERT_EQ(std::memcmp(a.localpixels(), b.localpixels(), a.spec().image_bytes()), 0);
+        QuantizeParams noDither;
+        noDither.dither = false;
+        ASSERT_TRUE(quantize(plain, in, noDither));
         double mean = 0.0;
         for (int y = 0; y < 16; ++y)
-            for (int x = 0; x < 16; ++x)
-                mean += std::round(px(a, x, y)[1] * 255.0) / 256.0;
+            for (int x = 0; x < 16; ++x) {
+                const auto* q = static_cast<const uint8_t*>(a.pixeladdr(x, y));
+                EXPECT_TRUE(q[1] == 100 || q[1] == 101) << int(q[1]);
+                mean += q[1] / 256.0;
+                EXPECT_EQ(static_cast<const uint8_t*>(plain.pixeladdr(x, y))[1],
+                          fraction < 0.5 ? 100 : 101);
+            }
         EXPECT_NEAR(mean, 100.0 + fraction, 1.0 / 64.0) << fraction;
-        EXPECT_GT(std::abs(std::round(v * 255.0) - (100.0 + fraction)), 0.05);
     }
+}
+
+TEST(Quantize, RoundsClampsAndLeavesAlphaUndithered) {
+    ImageBuf in(ImageSpec(8, 8, 4, TypeDesc::FLOAT));
+    const float values[4] = {-0.5f, 2.0f, 0.5f, 0.25f};
+    OIIO::ImageBufAlgo::fill(in, values);
+    ImageBuf q16(ImageSpec(8, 8, 4, TypeDesc::UINT16));
+    QuantizeParams noDither;
+    noDither.dither = false;
+    ASSERT_TRUE(quantize(q16, in, noDither));
+    const auto* p = static_cast<const uint16_t*>(q16.pixeladdr(3, 5));
+    EXPECT_EQ(p[0], 0);
+    EXPECT_EQ(p[1], 65535);
+    EXPECT_EQ(p[2], 32768); // 0.5 · 65535 = 32767.5 rounds up
+    EXPECT_EQ(p[3], 16384); // 16383.75
+    ImageBuf q8(ImageSpec(8, 8, 4, TypeDesc::UINT8));
+    ASSERT_TRUE(quantize(q8, in));
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) // 63.75 → 64 always: alpha is not dithered
+            EXPECT_EQ(static_cast<const uint8_t*>(q8.pixeladdr(x, y))[3], 64);
+}
+
+TEST(Quantize, AStripMatchesTheWholeImage) {
+    ImageBuf in(ImageSpec(24, 20, 3, TypeDesc::FLOAT));
+    for (int y = 0; y < 20; ++y)
+        for (int x = 0; x < 24; ++x)
+            for (int c = 0; c < 3; ++c)
+                px(in, x, y)[c] = float(x + 3 * y + c) / 90.0f;
+    ImageBuf whole(ImageSpec(24, 20, 3, TypeDesc::UINT8));
+    ASSERT_TRUE(quantize(whole, in));
+    // Rows 5..10 into a buffer of their own, as an output strip is.
+    ImageSpec stripSpec(24, 5, 3, TypeDesc::UINT8);
+    stripSpec.y = 5;
+    std::vector<uint8_t> rows(stripSpec.image_bytes());
+    ImageBuf strip(stripSpec, rows.data());
+    ASSERT_TRUE(quantize(strip, in));
+    EXPECT_EQ(std::memcmp(rows.data(), whole.pixeladdr(0, 5), rows.size()), 0);
+    // Too few source channels, or a float destination: an error, not a crash.
+    ImageBuf wide(ImageSpec(24, 20, 4, TypeDesc::UINT8)),
+        floats(ImageSpec(4, 4, 3, TypeDesc::FLOAT));
+    EXPECT_FALSE(quantize(wide, in));
+    EXPECT_FALSE(quantize(floats, in));
+    EXPECT_TRUE(floats.has_error());
 }
 
 TEST(Adaptation, StepChangeFollowsTheSeedsFormula) {

@@ -397,6 +397,8 @@ TEST_F(Tools, ToneMapOperatorsAndMetadata) {
         EXPECT_EQ(png.spec().get_string_attribute("dhdr:display"),
                   op == "aces" ? "sRGB / ACES (built-in config)"
                                : "sRGB / Standard (built-in config)");
+        // Display-referred, whatever the input said: not the EXR's "Linear" (PNG's gAMA 1).
+        EXPECT_EQ(png.spec().get_string_attribute("oiio:ColorSpace"), "sRGB");
     }
     const Result view = run("dhdr-tonemap " + path("h.exr") + " --view Filmic -o " + path("x.png"));
     EXPECT_EQ(view.status, 1);

@@ -1,13 +1,17 @@
 #include "tool.h"
 
+#include "banded_read.h"
+
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <csignal>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <dhdr/tonemap/sanitize.h>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <system_error>
 #include <thread>
 #include <unistd.h>
@@ -83,15 +87,15 @@ int Tool::start(const std::vector<std::string>& inputs) const {
     return -1;
 }
 
-bool Tool::readImage(const std::string& path, OIIO::ImageBuf& image) const {
+bool Tool::readImage(const std::string& path, OIIO::ImageBuf& image, int nthreads) const {
     std::error_code ec;
     if (!fs::exists(path, ec)) {
         fail(path + ": no such file");
         return false;
     }
-    image.reset(path);
-    if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-        fail(path + ": cannot read: " + oneLine(image.geterror()));
+    std::string error;
+    if (!readBanded(path, image, 0, 1 << 20, nthreads, error)) {
+        fail(path + ": cannot read: " + oneLine(error));
         return false;
     }
     return true;
@@ -117,8 +121,9 @@ bool Tool::readImageChannels(const std::string& path, const std::vector<std::str
         chend = std::max(chend, c + 1);
     }
     if (chend <= chbegin) chbegin = 0, chend = image.nchannels();
-    if (!image.read(0, 0, chbegin, chend, true, OIIO::TypeDesc::FLOAT)) {
-        fail(path + ": cannot read: " + oneLine(image.geterror()));
+    std::string error;
+    if (!readBanded(path, image, chbegin, chend, threads(), error)) {
+        fail(path + ": cannot read: " + oneLine(error));
         return false;
     }
     return true;
@@ -227,6 +232,35 @@ bool AtomicOutput::writeRows(int ybegin, int yend, const float* pixels) {
     if (!m_out->write_scanlines(ybegin, yend, 0, OIIO::TypeDesc::FLOAT, pixels)) {
         m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
         return false;
+    }
+    return true;
+}
+
+bool AtomicOutput::writeStrips(OIIO::TypeDesc type, int rows, bool overlap, const StripFill& fill) {
+    const OIIO::ImageSpec& spec = m_out->spec();
+    const int strips = (spec.height + rows - 1) / rows;
+    const size_t stripBytes =
+        size_t(rows) * size_t(spec.width) * size_t(spec.nchannels) * type.size();
+    std::vector<std::byte> buffers[2] = {std::vector<std::byte>(stripBytes),
+                                         std::vector<std::byte>(stripBytes)};
+    auto strip = [&](int k) {
+        const int y0 = spec.y + k * rows;
+        return OIIO::ROI(spec.x, spec.x + spec.width, y0, std::min(y0 + rows, spec.y + spec.height),
+                         0, 1, 0, spec.nchannels);
+    };
+    auto compute = [&](int k) {
+        return std::async(overlap ? std::launch::async : std::launch::deferred,
+                          [&, k] { return fill(strip(k), buffers[k % 2].data()); });
+    };
+    std::future<bool> next = compute(0);
+    for (int k = 0; k < strips; ++k) {
+        if (!next.get()) return false;
+        if (k + 1 < strips) next = compute(k + 1);
+        const OIIO::ROI r = strip(k);
+        if (!m_out->write_scanlines(r.ybegin, r.yend, 0, type, buffers[k % 2].data())) {
+            m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
+            return false;
+        }
     }
     return true;
 }

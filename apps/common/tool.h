@@ -7,6 +7,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -33,8 +34,12 @@ public:
     // inputs, in a folder that exists. Returns -1 to go on, else the exit status.
     int start(const std::vector<std::string>& inputs) const;
 
-    // Reads the whole of `path` into float pixels; false after printing the error.
-    bool readImage(const std::string& path, OIIO::ImageBuf& image) const;
+    // Reads the whole of `path` into float pixels on `nthreads` threads (default --threads);
+    // false after printing the error.
+    bool readImage(const std::string& path, OIIO::ImageBuf& image) const {
+        return readImage(path, image, threads());
+    }
+    bool readImage(const std::string& path, OIIO::ImageBuf& image, int nthreads) const;
     // Reads only the smallest run of channels that holds those of `names` present in the file
     // (a G-buffer's geometry without its 18 channels); absent names are left to the caller.
     bool readImageChannels(const std::string& path, const std::vector<std::string>& names,
@@ -75,6 +80,13 @@ public:
     bool open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats);
     // Rows [ybegin, yend), contiguous float pixels of all channels.
     bool writeRows(int ybegin, int yend, const float* pixels);
+    // Computes one strip of rows (all channels) into `pixels`, contiguous, of the type given
+    // to writeStrips; false after printing an error.
+    using StripFill = std::function<bool(OIIO::ROI strip, void* pixels)>;
+    // Writes the whole image in strips of `rows` rows that `fill` computes. With `overlap`,
+    // the next strip is computed on another thread while this one is encoded, so that
+    // single-threaded encoders (PNG, JPEG) run alongside the work that feeds them.
+    bool writeStrips(OIIO::TypeDesc type, int rows, bool overlap, const StripFill& fill);
     // Closes the file and renames it into place.
     bool commit();
 

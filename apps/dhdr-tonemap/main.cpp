@@ -2,6 +2,7 @@
 #include "../common/frames.h"
 #include "../common/tool.h"
 
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
 #include <atomic>
@@ -10,8 +11,8 @@
 #include <cmath>
 #include <dhdr/common/parallel.h>
 #include <dhdr/tonemap/adaptation.h>
-#include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/display_transform.h>
+#include <dhdr/tonemap/quantize.h>
 #include <dhdr/tonemap/reinhard.h>
 #include <dhdr/tonemap/sanitize.h>
 #include <dhdr/tonemap/tone_map.h>
@@ -37,6 +38,11 @@ struct FrameJob {
     bool dither = true;
 };
 
+// Rows the display transform, quantization and encoding work on at a time.
+constexpr int kStripRows = 64;
+// libpng's PNG_FILTER_NONE.
+constexpr int kPngFilterNone = 0x08;
+
 std::string lowerExtension(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
@@ -46,7 +52,7 @@ std::string lowerExtension(const std::string& path) {
 // Reads `path`, replacing what a display cannot show (and warning when `warn`).
 bool readFrame(const app::Tool& tool, const std::string& path, OIIO::ImageBuf& hdr, bool warn,
                int nthreads) {
-    if (!tool.readImage(path, hdr)) return false;
+    if (!tool.readImage(path, hdr, nthreads)) return false;
     if (hdr.nchannels() < 3) {
         tool.fail(path + ": has " + std::to_string(hdr.nchannels()) +
                   " channels; tone mapping needs R, G, B");
@@ -67,7 +73,22 @@ bool readFrame(const app::Tool& tool, const std::string& path, OIIO::ImageBuf& h
 // Reads a frame and brings it to scene-linear, where metering and operators work.
 bool readSceneLinear(const app::Tool& tool, const FrameJob& job, const std::string& path,
                      OIIO::ImageBuf& hdr, bool warn, int nthreads) {
-    return readFrame(tool, path, hdr, warn, nthreads) && job.display.toSceneLinear(hdr, nthreads);
+    return readFrame(tool, path, hdr, warn, nthreads) &&
+           job.display.toSceneLinear(hdr, {}, nthreads);
+}
+
+// The image a display is sent: at most R, G, B and alpha of `hdr`, in `type`, with `hdr`'s
+// metadata.
+OIIO::ImageSpec displaySpec(const OIIO::ImageSpec& hdr, OIIO::TypeDesc type) {
+    const int nch = std::min(hdr.nchannels, 4);
+    OIIO::ImageSpec spec = hdr;
+    spec.nchannels = nch;
+    spec.channelnames.resize(size_t(nch));
+    spec.alpha_channel = nch == 4 ? 3 : -1;
+    spec.z_channel = -1;
+    spec.channelformats.clear();
+    spec.set_format(type);
+    return spec;
 }
 
 // Meters `in` (or uses `given`), tone-maps it and writes `out`; `used` receives the metering.
@@ -76,11 +97,12 @@ bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
               const std::string& out, const LuminanceStats* given, LuminanceStats& used,
               int nthreads, OIIO::ImageBuf* cached = nullptr) {
     OIIO::ImageBuf hdr;
-    if (cached && cached->initialized())
-        hdr = cached->copy(OIIO::TypeDesc::FLOAT);
-    else if (!readSceneLinear(tool, job, in, hdr, true, nthreads))
+    if (cached && cached->initialized()) {
+        OIIO::ImageBufAlgo::copy(hdr, *cached, OIIO::TypeDesc::FLOAT, {}, nthreads);
+        cached->clear();
+    } else if (!readSceneLinear(tool, job, in, hdr, true, nthreads)) {
         return false;
-    if (cached) cached->clear();
+    }
     ToneMapParams params = job.params;
     if (given)
         used = *given;
@@ -91,44 +113,62 @@ bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
     std::snprintf(line, sizeof line, "%s: %s luminance %.6g (largest %.6g)", in.c_str(),
                   given ? "adapted" : job.metering.c_str(), used.logAverage, used.maxLuminance);
     tool.info(line);
-
-    // Only R, G, B (and alpha) go to a display image.
-    const int nch = std::min(hdr.nchannels(), 4);
-    OIIO::ImageSpec spec = hdr.spec();
-    spec.nchannels = nch;
-    spec.channelnames.resize(size_t(nch));
-    spec.alpha_channel = nch == 4 ? 3 : -1;
-    spec.z_channel = -1;
-    spec.channelformats.clear();
-    spec.set_format(OIIO::TypeDesc::FLOAT);
-    OIIO::ImageBuf mapped(spec);
-    if (!toneMap(mapped, hdr, params, {}, nthreads)) {
-        tool.fail(in + ": " + mapped.geterror());
+    // In place: the frame is not needed in scene-linear after this.
+    if (!toneMap(hdr, hdr, params, {}, nthreads)) {
+        tool.fail(in + ": " + hdr.geterror());
         return false;
     }
 
+    // Every format gets the same display-referred values; only their quantization differs.
+    const std::string ext = lowerExtension(out);
+    const bool exr = ext == ".exr";
+    const bool sixteen = job.bits == 16 && ext != ".jpg" && ext != ".jpeg";
+    const OIIO::TypeDesc type = exr       ? OIIO::TypeDesc::HALF
+                                : sixteen ? OIIO::TypeDesc::UINT16
+                                          : OIIO::TypeDesc::UINT8;
+    OIIO::ImageSpec spec = displaySpec(hdr.spec(), type);
     // Strings, which every format keeps (PNG drops numeric attributes).
-    OIIO::ImageSpec& meta = mapped.specmod();
-    meta.attribute("dhdr:toneMap", toneOperatorName(params.op));
+    spec.attribute("dhdr:toneMap", toneOperatorName(params.op));
     std::snprintf(line, sizeof line,
                   "key %g, exposure %g, white %s, weights %s, delta %g, metering %s%s%s -> %.6g",
                   params.key, params.exposure, job.white.c_str(), job.weights.c_str(),
                   params.metering.luminance.delta, job.metering.c_str(),
                   job.metering == "histogram" ? " " : "",
                   job.metering == "histogram" ? job.percentiles.c_str() : "", used.logAverage);
-    meta.attribute("dhdr:toneMapParameters", line);
-    meta.attribute("dhdr:source", in);
-    meta.attribute("dhdr:display", job.display.describe());
-    // Every format gets the same display-referred values; only their quantization differs.
-    job.display.toDisplay(mapped, nthreads);
-    const std::string ext = lowerExtension(out);
-    if (ext == ".exr") return tool.writeImage(mapped, out, {OIIO::TypeDesc::HALF});
-    const bool sixteen = job.bits == 16 && ext != ".jpg" && ext != ".jpeg";
-    if (!sixteen && job.dither) {
-        addDither(mapped, 8, {}, nthreads);
-        meta.attribute("dhdr:dither", "ordered, 8x8 Bayer");
+    spec.attribute("dhdr:toneMapParameters", line);
+    spec.attribute("dhdr:source", in);
+    spec.attribute("dhdr:display", job.display.describe());
+    // The input's "Linear" would make PNG declare a gamma of 1 to viewers.
+    spec.attribute("oiio:ColorSpace", job.display.outputColorSpace());
+    QuantizeParams quantizing;
+    quantizing.dither = type == OIIO::TypeDesc::UINT8 && job.dither;
+    if (quantizing.dither) {
+        spec.attribute("dhdr:dither", "ordered, 8x8 Bayer");
+        // Dithered pixels defeat PNG's row predictors: unfiltered rows compress as well or
+        // better and encode three times faster (docs/tonemap.md).
+        spec.attribute("png:filter", kPngFilterNone);
     }
-    return tool.writeImage(mapped, out, {sixteen ? OIIO::TypeDesc::UINT16 : OIIO::TypeDesc::UINT8});
+
+    app::AtomicOutput file(tool, out);
+    if (!file.open(spec, {type})) return false;
+    // EXR gets floats that OpenImageIO converts to half; the others their integer pixels.
+    const OIIO::TypeDesc buffer = exr ? OIIO::TypeDesc::FLOAT : type;
+    const bool written =
+        file.writeStrips(buffer, kStripRows, nthreads != 1, [&](OIIO::ROI strip, void* pixels) {
+            job.display.toDisplay(hdr, strip, nthreads);
+            OIIO::ImageSpec rows = displaySpec(hdr.spec(), buffer);
+            rows.x = strip.xbegin;
+            rows.y = strip.ybegin;
+            rows.width = strip.width();
+            rows.height = strip.height();
+            OIIO::ImageBuf dst(rows, pixels);
+            const bool done =
+                exr ? OIIO::ImageBufAlgo::copy(dst, hdr, OIIO::TypeUnknown, strip, nthreads)
+                    : quantize(dst, hdr, quantizing, strip, nthreads);
+            if (!done) tool.fail(out + ": " + dst.geterror());
+            return done;
+        });
+    return written && file.commit();
 }
 
 // A string as a JSON string literal.

@@ -1,5 +1,7 @@
 #include <OpenColorIO/OpenColorIO.h>
 #include <OpenImageIO/parallel.h>
+#include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <dhdr/common/parallel.h>
 #include <dhdr/tonemap/display_transform.h>
@@ -69,8 +71,9 @@ std::string listOf(const std::vector<std::string>& names) {
     return out;
 }
 
-void applyRgb(const OCIO::ConstCPUProcessorRcPtr& cpu, OIIO::ImageBuf& img, int nthreads) {
-    const OIIO::ROI roi = img.roi();
+void applyRgb(const OCIO::ConstCPUProcessorRcPtr& cpu, OIIO::ImageBuf& img, OIIO::ROI roi,
+              int nthreads) {
+    roi = OIIO::roi_intersection(roi.defined() ? roi : img.roi(), img.roi());
     const int nch = img.nchannels();
     OIIO::parallel_for(
         int64_t(roi.ybegin), int64_t(roi.yend),
@@ -189,17 +192,27 @@ std::string DisplayTransform::describe() const {
     return m_impl->display + " / " + m_impl->view + " (" + m_impl->source + ")";
 }
 
-bool DisplayTransform::toSceneLinear(OIIO::ImageBuf& img, int nthreads) const {
+std::string DisplayTransform::outputColorSpace() const {
+    const Impl& m = *m_impl;
+    if (!m.config) return {};
+    const char* name = m.config->getDisplayViewColorSpaceName(m.display.c_str(), m.view.c_str());
+    std::string colorspace = name ? name : "";
+    std::string lower = colorspace;
+    std::transform(lower.begin(), lower.end(), lower.begin(), ::tolower);
+    return lower.find("srgb") != std::string::npos ? "sRGB" : colorspace;
+}
+
+bool DisplayTransform::toSceneLinear(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads) const {
     if (!m_impl->toScene || img.spec().format != OIIO::TypeDesc::FLOAT || !img.localpixels())
         return false;
-    if (!m_impl->toScene->isNoOp()) applyRgb(m_impl->toScene, img, nthreads);
+    if (!m_impl->toScene->isNoOp()) applyRgb(m_impl->toScene, img, roi, nthreads);
     return true;
 }
 
-bool DisplayTransform::toDisplay(OIIO::ImageBuf& img, int nthreads) const {
+bool DisplayTransform::toDisplay(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads) const {
     if (!m_impl->toDisplay || img.spec().format != OIIO::TypeDesc::FLOAT || !img.localpixels())
         return false;
-    applyRgb(m_impl->toDisplay, img, nthreads);
+    applyRgb(m_impl->toDisplay, img, roi, nthreads);
     return true;
 }
 

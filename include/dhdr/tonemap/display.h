@@ -18,11 +18,4 @@ inline float srgbEncode(float v) {
 bool encodeSRGB(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi = {},
                 int nthreads = 0);
 
-// Ordered dithering for quantization to `bits` bits: adds to the colour channels (the first
-// three) an offset in (−½, ½) step from the 8 × 8 Bayer matrix, so that rounding neither bands a
-// smooth gradient nor biases it (the offsets average to 0 over every 8 × 8 tile). The pattern
-// depends only on the pixel's position: deterministic, whatever the thread count, and
-// repetitive enough for PNG to compress (random noise doubles the encoding time).
-bool addDither(OIIO::ImageBuf& img, int bits, OIIO::ROI roi = {}, int nthreads = 0);
-
 } // namespace dhdr

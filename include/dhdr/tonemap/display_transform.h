@@ -32,11 +32,15 @@ public:
     bool init(const DisplaySettings& settings, std::string& error);
     // "sRGB / Standard (built-in config)" and the like.
     std::string describe() const;
+    // The colour space of the display's encoded values, as file metadata names it: "sRGB"
+    // when the config's name for it says sRGB (PNG then gets its sRGB chunk), else that name.
+    std::string outputColorSpace() const;
 
-    // In place on the colour channels (the first three): input colour space → scene-linear
-    // (a no-op when they are the same), and scene-linear → display (look, view, display).
-    bool toSceneLinear(OIIO::ImageBuf& img, int nthreads = 0) const;
-    bool toDisplay(OIIO::ImageBuf& img, int nthreads = 0) const;
+    // In place on the colour channels (the first three) over `roi` (default: all of `img`):
+    // input colour space → scene-linear (a no-op when they are the same), and scene-linear →
+    // display (look, view, display). `img` must hold float pixels in memory.
+    bool toSceneLinear(OIIO::ImageBuf& img, OIIO::ROI roi = {}, int nthreads = 0) const;
+    bool toDisplay(OIIO::ImageBuf& img, OIIO::ROI roi = {}, int nthreads = 0) const;
 
 private:
     struct Impl;

@@ -1,0 +1,91 @@
+#include "banded_read.h"
+
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace dhdr::app {
+
+namespace {
+
+// Rows per band: a multiple of every OpenEXR compression's lines per chunk, so that no chunk
+// is decoded twice (DWAB packs 256 lines, PIZ, B44 and DWAA 32, ZIP 16).
+int bandRows(const OIIO::ImageSpec& spec) {
+    return spec.get_string_attribute("compression") == "dwab" ? 256 : 64;
+}
+
+bool readWhole(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
+               std::string& error) {
+    image.reset(path);
+    if (!image.read(0, 0, chbegin, chend, true, OIIO::TypeDesc::FLOAT)) {
+        error = image.geterror();
+        return false;
+    }
+    return true;
+}
+
+} // namespace
+
+bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
+                int nthreads, std::string& error) {
+    std::unique_ptr<OIIO::ImageInput> first = OIIO::ImageInput::open(path);
+    if (!first) {
+        error = OIIO::geterror();
+        return false;
+    }
+    const OIIO::ImageSpec& fileSpec = first->spec();
+    if (std::string(first->format_name()) != "openexr" || fileSpec.tile_width > 0 ||
+        fileSpec.deep || first->current_subimage() != 0)
+        return readWhole(path, image, chbegin, chend, error);
+
+    chbegin = std::clamp(chbegin, 0, fileSpec.nchannels);
+    chend = std::clamp(chend, chbegin, fileSpec.nchannels);
+    OIIO::ImageSpec spec = fileSpec;
+    spec.nchannels = chend - chbegin;
+    spec.channelnames.assign(fileSpec.channelnames.begin() + chbegin,
+                             fileSpec.channelnames.begin() + chend);
+    spec.channelformats.clear();
+    spec.set_format(OIIO::TypeDesc::FLOAT);
+    spec.alpha_channel = fileSpec.alpha_channel - chbegin;
+    if (spec.alpha_channel < 0 || spec.alpha_channel >= spec.nchannels) spec.alpha_channel = -1;
+    spec.z_channel = fileSpec.z_channel - chbegin;
+    if (spec.z_channel < 0 || spec.z_channel >= spec.nchannels) spec.z_channel = -1;
+    image.reset(spec, OIIO::InitializePixels::No);
+
+    const int rows = bandRows(fileSpec);
+    const int bands = (spec.height + rows - 1) / rows;
+    const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+    const int workers = std::clamp(nthreads > 0 ? nthreads : cores, 1, std::max(1, bands));
+    std::atomic<int> next{0};
+    std::atomic<bool> failed{false};
+    std::mutex errorMutex;
+    auto work = [&](std::unique_ptr<OIIO::ImageInput> in) {
+        if (!in) in = OIIO::ImageInput::open(path);
+        for (int band = next++; band < bands && !failed; band = next++) {
+            const int y0 = spec.y + band * rows, y1 = std::min(y0 + rows, spec.y + spec.height);
+            if (!in || !in->read_scanlines(0, 0, y0, y1, 0, chbegin, chend, OIIO::TypeDesc::FLOAT,
+                                           image.pixeladdr(spec.x, y0))) {
+                std::lock_guard<std::mutex> lock(errorMutex);
+                if (!failed.exchange(true)) error = in ? in->geterror() : OIIO::geterror();
+                return;
+            }
+        }
+    };
+    std::vector<std::thread> helpers;
+    for (int t = 1; t < workers; ++t)
+        helpers.emplace_back(work, nullptr);
+    work(std::move(first));
+    for (std::thread& t : helpers)
+        t.join();
+    if (failed) {
+        image.reset();
+        return false;
+    }
+    return true;
+}
+
+} // namespace dhdr::app

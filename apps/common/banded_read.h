@@ -1,0 +1,17 @@
+// Reading a scanline EXR on several threads at once, each decoding its own bands of rows.
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+#include <string>
+
+namespace dhdr::app {
+
+// Reads channels [chbegin, chend) of subimage 0 of `path` into `image` as float pixels,
+// keeping the file's metadata. A scanline OpenEXR file is decoded in bands of rows by
+// `nthreads` threads (0: all cores), each with its own reader: OpenEXR's own thread pool
+// parallelizes within a read call only, and OpenImageIO's conversion to float after it is
+// serial. Other files are read by ImageBuf::read. On failure `error` says what went wrong.
+bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
+                int nthreads, std::string& error);
+
+} // namespace dhdr::app
