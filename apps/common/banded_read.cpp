@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -16,6 +17,13 @@ namespace {
 // is decoded twice (DWAB packs 256 lines, PIZ, B44 and DWAA 32, ZIP 16).
 int bandRows(const OIIO::ImageSpec& spec) {
     return spec.get_string_attribute("compression") == "dwab" ? 256 : 64;
+}
+
+// The one type of channels [chbegin, chend), or TypeUnknown when they differ.
+OIIO::TypeDesc uniformFormat(const OIIO::ImageSpec& spec, int chbegin, int chend) {
+    for (int c = chbegin; c < chend; ++c)
+        if (spec.channelformat(c) != spec.channelformat(chbegin)) return OIIO::TypeUnknown;
+    return spec.channelformat(chbegin);
 }
 
 bool readWhole(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
@@ -54,21 +62,42 @@ bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int
     if (spec.alpha_channel < 0 || spec.alpha_channel >= spec.nchannels) spec.alpha_channel = -1;
     spec.z_channel = fileSpec.z_channel - chbegin;
     if (spec.z_channel < 0 || spec.z_channel >= spec.nchannels) spec.z_channel = -1;
-    image.reset(spec, OIIO::InitializePixels::No);
+    const OIIO::ImageSpec& held = image.spec();
+    if (image.initialized() && image.localpixels() && held.format == OIIO::TypeDesc::FLOAT &&
+        held.channelformats.empty() && held.x == spec.x && held.y == spec.y &&
+        held.width == spec.width && held.height == spec.height && held.nchannels == spec.nchannels)
+        image.specmod() = spec;
+    else
+        image.reset(spec, OIIO::InitializePixels::No);
 
     const int rows = bandRows(fileSpec);
     const int bands = (spec.height + rows - 1) / rows;
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     const int workers = std::clamp(nthreads > 0 ? nthreads : cores, 1, std::max(1, bands));
+    // Each band is read in the file's own type into a buffer of the worker's and converted
+    // here: ImageInput::read_scanlines with a conversion maps (and page-faults) a fresh buffer
+    // the size of the whole image on every call.
+    const OIIO::TypeDesc native = uniformFormat(fileSpec, chbegin, chend);
+    const size_t bandValues = size_t(rows) * size_t(spec.width) * size_t(spec.nchannels);
     std::atomic<int> next{0};
     std::atomic<bool> failed{false};
     std::mutex errorMutex;
     auto work = [&](std::unique_ptr<OIIO::ImageInput> in) {
         if (!in) in = OIIO::ImageInput::open(path);
-        for (int band = next++; band < bands && !failed; band = next++) {
-            const int y0 = spec.y + band * rows, y1 = std::min(y0 + rows, spec.y + spec.height);
-            if (!in || !in->read_scanlines(0, 0, y0, y1, 0, chbegin, chend, OIIO::TypeDesc::FLOAT,
-                                           image.pixeladdr(spec.x, y0))) {
+        std::vector<std::byte> band(native == OIIO::TypeUnknown ? 0 : bandValues * native.size());
+        for (int b = next++; b < bands && !failed; b = next++) {
+            const int y0 = spec.y + b * rows, y1 = std::min(y0 + rows, spec.y + spec.height);
+            float* pixels = static_cast<float*>(image.pixeladdr(spec.x, y0));
+            const int n = (y1 - y0) * spec.width * spec.nchannels;
+            const bool read =
+                in &&
+                (native == OIIO::TypeUnknown
+                     ? in->read_scanlines(0, 0, y0, y1, 0, chbegin, chend, OIIO::TypeDesc::FLOAT,
+                                          pixels)
+                     : in->read_native_scanlines(0, 0, y0, y1, 0, chbegin, chend, band.data()) &&
+                           OIIO::convert_pixel_values(native, band.data(), OIIO::TypeDesc::FLOAT,
+                                                      pixels, n));
+            if (!read) {
                 std::lock_guard<std::mutex> lock(errorMutex);
                 if (!failed.exchange(true)) error = in ? in->geterror() : OIIO::geterror();
                 return;

@@ -21,13 +21,17 @@ NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads
         std::vector<float> maxFinite;
     };
     std::vector<Row> rows(static_cast<size_t>(roi.height()));
-    auto pixel = [&](int x, int y) { return static_cast<float*>(img.pixeladdr(x, y)); };
+    // f(pixel) for the pixels of row y from r.xbegin to r.xend.
+    auto forEachPixel = [&](const OIIO::ROI& r, int y, auto&& f) {
+        float* p = static_cast<float*>(img.pixeladdr(r.xbegin, y));
+        for (int x = r.xbegin; x < r.xend; ++x, p += nch)
+            f(p);
+    };
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y) {
             Row& row = rows[size_t(y - roi.ybegin)];
             row.maxFinite.assign(size_t(nch), 0.0f);
-            for (int x = r.xbegin; x < r.xend; ++x) {
-                const float* p = pixel(x, y);
+            forEachPixel(r, y, [&](const float* p) {
                 for (int c = roi.chbegin; c < roi.chend; ++c) {
                     if (std::isnan(p[c]))
                         ++row.count.nan;
@@ -38,7 +42,7 @@ NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads
                     else
                         row.maxFinite[size_t(c)] = std::max(row.maxFinite[size_t(c)], p[c]);
                 }
-            }
+            });
         }
     });
     std::vector<float> maxFinite(size_t(nch), 0.0f);
@@ -55,15 +59,14 @@ NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads
     // Pass 2: replace.
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y)
-            for (int x = r.xbegin; x < r.xend; ++x) {
-                float* p = pixel(x, y);
+            forEachPixel(r, y, [&](float* p) {
                 for (int c = roi.chbegin; c < roi.chend; ++c) {
                     if (std::isnan(p[c]) || p[c] == -INFINITY || (zeroNegative && p[c] < 0.0f))
                         p[c] = 0.0f;
                     else if (p[c] == INFINITY)
                         p[c] = maxFinite[size_t(c)];
                 }
-            }
+            });
     });
     return count;
 }
