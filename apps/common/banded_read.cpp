@@ -19,12 +19,40 @@ int bandRows(const OIIO::ImageSpec& spec) {
     return spec.get_string_attribute("compression") == "dwab" ? 256 : 64;
 }
 
-// The one type of channels [chbegin, chend), or TypeUnknown when they differ.
-OIIO::TypeDesc uniformFormat(const OIIO::ImageSpec& spec, int chbegin, int chend) {
-    for (int c = chbegin; c < chend; ++c)
-        if (spec.channelformat(c) != spec.channelformat(chbegin)) return OIIO::TypeUnknown;
-    return spec.channelformat(chbegin);
-}
+// How ImageInput::read_native_scanlines packs a pixel of channels [chbegin, chend): each
+// channel in its own type, one after the other.
+struct NativePixel {
+    std::vector<OIIO::TypeDesc> types;
+    std::vector<size_t> offsets;
+    size_t bytes = 0;
+    bool uniform = true;
+
+    NativePixel(const OIIO::ImageSpec& spec, int chbegin, int chend) {
+        for (int c = chbegin; c < chend; ++c) {
+            types.push_back(spec.channelformat(c));
+            offsets.push_back(bytes);
+            bytes += types.back().size();
+            uniform = uniform && types.back() == types.front();
+        }
+    }
+
+    // width × height pixels from `native` to float.
+    bool toFloat(const std::byte* native, float* pixels, int width, int height) const {
+        const int nch = int(types.size());
+        if (uniform)
+            return OIIO::convert_pixel_values(types[0], native, OIIO::TypeDesc::FLOAT, pixels,
+                                              width * height * nch);
+        const auto dstPixel = OIIO::stride_t(nch * sizeof(float));
+        for (int c = 0; c < nch; ++c)
+            if (!OIIO::convert_image(1, width, height, 1, native + offsets[size_t(c)],
+                                     types[size_t(c)], OIIO::stride_t(bytes),
+                                     OIIO::stride_t(bytes) * width, OIIO::AutoStride, pixels + c,
+                                     OIIO::TypeDesc::FLOAT, dstPixel, dstPixel * width,
+                                     OIIO::AutoStride))
+                return false;
+        return true;
+    }
+};
 
 bool readWhole(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
                std::string& error) {
@@ -74,29 +102,22 @@ bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int
     const int bands = (spec.height + rows - 1) / rows;
     const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
     const int workers = std::clamp(nthreads > 0 ? nthreads : cores, 1, std::max(1, bands));
-    // Each band is read in the file's own type into a buffer of the worker's and converted
+    // Each band is read in the file's own types into a buffer of the worker's and converted
     // here: ImageInput::read_scanlines with a conversion maps (and page-faults) a fresh buffer
     // the size of the whole image on every call.
-    const OIIO::TypeDesc native = uniformFormat(fileSpec, chbegin, chend);
-    const size_t bandValues = size_t(rows) * size_t(spec.width) * size_t(spec.nchannels);
+    const NativePixel native(fileSpec, chbegin, chend);
     std::atomic<int> next{0};
     std::atomic<bool> failed{false};
     std::mutex errorMutex;
     auto work = [&](std::unique_ptr<OIIO::ImageInput> in) {
         if (!in) in = OIIO::ImageInput::open(path);
-        std::vector<std::byte> band(native == OIIO::TypeUnknown ? 0 : bandValues * native.size());
+        std::vector<std::byte> band(size_t(rows) * size_t(spec.width) * native.bytes);
         for (int b = next++; b < bands && !failed; b = next++) {
             const int y0 = spec.y + b * rows, y1 = std::min(y0 + rows, spec.y + spec.height);
-            float* pixels = static_cast<float*>(image.pixeladdr(spec.x, y0));
-            const int n = (y1 - y0) * spec.width * spec.nchannels;
             const bool read =
-                in &&
-                (native == OIIO::TypeUnknown
-                     ? in->read_scanlines(0, 0, y0, y1, 0, chbegin, chend, OIIO::TypeDesc::FLOAT,
-                                          pixels)
-                     : in->read_native_scanlines(0, 0, y0, y1, 0, chbegin, chend, band.data()) &&
-                           OIIO::convert_pixel_values(native, band.data(), OIIO::TypeDesc::FLOAT,
-                                                      pixels, n));
+                in && in->read_native_scanlines(0, 0, y0, y1, 0, chbegin, chend, band.data()) &&
+                native.toFloat(band.data(), static_cast<float*>(image.pixeladdr(spec.x, y0)),
+                               spec.width, y1 - y0);
             if (!read) {
                 std::lock_guard<std::mutex> lock(errorMutex);
                 if (!failed.exchange(true)) error = in ? in->geterror() : OIIO::geterror();
