@@ -60,7 +60,10 @@ TEST_F(AppCommon, BandedReadEqualsImageBufRead) {
     const TypeDesc H = TypeDesc::HALF, F = TypeDesc::FLOAT;
     for (const auto& [compression, formats] :
          std::vector<std::pair<std::string, std::vector<TypeDesc>>>{
-             {"zip", {H, H, H, H}}, {"dwab", {H, H, H}}, {"piz", {F, F, F}}, {"zip", {H, F, TypeDesc::UINT32}}}) {
+             {"zip", {H, H, H, H}},
+             {"dwab", {H, H, H}},
+             {"piz", {F, F, F}},
+             {"zip", {H, F, TypeDesc::UINT32}}}) {
         const std::string file = writeExr("in.exr", compression, formats);
         ImageBuf reference(file);
         ASSERT_TRUE(reference.read(0, 0, true, TypeDesc::FLOAT));
