@@ -3,7 +3,6 @@
 #include <OpenImageIO/imagebuf.h>
 #include <cmath>
 #include <cstdlib>
-#include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/display_transform.h>
 #include <dhdr/tonemap/tone_map.h>
 #include <filesystem>
@@ -24,6 +23,11 @@ ImageBuf row(const std::vector<float>& rgb) {
 
 const float* px(const ImageBuf& img, int x) {
     return static_cast<const float*>(img.pixeladdr(x, 0));
+}
+
+// The sRGB opto-electronic transfer function, IEC 61966-2-1, in double.
+double srgbEncode(double v) {
+    return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
 }
 
 struct NoOcioEnv : ::testing::Test {
@@ -49,6 +53,9 @@ TEST_F(NoOcioEnv, BuiltinStandardViewIsTheSrgbEncoding) {
     for (size_t i = 0; i < v.size(); ++i)
         for (int c = 0; c < 3; ++c)
             EXPECT_NEAR(px(img, int(i))[c], srgbEncode(v[i]), 2e-4) << v[i];
+    // The published points: the linear segment's end, and mid-grey of the encoding.
+    EXPECT_NEAR(srgbEncode(0.0031308), 0.04045, 1e-6);
+    EXPECT_NEAR(srgbEncode(0.5), 0.735357, 1e-6);
 }
 
 TEST_F(NoOcioEnv, AcesOperatorEqualsOpenColorIOsOutputTransform) {
@@ -89,7 +96,7 @@ TEST_F(NoOcioEnv, AcesOperatorEqualsOpenColorIOsOutputTransform) {
             EXPECT_NEAR(px(mapped, int(i))[c], ref[c], 1e-5) << i;
     }
     // A tone curve, not the identity: mid grey lands below its sRGB encoding.
-    EXPECT_LT(px(mapped, 0)[0], srgbEncode(0.02f));
+    EXPECT_LT(px(mapped, 0)[0], srgbEncode(0.02));
 }
 
 TEST_F(NoOcioEnv, UnknownNamesListTheValidOnes) {

@@ -163,6 +163,18 @@ TEST(Operators, ExposureIsLinearAndClipped) {
     EXPECT_FLOAT_EQ(px(out, 3, 0)[0], 0.0f);
 }
 
+TEST(Operators, ADestinationWithoutColourChannelsIsAnError) {
+    // One channel cannot take the three a colour operator writes (it once wrote past them).
+    ImageBuf src(ImageSpec(4, 4, 3, TypeDesc::FLOAT));
+    const float grey[3] = {0.5f, 0.5f, 0.5f};
+    OIIO::ImageBufAlgo::fill(src, grey);
+    ImageBuf dst(ImageSpec(4, 4, 1, TypeDesc::FLOAT));
+    ToneMapParams p;
+    p.op = ToneOperator::Hable;
+    EXPECT_FALSE(toneMap(dst, src, p));
+    EXPECT_TRUE(dst.has_error());
+}
+
 TEST(Operators, LocalReinhardOnAFlatImageIsTheGlobalCurve) {
     // No activity at any scale: the largest scale is chosen and V1 = L, so Ld = L / (1 + L).
     ImageBuf L(ImageSpec(40, 30, 1, TypeDesc::FLOAT));

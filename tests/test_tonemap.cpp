@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstring>
 #include <dhdr/tonemap/bloom.h>
-#include <dhdr/tonemap/display.h>
 #include <dhdr/tonemap/edge_aa.h>
 #include <dhdr/tonemap/luminance.h>
 #include <dhdr/tonemap/reinhard.h>
@@ -152,15 +151,6 @@ TEST(Reinhard, ExposureIsAFactorOfTwoPerStop) {
     reinhard(out, fourGreys(), p);
     const double L = 2.0 * 0.05690519745150839; // twice the scaled luminance of Lw = 1
     EXPECT_NEAR(px(out, 1, 0)[0], L / (1.0 + L), 1e-6);
-}
-
-TEST(Display, SrgbEncodingAtKnownPoints) {
-    EXPECT_FLOAT_EQ(srgbEncode(0.0f), 0.0f);
-    EXPECT_NEAR(srgbEncode(0.0031308f), 0.04045f, 1e-6);
-    EXPECT_NEAR(srgbEncode(0.5f), 0.735357f, 1e-6);
-    EXPECT_FLOAT_EQ(srgbEncode(1.0f), 1.0f);
-    EXPECT_FLOAT_EQ(srgbEncode(7.0f), 1.0f);
-    EXPECT_FLOAT_EQ(srgbEncode(-1.0f), 0.0f);
 }
 
 TEST(Sanitize, CountsAndReplacesNonFiniteValues) {

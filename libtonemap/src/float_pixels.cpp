@@ -64,6 +64,10 @@ bool prepareFloatDst(ImageBuf& dst, const ImageBuf& src, ROI& roi, int minChanne
 bool mapColour(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int nthreads,
                const std::function<glm::vec3(const float*, int, int)>& f) {
     if (!prepareFloatDst(dst, src, roi, 3)) return false;
+    if (dst.nchannels() < 3) {
+        dst.errorfmt("destination has {} channels, needs at least 3", dst.nchannels());
+        return false;
+    }
     const FloatPixels in(src);
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y)

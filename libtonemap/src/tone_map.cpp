@@ -87,9 +87,13 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
         OIIO::ImageSpec spec(src.spec().width, src.spec().height, 1, OIIO::TypeDesc::FLOAT);
         spec.x = src.spec().x;
         spec.y = src.spec().y;
-        OIIO::ImageBuf scaled(spec), mapped;
-        mapColour(scaled, src, {}, nthreads, [&](const float* p, int, int) {
-            return glm::vec3(float(scale * std::max(Lw(p), 0.0)));
+        OIIO::ImageBuf scaled(spec, OIIO::InitializePixels::No), mapped;
+        const detail::FloatPixels in(src);
+        OIIO::ImageBufAlgo::parallel_image(scaled.roi(), OIIO::paropt(nthreads), [&](OIIO::ROI r) {
+            for (int y = r.ybegin; y < r.yend; ++y)
+                for (int x = r.xbegin; x < r.xend; ++x)
+                    *detail::floatPixel(scaled, x, y) =
+                        float(scale * std::max(Lw(in.at(x, y)), 0.0));
         });
         LocalReinhardParams lp;
         lp.key = params.key;
