@@ -211,6 +211,15 @@ TEST_F(Tools, NonFinitePixelsAreReplacedAndReported) {
     ImageBuf png = read("poisoned.png");
     ASSERT_TRUE(png.initialized());
     EXPECT_EQ(png.spec().width, 32);
+    // A NaN in alpha as well: still one line, which counts it.
+    ImageBuf alphaNan = read("poisoned.exr");
+    static_cast<float*>(alphaNan.pixeladdr(7, 3))[3] = NAN;
+    ASSERT_TRUE(alphaNan.write(path("poisoned_alpha.exr")));
+    r = run("dhdr-tonemap " + path("poisoned_alpha.exr") + " -o " + path("poisoned_alpha.png"));
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("replaced 5 non-finite or negative values (2 NaN → 0"), std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("replaced"), r.err.rfind("replaced")) << r.err;
     r = run("dhdr-bloom " + path("poisoned.exr") + " -o " + path("poisoned_bloom.exr"));
     EXPECT_EQ(r.status, 0);
     EXPECT_NE(r.err.find("replaced 3 non-finite values"), std::string::npos) << r.err;

@@ -134,7 +134,12 @@ void Tool::replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int 
     OIIO::ROI roi = image.roi();
     roi.chbegin = chbegin;
     roi.chend = std::min(chend, image.nchannels());
-    const NonFiniteCount n = dhdr::replaceNonFinite(image, roi, threads(), zeroNegative);
+    reportNonFinite(path, dhdr::replaceNonFinite(image, roi, threads(), zeroNegative),
+                    zeroNegative);
+}
+
+void Tool::reportNonFinite(const std::string& path, const NonFiniteCount& n,
+                           bool zeroNegative) const {
     if (n.total() == 0) return;
     const std::string what =
         zeroNegative ? " non-finite or negative values (" : " non-finite values (";

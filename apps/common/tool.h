@@ -7,6 +7,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <atomic>
+#include <dhdr/tonemap/sanitize.h>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -49,6 +50,9 @@ public:
     // [chbegin, chend) and warns with the counts, in one line.
     void replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
                           bool zeroNegative = false) const;
+    // That warning, for counts from dhdr::replaceNonFinite; nothing when there are none.
+    void reportNonFinite(const std::string& path, const NonFiniteCount& counts,
+                         bool zeroNegative) const;
 
     // Writes `image` through an AtomicOutput (below). `formats`: one type for all channels,
     // or one per channel; empty keeps float.

@@ -58,15 +58,20 @@ bool readFrame(const app::Tool& tool, const std::string& path, OIIO::ImageBuf& h
                   " channels; tone mapping needs R, G, B");
         return false;
     }
-    if (warn) {
-        // A display shows no negative light: negatives go with NaN and Inf, in one warning.
-        tool.replaceNonFinite(path, hdr, 0, 3, true);
-        if (hdr.nchannels() >= 4) tool.replaceNonFinite(path, hdr, 3, 4);
-    } else {
-        OIIO::ROI colour = hdr.roi();
-        colour.chend = std::min(hdr.nchannels(), 4);
-        replaceNonFinite(hdr, colour, nthreads, true);
+    // A display shows no negative light: negative colour goes with NaN and Inf, in one
+    // warning; alpha keeps its negatives.
+    OIIO::ROI colour = hdr.roi(), alpha = hdr.roi();
+    colour.chend = 3;
+    alpha.chbegin = 3;
+    alpha.chend = std::min(hdr.nchannels(), 4);
+    NonFiniteCount replaced = replaceNonFinite(hdr, colour, nthreads, true);
+    if (alpha.chend > alpha.chbegin) {
+        const NonFiniteCount a = replaceNonFinite(hdr, alpha, nthreads, false);
+        replaced.nan += a.nan;
+        replaced.positiveInf += a.positiveInf;
+        replaced.negativeInf += a.negativeInf;
     }
+    if (warn) tool.reportNonFinite(path, replaced, true);
     return true;
 }
 
