@@ -146,7 +146,8 @@ TEST(GBuffer, HeaderCarriesCameraAndNameTables) {
     ImageBuf gbuf;
     ASSERT_TRUE(renderGBuffer(gbuf, scene, camera, params));
     gbuffer::CameraInfo info;
-    ASSERT_TRUE(gbuffer::readCamera(gbuf.spec(), info));
+    std::string error;
+    ASSERT_TRUE(gbuffer::readCamera(gbuf.spec(), info, error)) << error;
     EXPECT_NEAR(info.position.x, 1.0, 1e-6);
     EXPECT_NEAR(info.position.y, 2.0, 1e-6);
     EXPECT_NEAR(info.position.z, 3.0, 1e-6);

@@ -177,7 +177,8 @@ ImageBuf floorGBuffer() {
 
 TileLightLists cull(const ImageBuf& gbuf, const std::vector<Light>& lights) {
     gbuffer::CameraInfo camera;
-    gbuffer::readCamera(gbuf.spec(), camera);
+    std::string error;
+    EXPECT_TRUE(gbuffer::readCamera(gbuf.spec(), camera, error)) << error;
     const size_t nch = size_t(gbuf.nchannels());
     const DepthView depth{static_cast<const float*>(gbuf.localpixels()) +
                               gbuf.spec().channelindex("Z"),

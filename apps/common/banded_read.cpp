@@ -3,10 +3,15 @@
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <thread>
+#include <unistd.h>
 #include <vector>
 
 namespace dhdr::app {
@@ -39,47 +44,119 @@ struct NativePixel {
     // width × height pixels from `native` to float.
     bool toFloat(const std::byte* native, float* pixels, int width, int height) const {
         const int nch = int(types.size());
-        if (uniform)
+        const bool anyUint = std::any_of(types.begin(), types.end(), [](OIIO::TypeDesc t) {
+            return t.basetype == OIIO::TypeDesc::UINT32;
+        });
+        if (uniform && !anyUint)
             return OIIO::convert_pixel_values(types[0], native, OIIO::TypeDesc::FLOAT, pixels,
                                               width * height * nch);
         const auto dstPixel = OIIO::stride_t(nch * sizeof(float));
-        for (int c = 0; c < nch; ++c)
+        for (int c = 0; c < nch; ++c) {
+            if (types[size_t(c)].basetype == OIIO::TypeDesc::UINT32) {
+                // An id, not a fraction of full scale.
+                const size_t n = size_t(width) * size_t(height);
+                for (size_t i = 0; i < n; ++i) {
+                    std::uint32_t v;
+                    std::memcpy(&v, native + i * bytes + offsets[size_t(c)], sizeof v);
+                    pixels[i * size_t(nch) + size_t(c)] = float(v);
+                }
+                continue;
+            }
             if (!OIIO::convert_image(1, width, height, 1, native + offsets[size_t(c)],
                                      types[size_t(c)], OIIO::stride_t(bytes),
                                      OIIO::stride_t(bytes) * width, OIIO::AutoStride, pixels + c,
                                      OIIO::TypeDesc::FLOAT, dstPixel, dstPixel * width,
                                      OIIO::AutoStride))
                 return false;
+        }
         return true;
     }
 };
 
-bool readWhole(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
-               std::string& error) {
-    image.reset(path);
-    if (!image.read(0, 0, chbegin, chend, true, OIIO::TypeDesc::FLOAT)) {
-        error = image.geterror();
+// A file OIIO converts as a whole: images of other formats, whose integer pixels are
+// fractions of full scale, and tiled EXRs, read natively so that uint channels stay integers.
+bool readWhole(OIIO::ImageInput& in, const std::string& path, OIIO::ImageBuf& image, int subimage,
+               int chbegin, int chend, std::string& error) {
+    const OIIO::ImageSpec& fileSpec = in.spec();
+    if (std::string(in.format_name()) != "openexr") {
+        image.reset(path);
+        if (!image.read(subimage, 0, chbegin, chend, true, OIIO::TypeDesc::FLOAT)) {
+            error = image.geterror();
+            return false;
+        }
+        return true;
+    }
+    const NativePixel native(fileSpec, chbegin, chend);
+    std::vector<std::byte> buffer(size_t(fileSpec.image_pixels()) * native.bytes);
+    OIIO::ImageSpec spec = fileSpec;
+    spec.nchannels = chend - chbegin;
+    spec.channelnames.assign(fileSpec.channelnames.begin() + chbegin,
+                             fileSpec.channelnames.begin() + chend);
+    spec.channelformats.clear();
+    spec.set_format(OIIO::TypeDesc::FLOAT);
+    spec.tile_width = spec.tile_height = spec.tile_depth = 0;
+    spec.alpha_channel = fileSpec.alpha_channel - chbegin;
+    if (spec.alpha_channel < 0 || spec.alpha_channel >= spec.nchannels) spec.alpha_channel = -1;
+    spec.z_channel = fileSpec.z_channel - chbegin;
+    if (spec.z_channel < 0 || spec.z_channel >= spec.nchannels) spec.z_channel = -1;
+    image.reset(spec, OIIO::InitializePixels::No);
+    if (!image.localpixels()) {
+        error = "cannot allocate memory for its pixels";
+        image.reset();
+        return false;
+    }
+    if (!in.read_image(subimage, 0, chbegin, chend, OIIO::TypeUnknown, buffer.data()) ||
+        !native.toFloat(buffer.data(), static_cast<float*>(image.localpixels()), spec.width,
+                        spec.height)) {
+        error = in.geterror();
+        image.reset();
         return false;
     }
     return true;
 }
 
+std::string gigabytes(double bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f GB", bytes / 1e9);
+    return text;
+}
+
 } // namespace
 
+bool fitsInMemory(const OIIO::ImageSpec& spec, int channels, std::string& error) {
+    const double bytes = double(spec.width) * double(spec.height) *
+                         double(std::max(spec.depth, 1)) * double(channels) * sizeof(float);
+    const double memory = double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE));
+    if (bytes <= memory) return true;
+    error = "its " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+            " pixels of " + std::to_string(channels) + " channels need " + gigabytes(bytes) +
+            " as float, more than this machine's " + gigabytes(memory) + " of memory";
+    return false;
+}
+
 bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
-                int nthreads, std::string& error) {
+                int nthreads, std::string& error, int subimage) {
     std::unique_ptr<OIIO::ImageInput> first = OIIO::ImageInput::open(path);
     if (!first) {
         error = OIIO::geterror();
         return false;
     }
+    if (subimage != 0 && !first->seek_subimage(subimage, 0)) {
+        error = "has no part " + std::to_string(subimage);
+        return false;
+    }
     const OIIO::ImageSpec& fileSpec = first->spec();
-    if (std::string(first->format_name()) != "openexr" || fileSpec.tile_width > 0 ||
-        fileSpec.deep || first->current_subimage() != 0)
-        return readWhole(path, image, chbegin, chend, error);
-
+    if (fileSpec.deep) {
+        error = "is a deep image (a list of samples per pixel); this tool takes flat images: "
+                "flatten it first, e.g. oiiotool IN.exr --flatten -o FLAT.exr";
+        return false;
+    }
     chbegin = std::clamp(chbegin, 0, fileSpec.nchannels);
     chend = std::clamp(chend, chbegin, fileSpec.nchannels);
+    if (!fitsInMemory(fileSpec, chend - chbegin, error)) return false;
+    if (std::string(first->format_name()) != "openexr" || fileSpec.tile_width > 0)
+        return readWhole(*first, path, image, subimage, chbegin, chend, error);
+
     OIIO::ImageSpec spec = fileSpec;
     spec.nchannels = chend - chbegin;
     spec.channelnames.assign(fileSpec.channelnames.begin() + chbegin,
@@ -97,6 +174,11 @@ bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int
         image.specmod() = spec;
     else
         image.reset(spec, OIIO::InitializePixels::No);
+    if (!image.localpixels()) {
+        error = "cannot allocate memory for its pixels";
+        image.reset();
+        return false;
+    }
 
     const int rows = bandRows(fileSpec);
     const int bands = (spec.height + rows - 1) / rows;
@@ -110,12 +192,16 @@ bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int
     std::atomic<bool> failed{false};
     std::mutex errorMutex;
     auto work = [&](std::unique_ptr<OIIO::ImageInput> in) {
-        if (!in) in = OIIO::ImageInput::open(path);
+        if (!in) {
+            in = OIIO::ImageInput::open(path);
+            if (in && subimage != 0 && !in->seek_subimage(subimage, 0)) in.reset();
+        }
         std::vector<std::byte> band(size_t(rows) * size_t(spec.width) * native.bytes);
         for (int b = next++; b < bands && !failed; b = next++) {
             const int y0 = spec.y + b * rows, y1 = std::min(y0 + rows, spec.y + spec.height);
             const bool read =
-                in && in->read_native_scanlines(0, 0, y0, y1, 0, chbegin, chend, band.data()) &&
+                in &&
+                in->read_native_scanlines(subimage, 0, y0, y1, 0, chbegin, chend, band.data()) &&
                 native.toFloat(band.data(), static_cast<float*>(image.pixeladdr(spec.x, y0)),
                                spec.width, y1 - y0);
             if (!read) {

@@ -2,12 +2,17 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <cstddef>
 #include <string>
+#include <vector>
 
 namespace dhdr::app {
 
-// Reads channels [chbegin, chend) of subimage 0 of `path` into `image` as float pixels,
-// keeping the file's metadata. A scanline OpenEXR file is decoded in bands of rows by
+// Reads channels [chbegin, chend) of subimage (EXR part) `subimage` of `path` into `image` as
+// float pixels, keeping the file's metadata. The EXR's uint channels (object ids) are read as
+// their integer values, not scaled to [0, 1] as OpenImageIO's conversion does. Deep files and
+// images larger than this machine's memory are refused before anything is allocated. A
+// scanline OpenEXR file is decoded in bands of rows by
 // `nthreads` threads (0: all cores), each with its own reader: OpenEXR's own thread pool
 // parallelizes within a read call only, and OpenImageIO's conversion to float after it is
 // serial. When `image` already holds float pixels of the same size (the previous frame of a
@@ -15,6 +20,10 @@ namespace dhdr::app {
 // ~8,000 page faults. Other files are read by ImageBuf::read. On failure `error` says what
 // went wrong.
 bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
-                int nthreads, std::string& error);
+                int nthreads, std::string& error, int subimage = 0);
+
+// Whether float pixels of `spec`'s size and `channels` fit this machine's memory; otherwise
+// false with a message that names the size.
+bool fitsInMemory(const OIIO::ImageSpec& spec, int channels, std::string& error);
 
 } // namespace dhdr::app

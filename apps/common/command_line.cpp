@@ -1,5 +1,7 @@
 #include "command_line.h"
 
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -28,32 +30,57 @@ void CommandLine::option(const std::string& name, std::string& target, const std
     });
 }
 
+bool CommandLine::Range::contains(double v) const {
+    return std::isfinite(v) && (openLo ? v > lo : v >= lo) && (openHi ? v < hi : v <= hi);
+}
+
+std::string CommandLine::Range::text() const {
+    auto number = [](double v) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", v);
+        return std::string(text);
+    };
+    return (openLo ? "(" : "[") + number(lo) + ", " + number(hi) + (openHi ? ")" : "]");
+}
+
 void CommandLine::option(const std::string& name, double& target, const std::string& metavar,
-                         const std::string& help) {
-    option(name, metavar, help, [&target](const std::string& v, std::string& err) {
-        char* end = nullptr;
-        const double d = std::strtod(v.c_str(), &end);
-        if (v.empty() || *end != '\0') {
-            err = "'" + v + "' is not a number";
-            return false;
-        }
-        target = d;
-        return true;
-    });
+                         const std::string& help, Range range) {
+    option(name, metavar, help + " " + range.text(),
+           [&target, range](const std::string& v, std::string& err) {
+               char* end = nullptr;
+               const double d = std::strtod(v.c_str(), &end);
+               if (v.empty() || *end != '\0' || !std::isfinite(d)) {
+                   err = "'" + v + "' is not a finite number";
+                   return false;
+               }
+               if (!range.contains(d)) {
+                   err = v + " is outside " + range.text();
+                   return false;
+               }
+               target = d;
+               return true;
+           });
 }
 
 void CommandLine::option(const std::string& name, int& target, const std::string& metavar,
-                         const std::string& help) {
-    option(name, metavar, help, [&target](const std::string& v, std::string& err) {
-        char* end = nullptr;
-        const long n = std::strtol(v.c_str(), &end, 10);
-        if (v.empty() || *end != '\0') {
-            err = "'" + v + "' is not a whole number";
-            return false;
-        }
-        target = int(n);
-        return true;
-    });
+                         const std::string& help, int lo, int hi) {
+    const Range range{double(lo), double(hi)};
+    option(name, metavar, help + " " + range.text(),
+           [&target, range](const std::string& v, std::string& err) {
+               char* end = nullptr;
+               errno = 0;
+               const long long n = std::strtoll(v.c_str(), &end, 10);
+               if (v.empty() || *end != '\0') {
+                   err = "'" + v + "' is not a whole number";
+                   return false;
+               }
+               if (errno == ERANGE || !range.contains(double(n))) {
+                   err = v + " is outside " + range.text();
+                   return false;
+               }
+               target = int(n);
+               return true;
+           });
 }
 
 void CommandLine::printHelp() const {
@@ -72,7 +99,8 @@ void CommandLine::printHelp() const {
                               "for a faster zip (default: the format's)");
     row("--frames A-B", "frames of a pattern (in.####.exr, in.%04d.exr) in the input and "
                         "output (default: every frame whose input exists)");
-    row("--threads N", "worker threads (0: one per core; default 0)");
+    row("--threads N",
+        "worker threads (0: one per core; default 0) [0, " + std::to_string(kMaxThreads) + "]");
     row("-v, --verbose", "report what is measured and done");
     row("-q, --quiet", "print nothing but errors");
     row("-h, --help", "show this help and exit");
@@ -140,9 +168,11 @@ int CommandLine::parse(int argc, char** argv) {
             std::string v;
             char* end = nullptr;
             if (!takeValue(v)) return usageError("--threads needs a number");
+            errno = 0;
             const long n = std::strtol(v.c_str(), &end, 10);
-            if (v.empty() || *end != '\0' || n < 0)
-                return usageError("--threads: '" + v + "' is not a count of threads");
+            if (v.empty() || *end != '\0' || errno == ERANGE || n < 0 || n > kMaxThreads)
+                return usageError("--threads: '" + v + "' is not a count of threads in [0, " +
+                                  std::to_string(kMaxThreads) + "]");
             m_threads = int(n);
             continue;
         }
@@ -186,7 +216,7 @@ bool parseNumbers(const std::string& text, std::vector<double>& values, size_t c
     while (std::getline(in, item, ',')) {
         char* end = nullptr;
         const double d = std::strtod(item.c_str(), &end);
-        if (item.empty() || *end != '\0') return false;
+        if (item.empty() || *end != '\0' || !std::isfinite(d)) return false;
         values.push_back(d);
     }
     return count == 0 ? !values.empty() : values.size() == count;

@@ -24,10 +24,18 @@ public:
                 std::function<bool(const std::string&, std::string&)> parse);
     void option(const std::string& name, std::string& target, const std::string& metavar,
                 const std::string& help);
+    // Numbers: NaN and ±Inf are never accepted, and a value outside [lo, hi] (open at an end
+    // where `openLo`/`openHi`) is a usage error. The range is shown in --help.
+    struct Range {
+        double lo, hi;
+        bool openLo = false, openHi = false;
+        bool contains(double v) const;
+        std::string text() const;
+    };
     void option(const std::string& name, double& target, const std::string& metavar,
-                const std::string& help);
+                const std::string& help, Range range);
     void option(const std::string& name, int& target, const std::string& metavar,
-                const std::string& help);
+                const std::string& help, int lo, int hi);
     // Text printed after the options in --help (examples, notes).
     void epilog(const std::string& text) { m_epilog = text; }
 
@@ -64,9 +72,12 @@ private:
     int m_verbosity = 1;
 };
 
+// The largest --threads: OpenEXR's pool refuses far more threads than a machine has cores.
+inline constexpr int kMaxThreads = 512;
+
 // "WxH" → width, height.
 bool parseSize(const std::string& text, int& width, int& height);
-// "a,b,c,..." → numbers; false unless exactly `count` (count 0: any).
+// "a,b,c,..." → finite numbers; false unless exactly `count` (count 0: any).
 bool parseNumbers(const std::string& text, std::vector<double>& values, size_t count = 0);
 
 } // namespace dhdr::app

@@ -3,6 +3,7 @@
 #include "tool.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -68,17 +69,25 @@ std::vector<int> FramePattern::existingFrames() const {
 }
 
 bool parseFrameRange(const std::string& text, int& first, int& last) {
-    char* end = nullptr;
-    first = int(std::strtol(text.c_str(), &end, 10));
-    if (end == text.c_str()) return false;
+    auto number = [](const char* from, const char*& to, long long& value) {
+        char* end = nullptr;
+        errno = 0;
+        value = std::strtoll(from, &end, 10);
+        to = end;
+        return end != from && errno != ERANGE && value >= kMinFrame && value <= kMaxFrame;
+    };
+    long long a = 0, b = 0;
+    const char* end = nullptr;
+    if (!number(text.c_str(), end, a)) return false;
     if (*end == '\0') {
-        last = first;
-        return true;
+        b = a;
+    } else {
+        if (*end != '-' || !number(end + 1, end, b) || *end != '\0') return false;
     }
-    if (*end != '-') return false;
-    const char* second = end + 1;
-    last = int(std::strtol(second, &end, 10));
-    return end != second && *end == '\0' && last >= first;
+    if (b < a || b - a >= kMaxFrameCount) return false;
+    first = int(a);
+    last = int(b);
+    return true;
 }
 
 std::string sequenceStatus(size_t done, size_t total, std::chrono::steady_clock::time_point start) {
@@ -119,7 +128,8 @@ int planFrames(const Tool& tool, const std::vector<std::string>& paths, FramePla
     if (!range.empty()) {
         int a = 0, b = 0;
         if (!parseFrameRange(range, a, b)) {
-            std::fprintf(stderr, "%s: usage error: --frames must be A-B\n", tool.name().c_str());
+            std::fprintf(stderr, "%s: usage error: --frames must be A-B, %s\n", tool.name().c_str(),
+                         kFrameRangeText);
             return kExitUsage;
         }
         for (int f = a; f <= b; ++f)

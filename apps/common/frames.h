@@ -26,7 +26,13 @@ private:
     int m_width = -1; // digits (0: no padding); −1: not a sequence
 };
 
-// "A-B" or "A" → [A, B]; false when malformed or B < A.
+// Frame numbers and how many one run may take (--frames), so that loops over them never
+// overflow and a typo cannot ask for billions of frames.
+inline constexpr long long kMinFrame = -99999999, kMaxFrame = 999999999, kMaxFrameCount = 1000000;
+inline constexpr const char* kFrameRangeText =
+    "frames in [-99999999, 999999999], at most 1000000 of them";
+
+// "A-B" or "A" → [A, B]; false when malformed, B < A, or outside the limits above.
 bool parseFrameRange(const std::string& text, int& first, int& last);
 
 class Tool;

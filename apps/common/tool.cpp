@@ -1,9 +1,13 @@
 #include "tool.h"
 
 #include "banded_read.h"
+#include "layers.h"
+#include "native_write.h"
 
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstddef>
 #include <cstdio>
@@ -12,6 +16,8 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <new>
+#include <sys/types.h>
 #include <system_error>
 #include <thread>
 #include <unistd.h>
@@ -22,13 +28,92 @@ namespace dhdr::app {
 
 namespace {
 
-// The temporary output being written, removed if the process is interrupted.
-char g_temporary[4096] = {0};
+// Every temporary output open in the process (frames of a sequence are written in
+// parallel), in fixed slots that a signal handler can read without locks or allocation.
+class TemporaryRegistry {
+public:
+    static TemporaryRegistry& instance() {
+        static TemporaryRegistry registry;
+        return registry;
+    }
 
-void removeTemporaryAndExit(int signal) {
-    if (g_temporary[0]) unlink(g_temporary);
-    std::signal(signal, SIG_DFL);
-    std::raise(signal);
+    void add(const std::string& path) {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        installHandlers();
+        for (Slot& s : m_slots) {
+            if (s.used.load(std::memory_order_relaxed)) continue;
+            std::strncpy(s.path, path.c_str(), sizeof(s.path) - 1);
+            s.path[sizeof(s.path) - 1] = 0;
+            s.used.store(true, std::memory_order_release);
+            return;
+        }
+        // More outputs open at once than slots: not removed on a signal, still on failure.
+    }
+
+    void remove(const std::string& path) {
+        std::lock_guard<std::mutex> lock(m_mutex);
+        for (Slot& s : m_slots)
+            if (s.used.load(std::memory_order_relaxed) && path == s.path)
+                s.used.store(false, std::memory_order_release);
+    }
+
+    // Async-signal-safe: unlink is, and the slots are only read.
+    void unlinkAll() {
+        for (Slot& s : m_slots)
+            if (s.used.load(std::memory_order_acquire)) unlink(s.path);
+    }
+
+private:
+    struct Slot {
+        std::atomic<bool> used{false};
+        char path[4096] = {0};
+    };
+
+    static void onSignal(int signal) {
+        instance().unlinkAll();
+        std::signal(signal, SIG_DFL);
+        std::raise(signal);
+    }
+
+    void installHandlers() {
+        if (m_installed) return;
+        m_installed = true;
+        for (int s : {SIGHUP, SIGINT, SIGTERM, SIGQUIT, SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL})
+            std::signal(s, onSignal);
+    }
+
+    std::mutex m_mutex;
+    bool m_installed = false;
+    Slot m_slots[64];
+};
+
+// ".NAME.tmpPID.EXT": where a temporary of `target` written by process `pid` lives.
+fs::path temporaryFor(const fs::path& target, pid_t pid) {
+    return target.parent_path() / ("." + target.stem().string() + ".tmp" + std::to_string(pid) +
+                                   target.extension().string());
+}
+
+// Removes temporaries of `target` whose writer is gone (killed by SIGKILL, or a crash the
+// handlers could not see); a live process's are left alone.
+void removeStaleTemporaries(const fs::path& target) {
+    const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+    const std::string head = "." + target.stem().string() + ".tmp";
+    const std::string tail = target.extension().string();
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.size() <= head.size() + tail.size() || name.rfind(head, 0) != 0 ||
+            name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
+            continue;
+        const std::string digits =
+            name.substr(head.size(), name.size() - head.size() - tail.size());
+        if (digits.empty() || digits.size() > 9 ||
+            digits.find_first_not_of("0123456789") != std::string::npos)
+            continue;
+        const pid_t pid = pid_t(std::stol(digits));
+        if (pid == getpid() || kill(pid, 0) == 0 || errno != ESRCH) continue;
+        fs::remove(entry.path(), ec);
+    }
 }
 
 // OIIO's messages end in newlines and sometimes repeat the file name; one line is enough.
@@ -101,6 +186,43 @@ bool Tool::readImage(const std::string& path, OIIO::ImageBuf& image, int nthread
     return true;
 }
 
+bool Tool::readColour(const std::string& path, const std::string& layer, bool keepOthers,
+                      OIIO::ImageBuf& image, std::vector<OIIO::TypeDesc>& formats,
+                      int nthreads) const {
+    std::error_code ec;
+    if (!fs::exists(path, ec)) {
+        fail(path + ": no such file");
+        return false;
+    }
+    std::vector<ColourLayer> layers;
+    ColourLayer chosen;
+    std::string error;
+    if (!listColourLayers(path, layers, error)) {
+        fail(path + ": cannot read: " + oneLine(error));
+        return false;
+    }
+    if (!chooseColourLayer(layers, layer, chosen, error)) {
+        fail(path + ": " + error);
+        return false;
+    }
+    if (layers.size() > 1 || chosen.subimage > 0)
+        info(path + ": reading layer '" + chosen.name() + "'");
+    if (!readColourLayer(path, chosen, keepOthers, nthreads, image, formats, error)) {
+        fail(path + ": cannot read: " + oneLine(error));
+        return false;
+    }
+    return true;
+}
+
+void Tool::warnIfEmpty(const std::string& path, const OIIO::ImageBuf& image) const {
+    if (image.nchannels() < 4 || !image.localpixels()) return;
+    const OIIO::ROI roi = image.roi();
+    for (int y = roi.ybegin; y < roi.yend; ++y)
+        for (int x = roi.xbegin; x < roi.xend; ++x)
+            if (static_cast<const float*>(image.pixeladdr(x, y))[3] != 0.0f) return;
+    warn(path + ": no surface in view: alpha is 0 everywhere (an empty frame)");
+}
+
 bool Tool::readImageChannels(const std::string& path, const std::vector<std::string>& names,
                              OIIO::ImageBuf& image) const {
     std::error_code ec;
@@ -169,19 +291,25 @@ bool Tool::writeImage(const OIIO::ImageBuf& image, const std::string& path,
 
 bool Tool::writeText(const std::string& text, const std::string& path) const {
     const fs::path target(path);
-    const fs::path temporary = target.parent_path() / ("." + target.filename().string() + ".tmp" +
-                                                       std::to_string(getpid()));
+    removeStaleTemporaries(target);
+    const fs::path temporary = temporaryFor(target, getpid());
+    TemporaryRegistry::instance().add(temporary.string());
     std::error_code ec;
+    auto forget = [&] {
+        fs::remove(temporary, ec);
+        TemporaryRegistry::instance().remove(temporary.string());
+    };
     {
         std::ofstream out(temporary, std::ios::binary);
         out << text;
         if (!out.flush()) {
-            fs::remove(temporary, ec);
+            forget();
             fail(path + ": cannot write");
             return false;
         }
     }
     fs::rename(temporary, target, ec);
+    TemporaryRegistry::instance().remove(temporary.string());
     if (ec) {
         fs::remove(temporary, ec);
         fail(path + ": cannot move the output into place: " + ec.message());
@@ -193,9 +321,10 @@ bool Tool::writeText(const std::string& text, const std::string& path) const {
 AtomicOutput::AtomicOutput(const Tool& tool, std::string path)
     : m_tool(tool), m_path(std::move(path)) {
     const fs::path target(m_path);
-    m_temporary = (target.parent_path() / ("." + target.stem().string() + ".tmp" +
-                                           std::to_string(getpid()) + target.extension().string()))
-                      .string();
+    removeStaleTemporaries(target);
+    // Frames of a sequence written at once by one process have different targets, so the
+    // process id keeps temporaries apart.
+    m_temporary = temporaryFor(target, getpid()).string();
 }
 
 AtomicOutput::~AtomicOutput() {
@@ -203,7 +332,7 @@ AtomicOutput::~AtomicOutput() {
     if (m_out) m_out->close();
     std::error_code ec;
     fs::remove(m_temporary, ec);
-    g_temporary[0] = 0;
+    TemporaryRegistry::instance().remove(m_temporary);
 }
 
 bool AtomicOutput::open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats) {
@@ -222,9 +351,20 @@ bool AtomicOutput::open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>&
     spec.attribute("Software", m_tool.name() + " (dhdr " DHDR_VERSION ")");
     if (!m_tool.commandLine().compression().empty())
         spec.attribute("compression", m_tool.commandLine().compression());
-    std::strncpy(g_temporary, m_temporary.c_str(), sizeof(g_temporary) - 1);
-    std::signal(SIGINT, removeTemporaryAndExit);
-    std::signal(SIGTERM, removeTemporaryAndExit);
+    // Scanline output whatever the input was (a tiled input's spec carries its tiling, which
+    // the scanline writes below cannot fill), one part, flat.
+    spec.tile_width = spec.tile_height = spec.tile_depth = 0;
+    spec.deep = false;
+    spec.erase_attribute("oiio:subimages");
+    bool native = true;
+    for (int c = 0; c < spec.nchannels; ++c) {
+        const OIIO::TypeDesc t = spec.channelformat(c);
+        native = native && (t == OIIO::TypeDesc::HALF || t == OIIO::TypeDesc::FLOAT ||
+                            t == OIIO::TypeDesc::UINT);
+    }
+    const int z = spec.channelindex("Z");
+    m_native = native ? std::make_unique<NativeWriter>(spec, z) : nullptr;
+    TemporaryRegistry::instance().add(m_temporary);
     if (!m_out->open(m_temporary, spec)) {
         m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
         m_out.reset();
@@ -234,7 +374,26 @@ bool AtomicOutput::open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>&
 }
 
 bool AtomicOutput::writeRows(int ybegin, int yend, const float* pixels) {
-    if (!m_out->write_scanlines(ybegin, yend, 0, OIIO::TypeDesc::FLOAT, pixels)) {
+    const OIIO::ImageSpec& spec = m_out->spec();
+    const size_t count = size_t(yend - ybegin) * size_t(spec.width);
+    bool written = false;
+    if (m_native) {
+        // In the file's own types, so that uint channels hold integers rather than OIIO's
+        // float-to-uint scaling of [0, 1] to [0, 2^32 − 1].
+        m_buffer.resize(count * m_native->pixelBytes());
+        m_native->convert(pixels, count, m_buffer.data(), m_clamped, m_nonFinite);
+        written = m_out->write_scanlines(ybegin, yend, 0, OIIO::TypeUnknown, m_buffer.data());
+    } else {
+        // Integer formats: OIIO's conversion clamps to their range; NaN only needs replacing.
+        std::vector<float> copy(pixels, pixels + count * size_t(spec.nchannels));
+        for (float& v : copy)
+            if (std::isnan(v)) {
+                v = 0.0f;
+                ++m_nonFinite;
+            }
+        written = m_out->write_scanlines(ybegin, yend, 0, OIIO::TypeDesc::FLOAT, copy.data());
+    }
+    if (!written) {
         m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
         return false;
     }
@@ -262,6 +421,11 @@ bool AtomicOutput::writeStrips(OIIO::TypeDesc type, int rows, bool overlap, cons
         if (!next.get()) return false;
         if (k + 1 < strips) next = compute(k + 1);
         const OIIO::ROI r = strip(k);
+        if (type == OIIO::TypeDesc::FLOAT) {
+            if (!writeRows(r.ybegin, r.yend, reinterpret_cast<const float*>(buffers[k % 2].data())))
+                return false;
+            continue;
+        }
         if (!m_out->write_scanlines(r.ybegin, r.yend, 0, type, buffers[k % 2].data())) {
             m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
             return false;
@@ -283,8 +447,28 @@ bool AtomicOutput::commit() {
         return false;
     }
     m_committed = true;
-    g_temporary[0] = 0;
+    TemporaryRegistry::instance().remove(m_temporary);
+    if (m_nonFinite > 0)
+        m_tool.warn(m_path + ": wrote " + std::to_string(m_nonFinite) +
+                    " non-finite values as finite ones (NaN → 0, ±Inf → the largest float)");
+    if (m_clamped > 0)
+        m_tool.warn(m_path + ": " + std::to_string(m_clamped) +
+                    " values beyond half float's ±65504 were clamped to it; write float to keep "
+                    "them (dhdr-light --type float)");
     return true;
+}
+
+int guardedMain(const char* name, const std::function<int()>& body) {
+    try {
+        return body();
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "%s: error: out of memory\n", name);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "%s: error: %s\n", name, oneLine(e.what()).c_str());
+    } catch (...) {
+        std::fprintf(stderr, "%s: error: unexpected failure\n", name);
+    }
+    return kExitFailure;
 }
 
 Progress::Progress(const Tool& tool, std::string label)

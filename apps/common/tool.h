@@ -41,6 +41,15 @@ public:
         return readImage(path, image, threads());
     }
     bool readImage(const std::string& path, OIIO::ImageBuf& image, int nthreads) const;
+    // Reads the colour of `path` found by name (layers.h): layer or part `layer` (--layer),
+    // or the one the conventions name. Channels 0–2 (3) of `image` are then R, G, B (A); with
+    // `keepOthers` the part's other channels follow. `formats` receives the file's type of
+    // each channel. -v says which layer was read when the file has several.
+    bool readColour(const std::string& path, const std::string& layer, bool keepOthers,
+                    OIIO::ImageBuf& image, std::vector<OIIO::TypeDesc>& formats,
+                    int nthreads) const;
+    // Warns that `path` has no surface in view when its alpha channel (3) is 0 everywhere.
+    void warnIfEmpty(const std::string& path, const OIIO::ImageBuf& image) const;
     // Reads only the smallest run of channels that holds those of `names` present in the file
     // (a G-buffer's geometry without its 18 channels); absent names are left to the caller.
     bool readImageChannels(const std::string& path, const std::vector<std::string>& names,
@@ -55,7 +64,7 @@ public:
                          bool zeroNegative) const;
 
     // Writes `image` through an AtomicOutput (below). `formats`: one type for all channels,
-    // or one per channel; empty keeps float.
+    // or one per channel; empty keeps float. Writes nothing non-finite (AtomicOutput).
     bool writeImage(const OIIO::ImageBuf& image, const std::string& path,
                     const std::vector<OIIO::TypeDesc>& formats = {}) const;
 
@@ -69,9 +78,17 @@ private:
     const CommandLine& m_cl;
 };
 
+class NativeWriter;
+
 // An output file written under a temporary name in its folder (same extension, so the
 // format is the same) and renamed into place by commit(): a failed or interrupted run never
-// leaves a partial file. Rows can be written as they are produced.
+// leaves a partial file. Every temporary open in the process is removed on SIGHUP, SIGINT,
+// SIGTERM and fatal signals; temporaries of the same output left by a process that is gone
+// (killed with SIGKILL) are removed when it is written again. Rows can be written as they
+// are produced. Output is scanline whatever the input was, and never holds NaN or Inf:
+// NaN becomes 0, ±Inf and values past half's ±65504 in half channels the type's largest
+// value, each counted in one warning at commit() (a G-buffer's Z keeps the +Inf of its
+// background, which the contract gives it).
 class AtomicOutput {
 public:
     AtomicOutput(const Tool& tool, std::string path);
@@ -82,7 +99,8 @@ public:
     // Opens the temporary file for an image of `spec`; rows are then given as float pixels.
     // `formats` as for Tool::writeImage. Errors are printed, naming the output.
     bool open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats);
-    // Rows [ybegin, yend), contiguous float pixels of all channels.
+    // Rows [ybegin, yend), contiguous float pixels of all channels. Thread-compatible: one
+    // caller at a time.
     bool writeRows(int ybegin, int yend, const float* pixels);
     // Computes one strip of rows (all channels) into `pixels`, contiguous, of the type given
     // to writeStrips; false after printing an error.
@@ -98,8 +116,16 @@ private:
     const Tool& m_tool;
     std::string m_path, m_temporary;
     std::unique_ptr<OIIO::ImageOutput> m_out;
+    std::unique_ptr<NativeWriter> m_native; // null: OIIO converts (8/16-bit formats)
+    std::vector<std::byte> m_buffer;
+    long long m_clamped = 0, m_nonFinite = 0;
     bool m_committed = false;
 };
+
+// Runs a tool's body: an exception that escapes it (out of memory, or one from a library)
+// becomes "NAME: error: …" and exit status 1 rather than an abort; outputs in progress are
+// removed as the stack unwinds.
+int guardedMain(const char* name, const std::function<int()>& body);
 
 // A progress line on stderr when stderr is a terminal and the tool is not quiet.
 class Progress {

@@ -32,20 +32,26 @@ bool extractGeometry(const OIIO::ImageBuf& img, OIIO::ImageBuf& normal, OIIO::Im
 
 } // namespace
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
     app::CommandLine cl("dhdr-aa", "HDR.exr -o HDR.exr [--gbuffer GBUFFER.exr] [options]",
                         "Edge-detect anti-aliasing: a blur factor from the squared differences of "
                         "normal and\ndepth to the 8 neighbours; where it is above zero the pixel "
                         "is resampled at\nneighbour offsets scaled by it, elsewhere copied bit for "
                         "bit. Normal and depth come\nfrom --gbuffer, or from the input's own N.* "
                         "and Z channels.");
-    std::string gbufferPath, use = "both";
+    std::string gbufferPath, use = "both", layer;
     double normalWeight = 1.0, depthWeight = 1.0, maxOffset = 0.5;
     cl.option("--gbuffer", gbufferPath, "FILE", "G-buffer with N.X N.Y N.Z and Z");
     cl.option("--use", use, "normal|depth|both", "which discontinuities count (default both)");
-    cl.option("--normal-weight", normalWeight, "W", "weight of Σ|ΔN|² (default 1)");
-    cl.option("--depth-weight", depthWeight, "W", "weight of Σ(ΔZ/Z)² (default 1)");
-    cl.option("--max-offset", maxOffset, "PX", "tap offset at full blur, pixels (default 0.5)");
+    cl.option("--normal-weight", normalWeight, "W", "weight of Σ|ΔN|² (default 1)", {0.0, 1e6});
+    cl.option("--depth-weight", depthWeight, "W", "weight of Σ(ΔZ/Z)² (default 1)", {0.0, 1e6});
+    cl.option("--max-offset", maxOffset, "PX", "tap offset at full blur, pixels (default 0.5)",
+              {0.0, 4.0});
+    cl.option("--layer", layer, "NAME",
+              "the layer or EXR part to filter (default: the unnamed R,G,B,A, else the one "
+              "called Combined, rgba or beauty)");
     cl.epilog("Example:\n  dhdr-aa frame.hdr.exr --gbuffer frame.gbuf.exr -o frame.aa.exr");
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-aa", cl);
@@ -71,7 +77,9 @@ int main(int argc, char** argv) {
         const std::string& path = in[0];
         const bool separate = in.size() > 1;
         OIIO::ImageBuf image, gbuf;
-        if (!tool.readImage(path, image)) return false;
+        std::vector<OIIO::TypeDesc> formats;
+        if (!tool.readColour(path, layer, true, image, formats, tool.threads())) return false;
+        tool.warnIfEmpty(path, image);
         const std::string& geometryPath = separate ? in[1] : path;
         if (separate && !tool.readImageChannels(geometryPath, geometryChannels, gbuf)) return false;
         const OIIO::ImageBuf& geometry = separate ? gbuf : image;
@@ -94,7 +102,8 @@ int main(int argc, char** argv) {
             tool.fail(geometryPath + ": no channel 'Z' — give a G-buffer with --gbuffer");
             return false;
         }
-        const int colour = std::min(image.nchannels(), 4);
+        // The layer's R, G, B (A) come first (readColour); nothing else is filtered.
+        const int colour = image.spec().alpha_channel == 3 ? 4 : 3;
         tool.replaceNonFinite(path, image, 0, colour);
         if (hasNormal) tool.replaceNonFinite(geometryPath, normal, 0, 3);
         // Only colour is filtered; geometry channels carried by the image stay as they are.
@@ -106,8 +115,12 @@ int main(int argc, char** argv) {
             tool.fail(path + ": " + result.geterror());
             return false;
         }
-        std::vector<OIIO::TypeDesc> formats = image.nativespec().channelformats;
-        if (formats.empty()) formats = {image.nativespec().format};
         return tool.writeImage(result, out, formats);
     });
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    return app::guardedMain("dhdr-aa", [&] { return run(argc, argv); });
 }

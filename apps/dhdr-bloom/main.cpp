@@ -6,7 +6,9 @@
 
 using namespace dhdr;
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
     app::CommandLine cl("dhdr-bloom", "HDR.exr -o HDR.exr [options]",
                         "Bloom in HDR: a quarter-size copy, a bright pass (8-tap box, kept where "
                         "the tone-mapped\nluminance exceeds the threshold), downsampled to 1/8, a "
@@ -16,20 +18,21 @@ int main(int argc, char** argv) {
     double threshold = params.threshold, sigma = params.sigma, strength = params.strength,
            key = params.key;
     cl.option("--threshold", threshold, "T",
-              "tone-mapped luminance L/(1+L) above which pixels bloom (default 0.8)");
-    cl.option("--key", key, "A", "key α of that tone mapping (default 0.18)");
-    cl.option("--sigma", sigma, "S", "Gaussian σ in 1/8-size pixels (default 2)");
-    cl.option("--strength", strength, "K", "factor of the bloom layer (default 1.3)");
+              "tone-mapped luminance L/(1+L) above which pixels bloom (default 0.8)",
+              {0.0, 1.0, false, true});
+    cl.option("--key", key, "A", "key α of that tone mapping (default 0.18)", {0.0, 100.0, true});
+    cl.option("--sigma", sigma, "S", "Gaussian σ in 1/8-size pixels (default 2)", {0.0, 64.0});
+    cl.option("--strength", strength, "K", "factor of the bloom layer (default 1.3)",
+              {0.0, 1000.0});
+    std::string layer;
+    cl.option("--layer", layer, "NAME",
+              "the layer or EXR part to bloom (default: the unnamed R,G,B,A, else the one "
+              "called Combined, rgba or beauty)");
     cl.epilog("Example:\n  dhdr-bloom frame.hdr.exr -o frame.bloom.exr --strength 0.8");
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-bloom", cl);
     if (cl.inputs().size() != 1) {
         std::fprintf(stderr, "dhdr-bloom: usage error: give one HDR image\n");
-        return app::kExitUsage;
-    }
-    if (!(sigma >= 0.0) || !(key > 0.0) || !(threshold >= 0.0 && threshold < 1.0)) {
-        std::fprintf(stderr, "dhdr-bloom: usage error: --sigma >= 0, --key > 0 and "
-                             "--threshold in [0, 1) please\n");
         return app::kExitUsage;
     }
     params.threshold = float(threshold);
@@ -41,20 +44,21 @@ int main(int argc, char** argv) {
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
         OIIO::ImageBuf hdr;
-        if (!tool.readImage(path, hdr)) return false;
-        if (hdr.nchannels() < 3) {
-            tool.fail(path + ": has " + std::to_string(hdr.nchannels()) +
-                      " channels; bloom needs R, G, B");
-            return false;
-        }
+        std::vector<OIIO::TypeDesc> formats;
+        if (!tool.readColour(path, layer, true, hdr, formats, tool.threads())) return false;
+        tool.warnIfEmpty(path, hdr);
         tool.replaceNonFinite(path, hdr, 0, 3);
         if (!bloom(hdr, hdr, params, {}, tool.threads())) {
             tool.fail(path + ": " + hdr.geterror());
             return false;
         }
         hdr.specmod().attribute("dhdr:bloomStrength", float(strength));
-        std::vector<OIIO::TypeDesc> formats = hdr.nativespec().channelformats;
-        if (formats.empty()) formats = {hdr.nativespec().format};
         return tool.writeImage(hdr, out, formats);
     });
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    return app::guardedMain("dhdr-bloom", [&] { return run(argc, argv); });
 }

@@ -11,7 +11,9 @@
 
 using namespace dhdr;
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
     app::CommandLine cl(
         "dhdr-gbuffer", "SCENE -o GBUFFER.exr [options]",
         "Casts one primary ray per pixel (Embree) through a glTF 2.0 or OBJ scene "
@@ -25,7 +27,8 @@ int main(int argc, char** argv) {
               "a camera at E looking at T (up U, default 0,1,0) instead of the scene's");
     cl.option("--fov", fov, "DEG",
               "vertical field of view in degrees (default: the scene "
-              "camera's, or 39.6 with --lookat)");
+              "camera's, or 39.6 with --lookat)",
+              {0.0, 180.0, true, true});
     cl.option("--lights-out", lightsOut, "FILE",
               "also write the scene's punctual lights as a lights file (docs/lights.md)");
     cl.epilog(
@@ -50,10 +53,6 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-gbuffer: usage error: --size '%s' is not WxH\n", size.c_str());
         return app::kExitUsage;
     }
-    if (fov < 0.0 || fov >= 180.0) {
-        std::fprintf(stderr, "dhdr-gbuffer: usage error: --fov must be in (0, 180)\n");
-        return app::kExitUsage;
-    }
 
     std::optional<Camera> lookatCamera;
     if (!lookat.empty()) {
@@ -63,6 +62,16 @@ int main(int argc, char** argv) {
             return app::kExitUsage;
         }
         const glm::dvec3 up = v.size() == 9 ? glm::dvec3(v[6], v[7], v[8]) : glm::dvec3(0, 1, 0);
+        const glm::dvec3 eye(v[0], v[1], v[2]), target(v[3], v[4], v[5]);
+        if (glm::length(target - eye) < 1e-9 * std::max(1.0, glm::length(eye))) {
+            std::fprintf(stderr, "dhdr-gbuffer: usage error: --lookat: the eye and the target "
+                                 "are the same point\n");
+            return app::kExitUsage;
+        }
+        if (glm::length(up) == 0.0) {
+            std::fprintf(stderr, "dhdr-gbuffer: usage error: --lookat: the up vector is zero\n");
+            return app::kExitUsage;
+        }
         lookatCamera =
             Camera::lookAt({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, up, glm::radians(39.6));
     }
@@ -76,6 +85,8 @@ int main(int argc, char** argv) {
             tool.fail(error);
             return false;
         }
+        for (const std::string& warning : scene.warnings)
+            tool.warn(scenePath + ": " + warning);
 
         Camera camera;
         if (lookatCamera) {
@@ -101,7 +112,16 @@ int main(int argc, char** argv) {
             tool.fail(scenePath + ": the scene has no camera; give one with --lookat");
             return false;
         }
-        if (fov > 0.0) camera.yfov = glm::radians(fov);
+        if (fov > 0.0) {
+            if (camera.orthographic)
+                tool.warn("--fov ignored: the camera is orthographic");
+            else
+                camera.yfov = glm::radians(fov);
+        }
+        tool.info(camera.orthographic
+                      ? "orthographic camera, " + std::to_string(2.0 * camera.ymag) + " units high"
+                      : "perspective camera, vertical fov " +
+                            std::to_string(glm::degrees(camera.yfov)) + " degrees");
 
         const auto t1 = std::chrono::steady_clock::now();
         const GBufferRenderer renderer(scene, camera, params);
@@ -118,6 +138,7 @@ int main(int argc, char** argv) {
         constexpr int kStrip = 64;
         OIIO::ImageBuf strip;
         double traceMs = 0.0;
+        long long covered = 0;
         {
             app::Progress progress(tool, "dhdr-gbuffer: rendering");
             for (int y = 0; y < params.height; y += kStrip) {
@@ -130,13 +151,18 @@ int main(int argc, char** argv) {
                 traceMs +=
                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0)
                         .count();
-                if (!file.writeRows(rows.ybegin, rows.yend,
-                                    static_cast<const float*>(strip.localpixels())))
-                    return false;
+                const auto* px = static_cast<const float*>(strip.localpixels());
+                const size_t nch = size_t(strip.nchannels());
+                for (size_t i = 0, n = size_t(rows.width()) * size_t(rows.height()); i < n; ++i)
+                    covered += px[i * nch] > 0.0f;
+                if (!file.writeRows(rows.ybegin, rows.yend, px)) return false;
                 progress.update(float(rows.yend) / float(params.height));
             }
         }
         if (!file.commit()) return false;
+        if (covered == 0)
+            tool.warn(outPath + ": no surface in view: every pixel is background (check the "
+                                "camera, or the scene's geometry)");
         if (!lightsOut.empty()) {
             const std::string lightsPath = lightsOutput.path(frame);
             if (scene.lights.empty())
@@ -151,4 +177,10 @@ int main(int argc, char** argv) {
                   ", trace " + ms(traceMs) + ", write " + ms(totalMs - traceMs));
         return true;
     });
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    return app::guardedMain("dhdr-gbuffer", [&] { return run(argc, argv); });
 }

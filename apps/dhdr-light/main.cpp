@@ -10,7 +10,9 @@
 
 using namespace dhdr;
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
     app::CommandLine cl(
         "dhdr-light", "GBUFFER.exr --lights LIGHTS.json... -o FRAME.exr [options]",
         "Deferred lighting: shades every covered pixel of a G-buffer with Lambert "
@@ -31,7 +33,8 @@ int main(int argc, char** argv) {
     cl.option("--background", background, "R,G,B[,A]",
               "colour where there is no surface (default: transparent black)");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
-    cl.option("--tile", tileSize, "N", "tile size of the light lists in pixels (default 16)");
+    cl.option("--tile", tileSize, "N", "tile size of the light lists in pixels (default 16)", 1,
+              1024);
     cl.flag("--aovs", aovs, "also write the G-buffer's Z and N.X N.Y N.Z channels");
     cl.option("--type", dataType, "half|float", "pixel type of the output EXR (default half)");
     cl.epilog("Example:\n  dhdr-light frame.gbuf.exr --lights testdata/cornell_box.lights.json "
@@ -48,10 +51,6 @@ int main(int argc, char** argv) {
     }
     if (dataType != "half" && dataType != "float") {
         std::fprintf(stderr, "dhdr-light: usage error: --type must be half or float\n");
-        return app::kExitUsage;
-    }
-    if (tileSize <= 0) {
-        std::fprintf(stderr, "dhdr-light: usage error: --tile must be positive\n");
         return app::kExitUsage;
     }
     LightingParams params;
@@ -115,6 +114,8 @@ int main(int argc, char** argv) {
             tool.fail(path + ": " + hdr.geterror());
             return false;
         }
+        if (stats.coveredPixels == 0)
+            tool.warn(path + ": no surface in view: A is 0 everywhere (an empty frame)");
         const auto t2 = std::chrono::steady_clock::now();
         std::string lightFiles;
         for (size_t i = 1; i < in.size(); ++i)
@@ -142,4 +143,10 @@ int main(int argc, char** argv) {
         tool.info("read " + ms(t0, t1) + ", shade " + ms(t1, t2) + ", write " + ms(t2, t3));
         return true;
     });
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    return app::guardedMain("dhdr-light", [&] { return run(argc, argv); });
 }

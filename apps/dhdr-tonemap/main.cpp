@@ -33,7 +33,7 @@ int usage(const std::string& message) {
 struct FrameJob {
     ToneMapParams params;
     DisplayTransform display;
-    std::string white, weights, metering, percentiles;
+    std::string white, weights, metering, percentiles, layer;
     int bits = 8;
     bool dither = true;
 };
@@ -49,15 +49,13 @@ std::string lowerExtension(const std::string& path) {
     return ext;
 }
 
-// Reads `path`, replacing what a display cannot show (and warning when `warn`).
-bool readFrame(const app::Tool& tool, const std::string& path, OIIO::ImageBuf& hdr, bool warn,
-               int nthreads) {
-    if (!tool.readImage(path, hdr, nthreads)) return false;
-    if (hdr.nchannels() < 3) {
-        tool.fail(path + ": has " + std::to_string(hdr.nchannels()) +
-                  " channels; tone mapping needs R, G, B");
-        return false;
-    }
+// Reads the colour of `path` (its layer by name), replacing what a display cannot show (and
+// warning when `warn`).
+bool readFrame(const app::Tool& tool, const std::string& layer, const std::string& path,
+               OIIO::ImageBuf& hdr, bool warn, int nthreads) {
+    std::vector<OIIO::TypeDesc> formats;
+    if (!tool.readColour(path, layer, false, hdr, formats, nthreads)) return false;
+    if (warn) tool.warnIfEmpty(path, hdr);
     // A display shows no negative light: negative colour goes with NaN and Inf, in one
     // warning; alpha keeps its negatives.
     OIIO::ROI colour = hdr.roi(), alpha = hdr.roi();
@@ -78,7 +76,7 @@ bool readFrame(const app::Tool& tool, const std::string& path, OIIO::ImageBuf& h
 // Reads a frame and brings it to scene-linear, where metering and operators work.
 bool readSceneLinear(const app::Tool& tool, const FrameJob& job, const std::string& path,
                      OIIO::ImageBuf& hdr, bool warn, int nthreads) {
-    return readFrame(tool, path, hdr, warn, nthreads) &&
+    return readFrame(tool, job.layer, path, hdr, warn, nthreads) &&
            job.display.toSceneLinear(hdr, {}, nthreads);
 }
 
@@ -95,6 +93,7 @@ OIIO::ImageSpec displaySpec(const OIIO::ImageSpec& hdr, OIIO::TypeDesc type) {
     const int nch = std::min(hdr.nchannels, 4);
     OIIO::ImageSpec spec = hdr;
     spec.nchannels = nch;
+    spec.channelnames = {"R", "G", "B", "A"};
     spec.channelnames.resize(size_t(nch));
     spec.alpha_channel = nch == 4 ? 3 : -1;
     spec.z_channel = -1;
@@ -201,9 +200,7 @@ private:
     std::atomic<size_t> m_done{0};
 };
 
-} // namespace
-
-int main(int argc, char** argv) {
+int run(int argc, char** argv) {
     app::CommandLine cl("dhdr-tonemap", "HDR.exr -o IMAGE.png [options]",
                         "Tone mapping: meters the image's luminance, maps it with an operator "
                         "(default the\nphotographic operator of Reinhard et al. 2002) in "
@@ -225,8 +222,10 @@ int main(int argc, char** argv) {
     cl.option("--op", opName, "NAME",
               "reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure or "
               "aces (the ACES 1.0 SDR output transform, as the view)");
-    cl.option("--key", key, "A", "key α: the metered luminance maps to this (default 0.18)");
-    cl.option("--exposure", exposure, "STOPS", "extra exposure in stops (default 0)");
+    cl.option("--key", key, "A", "key α: the metered luminance maps to this (default 0.18)",
+              {0.0, 100.0, true});
+    cl.option("--exposure", exposure, "STOPS", "extra exposure in stops (default 0)",
+              {-64.0, 64.0});
     cl.option("--white", job.white, "L|auto|inf",
               "reinhard's white point in scaled luminance (default auto: the largest in the "
               "image; inf: L/(1+L))");
@@ -236,8 +235,8 @@ int main(int argc, char** argv) {
               "the percentile window of --metering histogram (default 5,95)");
     cl.option("--weights", job.weights, "seed|rec709",
               "luminance weights: 0.27/0.67/0.06 (default) or 0.2126/0.7152/0.0722");
-    cl.option("--delta", delta, "D", "δ of the log-average (default 1e-4)");
-    cl.option("--bits", job.bits, "8|16", "bits per channel of PNG/TIFF output (default 8)");
+    cl.option("--delta", delta, "D", "δ of the log-average (default 1e-4)", {0.0, 1.0, true});
+    cl.option("--bits", job.bits, "8|16", "bits per channel of PNG/TIFF output (default 8)", 8, 16);
     cl.flag("--no-dither", noDither, "quantize 8-bit output without dithering");
     cl.option("--ocio-config", display.config, "FILE",
               "OpenColorIO config (default: $OCIO, else a built-in one: scene-linear Rec.709 in, "
@@ -248,9 +247,13 @@ int main(int argc, char** argv) {
     cl.option("--view", display.view, "NAME",
               "view (default: the display's default; ACES with --op aces)");
     cl.option("--look", display.look, "NAME", "look applied in scene-linear before the view");
+    cl.option("--layer", job.layer, "NAME",
+              "the layer or EXR part to map (default: the unnamed R,G,B,A, else the one "
+              "called Combined, rgba or beauty)");
     cl.flag("--adapt", adapt,
             "eye adaptation over the sequence: adapted += (L - adapted)(1 - 0.98^(30 dt))");
-    cl.option("--fps", fps, "N", "frames per second of the sequence, dt = 1/fps (default 24)");
+    cl.option("--fps", fps, "N", "frames per second of the sequence, dt = 1/fps (default 24)",
+              {0.0, 1000.0, true});
     cl.option("--stats-out", statsOut, "FILE.json",
               "write each frame's metered and adapted luminance");
     cl.epilog("Examples:\n  dhdr-tonemap frame.hdr.exr -o frame.png -v\n"
@@ -293,8 +296,8 @@ int main(int argc, char** argv) {
         if (*end != '\0' || !(params.white > 0.0))
             return usage("--white must be a positive number, auto or inf");
     }
-    if (!(key > 0.0) || !(delta > 0.0) || (job.bits != 8 && job.bits != 16) || !(fps > 0.0))
-        return usage("--key, --delta and --fps must be positive, --bits 8 or 16");
+    if (job.bits != 8 && job.bits != 16)
+        return usage("--bits: " + std::to_string(job.bits) + " is not 8 or 16");
     job.dither = !noDither;
 
     const std::string& frames = cl.frames();
@@ -320,7 +323,8 @@ int main(int argc, char** argv) {
     std::vector<int> numbers;
     if (!frames.empty()) {
         int first = 0, last = 0;
-        if (!app::parseFrameRange(frames, first, last)) return usage("--frames must be A-B");
+        if (!app::parseFrameRange(frames, first, last))
+            return usage(std::string("--frames must be A-B, ") + app::kFrameRangeText);
         for (int f = first; f <= last; ++f)
             numbers.push_back(f);
     } else {
@@ -406,4 +410,10 @@ int main(int argc, char** argv) {
         if (!tool.writeText(json, statsOut)) return app::kExitFailure;
     }
     return app::kExitSuccess;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    return app::guardedMain("dhdr-tonemap", [&] { return run(argc, argv); });
 }

@@ -1,6 +1,8 @@
 #include <OpenImageIO/imageio.h>
+#include <cmath>
 #include <cstring>
 #include <dhdr/deferred/gbuffer.h>
+#include <utility>
 
 namespace dhdr::gbuffer {
 
@@ -85,11 +87,35 @@ void setMatrix(OIIO::ImageSpec& spec, const char* name, const glm::dmat4& m) {
 
 } // namespace
 
-bool readCamera(const OIIO::ImageSpec& spec, CameraInfo& camera) {
+bool readCamera(const OIIO::ImageSpec& spec, CameraInfo& camera, std::string& error) {
+    camera = CameraInfo{};
     if (!getMatrix(spec, "worldToCamera", camera.worldToCamera) ||
-        !getMatrix(spec, "worldToNDC", camera.worldToNDC))
+        !getMatrix(spec, "worldToNDC", camera.worldToNDC)) {
+        error = "no worldToCamera/worldToNDC attributes — is this a G-buffer?";
         return false;
-    camera.position = glm::dvec3(glm::inverse(camera.worldToCamera)[3]);
+    }
+    auto usable = [](const glm::dmat4& m) {
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r)
+                if (!std::isfinite(m[c][r])) return false;
+        const double det = glm::determinant(m);
+        return std::isfinite(det) && std::abs(det) > 1e-30;
+    };
+    for (const auto& [name, m] :
+         {std::pair<const char*, const glm::dmat4&>{"worldToCamera", camera.worldToCamera},
+          {"worldToNDC", camera.worldToNDC}}) {
+        if (!usable(m)) {
+            error = std::string("the header's ") + name +
+                    " is not a usable camera matrix (zero, not finite or not invertible)";
+            return false;
+        }
+    }
+    const glm::dmat4 cameraToWorld = glm::inverse(camera.worldToCamera);
+    camera.position = glm::dvec3(cameraToWorld[3]);
+    camera.forward = glm::normalize(glm::dvec3(cameraToWorld * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
+    const glm::dmat4 cameraToNDC = camera.worldToNDC * cameraToWorld;
+    // Row 3 of a projection: (0 0 −1 0) perspective, (0 0 0 1) orthographic.
+    camera.orthographic = std::abs(cameraToNDC[2][3]) < 1e-6 * std::abs(cameraToNDC[3][3]);
     return true;
 }
 

@@ -25,9 +25,11 @@ SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
     const double w1 = hit.u, w2 = hit.v, w0 = 1.0 - w1 - w2;
     SurfaceSample s;
     s.position = ray.origin + hit.t * ray.direction;
-    s.normal = w0 * glm::dvec3(mesh.normals[tri[0]]) + w1 * glm::dvec3(mesh.normals[tri[1]]) +
-               w2 * glm::dvec3(mesh.normals[tri[2]]);
-    if (glm::dot(s.normal, s.normal) < 1e-20) {
+    const glm::dvec3 n0(mesh.normals[tri[0]]), n1(mesh.normals[tri[1]]), n2(mesh.normals[tri[2]]);
+    s.normal = w0 * n0 + w1 * n1 + w2 * n2;
+    // A vertex without a normal (zero in the file), or normals that cancel: the triangle's own.
+    const auto missing = [](const glm::dvec3& n) { return glm::dot(n, n) < 0.25; };
+    if (missing(n0) || missing(n1) || missing(n2) || glm::dot(s.normal, s.normal) < 1e-20) {
         const glm::dvec3 a(mesh.positions[tri[0]]), b(mesh.positions[tri[1]]),
             c(mesh.positions[tri[2]]);
         s.normal = glm::cross(b - a, c - a);
@@ -88,7 +90,11 @@ GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
     const glm::dvec3 eye = camera.position();
     const float eyeF[3] = {float(eye.x), float(eye.y), float(eye.z)};
     m_spec.attribute("dhdr:cameraPosition", OIIO::TypeVector, eyeF);
-    m_spec.attribute("dhdr:yfovDegrees", float(glm::degrees(camera.yfov)));
+    m_spec.attribute("dhdr:projection", camera.orthographic ? "orthographic" : "perspective");
+    if (camera.orthographic)
+        m_spec.attribute("dhdr:orthographicHeight", float(2.0 * camera.ymag));
+    else
+        m_spec.attribute("dhdr:yfovDegrees", float(glm::degrees(camera.yfov)));
     std::vector<std::string> materialNames;
     for (const Material& m : scene.materials)
         materialNames.push_back(m.name);

@@ -1,9 +1,11 @@
 #include "gltf_json.h"
 
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -32,14 +34,29 @@ nlohmann::json readGltfJson(const std::string& path) {
                                  nullptr, false);
 }
 
+// Thrown by the field readers below, caught in gltfLightsByNode.
+struct FieldError {
+    std::string message;
+};
+
+// A finite number that a float holds.
+bool isFloat(const nlohmann::json& v) {
+    return v.is_number() && std::isfinite(v.get<double>()) &&
+           std::abs(v.get<double>()) <= double(std::numeric_limits<float>::max());
+}
+
+float numberOr(const nlohmann::json& j, const char* key, float fallback) {
+    if (!j.contains(key)) return fallback;
+    if (!isFloat(j[key])) throw FieldError{std::string("\"") + key + "\" must be a number"};
+    return j[key].get<float>();
+}
+
 glm::vec3 vec3Or(const nlohmann::json& j, const char* key, glm::vec3 fallback) {
-    if (!j.contains(key) || !j[key].is_array() || j[key].size() != 3) return fallback;
-    glm::vec3 v;
-    for (int i = 0; i < 3; ++i) {
-        if (!j[key][size_t(i)].is_number()) return fallback;
-        v[i] = j[key][size_t(i)].get<float>();
-    }
-    return v;
+    if (!j.contains(key)) return fallback;
+    const nlohmann::json& a = j[key];
+    if (!a.is_array() || a.size() != 3 || !isFloat(a[0]) || !isFloat(a[1]) || !isFloat(a[2]))
+        throw FieldError{std::string("\"") + key + "\" must be an array of 3 numbers"};
+    return {a[0].get<float>(), a[1].get<float>(), a[2].get<float>()};
 }
 
 } // namespace
@@ -53,39 +70,57 @@ std::map<std::string, float> gltfEmissiveStrengths(const std::string& path) {
         const auto ext = m.value("extensions", nlohmann::json::object());
         if (!ext.contains("KHR_materials_emissive_strength")) continue;
         const auto& s = ext["KHR_materials_emissive_strength"];
-        if (s.contains("emissiveStrength") && s["emissiveStrength"].is_number())
+        if (s.contains("emissiveStrength") && isFloat(s["emissiveStrength"]))
             out[m["name"].get<std::string>()] = s["emissiveStrength"].get<float>();
     }
     return out;
 }
 
-std::map<std::string, GltfLight> gltfLightsByNode(const std::string& path) {
-    std::map<std::string, GltfLight> out;
+bool gltfLightsByNode(const std::string& path, std::map<std::string, GltfLight>& out,
+                      std::string& error) {
+    out.clear();
     const nlohmann::json doc = readGltfJson(path);
-    if (doc.is_discarded() || !doc.contains("nodes")) return out;
-    const auto ext = doc.value("extensions", nlohmann::json::object());
-    if (!ext.contains("KHR_lights_punctual")) return out;
-    const auto lights = ext["KHR_lights_punctual"].value("lights", nlohmann::json::array());
+    if (doc.is_discarded() || !doc.contains("nodes") || !doc["nodes"].is_array() ||
+        !doc.contains("extensions") || !doc["extensions"].is_object())
+        return true;
+    const nlohmann::json& ext = doc["extensions"];
+    if (!ext.contains("KHR_lights_punctual") || !ext["KHR_lights_punctual"].is_object())
+        return true;
+    const nlohmann::json& punctual = ext["KHR_lights_punctual"];
+    if (!punctual.contains("lights") || !punctual["lights"].is_array()) return true;
+    const nlohmann::json& lights = punctual["lights"];
     for (const auto& node : doc["nodes"]) {
         if (!node.is_object() || !node.contains("name") || !node["name"].is_string()) continue;
-        const auto nodeExt = node.value("extensions", nlohmann::json::object());
+        if (!node.contains("extensions") || !node["extensions"].is_object()) continue;
+        const nlohmann::json& nodeExt = node["extensions"];
         if (!nodeExt.contains("KHR_lights_punctual")) continue;
         const auto& ref = nodeExt["KHR_lights_punctual"];
-        if (!ref.contains("light") || !ref["light"].is_number_integer()) continue;
+        if (!ref.is_object() || !ref.contains("light") || !ref["light"].is_number_unsigned())
+            continue;
         const size_t index = ref["light"].get<size_t>();
         if (index >= lights.size() || !lights[index].is_object()) continue;
         const auto& l = lights[index];
         GltfLight g;
-        g.type = l.value("type", std::string("point"));
-        g.color = vec3Or(l, "color", glm::vec3(1.0f));
-        g.intensity = l.value("intensity", 1.0f);
-        g.range = l.value("range", 0.0f);
-        const auto spot = l.value("spot", nlohmann::json::object());
-        g.innerConeAngle = spot.value("innerConeAngle", 0.0f);
-        g.outerConeAngle = spot.value("outerConeAngle", 0.7853982f);
+        try {
+            if (l.contains("type")) {
+                if (!l["type"].is_string()) throw FieldError{"\"type\" must be a string"};
+                g.type = l["type"].get<std::string>();
+            }
+            g.color = vec3Or(l, "color", glm::vec3(1.0f));
+            g.intensity = numberOr(l, "intensity", 1.0f);
+            g.range = numberOr(l, "range", 0.0f);
+            if (l.contains("spot")) {
+                if (!l["spot"].is_object()) throw FieldError{"\"spot\" must be an object"};
+                g.innerConeAngle = numberOr(l["spot"], "innerConeAngle", 0.0f);
+                g.outerConeAngle = numberOr(l["spot"], "outerConeAngle", 0.7853982f);
+            }
+        } catch (const FieldError& e) {
+            error = "KHR_lights_punctual light " + std::to_string(index) + ": " + e.message;
+            return false;
+        }
         out[node["name"].get<std::string>()] = g;
     }
-    return out;
+    return true;
 }
 
 } // namespace dhdr::detail

@@ -21,7 +21,10 @@ struct GltfLight {
     float innerConeAngle = 0.0f, outerConeAngle = 0.7853982f;
 };
 
-// The lights of a .gltf or .glb file by the name of the node that holds them.
-std::map<std::string, GltfLight> gltfLightsByNode(const std::string& path);
+// The lights of a .gltf or .glb file by the name of the node that holds them. False, with
+// `error` naming the light and field, when a field has the wrong type or does not fit a float
+// (Assimp accepts such files).
+bool gltfLightsByNode(const std::string& path, std::map<std::string, GltfLight>& lights,
+                      std::string& error);
 
 } // namespace dhdr::detail

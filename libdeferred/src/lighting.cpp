@@ -46,8 +46,8 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
         return false;
     }
     gbuffer::CameraInfo camera;
-    if (!gbuffer::readCamera(in, camera)) {
-        dst.errorfmt("no worldToCamera/worldToNDC attributes — is this a G-buffer?");
+    if (std::string error; !gbuffer::readCamera(in, camera, error)) {
+        dst.errorfmt("{}", error);
         return false;
     }
     std::vector<int> passIndex;
@@ -88,7 +88,6 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
     if (!params.bruteForce)
         tiles.build(lights, camera, depth, in.width, in.height, params.tileSize, nthreads);
     const LightReach reach(lights);
-    const glm::vec3 eye(camera.position);
     std::atomic<long long> evaluations{0}, reaching{0}, covered{0};
     OIIO::ImageBufAlgo::parallel_image(dst.roi(), OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         long long localEvaluations = 0, localReaching = 0, localCovered = 0;
@@ -107,7 +106,7 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
                                   g[layout.position + 2]);
                 const glm::vec3 N = glm::normalize(
                     glm::vec3(g[layout.normal], g[layout.normal + 1], g[layout.normal + 2]));
-                const glm::vec3 V = glm::normalize(eye - P);
+                const glm::vec3 V(camera.toEye(P));
                 PbrSurface s;
                 s.baseColor =
                     glm::vec3(g[layout.albedo], g[layout.albedo + 1], g[layout.albedo + 2]);

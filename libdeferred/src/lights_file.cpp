@@ -3,7 +3,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <dhdr/deferred/lights.h>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 namespace dhdr {
@@ -11,6 +13,12 @@ namespace dhdr {
 using nlohmann::json;
 
 namespace {
+
+// A finite number that a float holds: 1e39 is a double but would be +Inf in the lighting.
+bool isFloat(const json& v) {
+    return v.is_number() && std::isfinite(v.get<double>()) &&
+           std::abs(v.get<double>()) <= double(std::numeric_limits<float>::max());
+}
 
 // Thrown inside the parser only; becomes the `error` string.
 struct LightError {
@@ -33,7 +41,7 @@ public:
             return fallback;
         }
         const json& v = m_j.at(field);
-        if (!v.is_number() || !std::isfinite(v.get<double>())) fail(field, "must be a number");
+        if (!isFloat(v)) fail(field, "must be a number of at most 3.4e38 in magnitude");
         return v.get<float>();
     }
 
@@ -46,8 +54,8 @@ public:
         if (!v.is_array() || v.size() != 3) fail(field, "must be an array of 3 numbers");
         glm::vec3 out;
         for (int i = 0; i < 3; ++i) {
-            if (!v[size_t(i)].is_number() || !std::isfinite(v[size_t(i)].get<double>()))
-                fail(field, "must be an array of 3 numbers");
+            if (!isFloat(v[size_t(i)]))
+                fail(field, "must be an array of 3 numbers of at most 3.4e38 in magnitude");
             out[i] = v[size_t(i)].get<float>();
         }
         return out;
@@ -184,7 +192,8 @@ bool parseLights(const std::string& text, std::vector<Light>& lights, std::strin
     json doc;
     try {
         doc = json::parse(text, collect);
-    } catch (const json::parse_error& e) {
+    } catch (const json::exception& e) {
+        // parse_error, and out_of_range for numbers like 1e400 that no double holds.
         lights.clear();
         error = std::string("not valid JSON: ") + e.what();
         return false;
@@ -210,8 +219,13 @@ bool parseLights(const std::string& text, std::vector<Light>& lights, std::strin
 }
 
 bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::string& error) {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) {
+        error = path + ": is a folder, not a lights file";
+        return false;
+    }
     std::ifstream in(path, std::ios::binary | std::ios::ate);
-    if (!in) {
+    if (!in || in.tellg() < 0) {
         error = path + ": cannot open the lights file";
         return false;
     }

@@ -38,10 +38,14 @@ public:
 
     bool build(std::string& error) {
         if (!loadMaterials(error)) return false;
-        visit(*m_ai.mRootNode, glm::dmat4(1.0));
+        visitAll();
+        if (m_zeroNormals > 0)
+            m_scene.warnings.push_back(
+                std::to_string(m_zeroNormals) +
+                " vertex normals in the file have zero length; their triangles are shaded with "
+                "the geometric normal");
         loadCameras();
-        loadLights();
-        return true;
+        return loadLights(error);
     }
 
 private:
@@ -120,19 +124,27 @@ private:
         return true;
     }
 
-    void visit(const aiNode& node, const glm::dmat4& parent) {
-        const glm::dmat4 world = parent * toGlm(node.mTransformation);
-        if (node.mNumMeshes > 0) {
-            const int object = int(m_scene.objectNames.size());
-            std::string name = node.mName.C_Str();
-            if (name.empty()) name = m_ai.mMeshes[node.mMeshes[0]]->mName.C_Str();
-            m_scene.objectNames.push_back(name);
-            const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
-            for (unsigned i = 0; i < node.mNumMeshes; ++i)
-                addMesh(*m_ai.mMeshes[node.mMeshes[i]], world, normalMatrix, object);
+    // Depth first in the file's order, with an explicit stack: a file may nest nodes deeper
+    // than the call stack would survive.
+    void visitAll() {
+        std::vector<std::pair<const aiNode*, glm::dmat4>> stack = {
+            {m_ai.mRootNode, glm::dmat4(1.0)}};
+        while (!stack.empty()) {
+            const auto [node, parent] = stack.back();
+            stack.pop_back();
+            const glm::dmat4 world = parent * toGlm(node->mTransformation);
+            if (node->mNumMeshes > 0) {
+                const int object = int(m_scene.objectNames.size());
+                std::string name = node->mName.C_Str();
+                if (name.empty()) name = m_ai.mMeshes[node->mMeshes[0]]->mName.C_Str();
+                m_scene.objectNames.push_back(name);
+                const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
+                for (unsigned i = 0; i < node->mNumMeshes; ++i)
+                    addMesh(*m_ai.mMeshes[node->mMeshes[i]], world, normalMatrix, object);
+            }
+            for (unsigned i = node->mNumChildren; i-- > 0;)
+                stack.emplace_back(node->mChildren[i], world);
         }
-        for (unsigned i = 0; i < node.mNumChildren; ++i)
-            visit(*node.mChildren[i], world);
     }
 
     void addMesh(const aiMesh& am, const glm::dmat4& world, const glm::dmat3& normalMatrix,
@@ -146,9 +158,13 @@ private:
             const aiVector3D& p = am.mVertices[v];
             mesh.positions.emplace_back(world * glm::dvec4(p.x, p.y, p.z, 1.0));
             const aiVector3D& n = am.mNormals[v];
-            glm::dvec3 wn = normalMatrix * glm::dvec3(n.x, n.y, n.z);
+            const glm::dvec3 wn = normalMatrix * glm::dvec3(n.x, n.y, n.z);
             const double len = glm::length(wn);
-            mesh.normals.emplace_back(len > 0.0 ? wn / len : glm::dvec3(0.0, 0.0, 1.0));
+            // Zero (or broken) normals stay zero: the triangle's own normal replaces them
+            // where they are used (gbuffer_render.cpp).
+            const bool usable = len > 1e-12 && std::isfinite(len);
+            m_zeroNormals += !usable;
+            mesh.normals.emplace_back(usable ? wn / len : glm::dvec3(0.0));
             // Assimp's UVs have their origin at the image's bottom-left (it flips glTF's).
             if (am.HasTextureCoords(0))
                 mesh.uvs.emplace_back(am.mTextureCoords[0][v].x, 1.0f - am.mTextureCoords[0][v].y);
@@ -161,23 +177,25 @@ private:
         if (!mesh.triangles.empty()) m_scene.meshes.push_back(std::move(mesh));
     }
 
-    const aiNode* findNode(const aiNode& node, const aiString& name, glm::dmat4 parent,
-                           glm::dmat4& world) const {
-        parent = parent * toGlm(node.mTransformation);
-        if (node.mName == name) {
-            world = parent;
-            return &node;
+    // The world transform of the first node named `name`, depth first; identity when none is.
+    glm::dmat4 nodeWorld(const aiString& name) const {
+        std::vector<std::pair<const aiNode*, glm::dmat4>> stack = {
+            {m_ai.mRootNode, glm::dmat4(1.0)}};
+        while (!stack.empty()) {
+            const auto [node, parent] = stack.back();
+            stack.pop_back();
+            const glm::dmat4 world = parent * toGlm(node->mTransformation);
+            if (node->mName == name) return world;
+            for (unsigned i = node->mNumChildren; i-- > 0;)
+                stack.emplace_back(node->mChildren[i], world);
         }
-        for (unsigned i = 0; i < node.mNumChildren; ++i)
-            if (const aiNode* n = findNode(*node.mChildren[i], name, parent, world)) return n;
-        return nullptr;
+        return glm::dmat4(1.0);
     }
 
     void loadCameras() {
         for (unsigned i = 0; i < m_ai.mNumCameras; ++i) {
             const aiCamera& ac = *m_ai.mCameras[i];
-            glm::dmat4 world(1.0);
-            findNode(*m_ai.mRootNode, ac.mName, glm::dmat4(1.0), world);
+            const glm::dmat4 world = nodeWorld(ac.mName);
             SceneCamera sc;
             sc.name = ac.mName.C_Str();
             sc.aspect = ac.mAspect;
@@ -190,6 +208,13 @@ private:
                 sc.camera.cameraToWorld = world;
                 sc.camera.yfov =
                     ac.mAspect > 0.0f ? ac.mHorizontalFOV / ac.mAspect : ac.mHorizontalFOV;
+                // An orthographic glTF camera: Assimp gives xmag as mOrthographicWidth and
+                // xmag / ymag as mAspect.
+                if (ac.mOrthographicWidth > 0.0f) {
+                    sc.camera.orthographic = true;
+                    sc.camera.ymag = ac.mAspect > 0.0f ? ac.mOrthographicWidth / ac.mAspect
+                                                       : ac.mOrthographicWidth;
+                }
             } else {
                 // Assimp's documented convention: a camera in its node's space, and half the
                 // horizontal angle.
@@ -204,15 +229,17 @@ private:
         }
     }
 
-    void loadLights() {
+    bool loadLights(std::string& error) {
         // Assimp 5.2 folds a glTF light's intensity into its colour and drops its range, so
         // for glTF the light's own fields come from the file; placement from the node.
-        const auto fromFile =
-            m_gltf ? detail::gltfLightsByNode(m_path) : std::map<std::string, detail::GltfLight>{};
+        std::map<std::string, detail::GltfLight> fromFile;
+        if (m_gltf && !detail::gltfLightsByNode(m_path, fromFile, error)) {
+            error = m_path + ": " + error;
+            return false;
+        }
         for (unsigned i = 0; i < m_ai.mNumLights; ++i) {
             const aiLight& al = *m_ai.mLights[i];
-            glm::dmat4 world(1.0);
-            findNode(*m_ai.mRootNode, al.mName, glm::dmat4(1.0), world);
+            const glm::dmat4 world = nodeWorld(al.mName);
             Light light;
             light.name = al.mName.C_Str();
             light.position =
@@ -252,6 +279,7 @@ private:
             }
             if (light.type != LightType::Ambient) m_scene.lights.push_back(light);
         }
+        return true;
     }
 
     const aiScene& m_ai;
@@ -259,6 +287,7 @@ private:
     Scene& m_scene;
     const bool m_gltf;
     std::map<std::string, int> m_textureIndex;
+    long long m_zeroNormals = 0;
 };
 
 } // namespace
@@ -270,11 +299,18 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
         return false;
     }
     Assimp::Importer importer;
-    const unsigned flags = aiProcess_Triangulate | aiProcess_GenSmoothNormals |
-                           aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
+    // ValidateDataStructure turns what would crash later (a face index past the vertices)
+    // into an error here.
+    const unsigned flags = aiProcess_ValidateDataStructure | aiProcess_Triangulate |
+                           aiProcess_GenSmoothNormals | aiProcess_JoinIdenticalVertices |
+                           aiProcess_SortByPType;
     const aiScene* ai = importer.ReadFile(path, flags);
     if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
-        error = path + ": cannot load the scene: " + importer.GetErrorString();
+        std::string reason = importer.GetErrorString();
+        if (reason.empty())
+            reason = ai && !ai->mRootNode ? "the file has no nodes (no scene to render)"
+                                          : "the file holds no scene Assimp can use";
+        error = path + ": cannot load the scene: " + reason;
         return false;
     }
     if (!SceneBuilder(*ai, path, scene).build(error)) return false;

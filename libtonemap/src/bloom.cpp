@@ -32,14 +32,10 @@ RgbPlane quarterSize(const OIIO::ImageBuf& src, int nthreads) {
 
 // The seed's bright pass: the mean of the 8 neighbours (an 8-tap box, which keeps single
 // fireflies from blooming alone), kept where its tone-mapped luminance exceeds the threshold.
-RgbPlane brightPass(const RgbPlane& src, const BloomParams& params, int nthreads) {
-    // Metering of the quarter-size copy: the same log-average as the full image up to the
-    // box filter, at a sixteenth of the cost.
-    OIIO::ImageBuf view(OIIO::ImageSpec(src.width, src.height, 3, OIIO::TypeDesc::FLOAT),
-                        const_cast<float*>(src.rgb.data()));
-    LuminanceStats stats;
-    computeLuminanceStats(stats, view, params.metering, {}, nthreads);
-    const double scale = stats.logAverage > 0.0 ? params.key / stats.logAverage : 0.0;
+// `logAverage` is the full image's, metered as the tone mapper meters it.
+RgbPlane brightPass(const RgbPlane& src, double logAverage, const BloomParams& params,
+                    int nthreads) {
+    const double scale = logAverage > 0.0 ? params.key / logAverage : 0.0;
 
     RgbPlane out(src.width, src.height);
     OIIO::parallel_for(
@@ -68,11 +64,17 @@ RgbPlane brightPass(const RgbPlane& src, const BloomParams& params, int nthreads
 
 bool bloomLayer(OIIO::ImageBuf& layer, const OIIO::ImageBuf& src, const BloomParams& params,
                 int nthreads) {
-    if (!src.initialized() || src.nchannels() < 3) {
-        layer.errorfmt("bloom needs an image with at least three channels");
+    if (!src.initialized() || src.nchannels() < 3 || src.deep()) {
+        layer.errorfmt("bloom needs a flat image with at least three channels");
         return false;
     }
-    const RgbPlane bright = brightPass(quarterSize(src, nthreads), params, nthreads);
+    // Metered on the full image with its alpha, exactly as dhdr-tonemap meters it: pixels
+    // with alpha 0 (no surface) are left out, so an empty background does not lower the key
+    // and make everything bloom.
+    LuminanceStats stats;
+    computeLuminanceStats(stats, src, params.metering, {}, nthreads);
+    const RgbPlane bright =
+        brightPass(quarterSize(src, nthreads), stats.logAverage, params, nthreads);
     const RgbPlane eighth = detail::boxDownsample(bright, std::max(1, bright.width / 2),
                                                   std::max(1, bright.height / 2), nthreads);
     const RgbPlane blurred = detail::gaussianBlur(eighth, params.sigma, nthreads);

@@ -32,6 +32,10 @@ bool edgeBlurFactor(OIIO::ImageBuf& dst, const OIIO::ImageBuf* normal, const OII
         dst.errorfmt("edge AA needs a normal or a depth image");
         return false;
     }
+    if ((normal && normal->deep()) || (depth && depth->deep())) {
+        dst.errorfmt("edge AA takes flat geometry images, not deep ones");
+        return false;
+    }
     if (normal && normal->nchannels() < 3) {
         dst.errorfmt("the normal image needs 3 channels");
         return false;
@@ -82,6 +86,10 @@ bool edgeBlurFactor(OIIO::ImageBuf& dst, const OIIO::ImageBuf* normal, const OII
 
 bool edgeAA(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const OIIO::ImageBuf* normal,
             const OIIO::ImageBuf* depth, const EdgeAAParams& params, OIIO::ROI roi, int nthreads) {
+    if (src.deep() || (normal && normal->deep()) || (depth && depth->deep())) {
+        dst.errorfmt("edge AA takes flat images, not deep ones");
+        return false;
+    }
     const OIIO::ImageBuf& geometry = normal ? *normal : *depth;
     if ((normal || depth) && geometry.roi().width() != src.roi().width()) {
         dst.errorfmt("geometry images are {}x{}, the image is {}x{}", geometry.spec().width,

@@ -1,4 +1,5 @@
-// A pinhole camera in the glTF / OpenGL convention: it looks down its local −Z, +Y is up.
+// A pinhole or orthographic camera in the glTF / OpenGL convention: it looks down its local
+// −Z, +Y is up.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -12,17 +13,25 @@ struct Ray {
 
 struct Camera {
     glm::dmat4 cameraToWorld{1.0};
-    // Full vertical field of view, radians.
+    // Full vertical field of view, radians (perspective).
     double yfov = 0.6911112; // 39.6°, Blender's default 50 mm lens
+    // Orthographic: parallel rays along −Z from an image plane of half-height `ymag` scene
+    // units (glTF's camera.orthographic.ymag); the half-width follows the image's aspect.
+    bool orthographic = false;
+    double ymag = 1.0;
     double znear = 0.01;
     double zfar = 1000.0;
 
+    // A camera at `eye` looking at `target` (which must differ). When `up` is parallel to the
+    // view direction (a camera looking straight down with up +Y), the image's up is the
+    // scene's −Z looking down, +Z looking up.
     static Camera lookAt(const glm::dvec3& eye, const glm::dvec3& target, const glm::dvec3& up,
                          double yfov);
 
     glm::dvec3 position() const { return glm::dvec3(cameraToWorld[3]); }
     glm::dmat4 worldToCamera() const;
-    // OpenGL projection (NDC in [−1, 1]³) for an image of the given aspect (width / height).
+    // OpenGL projection (NDC in [−1, 1]³) for an image of the given aspect (width / height):
+    // perspective, or glm::ortho for an orthographic camera.
     glm::dmat4 cameraToNDC(double aspect) const;
     glm::dmat4 worldToNDC(double aspect) const { return cameraToNDC(aspect) * worldToCamera(); }
 

@@ -45,11 +45,21 @@ struct CameraInfo {
     glm::dmat4 worldToCamera{1.0};
     glm::dmat4 worldToNDC{1.0};
     glm::dvec3 position{0.0};
+    // An orthographic projection (the last row of cameraToNDC is 0 0 0 1): every view ray
+    // runs along `forward`, the camera's −Z in world space.
+    bool orthographic = false;
+    glm::dvec3 forward{0.0, 0.0, -1.0};
+
+    // The unit vector from a world-space point towards the eye that sees it.
+    glm::dvec3 toEye(const glm::dvec3& p) const {
+        return orthographic ? -forward : glm::normalize(position - p);
+    }
 };
 
 // Reads worldToCamera and worldToNDC (OpenEXR's standard attributes) from `spec`; the
-// position follows from worldToCamera. False when either attribute is missing.
-bool readCamera(const OIIO::ImageSpec& spec, CameraInfo& camera);
+// position, direction and kind of projection follow from them. False, saying why in `error`,
+// when either is missing, not finite or not invertible.
+bool readCamera(const OIIO::ImageSpec& spec, CameraInfo& camera, std::string& error);
 void writeCamera(OIIO::ImageSpec& spec, const CameraInfo& camera);
 
 } // namespace dhdr::gbuffer

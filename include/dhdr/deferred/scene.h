@@ -52,6 +52,8 @@ struct Scene {
     std::vector<std::string> objectNames;
     std::vector<SceneCamera> cameras;
     std::vector<Light> lights; // world space, KHR_lights_punctual units
+    // What the loader repaired or left out, one line each, for the tool to print.
+    std::vector<std::string> warnings;
 
     glm::dvec3 boundsMin() const;
     glm::dvec3 boundsMax() const;
