@@ -1,43 +1,17 @@
 // The five executables as a user runs them: exit codes, messages, no partial output, thread
 // independence. The fixture renders its inputs with the tools themselves.
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-#include <cmath>
-#include <cstdlib>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
-#include <gtest/gtest.h>
-#include <sstream>
-#include <sys/wait.h>
+#include "tool_test.h"
 
-namespace fs = std::filesystem;
-using OIIO::ImageBuf;
+#include <OpenImageIO/imagebufalgo.h>
+
+using namespace dhdr::test;
 
 namespace {
 
-const std::string kTools = DHDR_TOOLS_DIR;
-const std::string kTestdata = DHDR_TESTDATA;
-
-struct Result {
-    int status = -1;
-    std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-class Tools : public ::testing::Test {
+class Tools : public ToolTest {
 protected:
-    static fs::path dir;
-
     static void SetUpTestSuite() {
-        char pattern[] = "/tmp/dhdr_tools_XXXXXX";
-        dir = mkdtemp(pattern);
+        makeScratch();
         ASSERT_EQ(
             run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 96x72 -o " + path("g.exr"))
                 .status,
@@ -53,34 +27,6 @@ protected:
         std::ofstream(dir / "bad_lights.json")
             << R"({"lights": [{"type": "point", "intensity": 1}]})";
     }
-    static void TearDownTestSuite() { fs::remove_all(dir); }
-
-    static std::string path(const std::string& name) { return (dir / name).string(); }
-
-    static Result run(const std::string& args) {
-        Result r;
-        // The tools' defaults (the built-in OCIO config) whatever the caller's environment.
-        const std::string cmd = "env -u OCIO " + kTools + "/" + args + " >" + path("stdout.txt") +
-                                " 2>" + path("stderr.txt") + " </dev/null";
-        const int raw = std::system(cmd.c_str());
-        r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-        r.out = slurp(dir / "stdout.txt");
-        r.err = slurp(dir / "stderr.txt");
-        return r;
-    }
-
-    static bool noTemporaries() {
-        for (const auto& e : fs::directory_iterator(dir))
-            if (e.path().filename().string().find(".tmp") != std::string::npos) return false;
-        return true;
-    }
-
-    static ImageBuf read(const std::string& name) {
-        ImageBuf img(path(name));
-        img.read(0, 0, true, OIIO::TypeDesc::FLOAT);
-        return img;
-    }
-
     static bool samePixels(const std::string& a, const std::string& b) {
         const ImageBuf A = read(a), B = read(b);
         if (!A.initialized() || !B.initialized() ||
@@ -104,16 +50,7 @@ protected:
         static_cast<float*>(img.pixeladdr(6, 3))[2] = -0.5f;
         img.write(path(name));
     }
-
-    static bool allFinite(const ImageBuf& img) {
-        const float* p = static_cast<const float*>(img.localpixels());
-        for (size_t i = 0; i < img.spec().image_pixels() * size_t(img.nchannels()); ++i)
-            if (!std::isfinite(p[i])) return false;
-        return true;
-    }
 };
-
-fs::path Tools::dir;
 
 const char* kAllTools[] = {"dhdr-gbuffer", "dhdr-light", "dhdr-tonemap", "dhdr-bloom", "dhdr-aa"};
 
@@ -168,10 +105,14 @@ TEST_F(Tools, TruncatedExrIsAnErrorAndLeavesNoOutput) {
         EXPECT_NE(r.err.find("truncated.exr: cannot read"), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(out));
     }
-    const Result r =
-        run("dhdr-light " + in + " --lights " + kTestdata + "/cornell_box.lights.json -o " + out);
+    // A G-buffer cut short: its header is whole, its pixels are not.
+    const std::string bytes = slurp(dir / "g.exr");
+    std::ofstream(dir / "truncated_g.exr", std::ios::binary)
+        .write(bytes.data(), std::streamsize(bytes.size() / 2));
+    const Result r = run("dhdr-light " + path("truncated_g.exr") + " --lights " + kTestdata +
+                         "/cornell_box.lights.json -o " + out);
     EXPECT_EQ(r.status, 1);
-    EXPECT_NE(r.err.find("truncated.exr: cannot read"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("truncated_g.exr: cannot read"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(out));
     EXPECT_TRUE(noTemporaries());
 }

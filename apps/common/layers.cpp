@@ -26,8 +26,8 @@ std::string lastComponent(const std::string& name) {
 
 // R, G, B, A as channel suffixes: the usual letters, either case, and Nuke's long names.
 int componentIndex(const std::string& suffix) {
-    static const std::map<std::string, int> names = {
-        {"r", 0}, {"red", 0}, {"g", 1}, {"green", 1}, {"b", 2}, {"blue", 2}, {"a", 3}, {"alpha", 3}};
+    static const std::map<std::string, int> names = {{"r", 0}, {"red", 0},  {"g", 1}, {"green", 1},
+                                                     {"b", 2}, {"blue", 2}, {"a", 3}, {"alpha", 3}};
     const auto it = names.find(lower(suffix));
     return it == names.end() ? -1 : it->second;
 }
@@ -58,18 +58,17 @@ bool listColourLayers(const std::string& path, std::vector<ColourLayer>& layers,
     const bool multiPart = in->seek_subimage(1, 0);
     for (int s = 0; in->seek_subimage(s, 0); ++s) {
         const OIIO::ImageSpec& spec = in->spec();
-        const std::string part =
-            multiPart ? std::string(spec.get_string_attribute("oiio:subimagename",
-                                                              "part" + std::to_string(s)))
-                      : std::string();
+        const std::string part = multiPart ? std::string(spec.get_string_attribute(
+                                                 "oiio:subimagename", "part" + std::to_string(s)))
+                                           : std::string();
         // Layers in the order their first channel appears.
         std::vector<ColourLayer> found;
         for (int c = 0; c < spec.nchannels; ++c) {
             const std::string& channel = spec.channelnames[size_t(c)];
             const size_t dot = channel.find_last_of('.');
             const std::string prefix = dot == std::string::npos ? "" : channel.substr(0, dot);
-            const int k = componentIndex(dot == std::string::npos ? channel
-                                                                  : channel.substr(dot + 1));
+            const int k =
+                componentIndex(dot == std::string::npos ? channel : channel.substr(dot + 1));
             if (k < 0) continue;
             auto it = std::find_if(found.begin(), found.end(),
                                    [&](const ColourLayer& l) { return l.prefix == prefix; });
@@ -110,10 +109,10 @@ bool chooseColourLayer(const std::vector<ColourLayer>& layers, const std::string
             pick([&](const ColourLayer& l) { return lower(lastComponent(l.name())) == w; },
                  matches))
             return true;
-        error = matches.size() > 1
-                    ? "more than one layer is called '" + wanted + "': " + layerList(layers)
-                    : "no colour layer or part '" + wanted + "' (it has: " + layerList(layers) +
-                          ")";
+        error =
+            matches.size() > 1
+                ? "more than one layer is called '" + wanted + "': " + layerList(layers)
+                : "no colour layer or part '" + wanted + "' (it has: " + layerList(layers) + ")";
         return false;
     }
     if (layers.empty()) {
@@ -165,8 +164,8 @@ bool readColourLayer(const std::string& path, const ColourLayer& layer, bool kee
     for (int c : order)
         local.push_back(c - chbegin);
     OIIO::ImageBuf reordered;
-    if (!OIIO::ImageBufAlgo::channels(reordered, image, int(local.size()), local.data(), {},
-                                      {}, false, nthreads)) {
+    if (!OIIO::ImageBufAlgo::channels(reordered, image, int(local.size()), local.data(), {}, {},
+                                      false, nthreads)) {
         error = reordered.geterror();
         return false;
     }

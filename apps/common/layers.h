@@ -12,8 +12,8 @@ namespace dhdr::app {
 // One layer holding colour: R, G, B (and maybe A) channels under one prefix, in one part.
 struct ColourLayer {
     int subimage = 0;
-    std::string part;   // the EXR part's name ("" for a single-part file)
-    std::string prefix; // channels are prefix + "R" …; "" for the unnamed R, G, B, A
+    std::string part;               // the EXR part's name ("" for a single-part file)
+    std::string prefix;             // channels are prefix + "R" …; "" for the unnamed R, G, B, A
     int rgba[4] = {-1, -1, -1, -1}; // channel indices within the part; A may be −1
     std::vector<std::string> partChannels; // every channel name of the part
 

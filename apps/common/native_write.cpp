@@ -18,8 +18,8 @@ NativeWriter::NativeWriter(const OIIO::ImageSpec& spec, int infinityAllowed)
     }
 }
 
-void NativeWriter::convert(const float* pixels, size_t count, std::byte* native,
-                           long long& clamped, long long& nonFinite) const {
+void NativeWriter::convert(const float* pixels, size_t count, std::byte* native, long long& clamped,
+                           long long& nonFinite) const {
     constexpr float kHalfMax = 65504.0f;
     constexpr float kFloatMax = std::numeric_limits<float>::max();
     const size_t nch = m_types.size();

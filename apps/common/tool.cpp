@@ -172,14 +172,15 @@ int Tool::start(const std::vector<std::string>& inputs) const {
     return -1;
 }
 
-bool Tool::readImage(const std::string& path, OIIO::ImageBuf& image, int nthreads) const {
+bool Tool::readImage(const std::string& path, OIIO::ImageBuf& image, int nthreads,
+                     int subimage) const {
     std::error_code ec;
     if (!fs::exists(path, ec)) {
         fail(path + ": no such file");
         return false;
     }
     std::string error;
-    if (!readBanded(path, image, 0, 1 << 20, nthreads, error)) {
+    if (!readBanded(path, image, 0, 1 << 20, nthreads, error, subimage)) {
         fail(path + ": cannot read: " + oneLine(error));
         return false;
     }

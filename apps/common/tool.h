@@ -40,7 +40,8 @@ public:
     bool readImage(const std::string& path, OIIO::ImageBuf& image) const {
         return readImage(path, image, threads());
     }
-    bool readImage(const std::string& path, OIIO::ImageBuf& image, int nthreads) const;
+    bool readImage(const std::string& path, OIIO::ImageBuf& image, int nthreads,
+                   int subimage = 0) const;
     // Reads the colour of `path` found by name (layers.h): layer or part `layer` (--layer),
     // or the one the conventions name. Channels 0–2 (3) of `image` are then R, G, B (A); with
     // `keepOthers` the part's other channels follow. `formats` receives the file's type of

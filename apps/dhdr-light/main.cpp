@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/lighting.h>
+#include <filesystem>
 
 using namespace dhdr;
 
@@ -15,11 +16,12 @@ namespace {
 int run(int argc, char** argv) {
     app::CommandLine cl(
         "dhdr-light", "GBUFFER.exr --lights LIGHTS.json... -o FRAME.exr [options]",
-        "Deferred lighting: shades every covered pixel of a G-buffer with Lambert "
-        "diffuse plus\nCook-Torrance specular (GGX, height-correlated Smith, "
-        "Schlick) under point, spot,\ndirectional and ambient lights (docs/lights.md), "
-        "adds emission, and writes linear\nHDR RGBA. Each light is evaluated only "
-        "in the tiles its screen rectangle covers.");
+        "Deferred lighting: shades every covered pixel of a G-buffer with Lambert diffuse plus\n"
+        "Cook-Torrance specular (GGX, height-correlated Smith, Schlick) under point, spot,\n"
+        "directional, ambient, sphere and rectangle lights (docs/lights.md), adds emission,\n"
+        "and writes linear HDR RGBA. Each light is evaluated only in the tiles its screen\n"
+        "rectangle covers. Half output clamps radiance past 65504 (and says how many values);\n"
+        "--type float keeps it.");
     std::vector<std::string> lightsPaths;
     std::string background, dataType = "half";
     bool bruteForce = false, aovs = false;
@@ -96,7 +98,19 @@ int run(int argc, char** argv) {
         if (animatedLights && !readLights({in.begin() + 1, in.end()}, lights)) return false;
         const auto t0 = std::chrono::steady_clock::now();
         OIIO::ImageBuf gbuf;
-        if (!tool.readImage(path, gbuf)) return false;
+        if (!std::filesystem::exists(path)) {
+            tool.fail(path + ": no such file");
+            return false;
+        }
+        std::string error;
+        const int part = gbuffer::findGBufferPart(path, error);
+        if (part < 0) {
+            tool.fail(
+                path + ": " +
+                (error.find("G-buffer") != std::string::npos ? error : "cannot read: " + error));
+            return false;
+        }
+        if (!tool.readImage(path, gbuf, tool.threads(), part)) return false;
         gbuffer::Layout layout;
         std::string missing;
         if (!gbuffer::findLayout(gbuf.spec(), layout, missing)) {

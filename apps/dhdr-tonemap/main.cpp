@@ -127,7 +127,7 @@ bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
     // Every format gets the same display-referred values; only their quantization differs.
     const std::string ext = lowerExtension(out);
     const bool exr = ext == ".exr";
-    const bool sixteen = job.bits == 16 && ext != ".jpg" && ext != ".jpeg";
+    const bool sixteen = job.bits == 16;
     const OIIO::TypeDesc type = exr       ? OIIO::TypeDesc::HALF
                                 : sixteen ? OIIO::TypeDesc::UINT16
                                           : OIIO::TypeDesc::UINT8;
@@ -298,6 +298,9 @@ int run(int argc, char** argv) {
     }
     if (job.bits != 8 && job.bits != 16)
         return usage("--bits: " + std::to_string(job.bits) + " is not 8 or 16");
+    if (const std::string ext = lowerExtension(cl.output());
+        job.bits == 16 && (ext == ".jpg" || ext == ".jpeg"))
+        return usage("--bits 16: JPEG holds 8 bits per channel; write PNG or TIFF for 16");
     job.dither = !noDither;
 
     const std::string& frames = cl.frames();

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstring>
 #include <dhdr/deferred/gbuffer.h>
+#include <memory>
 #include <utility>
 
 namespace dhdr::gbuffer {
@@ -61,6 +62,47 @@ bool findLayout(const OIIO::ImageSpec& spec, Layout& layout, std::string& missin
     layout.objectId = spec.channelindex(kObjectId);
     layout.materialId = spec.channelindex(kMaterialId);
     return true;
+}
+
+int findGBufferPart(const std::string& path, std::string& error) {
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    if (!in) {
+        error = OIIO::geterror();
+        return -1;
+    }
+    std::string firstMissing;
+    for (int s = 0; in->seek_subimage(s, 0); ++s) {
+        const OIIO::ImageSpec& spec = in->spec();
+        Layout layout;
+        std::string missing;
+        if (!findLayout(spec, layout, missing)) {
+            if (s == 0) firstMissing = missing;
+            continue;
+        }
+        for (int c = 0; c < spec.nchannels; ++c) {
+            const std::string& name = spec.channelnames[size_t(c)];
+            const OIIO::TypeDesc type = spec.channelformat(c);
+            const bool id = name == kObjectId || name == kMaterialId;
+            const bool contract = name == kCoverage || name == kDepth || name.rfind("P.", 0) == 0 ||
+                                  name.rfind("N.", 0) == 0 || name.rfind("albedo.", 0) == 0 ||
+                                  name == kRoughness || name == kMetallic ||
+                                  name.rfind("emission.", 0) == 0;
+            const bool real = type == OIIO::TypeDesc::HALF || type == OIIO::TypeDesc::FLOAT;
+            if (contract && !real) {
+                error = "channel '" + name + "' is stored as " + type.c_str() +
+                        "; the G-buffer contract stores it as half or float";
+                return -1;
+            }
+            if (id && type != OIIO::TypeDesc::UINT && !real) {
+                error = "channel '" + name + "' is stored as " + type.c_str() +
+                        "; the G-buffer contract stores it as uint";
+                return -1;
+            }
+        }
+        return s;
+    }
+    error = "no channel '" + firstMissing + "' — is this a G-buffer?";
+    return -1;
 }
 
 namespace {

@@ -55,9 +55,12 @@ bool prepareFloatDst(ImageBuf& dst, const ImageBuf& src, ROI& roi, int minChanne
         dst.errorfmt("destination must hold float pixels in memory");
         return false;
     }
+    // The caller's channel range, within both images: edge AA filters colour only.
+    const int chbegin = std::max(roi.chbegin, 0);
+    const int chend = std::min({roi.chend, dst.nchannels(), src.nchannels()});
     roi = OIIO::roi_intersection(roi, dst.roi());
-    roi.chbegin = 0;
-    roi.chend = std::min(dst.nchannels(), src.nchannels());
+    roi.chbegin = chbegin;
+    roi.chend = std::max(chbegin, chend);
     return true;
 }
 

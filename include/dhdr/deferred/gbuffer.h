@@ -40,6 +40,11 @@ std::vector<std::string> channelNames();
 // `missing`.
 bool findLayout(const OIIO::ImageSpec& spec, Layout& layout, std::string& missing);
 
+// The part (subimage) of the file at `path` that holds a G-buffer: the first whose channels
+// findLayout finds, stored in the contract's types (a normal stored as uint would clamp).
+// −1 with `error` saying why when none does; `error` names the file's problem, not the file.
+int findGBufferPart(const std::string& path, std::string& error);
+
 // What the header says of the camera that rendered the buffer.
 struct CameraInfo {
     glm::dmat4 worldToCamera{1.0};

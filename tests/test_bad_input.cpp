@@ -1,0 +1,294 @@
+// Input that should be an error and was a crash, an abort, a leftover file or silent
+// nonsense (issue 8, items 11–17 and the smaller ones): a clear message, a non-zero exit
+// status, no output and no temporary left behind.
+#include "scene_writer.h"
+#include "tool_test.h"
+
+#include <OpenImageIO/imageio.h>
+#include <chrono>
+#include <csignal>
+#include <sys/types.h>
+#include <thread>
+#include <unistd.h>
+
+using namespace dhdr::test;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+namespace {
+
+const std::string kCornell = kTestdata + "/cornell_box.gltf";
+const std::string kLights = kTestdata + "/cornell_box.lights.json";
+
+class BadInput : public ToolTest {
+protected:
+    static void SetUpTestSuite() {
+        makeScratch();
+        ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 32x24 -o " + path("g.exr")).status, 0);
+        ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " +
+                      path("h.exr"))
+                      .status,
+                  0);
+    }
+
+    // `r` failed with status `status`, saying `what`, and left neither `out` nor temporaries.
+    static void expectFailure(const Result& r, int status, const std::string& what,
+                              const std::string& out = {}) {
+        EXPECT_EQ(r.status, status) << r.err;
+        EXPECT_NE(r.err.find(what), std::string::npos) << "expected '" << what << "' in: " << r.err;
+        if (!out.empty()) EXPECT_FALSE(fs::exists(out)) << out;
+        EXPECT_TRUE(noTemporaries());
+    }
+
+    // A copy of the EXR `from` whose header claims a `size` × `size` image: its dataWindow and
+    // displayWindow rewritten in place, room for the line offset table appended, the pixels
+    // as they were (absent for most rows).
+    static void claimHugeSize(const std::string& from, const std::string& to, int size) {
+        std::string bytes = slurp(from);
+        for (const char* name : {"dataWindow", "displayWindow"}) {
+            const std::string key = std::string(name) + '\0' + "box2i" + '\0';
+            const size_t at = bytes.find(key);
+            ASSERT_NE(at, std::string::npos) << name;
+            const int box[4] = {0, 0, size - 1, size - 1};
+            std::memcpy(&bytes[at + key.size() + 4], box, sizeof box);
+        }
+        bytes.append(size_t(size) * 8, '\0');
+        std::ofstream(to, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+    }
+
+    // Starts `args` in the background; returns its process id.
+    static pid_t start(const std::string& args) {
+        const pid_t pid = fork();
+        if (pid == 0) {
+            const std::string cmd = "exec " + kTools + "/" + args + " 2>/dev/null";
+            execl("/bin/sh", "sh", "-c", cmd.c_str(), nullptr);
+            _exit(127);
+        }
+        return pid;
+    }
+
+    static int temporaries() {
+        int n = 0;
+        for (const auto& e : fs::directory_iterator(dir))
+            n += e.path().filename().string().find(".tmp") != std::string::npos;
+        return n;
+    }
+
+    // Waits up to 60 s for at least `count` temporaries to exist.
+    static bool waitForTemporaries(int count) {
+        for (int i = 0; i < 6000; ++i) {
+            if (temporaries() >= count) return true;
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        }
+        return false;
+    }
+};
+
+} // namespace
+
+// 11, 15. A header that claims 65536 × 65536 pixels: refused before the allocation, with the
+// file and the size named.
+TEST_F(BadInput, HugeHeaderIsRefusedBeforeAllocating) {
+    claimHugeSize(path("h.exr"), path("huge.exr"), 65536);
+    claimHugeSize(path("g.exr"), path("huge_g.exr"), 65536);
+    for (const std::string tool : {"dhdr-tonemap", "dhdr-bloom", "dhdr-aa"})
+        expectFailure(run(tool + " " + path("huge.exr") + " -o " + path("huge_out.exr")), 1,
+                      "huge.exr: cannot read: its 65536x65536 pixels", path("huge_out.exr"));
+    expectFailure(run("dhdr-light " + path("huge_g.exr") + " --lights " + kLights + " -o " +
+                      path("huge_out.exr")),
+                  1, "huge_g.exr: cannot read: its 65536x65536 pixels", path("huge_out.exr"));
+    const Result r = run("dhdr-tonemap " + path("huge.exr") + " -o " + path("huge_out.exr"));
+    EXPECT_NE(r.err.find("GB as float, more than this machine's"), std::string::npos) << r.err;
+}
+
+// 12. SIGHUP while a frame is written, SIGINT while several frames are: nothing left.
+TEST_F(BadInput, SignalsLeaveNoTemporaries) {
+    const pid_t one = start("dhdr-gbuffer " + kCornell + " --size 6000x6000 --threads 1 -o " +
+                            path("big.exr"));
+    ASSERT_TRUE(waitForTemporaries(1));
+    kill(one, SIGHUP);
+    int status = 0;
+    waitpid(one, &status, 0);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGHUP);
+    EXPECT_EQ(temporaries(), 0);
+    EXPECT_FALSE(fs::exists(path("big.exr")));
+
+    // Frames mapped two at a time: two temporaries open at once.
+    const ImageBuf frame = ImageBuf(ImageSpec(2500, 2500, 3, TypeDesc::HALF));
+    for (int f = 1; f <= 4; ++f)
+        ASSERT_TRUE(frame.write(path("seq." + std::to_string(f) + ".exr")));
+    const pid_t many = start("dhdr-tonemap " + path("seq.#.exr") + " --threads 2 -o " +
+                             path("seq.#.png"));
+    ASSERT_TRUE(waitForTemporaries(2));
+    kill(many, SIGINT);
+    waitpid(many, &status, 0);
+    EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGINT);
+    EXPECT_EQ(temporaries(), 0);
+}
+
+// 12. A temporary whose writer was killed (SIGKILL: no handler runs) is removed by the next
+// run that writes the same output; one of a live process is not.
+TEST_F(BadInput, StaleTemporariesAreRemoved) {
+    const pid_t gone = fork();
+    if (gone == 0) _exit(0);
+    waitpid(gone, nullptr, 0);
+    const std::string stale = path(".bloomed.tmp" + std::to_string(gone) + ".exr");
+    const std::string live = path(".bloomed.tmp" + std::to_string(getpid()) + ".exr");
+    std::ofstream(stale) << "left by a killed run";
+    std::ofstream(live) << "being written";
+    ASSERT_EQ(run("dhdr-bloom " + path("h.exr") + " -o " + path("bloomed.exr")).status, 0);
+    EXPECT_FALSE(fs::exists(stale));
+    EXPECT_TRUE(fs::exists(live));
+    fs::remove(live);
+}
+
+// 13. A deep EXR: every tool says it takes flat images.
+TEST_F(BadInput, DeepInputIsRefused) {
+    ImageSpec spec(8, 8, 5, TypeDesc::FLOAT);
+    spec.channelnames = {"R", "G", "B", "A", "Z"};
+    spec.alpha_channel = 3;
+    spec.z_channel = 4;
+    spec.deep = true;
+    ImageBuf deep(spec);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            deep.set_deep_samples(x, y, 0, 2);
+            for (int s = 0; s < 2; ++s)
+                for (int c = 0; c < 5; ++c)
+                    deep.set_deep_value(x, y, 0, c, s, c == 4 ? 1.0f + float(s) : 0.5f);
+        }
+    ASSERT_TRUE(deep.write(path("deep.exr")));
+    const std::string out = path("deep_out.exr");
+    for (const std::string& c :
+         {"dhdr-tonemap " + path("deep.exr") + " -o " + out,
+          "dhdr-bloom " + path("deep.exr") + " -o " + out,
+          "dhdr-aa " + path("deep.exr") + " -o " + out,
+          "dhdr-aa " + path("h.exr") + " --gbuffer " + path("deep.exr") + " -o " + out})
+        expectFailure(run(c), 1, "deep.exr: cannot read: is a deep image", out);
+    expectFailure(run("dhdr-light " + path("deep.exr") + " --lights " + kLights + " -o " + out), 1,
+                  "deep.exr", out);
+}
+
+// 14, 17. Numbers out of range or not finite: usage errors, with the range in --help.
+TEST_F(BadInput, NumericOptionsAreChecked) {
+    const std::string h = path("h.exr"), g = path("g.exr"), out = path("opt_out.exr");
+    const std::pair<std::string, std::string> cases[] = {
+        {"dhdr-light " + g + " --lights " + kLights + " --tile 2147483647", "--tile"},
+        {"dhdr-light " + g + " --lights " + kLights + " --tile 0", "--tile"},
+        {"dhdr-light " + g + " --lights " + kLights + " --background nan,0,0", "--background"},
+        {"dhdr-bloom " + h + " --sigma 20000", "--sigma"},
+        {"dhdr-bloom " + h + " --sigma 1e30", "--sigma"},
+        {"dhdr-bloom " + h + " --sigma inf", "--sigma"},
+        {"dhdr-bloom " + h + " --strength nan", "--strength"},
+        {"dhdr-tonemap " + h + " --exposure nan", "--exposure"},
+        {"dhdr-tonemap " + h + " --key inf", "--key"},
+        {"dhdr-tonemap " + h + " --bits 12", "--bits: 12 is not 8 or 16"},
+        {"dhdr-aa " + h + " --max-offset -1", "--max-offset"},
+        {"dhdr-gbuffer " + kCornell + " --threads 10000", "--threads"},
+    };
+    for (const auto& [command, what] : cases)
+        expectFailure(run(command + " -o " + out), 2, what, out);
+    expectFailure(run("dhdr-tonemap " + h + " --bits 16 -o " + path("x.jpg")), 2, "JPEG",
+                  path("x.jpg"));
+    expectFailure(run("dhdr-bloom " + path("seq.####.exr") + " --frames 2147483646-2147483647 -o " +
+                      path("seq_out.####.exr")),
+                  2, "--frames");
+    expectFailure(run("dhdr-tonemap " + path("seq.####.exr") +
+                      " --frames 2147483646-2147483647 -o " + path("seq_out.####.png")),
+                  2, "--frames");
+    const Result help = run("dhdr-bloom --help");
+    EXPECT_NE(help.out.find("[0, 64]"), std::string::npos) << help.out;
+}
+
+// 16. What used to escape main as an exception or crash inside Assimp.
+TEST_F(BadInput, MalformedScenesAndLightsAreErrors) {
+    // A glTF light whose intensity is a string (Assimp accepts the file).
+    nlohmann::json doc = gltfWithMesh(squareMesh());
+    doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+        {{"type", "point"}, {"intensity", "bright"}}};
+    doc["nodes"] = {{{"name", "square"}, {"mesh", 0}},
+                    {{"name", "lamp"},
+                     {"translation", {0, 0, 2}},
+                     {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}};
+    doc["scenes"] = {{{"nodes", {0, 1}}}};
+    writeJson(path("string_light.gltf"), doc);
+    expectFailure(run("dhdr-gbuffer " + path("string_light.gltf") + " --lookat 0,0,3,0,0,0 -o " +
+                      path("sl.exr")),
+                  1, "light 0: \"intensity\" must be a number", path("sl.exr"));
+
+    // 15,000 nested nodes: no stack overflow.
+    doc = gltfWithMesh(squareMesh());
+    nlohmann::json nodes = nlohmann::json::array();
+    for (int i = 0; i < 15000; ++i)
+        nodes.push_back({{"name", "n" + std::to_string(i)}, {"children", {i + 1}}});
+    nodes.push_back({{"name", "square"}, {"mesh", 0}});
+    doc["nodes"] = nodes;
+    doc["scenes"] = {{{"nodes", {0}}}};
+    writeJson(path("deep_nodes.gltf"), doc);
+    const Result nested = run("dhdr-gbuffer " + path("deep_nodes.gltf") +
+                              " --lookat 0,0,3,0,0,0 --size 8x8 -o " + path("dn.exr"));
+    EXPECT_TRUE(nested.status == 0 || nested.status == 1) << nested.status << nested.err;
+
+    // A PLY face that indexes past the vertices.
+    std::ofstream(path("bad.ply")) << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                      "property float y\nproperty float z\nelement face 1\n"
+                                      "property list uchar int vertex_indices\nend_header\n"
+                                      "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n";
+    expectFailure(run("dhdr-gbuffer " + path("bad.ply") + " --lookat 0,0,3,0,0,0 -o " +
+                      path("ply.exr")),
+                  1, "bad.ply: cannot load the scene:", path("ply.exr"));
+
+    // A glTF without nodes: a reason after the colon.
+    doc = gltfWithMesh(squareMesh());
+    writeJson(path("no_nodes.gltf"), doc);
+    const Result empty =
+        run("dhdr-gbuffer " + path("no_nodes.gltf") + " --lookat 0,0,3,0,0,0 -o " + path("nn.exr"));
+    EXPECT_EQ(empty.status, 1);
+    EXPECT_EQ(empty.err.find("cannot load the scene: \n"), std::string::npos) << empty.err;
+
+    // Lights files: a number no double holds, one no float holds, and a folder.
+    std::ofstream(path("huge_number.json"))
+        << R"({"lights": [{"type": "point", "position": [0, 1, 0], "intensity": 1e400}]})";
+    std::ofstream(path("float_overflow.json"))
+        << R"({"lights": [{"type": "point", "position": [0, 1, 0], "intensity": 1e39}]})";
+    fs::create_directories(dir / "lights_dir");
+    const std::string light = "dhdr-light " + path("g.exr") + " -o " + path("l.exr") + " --lights ";
+    expectFailure(run(light + path("huge_number.json")), 1, "huge_number.json: not valid JSON",
+                  path("l.exr"));
+    expectFailure(run(light + path("float_overflow.json")), 1,
+                  "light 0: \"intensity\" must be a number", path("l.exr"));
+    expectFailure(run(light + path("lights_dir")), 1, "lights_dir: is a folder", path("l.exr"));
+}
+
+// 17. G-buffers with unusable camera matrices or channels of the wrong type.
+TEST_F(BadInput, BrokenGBuffersAreRefused) {
+    ImageBuf g(path("g.exr"));
+    ASSERT_TRUE(g.read(0, 0, true, TypeDesc::FLOAT));
+    const float zero[16] = {};
+    g.specmod().attribute("worldToNDC", OIIO::TypeMatrix44, zero);
+    ASSERT_TRUE(g.write(path("zero_ndc.exr")));
+    expectFailure(run("dhdr-light " + path("zero_ndc.exr") + " --lights " + kLights + " -o " +
+                      path("z.exr")),
+                  1, "zero_ndc.exr: the header's worldToNDC is not a usable camera matrix",
+                  path("z.exr"));
+
+    ImageBuf uintNormals(path("g.exr"));
+    ASSERT_TRUE(uintNormals.read(0, 0, true, TypeDesc::FLOAT));
+    std::vector<TypeDesc> formats(size_t(uintNormals.nchannels()), TypeDesc::FLOAT);
+    for (int c = 0; c < uintNormals.nchannels(); ++c)
+        if (uintNormals.spec().channelnames[size_t(c)].rfind("N.", 0) == 0)
+            formats[size_t(c)] = TypeDesc::UINT;
+    uintNormals.set_write_format(formats);
+    ASSERT_TRUE(uintNormals.write(path("uint_normals.exr")));
+    expectFailure(run("dhdr-light " + path("uint_normals.exr") + " --lights " + kLights + " -o " +
+                      path("u.exr")),
+                  1, "uint_normals.exr: channel 'N.X' is stored as uint", path("u.exr"));
+}
+
+// Smaller: the help lists every light type.
+TEST_F(BadInput, LightHelpListsEveryLightType) {
+    const Result r = run("dhdr-light --help");
+    for (const char* type : {"point", "spot", "directional", "ambient", "sphere", "rectangle"})
+        EXPECT_NE(r.out.find(type), std::string::npos) << type;
+}

@@ -1,0 +1,85 @@
+// Running the tools as a user runs them, for the tool-level tests: a scratch folder, the
+// command's exit status and output, pictures read back.
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <gtest/gtest.h>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace dhdr::test {
+
+namespace fs = std::filesystem;
+using OIIO::ImageBuf;
+
+// The build tree's tools; $DHDR_TOOLS_DIR runs the same tests against other builds (an older
+// commit's, to see a test fail before its fix).
+inline const std::string kTools =
+    std::getenv("DHDR_TOOLS_DIR") ? std::getenv("DHDR_TOOLS_DIR") : DHDR_TOOLS_DIR;
+inline const std::string kTestdata = DHDR_TESTDATA;
+
+struct Result {
+    int status = -1;
+    std::string out, err;
+};
+
+inline std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// A test suite with one scratch folder for all its tests, removed at the end.
+class ToolTest : public ::testing::Test {
+protected:
+    static inline fs::path dir;
+
+    static void makeScratch() {
+        char pattern[] = "/tmp/dhdr_tools_XXXXXX";
+        dir = mkdtemp(pattern);
+    }
+    static void TearDownTestSuite() { fs::remove_all(dir); }
+
+    static std::string path(const std::string& name) { return (dir / name).string(); }
+
+    // Runs `args` (a tool name and its arguments) from the build tree.
+    static Result run(const std::string& args) {
+        Result r;
+        // The tools' defaults (the built-in OCIO config) whatever the caller's environment.
+        const std::string cmd = "env -u OCIO " + kTools + "/" + args + " >" + path("stdout.txt") +
+                                " 2>" + path("stderr.txt") + " </dev/null";
+        const int raw = std::system(cmd.c_str());
+        r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+        r.out = slurp(dir / "stdout.txt");
+        r.err = slurp(dir / "stderr.txt");
+        return r;
+    }
+
+    static bool noTemporaries() {
+        for (const auto& e : fs::directory_iterator(dir))
+            if (e.path().filename().string().find(".tmp") != std::string::npos) return false;
+        return true;
+    }
+
+    static ImageBuf read(const std::string& name) {
+        ImageBuf img(path(name));
+        img.read(0, 0, true, OIIO::TypeDesc::FLOAT);
+        return img;
+    }
+
+    static bool allFinite(const ImageBuf& img) {
+        const float* p = static_cast<const float*>(img.localpixels());
+        for (size_t i = 0; i < img.spec().image_pixels() * size_t(img.nchannels()); ++i)
+            if (!std::isfinite(p[i])) return false;
+        return true;
+    }
+};
+
+} // namespace dhdr::test
