@@ -1,12 +1,13 @@
 # dhdr: two commands for a fresh Debian 12 machine.
 #   make demo   install what is missing, build (Release), run the pipeline on the Cornell box
 #   make test   install what is missing, build, run the test suite (ctest)
+#   make sanitize  the same suite built with AddressSanitizer + UndefinedBehaviorSanitizer
 
 BUILD ?= build
 JOBS  ?= $(shell nproc)
 BUILD_TYPE ?= Release
 
-.PHONY: all deps configure build test demo bench format clean
+.PHONY: all deps configure build test sanitize demo bench format clean
 
 all: build
 
@@ -22,6 +23,12 @@ build: configure
 test: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# The suite under AddressSanitizer + UndefinedBehaviorSanitizer (docs/development.md).
+sanitize: deps
+	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDHDR_SANITIZE=ON >/dev/null
+	@cmake --build build-asan -j $(JOBS)
+	@cd build-asan && ASAN_OPTIONS=detect_leaks=0:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
+
 demo: build
 	@bash scripts/demo.sh $(BUILD)/apps out/demo
 
@@ -32,4 +39,4 @@ format:
 	@clang-format -i $$(git ls-files '*.h' '*.cpp')
 
 clean:
-	@rm -rf $(BUILD) out
+	@rm -rf $(BUILD) build-asan out
