@@ -85,11 +85,10 @@ inline nlohmann::json gltfWithMesh(const GltfMesh& mesh) {
                           {{"baseColorFactor", {0.8, 0.8, 0.8, 1.0}},
                            {"metallicFactor", 0.0},
                            {"roughnessFactor", 0.5}}}}};
-    doc["meshes"] = {{{"name", "mesh"},
-                      {"primitives",
-                       {{{"attributes", attributes},
-                         {"indices", accessors.size() - 1},
-                         {"material", 0}}}}}};
+    doc["meshes"] = {
+        {{"name", "mesh"},
+         {"primitives",
+          {{{"attributes", attributes}, {"indices", accessors.size() - 1}, {"material", 0}}}}}};
     return doc;
 }
 

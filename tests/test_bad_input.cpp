@@ -25,10 +25,10 @@ protected:
     static void SetUpTestSuite() {
         makeScratch();
         ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 32x24 -o " + path("g.exr")).status, 0);
-        ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " +
-                      path("h.exr"))
-                      .status,
-                  0);
+        ASSERT_EQ(
+            run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " + path("h.exr"))
+                .status,
+            0);
     }
 
     // `r` failed with status `status`, saying `what`, and left neither `out` nor temporaries.
@@ -103,8 +103,8 @@ TEST_F(BadInput, HugeHeaderIsRefusedBeforeAllocating) {
 
 // 12. SIGHUP while a frame is written, SIGINT while several frames are: nothing left.
 TEST_F(BadInput, SignalsLeaveNoTemporaries) {
-    const pid_t one = start("dhdr-gbuffer " + kCornell + " --size 6000x6000 --threads 1 -o " +
-                            path("big.exr"));
+    const pid_t one =
+        start("dhdr-gbuffer " + kCornell + " --size 6000x6000 --threads 1 -o " + path("big.exr"));
     ASSERT_TRUE(waitForTemporaries(1));
     kill(one, SIGHUP);
     int status = 0;
@@ -117,8 +117,8 @@ TEST_F(BadInput, SignalsLeaveNoTemporaries) {
     const ImageBuf frame = ImageBuf(ImageSpec(2500, 2500, 3, TypeDesc::HALF));
     for (int f = 1; f <= 4; ++f)
         ASSERT_TRUE(frame.write(path("seq." + std::to_string(f) + ".exr")));
-    const pid_t many = start("dhdr-tonemap " + path("seq.#.exr") + " --threads 2 -o " +
-                             path("seq.#.png"));
+    const pid_t many =
+        start("dhdr-tonemap " + path("seq.#.exr") + " --threads 2 -o " + path("seq.#.png"));
     ASSERT_TRUE(waitForTemporaries(2));
     kill(many, SIGINT);
     waitpid(many, &status, 0);
@@ -235,9 +235,9 @@ TEST_F(BadInput, MalformedScenesAndLightsAreErrors) {
                                       "property float y\nproperty float z\nelement face 1\n"
                                       "property list uchar int vertex_indices\nend_header\n"
                                       "0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n";
-    expectFailure(run("dhdr-gbuffer " + path("bad.ply") + " --lookat 0,0,3,0,0,0 -o " +
-                      path("ply.exr")),
-                  1, "bad.ply: cannot load the scene:", path("ply.exr"));
+    expectFailure(
+        run("dhdr-gbuffer " + path("bad.ply") + " --lookat 0,0,3,0,0,0 -o " + path("ply.exr")), 1,
+        "bad.ply: cannot load the scene:", path("ply.exr"));
 
     // A glTF without nodes: a reason after the colon.
     doc = gltfWithMesh(squareMesh());
@@ -268,10 +268,9 @@ TEST_F(BadInput, BrokenGBuffersAreRefused) {
     const float zero[16] = {};
     g.specmod().attribute("worldToNDC", OIIO::TypeMatrix44, zero);
     ASSERT_TRUE(g.write(path("zero_ndc.exr")));
-    expectFailure(run("dhdr-light " + path("zero_ndc.exr") + " --lights " + kLights + " -o " +
-                      path("z.exr")),
-                  1, "zero_ndc.exr: the header's worldToNDC is not a usable camera matrix",
-                  path("z.exr"));
+    expectFailure(
+        run("dhdr-light " + path("zero_ndc.exr") + " --lights " + kLights + " -o " + path("z.exr")),
+        1, "zero_ndc.exr: the header's worldToNDC is not a usable camera matrix", path("z.exr"));
 
     ImageBuf uintNormals(path("g.exr"));
     ASSERT_TRUE(uintNormals.read(0, 0, true, TypeDesc::FLOAT));
@@ -291,4 +290,36 @@ TEST_F(BadInput, LightHelpListsEveryLightType) {
     const Result r = run("dhdr-light --help");
     for (const char* type : {"point", "spot", "directional", "ambient", "sphere", "rectangle"})
         EXPECT_NE(r.out.find(type), std::string::npos) << type;
+}
+
+// Smaller: a PNG holds sRGB-encoded values; mapped with the identity operator (exposure 0)
+// it comes back as it was, not brightened by a second encoding.
+TEST_F(BadInput, PngInputIsDecodedFromSrgb) {
+    ImageBuf ramp(ImageSpec(256, 4, 3, TypeDesc::FLOAT));
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 256; ++x)
+            for (int c = 0; c < 3; ++c)
+                static_cast<float*>(ramp.pixeladdr(x, y))[c] = float(x) / 255.0f;
+    ASSERT_TRUE(ramp.write(path("ramp.png"), TypeDesc::UINT8));
+    const Result r = run("dhdr-tonemap " + path("ramp.png") + " --op exposure --no-dither -v -o " +
+                         path("ramp_out.png"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("decoded from 'sRGB - Texture'"), std::string::npos) << r.err;
+    const ImageBuf out = read("ramp_out.png");
+    float worst = 0.0f;
+    for (int x = 0; x < 256; ++x)
+        worst = std::max(worst, std::abs(out.getchannel(x, 1, 0, 1) * 255.0f - float(x)));
+    EXPECT_LE(worst, 1.0f);
+}
+
+// Smaller: a sequence with a hole in it says which frames are missing.
+TEST_F(BadInput, MissingFramesOfASequenceAreNamed) {
+    const ImageBuf frame = read("h.exr");
+    for (int f : {1, 2, 4})
+        ASSERT_TRUE(frame.write(path("gap." + std::to_string(f) + ".exr")));
+    const Result r = run("dhdr-tonemap " + path("gap.#.exr") + " --adapt -o " + path("gap.#.png"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("1 frames missing from the sequence (" + path("gap.3.exr") + ")"),
+              std::string::npos)
+        << r.err;
 }

@@ -30,6 +30,11 @@ double srgbEncode(double v) {
     return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
 }
 
+// Its inverse, IEC 61966-2-1 in double.
+double srgbDecode(double e) {
+    return e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
+}
+
 struct NoOcioEnv : ::testing::Test {
     void SetUp() override { unsetenv("OCIO"); }
 };
@@ -191,4 +196,35 @@ colorspaces:
     s.config = "/nonexistent/config.ocio";
     EXPECT_FALSE(display.init(s, error));
     EXPECT_NE(error.find("/nonexistent/config.ocio"), std::string::npos);
+}
+
+// A file tagged sRGB (PNG, JPEG) is decoded by the sRGB curve into scene-linear; an untagged
+// one, or one tagged linear, is left as it is.
+TEST_F(NoOcioEnv, SrgbTaggedInputIsDecodedByTheSrgbCurve) {
+    DisplayTransform display;
+    std::string error;
+    ASSERT_TRUE(display.init({}, error)) << error;
+    const std::vector<float> e = {0.0f, 0.02f, 0.04045f, 0.2f, 0.5f, 0.735357f, 1.0f};
+    std::vector<float> rgb;
+    for (float x : e)
+        rgb.insert(rgb.end(), {x, x, x});
+    ImageBuf tagged = row(rgb), linear = row(rgb);
+    tagged.specmod().attribute("oiio:ColorSpace", "sRGB");
+    linear.specmod().attribute("oiio:ColorSpace", "Linear");
+    EXPECT_EQ(display.inputColorSpace(tagged.spec()), kBuiltinSrgbTexture);
+    EXPECT_EQ(display.inputColorSpace(linear.spec()), "");
+    ASSERT_TRUE(display.toSceneLinear(tagged));
+    ASSERT_TRUE(display.toSceneLinear(linear));
+    for (size_t i = 0; i < e.size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(px(tagged, int(i))[c], srgbDecode(e[i]), 2e-4 * (1.0 + srgbDecode(e[i])))
+                << e[i];
+            EXPECT_EQ(px(linear, int(i))[c], e[i]);
+        }
+    // --colorspace given: the file's tag does not override it.
+    DisplaySettings explicitInput;
+    explicitInput.colorspace = kBuiltinSceneLinear;
+    DisplayTransform forced;
+    ASSERT_TRUE(forced.init(explicitInput, error)) << error;
+    EXPECT_EQ(forced.inputColorSpace(tagged.spec()), "");
 }

@@ -32,15 +32,16 @@ protected:
     static void SetUpTestSuite() {
         makeScratch();
         ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 64x64 -o " + path("g.exr")).status, 0);
-        ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kLights +
-                      " --type float -o " + path("h.exr"))
+        ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --type float -o " +
+                      path("h.exr"))
                       .status,
                   0);
     }
 
     // Float pixels of `spec`'s size and channels (whatever its type), pixel (x, y) channel c
     // being f(x, y, c).
-    template <class F> static ImageBuf makeImage(ImageSpec spec, F f) {
+    template <class F>
+    static ImageBuf makeImage(ImageSpec spec, F f) {
         spec.set_format(TypeDesc::FLOAT);
         spec.channelformats.clear();
         ImageBuf img(spec);
@@ -109,7 +110,8 @@ TEST_F(Robustness, IdsAreTheSceneObjectsReadAsUint) {
         for (int x = 0; x < 64; ++x) {
             const dhdr::RayHit hit = caster.intersect(camera.primaryRay(x, y, 64, 64));
             const size_t i = size_t(y * 64 + x);
-            const std::uint32_t object = hit.hit ? std::uint32_t(scene.meshes[size_t(hit.mesh)].object + 1) : 0;
+            const std::uint32_t object =
+                hit.hit ? std::uint32_t(scene.meshes[size_t(hit.mesh)].object + 1) : 0;
             const std::uint32_t material =
                 hit.hit ? std::uint32_t(scene.meshes[size_t(hit.mesh)].material + 1) : 0;
             ++total;
@@ -184,8 +186,8 @@ TEST_F(Robustness, LayeredExrIsReadByName) {
         for (int x = 0; x < 64; ++x) {
             const float v = static_cast<const float*>(bloomed.pixeladdr(x, y))[red];
             EXPECT_EQ(v, static_cast<const float*>(plain.pixeladdr(x, y))[0]);
-            changed = std::max(changed,
-                               std::abs(v - static_cast<const float*>(in.pixeladdr(x, y))[6]));
+            changed =
+                std::max(changed, std::abs(v - static_cast<const float*>(in.pixeladdr(x, y))[6]));
         }
     EXPECT_GT(changed, 0.0f); // it did bloom
 
@@ -207,14 +209,15 @@ TEST_F(Robustness, LayeredExrIsReadByName) {
         for (int y = 0; y < 64; ++y)
             for (int x = 0; x < 64; ++x)
                 ASSERT_EQ(static_cast<const float*>(aa.pixeladdr(x, y))[k],
-                          combined ? static_cast<const float*>(aaPlain.pixeladdr(x, y))[plainChannel]
-                                   : static_cast<const float*>(in.pixeladdr(x, y))[c])
+                          combined
+                              ? static_cast<const float*>(aaPlain.pixeladdr(x, y))[plainChannel]
+                              : static_cast<const float*>(in.pixeladdr(x, y))[c])
                     << name << " at " << x << "," << y;
     }
 
     // --layer chooses another; an unknown one lists what there is.
-    ASSERT_EQ(run("dhdr-tonemap " + path("blender.exr") + " --layer AO -o " + path("ao.png")).status,
-              0);
+    ASSERT_EQ(
+        run("dhdr-tonemap " + path("blender.exr") + " --layer AO -o " + path("ao.png")).status, 0);
     EXPECT_FALSE(equalPixels(read("ao.png"), b, 0, 3));
     r = run("dhdr-tonemap " + path("blender.exr") + " --layer Diffuse -o " + path("x.png"));
     EXPECT_EQ(r.status, 1);
@@ -224,8 +227,8 @@ TEST_F(Robustness, LayeredExrIsReadByName) {
 
     // Two layers and no convention: an error that lists them.
     ImageSpec two(8, 8, 6, TypeDesc::HALF);
-    two.channelnames = {"diffuse.B", "diffuse.G", "diffuse.R", "specular.B", "specular.G",
-                        "specular.R"};
+    two.channelnames = {"diffuse.B",  "diffuse.G",  "diffuse.R",
+                        "specular.B", "specular.G", "specular.R"};
     ASSERT_TRUE(
         makeImage(two, [](int, int, int) { return 1.0f; }).write(path("two.exr"), TypeDesc::HALF));
     for (const char* tool : {"dhdr-tonemap", "dhdr-bloom", "dhdr-aa"}) {
@@ -267,8 +270,9 @@ TEST_F(Robustness, MultiPartExrFindsThePartByName) {
 // 3. An orthographic glTF camera, and --fov outside (0, 180).
 TEST_F(Robustness, OrthographicCamera) {
     nlohmann::json doc = gltfWithMesh(squareMesh(1.0f));
-    doc["cameras"] = {{{"type", "orthographic"},
-                       {"orthographic", {{"xmag", 1.5}, {"ymag", 1.5}, {"znear", 0.1}, {"zfar", 100}}}}};
+    doc["cameras"] = {
+        {{"type", "orthographic"},
+         {"orthographic", {{"xmag", 1.5}, {"ymag", 1.5}, {"znear", 0.1}, {"zfar", 100}}}}};
     // Looking down −Z from z = 5, the square tilted so that depth varies across it.
     doc["nodes"] = {{{"name", "square"}, {"mesh", 0}, {"rotation", {0.0, 0.258819, 0.0, 0.965926}}},
                     {{"name", "ortho"}, {"camera", 0}, {"translation", {0.0, 0.0, 5.0}}}};
@@ -343,12 +347,11 @@ TEST_F(Robustness, EmptyFramesAreReported) {
             path("empty.hdr.exr"));
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("empty.gbuf.exr: no surface in view"), std::string::npos) << r.err;
-    for (const std::string& c : {"dhdr-aa " + path("empty.hdr.exr") + " --gbuffer " +
-                                     path("empty.gbuf.exr") + " -o " + path("empty.aa.exr"),
-                                 "dhdr-bloom " + path("empty.hdr.exr") + " -o " +
-                                     path("empty.bloom.exr"),
-                                 "dhdr-tonemap " + path("empty.hdr.exr") + " -o " +
-                                     path("empty.png")}) {
+    for (const std::string& c :
+         {"dhdr-aa " + path("empty.hdr.exr") + " --gbuffer " + path("empty.gbuf.exr") + " -o " +
+              path("empty.aa.exr"),
+          "dhdr-bloom " + path("empty.hdr.exr") + " -o " + path("empty.bloom.exr"),
+          "dhdr-tonemap " + path("empty.hdr.exr") + " -o " + path("empty.png")}) {
         r = run(c);
         EXPECT_EQ(r.status, 0) << c << r.err;
         EXPECT_NE(r.err.find("empty.hdr.exr: no surface in view"), std::string::npos) << r.err;
@@ -384,7 +387,8 @@ TEST_F(Robustness, ZeroNormalsBecomeGeometricNormals) {
     mesh.normals.assign(4, {0.0f, 0.0f, 0.0f});
     nlohmann::json doc = gltfWithMesh(mesh);
     // The square turned 90° about X: its geometric normal is −Y... seen from below, +Y up.
-    doc["nodes"] = {{{"name", "square"}, {"mesh", 0}, {"rotation", {0.7071068, 0.0, 0.0, 0.7071068}}}};
+    doc["nodes"] = {
+        {{"name", "square"}, {"mesh", 0}, {"rotation", {0.7071068, 0.0, 0.0, 0.7071068}}}};
     doc["scenes"] = {{{"nodes", {0}}}};
     writeJson(path("zero_normals.gltf"), doc);
     const Result r = run("dhdr-gbuffer " + path("zero_normals.gltf") +
@@ -416,8 +420,8 @@ TEST_F(Robustness, BloomAndAAKeepTheInputTypes) {
 
 // 9. A camera looking straight down, and one whose eye is its target.
 TEST_F(Robustness, TopDownCameraRendersAndEyeAtTargetIsAUsageError) {
-    Result r = run("dhdr-gbuffer " + kCornell + " --lookat 0.278,5,0.28,0.278,0,0.28 --size 32x32 -o " +
-                   path("top.exr"));
+    Result r = run("dhdr-gbuffer " + kCornell +
+                   " --lookat 0.278,5,0.28,0.278,0,0.28 --size 32x32 -o " + path("top.exr"));
     ASSERT_EQ(r.status, 0) << r.err;
     const ImageBuf top = read("top.exr");
     // Looking down on the box: the floor and blocks fill the middle of the picture.
@@ -449,7 +453,7 @@ TEST_F(Robustness, TiledInputGivesScanlineOutput) {
     ImageBuf g = read("g.exr");
     g.set_write_tiles(32, 32);
     ASSERT_TRUE(g.write(path("g_tiled.exr")));
-    const Result r = run("dhdr-light " + path("g_tiled.exr") + " --lights " + kLights + " -o " +
-                         path("lt.exr"));
+    const Result r =
+        run("dhdr-light " + path("g_tiled.exr") + " --lights " + kLights + " -o " + path("lt.exr"));
     EXPECT_EQ(r.status, 0) << r.err;
 }

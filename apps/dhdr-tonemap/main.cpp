@@ -76,8 +76,10 @@ bool readFrame(const app::Tool& tool, const std::string& layer, const std::strin
 // Reads a frame and brings it to scene-linear, where metering and operators work.
 bool readSceneLinear(const app::Tool& tool, const FrameJob& job, const std::string& path,
                      OIIO::ImageBuf& hdr, bool warn, int nthreads) {
-    return readFrame(tool, job.layer, path, hdr, warn, nthreads) &&
-           job.display.toSceneLinear(hdr, {}, nthreads);
+    if (!readFrame(tool, job.layer, path, hdr, warn, nthreads)) return false;
+    if (const std::string from = job.display.inputColorSpace(hdr.spec()); warn && !from.empty())
+        tool.info(path + ": display-encoded (the file says sRGB): decoded from '" + from + "'");
+    return job.display.toSceneLinear(hdr, {}, nthreads);
 }
 
 // The frame a thread works on, kept from frame to frame of a sequence so that its pixels are
@@ -333,6 +335,16 @@ int run(int argc, char** argv) {
     } else {
         numbers = input.existingFrames();
         if (numbers.empty()) return tool.fail(input.text() + ": no frames match the pattern");
+        // A gap in the sequence: adaptation would step over it as if it were one frame.
+        std::string missing;
+        int gaps = 0;
+        for (size_t i = 1; i < numbers.size(); ++i)
+            for (int f = numbers[i - 1] + 1; f < numbers[i]; ++f)
+                if (++gaps <= 5) missing += (missing.empty() ? "" : ", ") + input.path(f);
+        if (gaps > 0)
+            tool.warn(std::to_string(gaps) + " frames missing from the sequence (" + missing +
+                      (gaps > 5 ? ", …" : "") + ")" +
+                      (adapt ? "; adaptation steps over them as if they were not there" : ""));
     }
     for (int f : numbers)
         if (input.path(f) == output.path(f))

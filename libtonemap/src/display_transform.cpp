@@ -37,6 +37,20 @@ OCIO::ConstConfigRcPtr builtinConfig() {
     toAces->appendTransform(builtin("ACEScg_to_ACES2065-1"));
     rec709->setTransform(toAces, OCIO::COLORSPACE_DIR_TO_REFERENCE);
     config->addColorSpace(rec709);
+    // sRGB-encoded Rec.709, as PNG and JPEG files hold it: the piecewise sRGB curve
+    // (IEC 61966-2-1: exponent 2.4, offset 0.055), then as linear Rec.709.
+    OCIO::ColorSpaceRcPtr srgbTexture = OCIO::ColorSpace::Create(OCIO::REFERENCE_SPACE_SCENE);
+    srgbTexture->setName(kBuiltinSrgbTexture);
+    srgbTexture->addAlias("sRGB");
+    OCIO::ExponentWithLinearTransformRcPtr curve = OCIO::ExponentWithLinearTransform::Create();
+    const double gamma[4] = {2.4, 2.4, 2.4, 1.0}, offset[4] = {0.055, 0.055, 0.055, 0.0};
+    curve->setGamma(gamma);
+    curve->setOffset(offset);
+    OCIO::GroupTransformRcPtr decode = OCIO::GroupTransform::Create();
+    decode->appendTransform(curve);
+    decode->appendTransform(toAces);
+    srgbTexture->setTransform(decode, OCIO::COLORSPACE_DIR_TO_REFERENCE);
+    config->addColorSpace(srgbTexture);
     config->setRole(OCIO::ROLE_SCENE_LINEAR, kBuiltinSceneLinear);
     config->setRole(OCIO::ROLE_DEFAULT, kBuiltinSceneLinear);
 
@@ -93,6 +107,10 @@ struct DisplayTransform::Impl {
     OCIO::ConstConfigRcPtr config;
     std::string source; // where the config came from
     OCIO::ConstCPUProcessorRcPtr toScene, toDisplay;
+    // From the config's "sRGB" colour space, for files that say they hold sRGB-encoded
+    // values; null when the config has none or --colorspace was given.
+    OCIO::ConstCPUProcessorRcPtr fromSrgb;
+    std::string srgbName;
     std::string display, view;
 };
 
@@ -167,6 +185,13 @@ bool DisplayTransform::init(const DisplaySettings& s, std::string& error) {
     try {
         m.toScene =
             config->getProcessor(input.c_str(), sceneLinear->getName())->getDefaultCPUProcessor();
+        if (s.colorspace.empty()) {
+            if (const auto srgb = config->getColorSpace("sRGB")) {
+                m.srgbName = srgb->getName();
+                m.fromSrgb = config->getProcessor(srgb->getName(), sceneLinear->getName())
+                                 ->getDefaultCPUProcessor();
+            }
+        }
         OCIO::GroupTransformRcPtr display = OCIO::GroupTransform::Create();
         if (!s.look.empty()) {
             OCIO::LookTransformRcPtr look = OCIO::LookTransform::Create();
@@ -205,8 +230,21 @@ std::string DisplayTransform::outputColorSpace() const {
 bool DisplayTransform::toSceneLinear(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads) const {
     if (!m_impl->toScene || img.spec().format != OIIO::TypeDesc::FLOAT || !img.localpixels())
         return false;
-    if (!m_impl->toScene->isNoOp()) applyRgb(m_impl->toScene, img, roi, nthreads);
+    const OCIO::ConstCPUProcessorRcPtr& cpu =
+        saysSrgb(img.spec()) && m_impl->fromSrgb ? m_impl->fromSrgb : m_impl->toScene;
+    if (!cpu->isNoOp()) applyRgb(cpu, img, roi, nthreads);
     return true;
+}
+
+std::string DisplayTransform::inputColorSpace(const OIIO::ImageSpec& spec) const {
+    if (saysSrgb(spec) && m_impl->fromSrgb) return m_impl->srgbName;
+    return {};
+}
+
+bool DisplayTransform::saysSrgb(const OIIO::ImageSpec& spec) {
+    std::string tag = spec.get_string_attribute("oiio:ColorSpace");
+    std::transform(tag.begin(), tag.end(), tag.begin(), ::tolower);
+    return tag.find("srgb") != std::string::npos && tag.find("linear") == std::string::npos;
 }
 
 bool DisplayTransform::toDisplay(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads) const {

@@ -21,6 +21,8 @@ struct DisplaySettings {
 // display "sRGB" with views "Standard" (colour encoded as it is) and "ACES" (the ACES 1.0 SDR
 // video output transform).
 inline constexpr const char* kBuiltinSceneLinear = "Linear Rec.709 (sRGB)";
+// Also in the built-in config: sRGB-encoded Rec.709 (alias "sRGB"), what PNG and JPEG hold.
+inline constexpr const char* kBuiltinSrgbTexture = "sRGB - Texture";
 
 class DisplayTransform {
 public:
@@ -38,9 +40,17 @@ public:
 
     // In place on the colour channels (the first three) over `roi` (default: all of `img`):
     // input colour space → scene-linear (a no-op when they are the same), and scene-linear →
-    // display (look, view, display). `img` must hold float pixels in memory.
+    // display (look, view, display). `img` must hold float pixels in memory. Without an
+    // explicit input colour space, an image whose `oiio:ColorSpace` says sRGB (PNG, JPEG:
+    // display-encoded values) is decoded from the config's "sRGB" colour space, when it has
+    // one, rather than taken as scene-linear.
     bool toSceneLinear(OIIO::ImageBuf& img, OIIO::ROI roi = {}, int nthreads = 0) const;
     bool toDisplay(OIIO::ImageBuf& img, OIIO::ROI roi = {}, int nthreads = 0) const;
+    // The colour space toSceneLinear takes an image of `spec` from, when it is not the
+    // configured input's (a file tagged sRGB); empty otherwise.
+    std::string inputColorSpace(const OIIO::ImageSpec& spec) const;
+    // Whether a file's metadata says it holds sRGB-encoded values.
+    static bool saysSrgb(const OIIO::ImageSpec& spec);
 
 private:
     struct Impl;
