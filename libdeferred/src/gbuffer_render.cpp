@@ -14,8 +14,10 @@ namespace {
 // Shading attributes of a hit, interpolated over its triangle.
 struct SurfaceSample {
     glm::dvec3 position;
-    glm::dvec3 normal;
+    glm::dvec3 normal;    // shading normal, facing the camera (mapped by a normal map)
+    glm::dvec3 geometric; // the interpolated normal before the normal map
     glm::vec3 albedo;
+    glm::vec3 emission;
     const Material* material;
 };
 
@@ -37,13 +39,34 @@ SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
     s.normal = glm::normalize(s.normal);
     // The contract's normals face the camera: a back face is shaded as seen.
     if (glm::dot(s.normal, ray.direction) > 0.0) s.normal = -s.normal;
+    s.geometric = s.normal;
 
     s.material = &scene.materials[size_t(mesh.material)];
-    s.albedo = s.material->baseColor;
-    if (s.material->baseColorTexture >= 0 && !mesh.uvs.empty()) {
-        const glm::vec2 uv = float(w0) * mesh.uvs[tri[0]] + float(w1) * mesh.uvs[tri[1]] +
-                             float(w2) * mesh.uvs[tri[2]];
-        s.albedo *= glm::vec3(scene.textures[size_t(s.material->baseColorTexture)].sample(uv));
+    const Material& m = *s.material;
+    s.albedo = m.baseColor;
+    s.emission = m.emission;
+    if (mesh.uvs.empty()) return s;
+    const glm::vec2 uv =
+        float(w0) * mesh.uvs[tri[0]] + float(w1) * mesh.uvs[tri[1]] + float(w2) * mesh.uvs[tri[2]];
+    auto sample = [&](const TextureRef& ref) {
+        return scene.textures[size_t(ref.texture)].sample(ref.transform.apply(uv));
+    };
+    if (m.baseColorTexture.texture >= 0) s.albedo *= glm::vec3(sample(m.baseColorTexture));
+    if (m.emissiveTexture.texture >= 0) s.emission *= glm::vec3(sample(m.emissiveTexture));
+    if (m.normalTexture.texture >= 0 && !mesh.tangents.empty()) {
+        // glTF 2.0 §3.9.3: n = normalize(T·x + B·y + N·z) with (x, y, z) = (2·texel − 1) and
+        // x, y scaled by normalTexture.scale.
+        const glm::dvec3 T = w0 * glm::dvec3(mesh.tangents[tri[0]]) +
+                             w1 * glm::dvec3(mesh.tangents[tri[1]]) +
+                             w2 * glm::dvec3(mesh.tangents[tri[2]]);
+        const glm::dvec3 B = w0 * glm::dvec3(mesh.bitangents[tri[0]]) +
+                             w1 * glm::dvec3(mesh.bitangents[tri[1]]) +
+                             w2 * glm::dvec3(mesh.bitangents[tri[2]]);
+        const glm::dvec3 t = glm::dvec3(sample(m.normalTexture)) * 2.0 - 1.0;
+        const glm::dvec3 mapped = T * (t.x * double(m.normalScale)) +
+                                  B * (t.y * double(m.normalScale)) + s.geometric * t.z;
+        if (glm::dot(mapped, mapped) > 1e-20) s.normal = glm::normalize(mapped);
+        if (glm::dot(s.normal, ray.direction) > 0.0) s.normal = -s.normal;
     }
     return s;
 }
@@ -168,7 +191,7 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
                 *out++ = m.roughness;
                 *out++ = m.metallic;
                 for (int c = 0; c < 3; ++c)
-                    *out++ = m.emission[c];
+                    *out++ = s.emission[c];
                 *out++ = float(mesh.object + 1);
                 *out++ = float(mesh.material + 1);
             }

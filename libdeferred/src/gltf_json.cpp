@@ -1,5 +1,6 @@
 #include "gltf_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -121,6 +122,111 @@ bool gltfLightsByNode(const std::string& path, std::map<std::string, GltfLight>&
         out[node["name"].get<std::string>()] = g;
     }
     return true;
+}
+
+namespace {
+
+// KHR_texture_transform of a textureInfo, and whether it asks for a UV set other than 0.
+TextureTransform textureTransform(const nlohmann::json& info, bool& otherUvSet) {
+    TextureTransform t;
+    if (!info.is_object()) return t;
+    if (info.contains("texCoord") && info["texCoord"].is_number() && info["texCoord"] != 0)
+        otherUvSet = true;
+    if (!info.contains("extensions") || !info["extensions"].is_object()) return t;
+    const nlohmann::json& ext = info["extensions"];
+    if (!ext.contains("KHR_texture_transform") || !ext["KHR_texture_transform"].is_object())
+        return t;
+    const nlohmann::json& k = ext["KHR_texture_transform"];
+    auto vec2 = [&](const char* key, glm::vec2 fallback) {
+        if (!k.contains(key) || !k[key].is_array() || k[key].size() != 2 || !isFloat(k[key][0]) ||
+            !isFloat(k[key][1]))
+            return fallback;
+        return glm::vec2(k[key][0].get<float>(), k[key][1].get<float>());
+    };
+    t.offset = vec2("offset", glm::vec2(0.0f));
+    t.scale = vec2("scale", glm::vec2(1.0f));
+    if (k.contains("rotation") && isFloat(k["rotation"])) t.rotation = k["rotation"].get<float>();
+    if (k.contains("texCoord") && k["texCoord"].is_number() && k["texCoord"] != 0)
+        otherUvSet = true;
+    return t;
+}
+
+} // namespace
+
+std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const std::string& path) {
+    std::map<std::string, GltfMaterialTextures> out;
+    const nlohmann::json doc = readGltfJson(path);
+    if (doc.is_discarded() || !doc.contains("materials") || !doc["materials"].is_array())
+        return out;
+    for (const auto& m : doc["materials"]) {
+        if (!m.is_object() || !m.contains("name") || !m["name"].is_string()) continue;
+        GltfMaterialTextures t;
+        bool other = false;
+        if (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object() &&
+            m["pbrMetallicRoughness"].contains("baseColorTexture"))
+            t.baseColor = textureTransform(m["pbrMetallicRoughness"]["baseColorTexture"], other);
+        if (m.contains("emissiveTexture"))
+            t.emissive = textureTransform(m["emissiveTexture"], other);
+        if (m.contains("normalTexture")) {
+            t.normal = textureTransform(m["normalTexture"], other);
+            if (m["normalTexture"].is_object() && m["normalTexture"].contains("scale") &&
+                isFloat(m["normalTexture"]["scale"]))
+                t.normalScale = m["normalTexture"]["scale"].get<float>();
+        }
+        out[m["name"].get<std::string>()] = t;
+    }
+    return out;
+}
+
+std::vector<std::string> gltfIgnoredFeatures(const std::string& path) {
+    static const char* const kRead[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                        "KHR_texture_transform"};
+    std::vector<std::string> out;
+    const nlohmann::json doc = readGltfJson(path);
+    if (doc.is_discarded() || !doc.is_object()) return out;
+    if (doc.contains("extensionsUsed") && doc["extensionsUsed"].is_array()) {
+        std::string ignored;
+        for (const auto& e : doc["extensionsUsed"]) {
+            if (!e.is_string()) continue;
+            const std::string name = e.get<std::string>();
+            if (std::find(std::begin(kRead), std::end(kRead), name) == std::end(kRead))
+                ignored += (ignored.empty() ? "" : ", ") + name;
+        }
+        if (!ignored.empty()) out.push_back("glTF extensions not read: " + ignored);
+    }
+    bool morph = false;
+    if (doc.contains("meshes") && doc["meshes"].is_array())
+        for (const auto& mesh : doc["meshes"])
+            if (mesh.is_object() && mesh.contains("primitives") && mesh["primitives"].is_array())
+                for (const auto& p : mesh["primitives"])
+                    morph = morph || (p.is_object() && p.contains("targets"));
+    const bool skins = doc.contains("skins") && doc["skins"].is_array() && !doc["skins"].empty();
+    if (skins || morph)
+        out.push_back(std::string(skins && morph ? "skins and morph targets"
+                                  : skins        ? "skins"
+                                                 : "morph targets") +
+                      " are not applied: meshes are rendered in their rest pose");
+    bool otherUv = false, metallicRoughness = false, occlusion = false;
+    if (doc.contains("materials") && doc["materials"].is_array())
+        for (const auto& m : doc["materials"]) {
+            if (!m.is_object()) continue;
+            occlusion = occlusion || m.contains("occlusionTexture");
+            metallicRoughness =
+                metallicRoughness ||
+                (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object() &&
+                 m["pbrMetallicRoughness"].contains("metallicRoughnessTexture"));
+            for (const char* slot : {"normalTexture", "emissiveTexture", "occlusionTexture"})
+                if (m.contains(slot)) textureTransform(m[slot], otherUv);
+            if (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object())
+                for (const char* slot : {"baseColorTexture", "metallicRoughnessTexture"})
+                    if (m["pbrMetallicRoughness"].contains(slot))
+                        textureTransform(m["pbrMetallicRoughness"][slot], otherUv);
+        }
+    if (otherUv) out.push_back("textures on a second UV set are sampled with the first");
+    if (metallicRoughness)
+        out.push_back("metallic-roughness textures are not read: their factors alone are used");
+    if (occlusion) out.push_back("occlusion textures are not read");
+    return out;
 }
 
 } // namespace dhdr::detail

@@ -1,15 +1,32 @@
 // What Debian's Assimp 5.2 drops from glTF files, read from the file's own JSON.
 #pragma once
 
+#include <dhdr/deferred/scene.h>
 #include <glm/glm.hpp>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace dhdr::detail {
 
 // KHR_materials_emissive_strength per material name, from a .gltf or .glb file. Empty for
 // other files, or when no material uses the extension.
 std::map<std::string, float> gltfEmissiveStrengths(const std::string& path);
+
+// What Assimp 5.2 does not report of a glTF material's textures: KHR_texture_transform of
+// each reference and the normal map's scale.
+struct GltfMaterialTextures {
+    TextureTransform baseColor, emissive, normal;
+    float normalScale = 1.0f;
+};
+
+// Per material name, from a .gltf or .glb file; empty for other files.
+std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const std::string& path);
+
+// What the file uses that dhdr leaves out, one line each: extensions it does not read
+// (from extensionsUsed), skins and morph targets (the rest pose is rendered), texture
+// references to a second UV set.
+std::vector<std::string> gltfIgnoredFeatures(const std::string& path);
 
 // A KHR_lights_punctual light as the file gives it (Assimp 5.2 folds the intensity into the
 // colour and drops the range).

@@ -9,8 +9,11 @@
 #include <cmath>
 #include <dhdr/deferred/scene.h>
 #include <filesystem>
+#include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
+#include <optional>
+#include <sstream>
 
 namespace dhdr {
 
@@ -29,6 +32,46 @@ bool isGltf(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
     return ext == ".gltf" || ext == ".glb";
+}
+
+// The PBR extension of MTL files (Pm metallic, Pr roughness) per material name, from the
+// .mtl files an OBJ names with mtllib.
+struct ObjPbr {
+    std::optional<float> metallic, roughness;
+};
+
+std::map<std::string, ObjPbr> readObjPbr(const std::string& objPath) {
+    std::map<std::string, ObjPbr> out;
+    std::ifstream obj(objPath);
+    std::string line;
+    std::vector<std::string> libraries;
+    while (std::getline(obj, line)) {
+        std::istringstream words(line);
+        std::string key, file;
+        if (words >> key && key == "mtllib")
+            while (words >> file)
+                libraries.push_back(file);
+    }
+    for (const std::string& lib : libraries) {
+        std::ifstream mtl(std::filesystem::path(objPath).parent_path() / lib);
+        std::string current;
+        while (std::getline(mtl, line)) {
+            std::istringstream words(line);
+            std::string key;
+            if (!(words >> key)) continue;
+            if (key == "newmtl") {
+                std::getline(words >> std::ws, current);
+                while (!current.empty() && (current.back() == '\r' || current.back() == ' '))
+                    current.pop_back();
+                continue;
+            }
+            float v = 0.0f;
+            if ((key == "Pm" || key == "Pr") && (words >> v) && std::isfinite(v))
+                (key == "Pm" ? out[current].metallic : out[current].roughness) =
+                    std::clamp(v, 0.0f, 1.0f);
+        }
+    }
+    return out;
 }
 
 class SceneBuilder {
@@ -52,6 +95,9 @@ private:
     bool loadMaterials(std::string& error) {
         const auto strengths =
             m_gltf ? detail::gltfEmissiveStrengths(m_path) : std::map<std::string, float>{};
+        const auto textures = m_gltf ? detail::gltfMaterialTextures(m_path)
+                                     : std::map<std::string, detail::GltfMaterialTextures>{};
+        const auto objPbr = m_gltf ? std::map<std::string, ObjPbr>{} : readObjPbr(m_path);
         for (unsigned i = 0; i < m_ai.mNumMaterials; ++i) {
             const aiMaterial& am = *m_ai.mMaterials[i];
             Material m;
@@ -63,10 +109,20 @@ private:
                 m.alpha = base.a;
             }
             float metallic = 0.0f, roughness = 1.0f;
-            if (am.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS) {
+            const auto pbr = objPbr.find(m.name);
+            if (m_gltf && am.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS) {
                 m.metallic = metallic;
                 if (am.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness) == AI_SUCCESS)
                     m.roughness = roughness;
+            } else if (pbr != objPbr.end() && (pbr->second.metallic || pbr->second.roughness)) {
+                // The MTL's PBR extension (Pm, Pr), which Blender writes and Assimp 5.2
+                // does not report.
+                m.metallic = pbr->second.metallic.value_or(0.0f);
+                float shininess = 0.0f;
+                m.roughness = pbr->second.roughness.value_or(
+                    am.Get(AI_MATKEY_SHININESS, shininess) == AI_SUCCESS
+                        ? std::sqrt(std::sqrt(2.0f / (shininess + 2.0f)))
+                        : 1.0f);
             } else {
                 // Not a PBR material (OBJ/MTL): a dielectric, roughness from the Phong
                 // exponent by the usual α = sqrt(2 / (Ns + 2)) match.
@@ -86,10 +142,26 @@ private:
             }
             m.emission = glm::vec3(emissive.r, emissive.g, emissive.b) * strength;
 
+            const auto t = textures.find(m.name);
+            const detail::GltfMaterialTextures transforms =
+                t != textures.end() ? t->second : detail::GltfMaterialTextures{};
             aiString texPath;
             if (am.GetTexture(aiTextureType_BASE_COLOR, 0, &texPath) == AI_SUCCESS ||
                 am.GetTexture(aiTextureType_DIFFUSE, 0, &texPath) == AI_SUCCESS) {
-                if (!loadTexture(texPath.C_Str(), m.baseColorTexture, error)) return false;
+                if (!loadTexture(texPath.C_Str(), true, m.baseColorTexture.texture, error))
+                    return false;
+                m.baseColorTexture.transform = transforms.baseColor;
+            }
+            if (am.GetTexture(aiTextureType_EMISSIVE, 0, &texPath) == AI_SUCCESS) {
+                if (!loadTexture(texPath.C_Str(), true, m.emissiveTexture.texture, error))
+                    return false;
+                m.emissiveTexture.transform = transforms.emissive;
+            }
+            if (am.GetTexture(aiTextureType_NORMALS, 0, &texPath) == AI_SUCCESS) {
+                if (!loadTexture(texPath.C_Str(), false, m.normalTexture.texture, error))
+                    return false;
+                m.normalTexture.transform = transforms.normal;
+                m.normalScale = transforms.normalScale;
             }
             m_scene.materials.push_back(m);
         }
@@ -97,8 +169,10 @@ private:
         return true;
     }
 
-    bool loadTexture(const std::string& ref, int& index, std::string& error) {
-        if (auto it = m_textureIndex.find(ref); it != m_textureIndex.end()) {
+    bool loadTexture(const std::string& ref, bool srgb, int& index, std::string& error) {
+        // The same file can be a colour (sRGB) and a data texture: one decoding of each.
+        const std::string key = (srgb ? "srgb:" : "data:") + ref;
+        if (auto it = m_textureIndex.find(key); it != m_textureIndex.end()) {
             index = it->second;
             return true;
         }
@@ -111,15 +185,16 @@ private:
                 return false;
             }
             const std::string hint = std::string("embedded.") + embedded->achFormatHint;
-            if (!detail::loadTexture(texture, hint, embedded->pcData, embedded->mWidth, error))
+            if (!detail::loadTexture(texture, hint, embedded->pcData, embedded->mWidth, srgb,
+                                     error))
                 return false;
             texture.name = ref;
         } else {
             const auto file = std::filesystem::path(m_path).parent_path() / ref;
-            if (!detail::loadTexture(texture, file.string(), nullptr, 0, error)) return false;
+            if (!detail::loadTexture(texture, file.string(), nullptr, 0, srgb, error)) return false;
         }
         index = int(m_scene.textures.size());
-        m_textureIndex[ref] = index;
+        m_textureIndex[key] = index;
         m_scene.textures.push_back(std::move(texture));
         return true;
     }
@@ -168,11 +243,27 @@ private:
             // Assimp's UVs have their origin at the image's bottom-left (it flips glTF's).
             if (am.HasTextureCoords(0))
                 mesh.uvs.emplace_back(am.mTextureCoords[0][v].x, 1.0f - am.mTextureCoords[0][v].y);
+            // Tangent frames (the file's, or CalcTangentSpace's from the UVs) move with the
+            // surface; Assimp's bitangent points up the image (+v in its flipped UVs).
+            if (am.HasTangentsAndBitangents() && am.HasTextureCoords(0)) {
+                auto unit = [](const glm::dvec3& d) {
+                    const double len = glm::length(d);
+                    return len > 1e-12 && std::isfinite(len) ? glm::vec3(d / len) : glm::vec3(0.0f);
+                };
+                const aiVector3D& t = am.mTangents[v];
+                const aiVector3D& b = am.mBitangents[v];
+                mesh.tangents.push_back(unit(glm::dmat3(world) * glm::dvec3(t.x, t.y, t.z)));
+                mesh.bitangents.push_back(unit(glm::dmat3(world) * glm::dvec3(b.x, b.y, b.z)));
+            }
         }
         for (unsigned f = 0; f < am.mNumFaces; ++f) {
             const aiFace& face = am.mFaces[f];
             if (face.mNumIndices == 3)
                 mesh.triangles.emplace_back(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
+        }
+        if (mesh.tangents.size() != mesh.positions.size()) {
+            mesh.tangents.clear();
+            mesh.bitangents.clear();
         }
         if (!mesh.triangles.empty()) m_scene.meshes.push_back(std::move(mesh));
     }
@@ -302,8 +393,8 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
     // ValidateDataStructure turns what would crash later (a face index past the vertices)
     // into an error here.
     const unsigned flags = aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                           aiProcess_GenSmoothNormals | aiProcess_JoinIdenticalVertices |
-                           aiProcess_SortByPType;
+                           aiProcess_GenSmoothNormals | aiProcess_CalcTangentSpace |
+                           aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
     const aiScene* ai = importer.ReadFile(path, flags);
     if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
         std::string reason = importer.GetErrorString();
@@ -314,6 +405,9 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
         return false;
     }
     if (!SceneBuilder(*ai, path, scene).build(error)) return false;
+    if (isGltf(path))
+        for (const std::string& w : detail::gltfIgnoredFeatures(path))
+            scene.warnings.push_back(w);
     if (scene.meshes.empty()) {
         error = path + ": the scene has no triangles";
         return false;

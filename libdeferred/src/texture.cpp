@@ -4,6 +4,15 @@
 
 namespace dhdr {
 
+glm::vec2 TextureTransform::apply(glm::vec2 uv) const {
+    // KHR_texture_transform: translation · rotation · scale, with the rotation's sign as
+    // Khronos' TextureTransformTest model checks it (its arrow must point at the green
+    // marker, docs/scenes.md): u' = cos r·u + sin r·v, v' = −sin r·u + cos r·v.
+    const glm::vec2 s = uv * scale;
+    const float c = std::cos(rotation), n = std::sin(rotation);
+    return glm::vec2(c * s.x + n * s.y, -n * s.x + c * s.y) + offset;
+}
+
 glm::vec4 Texture::sample(glm::vec2 uv) const {
     if (width <= 0 || height <= 0) return glm::vec4(1.0f);
     const float x = (uv.x - std::floor(uv.x)) * float(width) - 0.5f;

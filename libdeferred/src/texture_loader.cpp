@@ -19,7 +19,7 @@ float srgbDecode(float v) {
 } // namespace
 
 bool loadTexture(Texture& texture, const std::string& name, const void* data, size_t size,
-                 std::string& error) {
+                 bool srgb, std::string& error) {
     std::unique_ptr<OIIO::Filesystem::IOMemReader> memory;
     OIIO::ImageSpec config;
     if (size > 0) {
@@ -35,8 +35,8 @@ bool loadTexture(Texture& texture, const std::string& name, const void* data, si
     const OIIO::ImageSpec& spec = image.spec();
     // Integer images carry sRGB-encoded values; float images (EXR, HDR) are linear already.
     const OIIO::TypeDesc fileFormat = image.nativespec().format;
-    const bool encoded = fileFormat.basetype == OIIO::TypeDesc::UINT8 ||
-                         fileFormat.basetype == OIIO::TypeDesc::UINT16;
+    const bool encoded = srgb && (fileFormat.basetype == OIIO::TypeDesc::UINT8 ||
+                                  fileFormat.basetype == OIIO::TypeDesc::UINT16);
     texture.name = name;
     texture.width = spec.width;
     texture.height = spec.height;

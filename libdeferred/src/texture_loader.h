@@ -1,4 +1,4 @@
-// Decoding base-colour textures through OpenImageIO.
+// Decoding textures through OpenImageIO.
 #pragma once
 
 #include <dhdr/deferred/scene.h>
@@ -7,9 +7,10 @@
 namespace dhdr::detail {
 
 // Reads an image file (or, with `size` > 0, encoded bytes in memory, e.g. a PNG inside a .glb)
-// into linear RGBA: 8- and 16-bit images are taken as sRGB-encoded, as glTF specifies for
-// base colour.
+// into RGBA floats. With `srgb` (glTF's base colour and emissive textures), 8- and 16-bit
+// images are taken as sRGB-encoded and decoded to linear; without (normal and
+// metallic-roughness maps), their values are kept as they are.
 bool loadTexture(Texture& texture, const std::string& name, const void* data, size_t size,
-                 std::string& error);
+                 bool srgb, std::string& error);
 
 } // namespace dhdr::detail

@@ -20,20 +20,42 @@ struct Texture {
     glm::vec4 sample(glm::vec2 uv) const;
 };
 
+// KHR_texture_transform of one texture reference: uv' = T(offset) · R(rotation) · S(scale) · uv,
+// in glTF's UV space (origin top-left).
+struct TextureTransform {
+    glm::vec2 offset{0.0f};
+    float rotation = 0.0f; // radians, counter-clockwise
+    glm::vec2 scale{1.0f};
+
+    glm::vec2 apply(glm::vec2 uv) const;
+};
+
+// A material's use of a texture: which one (−1: none) and how its UVs are transformed.
+struct TextureRef {
+    int texture = -1; // index into Scene::textures
+    TextureTransform transform;
+};
+
 struct Material {
     std::string name;
     glm::vec3 baseColor{1.0f}; // linear
     float alpha = 1.0f;
     float roughness = 1.0f;
-    float metallic = 1.0f;     // glTF defaults: a material without these is rough metal
-    glm::vec3 emission{0.0f};  // linear radiance: emissiveFactor × emissive strength
-    int baseColorTexture = -1; // index into Scene::textures
+    float metallic = 1.0f;       // glTF defaults: a material without these is rough metal
+    glm::vec3 emission{0.0f};    // linear radiance: emissiveFactor × emissive strength
+    TextureRef baseColorTexture; // sRGB-encoded, multiplies baseColor
+    TextureRef emissiveTexture;  // sRGB-encoded, multiplies emission
+    TextureRef normalTexture;    // linear, tangent space (+X along u, +Y up the image)
+    float normalScale = 1.0f;    // glTF normalTexture.scale: scales the map's X and Y
 };
 
 struct Mesh {
     std::vector<glm::vec3> positions; // world space
-    std::vector<glm::vec3> normals;   // world space, unit
+    std::vector<glm::vec3> normals;   // world space, unit; zero where the file's was unusable
     std::vector<glm::vec2> uvs;       // origin at the image's top-left, as glTF; may be empty
+    // World-space tangent (along +u) and bitangent (up the image) per vertex, from the file
+    // or generated from the UVs; empty without UVs.
+    std::vector<glm::vec3> tangents, bitangents;
     std::vector<glm::uvec3> triangles;
     int material = 0;
     int object = 0; // index into Scene::objectNames

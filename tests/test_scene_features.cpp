@@ -1,0 +1,195 @@
+// What the scene loader reads beyond geometry (issue 8, "smaller"): normal maps, emissive
+// textures, KHR_texture_transform, the MTL's PBR extension, and a warning for what it leaves
+// out. Each through dhdr-gbuffer, as a user meets it.
+#include "scene_writer.h"
+#include "tool_test.h"
+
+#include <dhdr/deferred/scene.h>
+#include <glm/glm.hpp>
+
+using namespace dhdr::test;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+namespace {
+
+class SceneFeatures : public ToolTest {
+protected:
+    static void SetUpTestSuite() { makeScratch(); }
+
+    // A constant 8-bit RGB PNG.
+    static void writeConstantPng(const std::string& name, glm::vec3 value) {
+        ImageBuf img(ImageSpec(4, 4, 3, TypeDesc::FLOAT));
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x)
+                for (int c = 0; c < 3; ++c)
+                    static_cast<float*>(img.pixeladdr(x, y))[c] = value[c];
+        ASSERT_TRUE(img.write(path(name), TypeDesc::UINT8));
+    }
+
+    // The square of scene_writer.h with glTF UVs: u along +X, v down the image (−Y).
+    static nlohmann::json texturedSquare() {
+        GltfMesh mesh = squareMesh(1.0f);
+        nlohmann::json doc = gltfWithMesh(mesh);
+        // UVs as a second buffer: (−1,−1)→(0,1), (1,−1)→(1,1), (1,1)→(1,0), (−1,1)→(0,0).
+        const float uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
+        std::vector<std::uint8_t> bytes(sizeof uv);
+        std::memcpy(bytes.data(), uv, sizeof uv);
+        doc["buffers"].push_back(
+            {{"byteLength", bytes.size()},
+             {"uri", "data:application/octet-stream;base64," + base64(bytes)}});
+        doc["bufferViews"].push_back({{"buffer", 1}, {"byteLength", bytes.size()}});
+        doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1},
+                                    {"componentType", 5126},
+                                    {"count", 4},
+                                    {"type", "VEC2"}});
+        doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] =
+            doc["accessors"].size() - 1;
+        doc["nodes"] = {{{"name", "square"}, {"mesh", 0}}};
+        doc["scenes"] = {{{"nodes", {0}}}};
+        return doc;
+    }
+
+    // The G-buffer's value of `channel` (3 components) at the centre pixel.
+    static glm::vec3 centre(const std::string& file, const char* first) {
+        const ImageBuf g = read(file);
+        const int c = g.spec().channelindex(first);
+        EXPECT_GE(c, 0) << first;
+        const float* p = static_cast<const float*>(g.pixeladdr(8, 8));
+        return {p[c], p[c + 1], p[c + 2]};
+    }
+};
+
+} // namespace
+
+// A tangent-space normal map: N = normalize(T·x + B·y + N·z), with T along +u (+X here) and
+// B up the image (+Y here). Both halves of the map are checked, so a wrong bitangent sign fails.
+TEST_F(SceneFeatures, NormalMapsBendTheGBufferNormal) {
+    for (const auto& [name, encoded, expected] :
+         std::vector<std::tuple<std::string, glm::vec3, glm::vec3>>{
+             {"x", {0.8f, 0.5f, 0.9f}, {0.6f, 0.0f, 0.8f}},
+             {"y", {0.5f, 0.8f, 0.9f}, {0.0f, 0.6f, 0.8f}}}) {
+        writeConstantPng("normal_" + name + ".png", encoded);
+        nlohmann::json doc = texturedSquare();
+        doc["images"] = {{{"uri", "normal_" + name + ".png"}}};
+        doc["textures"] = {{{"source", 0}}};
+        doc["materials"][0]["normalTexture"] = {{"index", 0}};
+        writeJson(path("normal_" + name + ".gltf"), doc);
+        const Result r = run("dhdr-gbuffer " + path("normal_" + name + ".gltf") +
+                             " --lookat 0,0,3,0,0,0 --size 16x16 -o " + path("n.exr"));
+        ASSERT_EQ(r.status, 0) << r.err;
+        const glm::vec3 n = centre("n.exr", "N.X");
+        // 8-bit encoding of 0.8/0.5/0.9: within 0.01 of the exact map.
+        EXPECT_NEAR(n.x, expected.x, 0.01) << name;
+        EXPECT_NEAR(n.y, expected.y, 0.01) << name;
+        EXPECT_NEAR(n.z, expected.z, 0.01) << name;
+    }
+}
+
+// emission = emissiveFactor × strength × the sRGB-decoded emissive texture.
+TEST_F(SceneFeatures, EmissiveTexturesScaleEmission) {
+    writeConstantPng("glow.png", {1.0f, 0.5f, 0.0f});
+    nlohmann::json doc = texturedSquare();
+    doc["images"] = {{{"uri", "glow.png"}}};
+    doc["textures"] = {{{"source", 0}}};
+    doc["materials"][0]["emissiveTexture"] = {{"index", 0}};
+    doc["materials"][0]["emissiveFactor"] = {2.0, 2.0, 2.0};
+    writeJson(path("glow.gltf"), doc);
+    const Result r = run("dhdr-gbuffer " + path("glow.gltf") +
+                         " --lookat 0,0,3,0,0,0 --size 16x16 -o " + path("e.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const glm::vec3 e = centre("e.exr", "emission.R");
+    const double half = std::pow((128.0 / 255.0 + 0.055) / 1.055, 2.4); // 8-bit 0.5, decoded
+    EXPECT_NEAR(e.x, 2.0, 1e-3);
+    EXPECT_NEAR(e.y, 2.0 * half, 1e-3);
+    EXPECT_NEAR(e.z, 0.0, 1e-3);
+}
+
+// KHR_texture_transform, as the extension defines it: translation · rotation · scale, the
+// rotation's sign as Khronos' TextureTransformTest model shows it (docs/scenes.md).
+TEST(TextureTransform, IsTranslationRotationScale) {
+    dhdr::TextureTransform t;
+    t.offset = {0.25f, -0.5f};
+    t.rotation = 0.392699f;
+    t.scale = {1.5f, 0.5f};
+    const glm::vec2 uv(0.3f, 0.7f);
+    const double c = std::cos(0.392699), s = std::sin(0.392699);
+    const double su = 0.3 * 1.5, sv = 0.7 * 0.5;
+    const glm::vec2 out = t.apply(uv);
+    EXPECT_NEAR(out.x, c * su + s * sv + 0.25, 1e-6);
+    EXPECT_NEAR(out.y, -s * su + c * sv - 0.5, 1e-6);
+    EXPECT_EQ(dhdr::TextureTransform{}.apply(uv), uv);
+}
+
+// An offset of half the texture moves a two-colour texture's halves: at the square's left
+// half (u < 0.5) the right half of the texture shows.
+TEST_F(SceneFeatures, TextureTransformMovesTheBaseColour) {
+    ImageBuf img(ImageSpec(2, 1, 3, TypeDesc::FLOAT));
+    const float red[3] = {1, 0, 0}, blue[3] = {0, 0, 1};
+    std::copy(red, red + 3, static_cast<float*>(img.pixeladdr(0, 0)));
+    std::copy(blue, blue + 3, static_cast<float*>(img.pixeladdr(1, 0)));
+    ASSERT_TRUE(img.write(path("halves.png"), TypeDesc::UINT8));
+    for (const double offset : {0.0, 0.5}) {
+        nlohmann::json doc = texturedSquare();
+        doc["images"] = {{{"uri", "halves.png"}}};
+        doc["textures"] = {{{"source", 0}}};
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1, 1, 1, 1};
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+            {"index", 0},
+            {"extensions", {{"KHR_texture_transform", {{"offset", {offset, 0.0}}}}}}};
+        doc["extensionsUsed"] = {"KHR_texture_transform"};
+        writeJson(path("halves.gltf"), doc);
+        const Result r = run("dhdr-gbuffer " + path("halves.gltf") +
+                             " --lookat 0,0,2.5,0,0,0 --fov 60 --size 64x64 -o " + path("t.exr"));
+        ASSERT_EQ(r.status, 0) << r.err;
+        EXPECT_EQ(r.err.find("not read"), std::string::npos) << r.err;
+        const ImageBuf g = read("t.exr");
+        const int a = g.spec().channelindex("albedo.R");
+        // A quarter of the way in from the left edge of the square: u ≈ 0.25.
+        const float* p = static_cast<const float*>(g.pixeladdr(21, 32));
+        ASSERT_EQ(p[0], 1.0f);
+        if (offset == 0.0)
+            EXPECT_GT(p[a], 0.9f); // red
+        else
+            EXPECT_GT(p[a + 2], 0.9f); // blue
+    }
+}
+
+// Blender's OBJ export of a gold sphere: Pm 1 makes it metallic, Pr its roughness.
+TEST_F(SceneFeatures, ObjPbrExtensionIsRead) {
+    std::ofstream(path("gold.mtl")) << "newmtl Gold\nKd 1.0 0.766 0.336\nNs 250\nPm 1.0\n"
+                                       "Pr 0.3\n\nnewmtl Plain\nKd 0.5 0.5 0.5\n";
+    std::ofstream(path("gold.obj")) << "mtllib gold.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+                                       "usemtl Gold\nf 1 2 3\nusemtl Plain\nf 1 3 4\n";
+    const Result r = run("dhdr-gbuffer " + path("gold.obj") +
+                         " --lookat 0,0,3,0,0,0 --size 32x32 -o " + path("gold.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf g = read("gold.exr");
+    const int metallic = g.spec().channelindex("metallic");
+    const int roughness = g.spec().channelindex("roughness");
+    // The lower-right triangle is Gold, the upper-left Plain.
+    const float* gold = static_cast<const float*>(g.pixeladdr(24, 20));
+    const float* plain = static_cast<const float*>(g.pixeladdr(8, 12));
+    ASSERT_EQ(gold[0], 1.0f);
+    ASSERT_EQ(plain[0], 1.0f);
+    EXPECT_EQ(gold[metallic], 1.0f);
+    EXPECT_NEAR(gold[roughness], 0.3f, 1e-3);
+    EXPECT_EQ(plain[metallic], 0.0f);
+}
+
+// What stays unsupported is one warning line per kind, naming it.
+TEST_F(SceneFeatures, IgnoredFeaturesAreNamed) {
+    nlohmann::json doc = texturedSquare();
+    doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_texture_transform",
+                             "EXT_mesh_gpu_instancing"};
+    doc["skins"] = nlohmann::json::array({{{"joints", {0}}}});
+    writeJson(path("unsupported.gltf"), doc);
+    const Result r = run("dhdr-gbuffer " + path("unsupported.gltf") +
+                         " --lookat 0,0,3,0,0,0 --size 8x8 -o " + path("u.exr"));
+    EXPECT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("glTF extensions not read: KHR_materials_clearcoat, "
+                         "EXT_mesh_gpu_instancing"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("skins are not applied"), std::string::npos) << r.err;
+}
