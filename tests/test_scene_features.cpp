@@ -43,8 +43,7 @@ protected:
                                     {"componentType", 5126},
                                     {"count", 4},
                                     {"type", "VEC2"}});
-        doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] =
-            doc["accessors"].size() - 1;
+        doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = doc["accessors"].size() - 1;
         doc["nodes"] = {{{"name", "square"}, {"mesh", 0}}};
         doc["scenes"] = {{{"nodes", {0}}}};
         return doc;
@@ -135,8 +134,7 @@ TEST_F(SceneFeatures, TextureTransformMovesTheBaseColour) {
         doc["textures"] = {{{"source", 0}}};
         doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1, 1, 1, 1};
         doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
-            {"index", 0},
-            {"extensions", {{"KHR_texture_transform", {{"offset", {offset, 0.0}}}}}}};
+            {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {offset, 0.0}}}}}}};
         doc["extensionsUsed"] = {"KHR_texture_transform"};
         writeJson(path("halves.gltf"), doc);
         const Result r = run("dhdr-gbuffer " + path("halves.gltf") +
@@ -192,4 +190,48 @@ TEST_F(SceneFeatures, IgnoredFeaturesAreNamed) {
               std::string::npos)
         << r.err;
     EXPECT_NE(r.err.find("skins are not applied"), std::string::npos) << r.err;
+}
+
+// --info tells what a scene holds without rendering it.
+TEST_F(SceneFeatures, InfoDescribesTheScene) {
+    const Result r = run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --info");
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (const char* what : {"bounds", "objects     8,", "cameras     1", "perspective",
+                             "lights      2", "materials   5", "white", "left out    nothing"})
+        EXPECT_NE(r.out.find(what), std::string::npos) << what << " in:\n" << r.out;
+}
+
+// --frame-all places a camera from which the whole scene is in view, even when the scene
+// has none: every corner of a 2 × 2 square is covered, and no pixel on the image's border.
+TEST_F(SceneFeatures, FrameAllFitsTheWholeScene) {
+    nlohmann::json doc = gltfWithMesh(squareMesh(1.0f));
+    doc["nodes"] = {{{"name", "square"}, {"mesh", 0}, {"translation", {5.0, -2.0, 1.0}}}};
+    doc["scenes"] = {{{"nodes", {0}}}};
+    writeJson(path("nocamera.gltf"), doc);
+    Result r = run("dhdr-gbuffer " + path("nocamera.gltf") + " -o " + path("nc.exr"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("--frame-all"), std::string::npos) << r.err;
+    r = run("dhdr-gbuffer " + path("nocamera.gltf") + " --frame-all --size 48x32 -o " +
+            path("fa.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf g = read("fa.exr");
+    const int px = g.spec().channelindex("P.X"), py = g.spec().channelindex("P.Y");
+    float xmin = 1e9f, xmax = -1e9f, ymin = 1e9f, ymax = -1e9f;
+    int border = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 48; ++x) {
+            const float* p = static_cast<const float*>(g.pixeladdr(x, y));
+            if (p[0] == 0.0f) continue;
+            border += x == 0 || y == 0 || x == 47 || y == 31;
+            xmin = std::min(xmin, p[px]);
+            xmax = std::max(xmax, p[px]);
+            ymin = std::min(ymin, p[py]);
+            ymax = std::max(ymax, p[py]);
+        }
+    EXPECT_EQ(border, 0);
+    // The square spans x in [4, 6], y in [−3, −1]; pixel centres reach within a pixel of it.
+    EXPECT_LT(xmin, 4.15f);
+    EXPECT_GT(xmax, 5.85f);
+    EXPECT_LT(ymin, -2.85f);
+    EXPECT_GT(ymax, -1.15f);
 }

@@ -1,6 +1,7 @@
 // dhdr-gbuffer: a scene in, a multi-channel EXR G-buffer out (docs/tools.md).
 #include "../common/frames.h"
 #include "../common/tool.h"
+#include "scene_info.h"
 
 #include <chrono>
 #include <cmath>
@@ -31,6 +32,13 @@ int run(int argc, char** argv) {
               {0.0, 180.0, true, true});
     cl.option("--lights-out", lightsOut, "FILE",
               "also write the scene's punctual lights as a lights file (docs/lights.md)");
+    bool frameAll = false, info = false;
+    cl.flag("--frame-all", frameAll,
+            "move the camera (the scene's, --lookat's, or without either one looking from the "
+            "front and a little above) back until the whole scene fits the image");
+    cl.flag("--info", info,
+            "print what the scene holds (bounds, cameras, lights, materials, what is left "
+            "out) and exit; needs no -o");
     cl.epilog(
         "Example:\n  dhdr-gbuffer testdata/cornell_box.gltf --size 1280x720 -o frame.gbuf.exr");
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
@@ -40,6 +48,13 @@ int run(int argc, char** argv) {
         return app::kExitUsage;
     }
     const std::string& path = cl.inputs()[0];
+    if (info) {
+        Scene scene;
+        std::string error;
+        if (!loadScene(path, scene, error)) return tool.fail(error);
+        std::fputs(app::describeScene(scene, path).c_str(), stdout);
+        return app::kExitSuccess;
+    }
     if (!lightsOut.empty() && (lightsOut == cl.output() || lightsOut == path)) {
         std::fprintf(stderr, "dhdr-gbuffer: usage error: --lights-out must be another file\n");
         return app::kExitUsage;
@@ -108,8 +123,13 @@ int run(int argc, char** argv) {
             }
             camera = chosen->camera;
             tool.info("camera '" + chosen->name + "'");
+        } else if (frameAll) {
+            // From the front (+Z, glTF's) and a little above.
+            camera = Camera::lookAt({0.0, 0.34, 0.94}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0},
+                                    glm::radians(39.6));
         } else {
-            tool.fail(scenePath + ": the scene has no camera; give one with --lookat");
+            tool.fail(scenePath +
+                      ": the scene has no camera; give one with --lookat, or --frame-all");
             return false;
         }
         if (fov > 0.0) {
@@ -118,6 +138,8 @@ int run(int argc, char** argv) {
             else
                 camera.yfov = glm::radians(fov);
         }
+        if (frameAll)
+            camera = frameScene(scene, camera, double(params.width) / double(params.height));
         tool.info(camera.orthographic
                       ? "orthographic camera, " + std::to_string(2.0 * camera.ymag) + " units high"
                       : "perspective camera, vertical fov " +

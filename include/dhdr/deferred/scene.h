@@ -81,6 +81,11 @@ struct Scene {
     glm::dvec3 boundsMax() const;
 };
 
+// A camera like `like` (its direction, up and projection) moved so that the scene's bounding
+// sphere just fits an image of `aspect` (width / height): perspective cameras back off along
+// their view axis, orthographic ones also widen their image plane.
+Camera frameScene(const Scene& scene, const Camera& like, double aspect);
+
 // Loads a glTF 2.0 (.gltf, .glb) or OBJ file through Assimp: triangulated, with smooth normals
 // where the file has none, node transforms applied. Works around Assimp 5.2's glTF quirks
 // (docs/scenes.md). On failure returns false with a message in `error`.
