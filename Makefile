@@ -2,12 +2,13 @@
 #   make demo   install what is missing, build (Release), run the pipeline on the Cornell box
 #   make test   install what is missing, build, run the test suite (ctest)
 #   make sanitize  the same suite built with AddressSanitizer + UndefinedBehaviorSanitizer
+#   make golden    regenerate the golden images of the demo chain (testdata/golden)
 
 BUILD ?= build
 JOBS  ?= $(shell nproc)
 BUILD_TYPE ?= Release
 
-.PHONY: all deps configure build test sanitize demo bench format clean
+.PHONY: all deps configure build test sanitize golden demo bench format clean
 
 all: build
 
@@ -28,6 +29,11 @@ sanitize: deps
 	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDHDR_SANITIZE=ON >/dev/null
 	@cmake --build build-asan -j $(JOBS)
 	@cd build-asan && ASAN_OPTIONS=detect_leaks=0:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
+
+# Regenerates testdata/golden from the current build: only after a change meant to alter the
+# pictures, and looked at before committing (docs/development.md).
+golden: build
+	@bash tests/golden/run.sh $(BUILD)/apps --update
 
 demo: build
 	@bash scripts/demo.sh $(BUILD)/apps out/demo
