@@ -1,5 +1,6 @@
 // Tiled light culling against the brute-force reference: it may skip only what is exactly zero.
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
@@ -134,6 +135,44 @@ TEST(LightCulling, EqualsBruteForceOnCornellBoxWith1000Lights) {
     LightingStats culled, brute;
     EXPECT_LE(maxRelativeDifference(gbuf, lights, culled, brute), 1e-5);
     EXPECT_LT(culled.lightEvaluations * 10, brute.lightEvaluations);
+}
+
+// A frame shaded strip by strip (as dhdr-light streams it), with strips of whole tile rows
+// and with strips that cut tiles, gives the whole frame's pixels bit for bit, culled and
+// brute force, including the directional and ambient lights that every tile holds.
+TEST(LightCulling, StripsGiveTheWholeFramesPixels) {
+    Scene scene;
+    std::string error;
+    ASSERT_TRUE(loadScene(std::string(DHDR_TESTDATA) + "/cornell_box.gltf", scene, error));
+    GBufferParams params;
+    params.width = 200;
+    params.height = 150;
+    ImageBuf gbuf;
+    ASSERT_TRUE(renderGBuffer(gbuf, scene, scene.cameras[0].camera, params));
+    const auto lights = randomLights(400, {0, 0, 0}, {0.556f, 0.549f, 0.559f}, 0.02, 0.12, 17);
+    for (const bool bruteForce : {false, true}) {
+        LightingParams p;
+        p.bruteForce = bruteForce;
+        ImageBuf whole;
+        ASSERT_TRUE(shadeGBuffer(whole, gbuf, lights, p));
+        for (const int rows : {16, 64, 37}) {
+            LightingParams strips = p;
+            strips.frame = gbuf.roi();
+            ImageBuf strip, lit;
+            for (int y = 0; y < 150; y += rows) {
+                const OIIO::ROI band(0, 200, y, std::min(150, y + rows), 0, 1, 0, gbuf.nchannels());
+                strip = OIIO::ImageBufAlgo::cut(gbuf, band);
+                strip.set_origin(0, band.ybegin);
+                ASSERT_TRUE(shadeGBuffer(lit, strip, lights, strips)) << lit.geterror();
+                for (int yy = band.ybegin; yy < band.yend; ++yy)
+                    for (int x = 0; x < 200; ++x)
+                        for (int c = 0; c < 4; ++c)
+                            ASSERT_EQ(px(lit, x, yy)[c], px(whole, x, yy)[c])
+                                << "rows " << rows << " at " << x << "," << yy
+                                << (bruteForce ? " brute force" : " culled");
+            }
+        }
+    }
 }
 
 TEST(LightCulling, EqualsBruteForceAcrossStrongDepthDiscontinuities) {

@@ -1,5 +1,7 @@
 #include "banded_read.h"
 
+#include "native_pixels.h"
+
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <atomic>
@@ -24,55 +26,6 @@ int bandRows(const OIIO::ImageSpec& spec) {
     return spec.get_string_attribute("compression") == "dwab" ? 256 : 64;
 }
 
-// How ImageInput::read_native_scanlines packs a pixel of channels [chbegin, chend): each
-// channel in its own type, one after the other.
-struct NativePixel {
-    std::vector<OIIO::TypeDesc> types;
-    std::vector<size_t> offsets;
-    size_t bytes = 0;
-    bool uniform = true;
-
-    NativePixel(const OIIO::ImageSpec& spec, int chbegin, int chend) {
-        for (int c = chbegin; c < chend; ++c) {
-            types.push_back(spec.channelformat(c));
-            offsets.push_back(bytes);
-            bytes += types.back().size();
-            uniform = uniform && types.back() == types.front();
-        }
-    }
-
-    // width × height pixels from `native` to float.
-    bool toFloat(const std::byte* native, float* pixels, int width, int height) const {
-        const int nch = int(types.size());
-        const bool anyUint = std::any_of(types.begin(), types.end(), [](OIIO::TypeDesc t) {
-            return t.basetype == OIIO::TypeDesc::UINT32;
-        });
-        if (uniform && !anyUint)
-            return OIIO::convert_pixel_values(types[0], native, OIIO::TypeDesc::FLOAT, pixels,
-                                              width * height * nch);
-        const auto dstPixel = OIIO::stride_t(nch * sizeof(float));
-        for (int c = 0; c < nch; ++c) {
-            if (types[size_t(c)].basetype == OIIO::TypeDesc::UINT32) {
-                // An id, not a fraction of full scale.
-                const size_t n = size_t(width) * size_t(height);
-                for (size_t i = 0; i < n; ++i) {
-                    std::uint32_t v;
-                    std::memcpy(&v, native + i * bytes + offsets[size_t(c)], sizeof v);
-                    pixels[i * size_t(nch) + size_t(c)] = float(v);
-                }
-                continue;
-            }
-            if (!OIIO::convert_image(1, width, height, 1, native + offsets[size_t(c)],
-                                     types[size_t(c)], OIIO::stride_t(bytes),
-                                     OIIO::stride_t(bytes) * width, OIIO::AutoStride, pixels + c,
-                                     OIIO::TypeDesc::FLOAT, dstPixel, dstPixel * width,
-                                     OIIO::AutoStride))
-                return false;
-        }
-        return true;
-    }
-};
-
 // A file OIIO converts as a whole: images of other formats, whose integer pixels are
 // fractions of full scale, and tiled EXRs, read natively so that uint channels stay integers.
 bool readWhole(OIIO::ImageInput& in, const std::string& path, OIIO::ImageBuf& image, int subimage,
@@ -86,7 +39,7 @@ bool readWhole(OIIO::ImageInput& in, const std::string& path, OIIO::ImageBuf& im
         }
         return true;
     }
-    const NativePixel native(fileSpec, chbegin, chend);
+    const NativeReader native(fileSpec, chbegin, chend);
     std::vector<std::byte> buffer(size_t(fileSpec.image_pixels()) * native.bytes);
     OIIO::ImageSpec spec = fileSpec;
     spec.nchannels = chend - chbegin;
@@ -187,7 +140,7 @@ bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int
     // Each band is read in the file's own types into a buffer of the worker's and converted
     // here: ImageInput::read_scanlines with a conversion maps (and page-faults) a fresh buffer
     // the size of the whole image on every call.
-    const NativePixel native(fileSpec, chbegin, chend);
+    const NativeReader native(fileSpec, chbegin, chend);
     std::atomic<int> next{0};
     std::atomic<bool> failed{false};
     std::mutex errorMutex;

@@ -2,7 +2,7 @@
 
 #include "banded_read.h"
 #include "layers.h"
-#include "native_write.h"
+#include "native_pixels.h"
 
 #include <OpenImageIO/imageio.h>
 #include <algorithm>

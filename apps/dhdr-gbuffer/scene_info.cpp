@@ -40,26 +40,25 @@ std::string describeScene(const Scene& scene, const std::string& path) {
         triangles += m.triangles.size();
     const glm::dvec3 lo = scene.boundsMin(), hi = scene.boundsMax();
     std::string out = path + "\n";
-    out += format("  bounds      (%g, %g, %g) to (%g, %g, %g)\n", lo.x, lo.y, lo.z, hi.x, hi.y,
-                  hi.z);
+    out +=
+        format("  bounds      (%g, %g, %g) to (%g, %g, %g)\n", lo.x, lo.y, lo.z, hi.x, hi.y, hi.z);
     out += "  objects     " + std::to_string(scene.objectNames.size()) + ", " +
            std::to_string(triangles) + " triangles\n";
     out += "  cameras     " + std::to_string(scene.cameras.size()) + "\n";
     for (const SceneCamera& c : scene.cameras) {
         const glm::dvec3 p = c.camera.position();
         out += "    " + c.name + ": " +
-               (c.camera.orthographic
-                    ? format("orthographic, %g units high", 2.0 * c.camera.ymag)
-                    : format("perspective, vertical fov %.4g degrees",
-                             glm::degrees(c.camera.yfov))) +
+               (c.camera.orthographic ? format("orthographic, %g units high", 2.0 * c.camera.ymag)
+                                      : format("perspective, vertical fov %.4g degrees",
+                                               glm::degrees(c.camera.yfov))) +
                format(", at (%g, %g, %g)\n", p.x, p.y, p.z);
     }
     out += "  lights      " + std::to_string(scene.lights.size()) + "\n";
     for (const Light& l : scene.lights)
         out += "    " + (l.name.empty() ? std::string("(unnamed)") : l.name) + ": " +
                lightType(l.type) +
-               format(", intensity %g, at (%g, %g, %g)\n", l.intensity, l.position.x,
-                      l.position.y, l.position.z);
+               format(", intensity %g, at (%g, %g, %g)\n", l.intensity, l.position.x, l.position.y,
+                      l.position.z);
     out += "  materials   " + std::to_string(scene.materials.size()) + "\n";
     for (const Material& m : scene.materials) {
         std::string textures;

@@ -1,5 +1,6 @@
 // dhdr-light: a G-buffer and a lights file in, linear HDR radiance out (docs/tools.md).
 #include "../common/frames.h"
+#include "../common/strip_reader.h"
 #include "../common/tool.h"
 
 #include <algorithm>
@@ -7,6 +8,7 @@
 #include <cstdio>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/lighting.h>
+#include <dhdr/tonemap/sanitize.h>
 #include <filesystem>
 
 using namespace dhdr;
@@ -96,7 +98,7 @@ int run(int argc, char** argv) {
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
         if (animatedLights && !readLights({in.begin() + 1, in.end()}, lights)) return false;
-        const auto t0 = std::chrono::steady_clock::now();
+        const auto start = std::chrono::steady_clock::now();
         OIIO::ImageBuf gbuf;
         if (!std::filesystem::exists(path)) {
             tool.fail(path + ": no such file");
@@ -110,41 +112,91 @@ int run(int argc, char** argv) {
                 (error.find("G-buffer") != std::string::npos ? error : "cannot read: " + error));
             return false;
         }
-        if (!tool.readImage(path, gbuf, tool.threads(), part)) return false;
+        app::StripReader reader;
+        if (!reader.open(path, part, 0, 1 << 20, tool.threads(), error)) {
+            tool.fail(path + ": cannot read: " + error);
+            return false;
+        }
+        const OIIO::ImageSpec& gspec = reader.spec();
         gbuffer::Layout layout;
         std::string missing;
-        if (!gbuffer::findLayout(gbuf.spec(), layout, missing)) {
+        if (!gbuffer::findLayout(gspec, layout, missing)) {
             tool.fail(path + ": no channel '" + missing + "' — is this a G-buffer?");
             return false;
         }
-        // Z is +∞ on the background by contract; every other channel must be finite.
-        for (int c = 0; c < gbuf.nchannels(); ++c)
-            if (c != layout.depth) tool.replaceNonFinite(path, gbuf, c, c + 1);
-
-        const auto t1 = std::chrono::steady_clock::now();
-        OIIO::ImageBuf hdr;
-        LightingStats stats;
-        if (!shadeGBuffer(hdr, gbuf, lights, params, &stats, tool.threads())) {
-            tool.fail(path + ": " + hdr.geterror());
+        if (gbuffer::CameraInfo camera; !gbuffer::readCamera(gspec, camera, error)) {
+            tool.fail(path + ": " + error);
             return false;
         }
-        if (stats.coveredPixels == 0)
-            tool.warn(path + ": no surface in view: A is 0 everywhere (an empty frame)");
-        const auto t2 = std::chrono::steady_clock::now();
+        // Strip by strip, whole rows of tiles at a time: memory stays at one strip of the
+        // G-buffer and one of the output whatever the frame's size, and each pixel's result
+        // is the same as from the whole frame (tiles are laid over the frame).
+        LightingParams strips = params;
+        strips.frame = OIIO::get_roi(gspec);
+        const int rows = tileSize * std::max(1, 64 / tileSize);
         std::string lightFiles;
         for (size_t i = 1; i < in.size(); ++i)
             lightFiles += (i > 1 ? ", " : "") + in[i];
-        hdr.specmod().attribute("dhdr:lights", lightFiles);
-        hdr.specmod().erase_attribute("dhdr:materialNames");
-        hdr.specmod().erase_attribute("dhdr:objectNames");
-        if (!tool.writeImage(hdr, out,
-                             {dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT}))
-            return false;
-        const auto t3 = std::chrono::steady_clock::now();
-
-        auto ms = [](auto a, auto b) {
-            return std::to_string(std::chrono::duration<double, std::milli>(b - a).count()) + " ms";
+        app::AtomicOutput file(tool, out);
+        OIIO::ImageBuf hdr;
+        LightingStats stats;
+        NonFiniteCount replaced;
+        double readMs = 0.0, shadeMs = 0.0, writeMs = 0.0;
+        auto since = [](auto t) {
+            return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t)
+                .count();
         };
+        app::Progress progress(tool, "dhdr-light: " + path);
+        for (int y = gspec.y; y < gspec.y + gspec.height; y += rows) {
+            auto t = std::chrono::steady_clock::now();
+            if (!reader.read(y, y + rows, gbuf, error)) {
+                tool.fail(path + ": cannot read: " + error);
+                return false;
+            }
+            // Z is +∞ on the background by contract; every other channel must be finite.
+            for (int c = 0; c < gbuf.nchannels(); ++c) {
+                if (c == layout.depth) continue;
+                OIIO::ROI channel = gbuf.roi();
+                channel.chbegin = c;
+                channel.chend = c + 1;
+                replaced += replaceNonFinite(gbuf, channel, tool.threads());
+            }
+            readMs += since(t);
+            t = std::chrono::steady_clock::now();
+            LightingStats strip;
+            if (!shadeGBuffer(hdr, gbuf, lights, strips, &strip, tool.threads())) {
+                tool.fail(path + ": " + hdr.geterror());
+                return false;
+            }
+            stats.lightEvaluations += strip.lightEvaluations;
+            stats.lightsReaching += strip.lightsReaching;
+            stats.coveredPixels += strip.coveredPixels;
+            stats.tileListEntries += strip.tileListEntries;
+            shadeMs += since(t);
+            t = std::chrono::steady_clock::now();
+            if (y == gspec.y) {
+                OIIO::ImageSpec spec = hdr.spec();
+                spec.y = gspec.y;
+                spec.height = gspec.height;
+                spec.attribute("dhdr:lights", lightFiles);
+                spec.erase_attribute("dhdr:materialNames");
+                spec.erase_attribute("dhdr:objectNames");
+                if (!file.open(spec,
+                               {dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT}))
+                    return false;
+            }
+            if (!file.writeRows(hdr.spec().y, hdr.spec().y + hdr.spec().height,
+                                static_cast<const float*>(hdr.localpixels())))
+                return false;
+            writeMs += since(t);
+            progress.update(float(y + rows - gspec.y) / float(gspec.height));
+        }
+        if (!file.commit()) return false;
+        tool.reportNonFinite(path, replaced, false);
+        if (stats.coveredPixels == 0)
+            tool.warn(path + ": no surface in view: A is 0 everywhere (an empty frame)");
+
+        auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
         const double pixels = double(std::max<long long>(stats.coveredPixels, 1));
         char line[200];
         std::snprintf(line, sizeof line,
@@ -154,7 +206,9 @@ int run(int argc, char** argv) {
                       double(stats.lightsReaching) / pixels, bruteForce ? " (brute force)" : "",
                       stats.tileListEntries);
         tool.info(line);
-        tool.info("read " + ms(t0, t1) + ", shade " + ms(t1, t2) + ", write " + ms(t2, t3));
+        tool.info("total " + ms(since(start)) + ": read " + ms(readMs) + ", shade " + ms(shadeMs) +
+                  ", write " + ms(writeMs) +
+                  (reader.streamed() ? "" : " (read whole: not a scanline EXR)"));
         return true;
     });
 }

@@ -93,11 +93,15 @@ size_t TileLightLists::totalEntries() const {
 
 void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::CameraInfo& camera,
                            const DepthView& depth, int width, int height, int tileSize,
-                           int nthreads) {
+                           int nthreads, int rowBegin, int rowEnd) {
+    rowBegin = std::clamp(rowBegin, 0, height);
+    rowEnd = rowEnd < 0 ? height : std::clamp(rowEnd, rowBegin, height);
     m_tileSize = tileSize;
     m_tilesX = (width + tileSize - 1) / tileSize;
-    m_tilesY = (height + tileSize - 1) / tileSize;
-    m_tiles.assign(size_t(m_tilesX) * size_t(m_tilesY), Tile{});
+    m_firstTileRow = rowBegin / tileSize;
+    const int lastTileRow = rowEnd > rowBegin ? (rowEnd - 1) / tileSize : m_firstTileRow - 1;
+    m_tilesY = lastTileRow - m_firstTileRow + 1;
+    m_tiles.assign(size_t(m_tilesX) * size_t(std::max(m_tilesY, 0)), Tile{});
 
     const glm::dmat4 cameraToNDC = camera.worldToNDC * glm::inverse(camera.worldToCamera);
     const glm::dmat4 ndcToCamera = glm::inverse(cameraToNDC);
@@ -106,11 +110,14 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
     // bounds of its sub-frustum between those depths.
     OIIO::parallel_for(
         0, m_tilesY,
-        [&](int64_t ty) {
+        [&](int64_t local) {
+            const int ty = m_firstTileRow + int(local);
             for (int tx = 0; tx < m_tilesX; ++tx) {
-                Tile& t = m_tiles[size_t(ty) * size_t(m_tilesX) + size_t(tx)];
+                Tile& t = m_tiles[size_t(local) * size_t(m_tilesX) + size_t(tx)];
                 const int x0 = tx * tileSize, x1 = std::min(width, x0 + tileSize);
-                const int y0 = int(ty) * tileSize, y1 = std::min(height, y0 + tileSize);
+                // The tile's rows that are held (a strip may cut a tile).
+                const int y0 = std::max(ty * tileSize, rowBegin);
+                const int y1 = std::min({height, ty * tileSize + tileSize, rowEnd});
                 float zmin = INFINITY, zmax = -INFINITY;
                 for (int y = y0; y < y1; ++y)
                     for (int x = x0; x < x1; ++x) {
@@ -162,7 +169,7 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
         glm::dvec3 apex, axis; // camera space
         double sinOuter, cosOuter, range;
     };
-    std::vector<std::vector<Span>> rows(static_cast<size_t>(m_tilesY));
+    std::vector<std::vector<Span>> rows(static_cast<size_t>(std::max(m_tilesY, 0)));
     for (size_t i = 0; i < lights.size(); ++i) {
         const Light& light = lights[i];
         const bool bounded = light.isLocal() && std::isfinite(light.range);
@@ -179,7 +186,7 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
             span.cosOuter = std::cos(double(light.outerConeAngle));
             span.range = double(light.range) * (1.0 + 1e-4) + 1e-6;
         }
-        int ty0 = 0, ty1 = m_tilesY - 1;
+        int ty0 = 0, ty1 = (height - 1) / tileSize; // frame tile rows
         if (bounded) {
             const LightBound b = lightBound(light);
             // A little wider than the bound: the G-buffer's positions and depths are floats.
@@ -193,23 +200,24 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
             ty0 = r.y0 / tileSize;
             ty1 = (r.y1 - 1) / tileSize;
         }
-        for (int ty = ty0; ty <= ty1; ++ty)
-            rows[size_t(ty)].push_back(span);
+        for (int ty = std::max(ty0, m_firstTileRow); ty <= std::min(ty1, lastTileRow); ++ty)
+            rows[size_t(ty - m_firstTileRow)].push_back(span);
     }
 
     // 3. Per tile: the sub-frustum's four side planes, then the depth slices.
     const glm::dvec4 r0 = row(cameraToNDC, 0), r1 = row(cameraToNDC, 1), r3 = row(cameraToNDC, 3);
     OIIO::parallel_for(
         0, m_tilesY,
-        [&](int64_t ty) {
+        [&](int64_t local) {
+            const int64_t ty = m_firstTileRow + local;
             // NDC y grows upwards, pixel rows downwards.
             const double yTop = 1.0 - 2.0 * double(ty * tileSize) / height;
             const double yBottom =
                 1.0 - 2.0 * double(std::min<int64_t>(height, (ty + 1) * tileSize)) / height;
             const Plane below{r1 - yBottom * r3}, above{yTop * r3 - r1};
-            for (const Span& s : rows[size_t(ty)]) {
+            for (const Span& s : rows[size_t(local)]) {
                 for (int tx = s.tx0; tx <= s.tx1; ++tx) {
-                    Tile& t = m_tiles[size_t(ty) * size_t(m_tilesX) + size_t(tx)];
+                    Tile& t = m_tiles[size_t(local) * size_t(m_tilesX) + size_t(tx)];
                     if (t.pixelMask == 0) continue;
                     if (!s.bounded) {
                         t.entries.push_back({s.light, ~0u});

@@ -79,14 +79,30 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
     spec.z_channel = spec.channelindex("Z");
     spec.set_format(OIIO::TypeDesc::FLOAT);
     spec.channelformats.clear();
-    dst.reset(spec);
+    const OIIO::ImageSpec& held = dst.spec();
+    if (dst.initialized() && dst.localpixels() && held.format == OIIO::TypeDesc::FLOAT &&
+        held.channelformats.empty() && held.nchannels == spec.nchannels &&
+        held.width == spec.width && held.height == spec.height) {
+        dst.specmod() = spec;
+    } else {
+        dst.reset(spec, OIIO::InitializePixels::No);
+    }
 
+    // The frame the tiles are laid over; the G-buffer may be a strip of its rows.
+    const OIIO::ROI frame = params.frame.defined() ? params.frame : gbuf.roi();
+    if (in.x != frame.xbegin || in.width != frame.width() || in.y < frame.ybegin ||
+        in.y + in.height > frame.yend) {
+        dst.errorfmt("the G-buffer is not a strip of whole rows of the frame");
+        return false;
+    }
+    const int frameWidth = frame.width(), frameHeight = frame.height();
     const size_t nch = size_t(src->nchannels());
     const DepthView depth{static_cast<const float*>(src->localpixels()) + layout.depth, nch,
-                          nch * size_t(in.width)};
+                          nch * size_t(in.width), in.y - frame.ybegin};
     TileLightLists tiles;
     if (!params.bruteForce)
-        tiles.build(lights, camera, depth, in.width, in.height, params.tileSize, nthreads);
+        tiles.build(lights, camera, depth, frameWidth, frameHeight, params.tileSize, nthreads,
+                    in.y - frame.ybegin, in.y + in.height - frame.ybegin);
     const LightReach reach(lights);
     std::atomic<long long> evaluations{0}, reaching{0}, covered{0};
     OIIO::ImageBufAlgo::parallel_image(dst.roi(), OIIO::paropt(nthreads), [&](OIIO::ROI r) {
@@ -125,7 +141,7 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
                     }
                     localEvaluations += (long long)lights.size();
                 } else {
-                    const int px = x - in.x, py = y - in.y;
+                    const int px = x - frame.xbegin, py = y - frame.ybegin;
                     const std::uint32_t slice = tiles.sliceBit(px, py, g[layout.depth]);
                     for (const TileLightLists::Entry& e : tiles.at(px, py)) {
                         if (!(e.depthMask & slice)) continue;

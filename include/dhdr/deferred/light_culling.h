@@ -18,13 +18,16 @@ struct LightBound {
 };
 LightBound lightBound(const Light& light);
 
-// Planar depth of a frame, read in place (e.g. the Z channel of an interleaved G-buffer).
-// Background pixels hold +∞ (or NaN).
+// Planar depth of a frame, or of a strip of its rows starting at `firstRow`, read in place
+// (e.g. the Z channel of an interleaved G-buffer). Background pixels hold +∞ (or NaN).
 struct DepthView {
     const float* data = nullptr;
     size_t pixelStride = 1; // in floats
     size_t rowStride = 0;   // in floats
-    float at(int x, int y) const { return data[size_t(y) * rowStride + size_t(x) * pixelStride]; }
+    int firstRow = 0;       // the frame row that data's first row is
+    float at(int x, int y) const {
+        return data[size_t(y - firstRow) * rowStride + size_t(x) * pixelStride];
+    }
 };
 
 // The lights of each tile, in the order of the lights list. Each entry carries a 32-bit mask
@@ -41,8 +44,12 @@ public:
 
     // Culls `lights` against the tiles of a width × height frame seen by `camera`. Lights
     // without a bound (directional, ambient, infinite range) are in every covered tile.
+    // Only the tiles of frame rows [rowBegin, rowEnd) are built (rowEnd −1: to the bottom),
+    // from the depths of those rows: a frame streamed strip by strip builds its lists a strip
+    // at a time, and a pixel's list still holds every light that reaches it.
     void build(const std::vector<Light>& lights, const gbuffer::CameraInfo& camera,
-               const DepthView& depth, int width, int height, int tileSize, int nthreads = 0);
+               const DepthView& depth, int width, int height, int tileSize, int nthreads = 0,
+               int rowBegin = 0, int rowEnd = -1);
 
     int tileSize() const { return m_tileSize; }
     // The entries of the tile holding pixel (x, y).
@@ -63,10 +70,11 @@ private:
         std::vector<Entry> entries;
     };
     size_t tileIndex(int x, int y) const {
-        return size_t(y / m_tileSize) * size_t(m_tilesX) + size_t(x / m_tileSize);
+        return size_t(y / m_tileSize - m_firstTileRow) * size_t(m_tilesX) + size_t(x / m_tileSize);
     }
 
-    int m_tileSize = 16, m_tilesX = 0, m_tilesY = 0;
+    // m_tilesY rows of tiles are held, the first being frame tile row m_firstTileRow.
+    int m_tileSize = 16, m_tilesX = 0, m_tilesY = 0, m_firstTileRow = 0;
     std::vector<Tile> m_tiles;
 };
 

@@ -18,6 +18,10 @@ struct LightingParams {
     float background[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     // G-buffer channels copied into the output after R, G, B, A (e.g. "Z", "N.X"...).
     std::vector<std::string> passThrough;
+    // The whole frame, when the G-buffer given is a strip of its rows (dhdr-light streams
+    // frames strip by strip); undefined: the G-buffer's own pixels are the frame. Tiles are
+    // laid over the frame, so a pixel's result does not depend on how the frame is cut.
+    OIIO::ROI frame;
 };
 
 struct LightingStats {
@@ -36,7 +40,8 @@ struct LightingStats {
 // `dst`, whose spec keeps `gbuffer`'s metadata. Each light is evaluated only at the pixels of
 // the tiles and depth slices its bound reaches (light_culling.h), in the order of `lights`,
 // so the culled and brute-force results agree to rounding. Errors (a missing channel, no
-// camera in the header) are reported on `dst`.
+// camera in the header) are reported on `dst`. `dst` is reused when it already holds float
+// pixels of the right size and channels (the previous strip).
 bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuffer,
                   const std::vector<Light>& lights, const LightingParams& params = {},
                   LightingStats* stats = nullptr, int nthreads = 0);

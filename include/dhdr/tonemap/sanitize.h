@@ -11,6 +11,13 @@ struct NonFiniteCount {
     long long negativeInf = 0;
     long long negative = 0; // finite negatives, counted (and zeroed) only when asked
     long long total() const { return nan + positiveInf + negativeInf + negative; }
+    NonFiniteCount& operator+=(const NonFiniteCount& o) {
+        nan += o.nan;
+        positiveInf += o.positiveInf;
+        negativeInf += o.negativeInf;
+        negative += o.negative;
+        return *this;
+    }
 };
 
 // Replaces, in the channels [roi.chbegin, roi.chend) of `img`, NaN and -Inf by 0 and +Inf by

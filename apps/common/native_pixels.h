@@ -1,4 +1,5 @@
-// Float pixels in the types a file stores, for writing: the other half of banded_read.
+// Pixels in the types a file stores (ImageInput/ImageOutput native layout: each channel in
+// its own type, one after the other) to float and back.
 #pragma once
 
 #include <OpenImageIO/imageio.h>
@@ -6,6 +7,20 @@
 #include <vector>
 
 namespace dhdr::app {
+
+// How ImageInput::read_native_scanlines packs a pixel of channels [chbegin, chend), and its
+// conversion to float: OpenImageIO's, except that uint channels (object ids) keep their
+// integer values instead of being scaled from [0, 2^32 − 1] to [0, 1].
+struct NativeReader {
+    std::vector<OIIO::TypeDesc> types;
+    std::vector<size_t> offsets;
+    size_t bytes = 0;
+    bool uniform = true;
+
+    NativeReader(const OIIO::ImageSpec& spec, int chbegin, int chend);
+    // width × height pixels from `native` to float.
+    bool toFloat(const std::byte* native, float* pixels, int width, int height) const;
+};
 
 // Float pixels as a file of `spec`'s channel types holds them, packed per pixel, each channel
 // in its own type (ImageInput's native layout). Half is clamped to ±65504 and float to its

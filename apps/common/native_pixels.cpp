@@ -1,4 +1,4 @@
-#include "native_write.h"
+#include "native_pixels.h"
 
 #include <Imath/half.h>
 #include <algorithm>
@@ -8,6 +8,44 @@
 #include <limits>
 
 namespace dhdr::app {
+
+NativeReader::NativeReader(const OIIO::ImageSpec& spec, int chbegin, int chend) {
+    for (int c = chbegin; c < chend; ++c) {
+        types.push_back(spec.channelformat(c));
+        offsets.push_back(bytes);
+        bytes += types.back().size();
+        uniform = uniform && types.back() == types.front();
+    }
+}
+
+bool NativeReader::toFloat(const std::byte* native, float* pixels, int width, int height) const {
+    const int nch = int(types.size());
+    const bool anyUint = std::any_of(types.begin(), types.end(), [](OIIO::TypeDesc t) {
+        return t.basetype == OIIO::TypeDesc::UINT32;
+    });
+    if (uniform && !anyUint)
+        return OIIO::convert_pixel_values(types[0], native, OIIO::TypeDesc::FLOAT, pixels,
+                                          width * height * nch);
+    const auto dstPixel = OIIO::stride_t(nch * sizeof(float));
+    for (int c = 0; c < nch; ++c) {
+        if (types[size_t(c)].basetype == OIIO::TypeDesc::UINT32) {
+            // An id, not a fraction of full scale.
+            const size_t n = size_t(width) * size_t(height);
+            for (size_t i = 0; i < n; ++i) {
+                std::uint32_t v;
+                std::memcpy(&v, native + i * bytes + offsets[size_t(c)], sizeof v);
+                pixels[i * size_t(nch) + size_t(c)] = float(v);
+            }
+            continue;
+        }
+        if (!OIIO::convert_image(1, width, height, 1, native + offsets[size_t(c)], types[size_t(c)],
+                                 OIIO::stride_t(bytes), OIIO::stride_t(bytes) * width,
+                                 OIIO::AutoStride, pixels + c, OIIO::TypeDesc::FLOAT, dstPixel,
+                                 dstPixel * width, OIIO::AutoStride))
+            return false;
+    }
+    return true;
+}
 
 NativeWriter::NativeWriter(const OIIO::ImageSpec& spec, int infinityAllowed)
     : m_infinity(infinityAllowed) {

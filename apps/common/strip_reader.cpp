@@ -1,0 +1,93 @@
+#include "strip_reader.h"
+
+#include "banded_read.h"
+#include "native_pixels.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace dhdr::app {
+
+bool StripReader::open(const std::string& path, int subimage, int chbegin, int chend,
+                       int nthreads, std::string& error) {
+    m_whole.reset();
+    m_in = OIIO::ImageInput::open(path);
+    if (!m_in) {
+        error = OIIO::geterror();
+        return false;
+    }
+    if (subimage != 0 && !m_in->seek_subimage(subimage, 0)) {
+        error = "has no part " + std::to_string(subimage);
+        return false;
+    }
+    const OIIO::ImageSpec file = m_in->spec();
+    if (file.deep) {
+        error = "is a deep image (a list of samples per pixel); this tool takes flat images: "
+                "flatten it first, e.g. oiiotool IN.exr --flatten -o FLAT.exr";
+        return false;
+    }
+    m_subimage = subimage;
+    m_chbegin = std::clamp(chbegin, 0, file.nchannels);
+    m_chend = std::clamp(chend, m_chbegin, file.nchannels);
+    if (std::string(m_in->format_name()) != "openexr" || file.tile_width > 0) {
+        // Read whole: what OIIO cannot hand out by scanlines cheaply.
+        m_in.reset();
+        if (!readBanded(path, m_whole, m_chbegin, m_chend, nthreads, error, subimage))
+            return false;
+        m_spec = m_whole.spec();
+        return true;
+    }
+    m_spec = file;
+    m_spec.nchannels = m_chend - m_chbegin;
+    m_spec.channelnames.assign(file.channelnames.begin() + m_chbegin,
+                               file.channelnames.begin() + m_chend);
+    m_spec.channelformats.clear();
+    m_spec.set_format(OIIO::TypeDesc::FLOAT);
+    m_spec.alpha_channel = file.alpha_channel - m_chbegin;
+    if (m_spec.alpha_channel < 0 || m_spec.alpha_channel >= m_spec.nchannels)
+        m_spec.alpha_channel = -1;
+    m_spec.z_channel = file.z_channel - m_chbegin;
+    if (m_spec.z_channel < 0 || m_spec.z_channel >= m_spec.nchannels) m_spec.z_channel = -1;
+    return true;
+}
+
+bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string& error) {
+    ybegin = std::max(ybegin, m_spec.y);
+    yend = std::min(yend, m_spec.y + m_spec.height);
+    OIIO::ImageSpec rows = m_spec;
+    rows.y = ybegin;
+    rows.height = std::max(0, yend - ybegin);
+    const OIIO::ImageSpec& held = strip.spec();
+    if (strip.initialized() && strip.localpixels() && held.format == OIIO::TypeDesc::FLOAT &&
+        held.width == rows.width && held.nchannels == rows.nchannels &&
+        held.height == rows.height) {
+        strip.set_origin(rows.x, rows.y);
+    } else {
+        strip.reset(rows, OIIO::InitializePixels::No);
+        if (!strip.localpixels()) {
+            error = "cannot allocate memory for a strip of its pixels";
+            return false;
+        }
+    }
+    if (rows.height == 0) return true;
+    auto* out = static_cast<float*>(strip.localpixels());
+    const size_t rowFloats = size_t(rows.width) * size_t(rows.nchannels);
+    if (m_whole.initialized()) {
+        std::memcpy(out, m_whole.pixeladdr(rows.x, ybegin),
+                    rowFloats * size_t(rows.height) * sizeof(float));
+        return true;
+    }
+    const NativeReader native(m_in->spec(), m_chbegin, m_chend);
+    m_native.resize(size_t(rows.width) * size_t(rows.height) * native.bytes);
+    if (!m_in->read_native_scanlines(m_subimage, 0, ybegin, yend, 0, m_chbegin, m_chend,
+                                     m_native.data()) ||
+        !native.toFloat(m_native.data(), out, rows.width, rows.height)) {
+        error = m_in->geterror();
+        if (error.empty()) error = "cannot read rows " + std::to_string(ybegin) + "–" +
+                                   std::to_string(yend - 1);
+        return false;
+    }
+    return true;
+}
+
+} // namespace dhdr::app

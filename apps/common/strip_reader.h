@@ -1,0 +1,37 @@
+// Reading an image a strip of rows at a time, so that a stage's memory does not grow with
+// the frame (dhdr-light, dhdr-aa and dhdr-bloom stream their frames this way).
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
+#include <memory>
+#include <string>
+
+namespace dhdr::app {
+
+class StripReader {
+public:
+    // Opens channels [chbegin, chend) of part `subimage` of `path`. False with `error` when
+    // the file cannot be read, is deep, or is larger than this machine's memory could hold
+    // (for files read whole, below).
+    bool open(const std::string& path, int subimage, int chbegin, int chend, int nthreads,
+              std::string& error);
+    // The file's spec for the channels read, as float pixels (metadata kept).
+    const OIIO::ImageSpec& spec() const { return m_spec; }
+    // Rows [ybegin, yend) (clamped to the image) as float pixels into `strip`, whose origin
+    // is then (spec().x, ybegin). Uint channels hold their integer values. `strip`'s memory
+    // is reused when its size allows.
+    bool read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string& error);
+    // Scanline OpenEXR is read strip by strip; other files (tiled EXR, other formats) are
+    // read whole once and served from memory.
+    bool streamed() const { return !m_whole.initialized(); }
+
+private:
+    std::unique_ptr<OIIO::ImageInput> m_in;
+    OIIO::ImageSpec m_spec;
+    OIIO::ImageBuf m_whole;
+    std::vector<std::byte> m_native;
+    int m_subimage = 0, m_chbegin = 0, m_chend = 0;
+};
+
+} // namespace dhdr::app
