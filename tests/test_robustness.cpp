@@ -13,6 +13,7 @@
 #include <csignal>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/tonemap/edge_aa.h>
 #include <map>
 #include <set>
 #include <thread>
@@ -456,4 +457,32 @@ TEST_F(Robustness, TiledInputGivesScanlineOutput) {
     const Result r =
         run("dhdr-light " + path("g_tiled.exr") + " --lights " + kLights + " -o " + path("lt.exr"));
     EXPECT_EQ(r.status, 0) << r.err;
+}
+
+// 11. dhdr-aa streams strips with a halo of rows: its output equals edge AA of the whole frame
+// bit for bit, with taps reaching 3 pixels across strip boundaries.
+TEST_F(Robustness, EdgeAAStripsEqualTheWholeFrame) {
+    ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 90x150 -o " + path("tall.gbuf.exr")).status,
+              0);
+    ASSERT_EQ(run("dhdr-light " + path("tall.gbuf.exr") + " --lights " + kLights +
+                  " --type float -o " + path("tall.hdr.exr"))
+                  .status,
+              0);
+    const Result r = run("dhdr-aa " + path("tall.hdr.exr") + " --gbuffer " + path("tall.gbuf.exr") +
+                         " --max-offset 3 -o " + path("tall.aa.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf hdr = read("tall.hdr.exr"), g = read("tall.gbuf.exr");
+    const int n = g.spec().channelindex("N.X"), z = g.spec().channelindex("Z");
+    const int normalChannels[3] = {n, n + 1, n + 2}, depthChannel[1] = {z};
+    const ImageBuf normal = OIIO::ImageBufAlgo::channels(g, 3, normalChannels);
+    const ImageBuf depth = OIIO::ImageBufAlgo::channels(g, 1, depthChannel);
+    dhdr::EdgeAAParams params;
+    params.maxOffset = 3.0f;
+    ImageBuf whole = hdr.copy(TypeDesc::FLOAT);
+    OIIO::ROI colour = hdr.roi();
+    colour.chend = 4;
+    ASSERT_TRUE(dhdr::edgeAA(whole, hdr, &normal, &depth, params, colour));
+    const ImageBuf streamed = read("tall.aa.exr");
+    EXPECT_TRUE(equalPixels(streamed, whole, 0, 4));
+    EXPECT_FALSE(equalPixels(streamed, hdr, 0, 4)); // it did filter
 }

@@ -134,15 +134,78 @@ bool chooseColourLayer(const std::vector<ColourLayer>& layers, const std::string
     return false;
 }
 
+namespace {
+
+// The channels of `layer` in the order a tool works on them (R, G, B, A, then the others
+// with `keepOthers`), as indices into the part's channels.
+std::vector<int> channelOrder(const ColourLayer& layer, bool keepOthers) {
+    const int nrgba = layer.rgba[3] >= 0 ? 4 : 3;
+    std::vector<int> order(layer.rgba, layer.rgba + nrgba);
+    if (keepOthers)
+        for (int c = 0; c < int(layer.partChannels.size()); ++c)
+            if (std::find(order.begin(), order.end(), c) == order.end()) order.push_back(c);
+    return order;
+}
+
+} // namespace
+
+bool ColourStripReader::open(const std::string& path, const ColourLayer& layer, bool keepOthers,
+                             int nthreads, std::string& error) {
+    m_order = channelOrder(layer, keepOthers);
+    const int chbegin = *std::min_element(m_order.begin(), m_order.end());
+    const int chend = *std::max_element(m_order.begin(), m_order.end()) + 1;
+    if (!m_reader.open(path, layer.subimage, chbegin, chend, nthreads, error)) return false;
+    for (int& c : m_order)
+        c -= chbegin;
+    m_identity = int(m_order.size()) == chend - chbegin;
+    for (size_t i = 0; i < m_order.size(); ++i)
+        m_identity = m_identity && m_order[i] == int(i);
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    m_formats.clear();
+    if (in && in->seek_subimage(layer.subimage, 0))
+        for (int c : m_order)
+            m_formats.push_back(in->spec().channelformat(c + chbegin));
+    m_alpha = layer.rgba[3] >= 0 ? 3 : -1;
+    m_spec = m_reader.spec();
+    m_spec.nchannels = int(m_order.size());
+    m_spec.channelnames.clear();
+    for (int c : m_order)
+        m_spec.channelnames.push_back(m_reader.spec().channelnames[size_t(c)]);
+    m_spec.alpha_channel = m_alpha;
+    const auto z = std::find(m_spec.channelnames.begin(), m_spec.channelnames.end(), "Z");
+    m_spec.z_channel = z == m_spec.channelnames.end() ? -1 : int(z - m_spec.channelnames.begin());
+    return true;
+}
+
+bool ColourStripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string& error) {
+    if (m_identity) {
+        if (!m_reader.read(ybegin, yend, strip, error)) return false;
+        strip.specmod().alpha_channel = m_alpha;
+        return true;
+    }
+    if (!m_reader.read(ybegin, yend, m_raw, error)) return false;
+    OIIO::ImageSpec rows = m_spec;
+    rows.y = m_raw.spec().y;
+    rows.height = m_raw.spec().height;
+    if (!(strip.initialized() && strip.localpixels() && strip.spec().width == rows.width &&
+          strip.spec().height == rows.height && strip.nchannels() == rows.nchannels &&
+          strip.spec().format == OIIO::TypeDesc::FLOAT))
+        strip.reset(rows, OIIO::InitializePixels::No);
+    strip.set_origin(rows.x, rows.y);
+    const size_t inCh = size_t(m_raw.nchannels()), outCh = m_order.size();
+    const auto* src = static_cast<const float*>(m_raw.localpixels());
+    auto* dst = static_cast<float*>(strip.localpixels());
+    for (size_t i = 0, n = size_t(rows.width) * size_t(rows.height); i < n; ++i)
+        for (size_t c = 0; c < outCh; ++c)
+            dst[i * outCh + c] = src[i * inCh + size_t(m_order[c])];
+    return true;
+}
+
 bool readColourLayer(const std::string& path, const ColourLayer& layer, bool keepOthers,
                      int nthreads, OIIO::ImageBuf& image, std::vector<OIIO::TypeDesc>& formats,
                      std::string& error) {
     const int nrgba = layer.rgba[3] >= 0 ? 4 : 3;
-    std::vector<int> order(layer.rgba, layer.rgba + nrgba);
-    const int nchannels = int(layer.partChannels.size());
-    if (keepOthers)
-        for (int c = 0; c < nchannels; ++c)
-            if (std::find(order.begin(), order.end(), c) == order.end()) order.push_back(c);
+    const std::vector<int> order = channelOrder(layer, keepOthers);
     const int chbegin = *std::min_element(order.begin(), order.end());
     const int chend = *std::max_element(order.begin(), order.end()) + 1;
     if (!readBanded(path, image, chbegin, chend, nthreads, error, layer.subimage)) return false;

@@ -3,6 +3,8 @@
 // EXRs, never by channel position.
 #pragma once
 
+#include "strip_reader.h"
+
 #include <OpenImageIO/imagebuf.h>
 #include <string>
 #include <vector>
@@ -40,5 +42,27 @@ bool chooseColourLayer(const std::vector<ColourLayer>& layers, const std::string
 bool readColourLayer(const std::string& path, const ColourLayer& layer, bool keepOthers,
                      int nthreads, OIIO::ImageBuf& image, std::vector<OIIO::TypeDesc>& formats,
                      std::string& error);
+
+// readColourLayer a strip of rows at a time (strip_reader.h): the same channels in the same
+// order, for stages that stream their frames.
+class ColourStripReader {
+public:
+    bool open(const std::string& path, const ColourLayer& layer, bool keepOthers, int nthreads,
+              std::string& error);
+    // The spec of the strips read (float, reordered, the whole frame's size and metadata).
+    const OIIO::ImageSpec& spec() const { return m_spec; }
+    // The file's type of each channel of spec().
+    const std::vector<OIIO::TypeDesc>& formats() const { return m_formats; }
+    bool read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string& error);
+
+private:
+    StripReader m_reader;
+    OIIO::ImageBuf m_raw;
+    OIIO::ImageSpec m_spec;
+    std::vector<OIIO::TypeDesc> m_formats;
+    std::vector<int> m_order; // channels of the raw strip, in the order they are handed out
+    bool m_identity = true;
+    int m_alpha = -1;
+};
 
 } // namespace dhdr::app

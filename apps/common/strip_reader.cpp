@@ -8,8 +8,8 @@
 
 namespace dhdr::app {
 
-bool StripReader::open(const std::string& path, int subimage, int chbegin, int chend,
-                       int nthreads, std::string& error) {
+bool StripReader::open(const std::string& path, int subimage, int chbegin, int chend, int nthreads,
+                       std::string& error) {
     m_whole.reset();
     m_in = OIIO::ImageInput::open(path);
     if (!m_in) {
@@ -32,8 +32,7 @@ bool StripReader::open(const std::string& path, int subimage, int chbegin, int c
     if (std::string(m_in->format_name()) != "openexr" || file.tile_width > 0) {
         // Read whole: what OIIO cannot hand out by scanlines cheaply.
         m_in.reset();
-        if (!readBanded(path, m_whole, m_chbegin, m_chend, nthreads, error, subimage))
-            return false;
+        if (!readBanded(path, m_whole, m_chbegin, m_chend, nthreads, error, subimage)) return false;
         m_spec = m_whole.spec();
         return true;
     }
@@ -83,8 +82,8 @@ bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string&
                                      m_native.data()) ||
         !native.toFloat(m_native.data(), out, rows.width, rows.height)) {
         error = m_in->geterror();
-        if (error.empty()) error = "cannot read rows " + std::to_string(ybegin) + "–" +
-                                   std::to_string(yend - 1);
+        if (error.empty())
+            error = "cannot read rows " + std::to_string(ybegin) + "–" + std::to_string(yend - 1);
         return false;
     }
     return true;

@@ -187,27 +187,51 @@ bool Tool::readImage(const std::string& path, OIIO::ImageBuf& image, int nthread
     return true;
 }
 
-bool Tool::readColour(const std::string& path, const std::string& layer, bool keepOthers,
-                      OIIO::ImageBuf& image, std::vector<OIIO::TypeDesc>& formats,
-                      int nthreads) const {
+namespace {
+
+// The colour layer of `path` a tool works on, after printing why there is none.
+bool findColour(const Tool& tool, const std::string& path, const std::string& layer,
+                ColourLayer& chosen) {
     std::error_code ec;
     if (!fs::exists(path, ec)) {
-        fail(path + ": no such file");
+        tool.fail(path + ": no such file");
         return false;
     }
     std::vector<ColourLayer> layers;
-    ColourLayer chosen;
     std::string error;
     if (!listColourLayers(path, layers, error)) {
-        fail(path + ": cannot read: " + oneLine(error));
+        tool.fail(path + ": cannot read: " + oneLine(error));
         return false;
     }
     if (!chooseColourLayer(layers, layer, chosen, error)) {
-        fail(path + ": " + error);
+        tool.fail(path + ": " + error);
         return false;
     }
     if (layers.size() > 1 || chosen.subimage > 0)
-        info(path + ": reading layer '" + chosen.name() + "'");
+        tool.info(path + ": reading layer '" + chosen.name() + "'");
+    return true;
+}
+
+} // namespace
+
+bool Tool::openColour(const std::string& path, const std::string& layer, bool keepOthers,
+                      ColourStripReader& reader) const {
+    ColourLayer chosen;
+    if (!findColour(*this, path, layer, chosen)) return false;
+    std::string error;
+    if (!reader.open(path, chosen, keepOthers, threads(), error)) {
+        fail(path + ": cannot read: " + oneLine(error));
+        return false;
+    }
+    return true;
+}
+
+bool Tool::readColour(const std::string& path, const std::string& layer, bool keepOthers,
+                      OIIO::ImageBuf& image, std::vector<OIIO::TypeDesc>& formats,
+                      int nthreads) const {
+    ColourLayer chosen;
+    if (!findColour(*this, path, layer, chosen)) return false;
+    std::string error;
     if (!readColourLayer(path, chosen, keepOthers, nthreads, image, formats, error)) {
         fail(path + ": cannot read: " + oneLine(error));
         return false;

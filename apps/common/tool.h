@@ -16,6 +16,8 @@
 
 namespace dhdr::app {
 
+class ColourStripReader;
+
 class Tool {
 public:
     Tool(std::string name, const CommandLine& cl) : m_name(std::move(name)), m_cl(cl) {}
@@ -49,6 +51,9 @@ public:
     bool readColour(const std::string& path, const std::string& layer, bool keepOthers,
                     OIIO::ImageBuf& image, std::vector<OIIO::TypeDesc>& formats,
                     int nthreads) const;
+    // Opens the colour of `path` (as readColour finds it) for reading strip by strip.
+    bool openColour(const std::string& path, const std::string& layer, bool keepOthers,
+                    ColourStripReader& reader) const;
     // Warns that `path` has no surface in view when its alpha channel (3) is 0 everywhere.
     void warnIfEmpty(const std::string& path, const OIIO::ImageBuf& image) const;
     // Reads only the smallest run of channels that holds those of `names` present in the file

@@ -1,33 +1,47 @@
 // dhdr-aa: edge-detect anti-aliasing of an image from its geometry (docs/tools.md).
 #include "../common/frames.h"
+#include "../common/layers.h"
+#include "../common/strip_reader.h"
 #include "../common/tool.h"
 
 #include <OpenImageIO/imagebufalgo.h>
+#include <cmath>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/tonemap/edge_aa.h>
+#include <dhdr/tonemap/sanitize.h>
+#include <filesystem>
+#include <memory>
 
 using namespace dhdr;
 
 namespace {
 
-// The normal (N.X N.Y N.Z) and depth (Z) channels of `img`, when it has them.
-bool extractGeometry(const OIIO::ImageBuf& img, OIIO::ImageBuf& normal, OIIO::ImageBuf& depth,
-                     bool& hasNormal, bool& hasDepth) {
-    const OIIO::ImageSpec& spec = img.spec();
+// Where the normal (N.X N.Y N.Z, in order) and depth (Z) channels are; −1 when absent.
+struct GeometryChannels {
+    int normal = -1, depth = -1;
+};
+
+GeometryChannels findGeometry(const OIIO::ImageSpec& spec) {
+    GeometryChannels g;
     const int n = spec.channelindex(gbuffer::kNormal[0]);
-    hasNormal = n >= 0 && spec.channelindex(gbuffer::kNormal[1]) == n + 1 &&
-                spec.channelindex(gbuffer::kNormal[2]) == n + 2;
-    const int z = spec.channelindex(gbuffer::kDepth);
-    hasDepth = z >= 0;
-    if (hasNormal) {
-        const int order[3] = {n, n + 1, n + 2};
-        normal = OIIO::ImageBufAlgo::channels(img, 3, order);
+    if (n >= 0 && spec.channelindex(gbuffer::kNormal[1]) == n + 1 &&
+        spec.channelindex(gbuffer::kNormal[2]) == n + 2)
+        g.normal = n;
+    g.depth = spec.channelindex(gbuffer::kDepth);
+    return g;
+}
+
+// The normal and depth channels of a strip, as images of their own.
+void extractGeometry(const OIIO::ImageBuf& img, const GeometryChannels& g, OIIO::ImageBuf& normal,
+                     OIIO::ImageBuf& depth) {
+    if (g.normal >= 0) {
+        const int order[3] = {g.normal, g.normal + 1, g.normal + 2};
+        OIIO::ImageBufAlgo::channels(normal, img, 3, order);
     }
-    if (hasDepth) {
-        const int order[1] = {z};
-        depth = OIIO::ImageBufAlgo::channels(img, 1, order);
+    if (g.depth >= 0) {
+        const int order[1] = {g.depth};
+        OIIO::ImageBufAlgo::channels(depth, img, 1, order);
     }
-    return hasNormal || hasDepth;
 }
 
 } // namespace
@@ -73,49 +87,117 @@ int run(int argc, char** argv) {
     params.maxOffset = float(maxOffset);
     const std::vector<std::string> geometryChannels = {gbuffer::kDepth, gbuffer::kNormal[0],
                                                        gbuffer::kNormal[1], gbuffer::kNormal[2]};
+    // Rows above and below each strip that its pixels read: one for the blur factor's
+    // neighbours, and the taps' reach.
+    const int halo = int(std::ceil(maxOffset)) + 2;
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
         const bool separate = in.size() > 1;
-        OIIO::ImageBuf image, gbuf;
-        std::vector<OIIO::TypeDesc> formats;
-        if (!tool.readColour(path, layer, true, image, formats, tool.threads())) return false;
-        tool.warnIfEmpty(path, image);
+        app::ColourStripReader colour;
+        if (!tool.openColour(path, layer, true, colour)) return false;
         const std::string& geometryPath = separate ? in[1] : path;
-        if (separate && !tool.readImageChannels(geometryPath, geometryChannels, gbuf)) return false;
-        const OIIO::ImageBuf& geometry = separate ? gbuf : image;
-        if (geometry.spec().width != image.spec().width ||
-            geometry.spec().height != image.spec().height) {
-            tool.fail(geometryPath + ": is " + std::to_string(geometry.spec().width) + "x" +
-                      std::to_string(geometry.spec().height) + " but " + path + " is " +
-                      std::to_string(image.spec().width) + "x" +
-                      std::to_string(image.spec().height));
+        // The geometry: the smallest run of channels of the G-buffer holding Z and N.*, or the
+        // input's own channels.
+        app::StripReader gbuffer;
+        std::string error;
+        if (separate) {
+            if (!std::filesystem::exists(geometryPath)) {
+                tool.fail(geometryPath + ": no such file");
+                return false;
+            }
+            std::unique_ptr<OIIO::ImageInput> probe = OIIO::ImageInput::open(geometryPath);
+            if (!probe) {
+                tool.fail(geometryPath + ": cannot read: " + OIIO::geterror());
+                return false;
+            }
+            int chbegin = probe->spec().nchannels, chend = 0;
+            for (const std::string& name : geometryChannels)
+                if (const int c = probe->spec().channelindex(name); c >= 0) {
+                    chbegin = std::min(chbegin, c);
+                    chend = std::max(chend, c + 1);
+                }
+            if (chend <= chbegin) chbegin = 0, chend = probe->spec().nchannels;
+            if (!gbuffer.open(geometryPath, 0, chbegin, chend, tool.threads(), error)) {
+                tool.fail(geometryPath + ": cannot read: " + error);
+                return false;
+            }
+        }
+        const OIIO::ImageSpec& frame = colour.spec();
+        const OIIO::ImageSpec& geometrySpec = separate ? gbuffer.spec() : frame;
+        if (geometrySpec.width != frame.width || geometrySpec.height != frame.height) {
+            tool.fail(geometryPath + ": is " + std::to_string(geometrySpec.width) + "x" +
+                      std::to_string(geometrySpec.height) + " but " + path + " is " +
+                      std::to_string(frame.width) + "x" + std::to_string(frame.height));
             return false;
         }
-        OIIO::ImageBuf normal, depth;
-        bool hasNormal = false, hasDepth = false;
-        extractGeometry(geometry, normal, depth, hasNormal, hasDepth);
-        if (use != "depth" && !hasNormal) {
+        const GeometryChannels channels = findGeometry(geometrySpec);
+        if (use != "depth" && channels.normal < 0) {
             tool.fail(geometryPath + ": no channel 'N.X' — give a G-buffer with --gbuffer");
             return false;
         }
-        if (use != "normal" && !hasDepth) {
+        if (use != "normal" && channels.depth < 0) {
             tool.fail(geometryPath + ": no channel 'Z' — give a G-buffer with --gbuffer");
             return false;
         }
-        // The layer's R, G, B (A) come first (readColour); nothing else is filtered.
-        const int colour = image.spec().alpha_channel == 3 ? 4 : 3;
-        tool.replaceNonFinite(path, image, 0, colour);
-        if (hasNormal) tool.replaceNonFinite(geometryPath, normal, 0, 3);
-        // Only colour is filtered; geometry channels carried by the image stay as they are.
-        OIIO::ROI roi = image.roi();
-        roi.chend = colour;
-        OIIO::ImageBuf result = image.copy(OIIO::TypeDesc::FLOAT);
-        if (!edgeAA(result, image, use != "depth" ? &normal : nullptr,
-                    use != "normal" ? &depth : nullptr, params, roi, tool.threads())) {
-            tool.fail(path + ": " + result.geterror());
-            return false;
+        // The layer's R, G, B (A) come first (ColourStripReader); nothing else is filtered.
+        const int ncolour = frame.alpha_channel == 3 ? 4 : 3;
+        app::AtomicOutput file(tool, out);
+        if (!file.open(frame, colour.formats())) return false;
+        // Strip by strip with a halo: each output row sees the rows it would see in the whole
+        // frame, so the result does not depend on the strips, and memory stays at a strip.
+        constexpr int kRows = 64;
+        OIIO::ImageBuf image, geometryStrip, normal, depth, result;
+        NonFiniteCount replacedColour, replacedNormal;
+        bool anySurface = frame.alpha_channel != 3;
+        app::Progress progress(tool, "dhdr-aa: " + path);
+        for (int y = frame.y; y < frame.y + frame.height; y += kRows) {
+            const int yend = std::min(y + kRows, frame.y + frame.height);
+            if (!colour.read(y - halo, yend + halo, image, error)) {
+                tool.fail(path + ": cannot read: " + error);
+                return false;
+            }
+            if (separate && !gbuffer.read(y - halo, yend + halo, geometryStrip, error)) {
+                tool.fail(geometryPath + ": cannot read: " + error);
+                return false;
+            }
+            OIIO::ROI core = image.roi();
+            core.ybegin = y;
+            core.yend = yend;
+            core.chend = ncolour;
+            // Counted on the strip's own rows; the halo is cleaned too, for the filter.
+            replacedColour += replaceNonFinite(image, core, tool.threads());
+            OIIO::ROI all = image.roi();
+            all.chend = ncolour;
+            replaceNonFinite(image, all, tool.threads());
+            const OIIO::ImageBuf& geometry = separate ? geometryStrip : image;
+            extractGeometry(geometry, channels, normal, depth);
+            if (channels.normal >= 0) {
+                OIIO::ROI rows = normal.roi();
+                rows.ybegin = y;
+                rows.yend = yend;
+                replacedNormal += replaceNonFinite(normal, rows, tool.threads());
+                replaceNonFinite(normal, {}, tool.threads());
+            }
+            if (!anySurface)
+                for (int yy = y; yy < yend && !anySurface; ++yy)
+                    for (int x = frame.x; x < frame.x + frame.width && !anySurface; ++x)
+                        anySurface = static_cast<const float*>(image.pixeladdr(x, yy))[3] != 0.0f;
+            result.copy(image);
+            if (!edgeAA(result, image, use != "depth" ? &normal : nullptr,
+                        use != "normal" ? &depth : nullptr, params, core, tool.threads())) {
+                tool.fail(path + ": " + result.geterror());
+                return false;
+            }
+            if (!file.writeRows(y, yend, static_cast<const float*>(result.pixeladdr(frame.x, y))))
+                return false;
+            progress.update(float(yend - frame.y) / float(frame.height));
         }
-        return tool.writeImage(result, out, formats);
+        if (!file.commit()) return false;
+        tool.reportNonFinite(path, replacedColour, false);
+        tool.reportNonFinite(geometryPath, replacedNormal, false);
+        if (!anySurface)
+            tool.warn(path + ": no surface in view: alpha is 0 everywhere (an empty frame)");
+        return true;
     });
 }
 
