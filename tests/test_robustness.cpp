@@ -13,6 +13,7 @@
 #include <csignal>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/tonemap/bloom.h>
 #include <dhdr/tonemap/edge_aa.h>
 #include <map>
 #include <set>
@@ -485,4 +486,26 @@ TEST_F(Robustness, EdgeAAStripsEqualTheWholeFrame) {
     const ImageBuf streamed = read("tall.aa.exr");
     EXPECT_TRUE(equalPixels(streamed, whole, 0, 4));
     EXPECT_FALSE(equalPixels(streamed, hdr, 0, 4)); // it did filter
+}
+
+// 11. dhdr-bloom streams the frame twice, strip by strip: its output equals bloom() of the
+// whole frame bit for bit.
+TEST_F(Robustness, BloomStripsEqualTheWholeFrame) {
+    ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 100x170 -o " + path("b.gbuf.exr")).status,
+              0);
+    ASSERT_EQ(run("dhdr-light " + path("b.gbuf.exr") + " --lights " + kLights +
+                  " --type float -o " + path("b.hdr.exr"))
+                  .status,
+              0);
+    const Result r =
+        run("dhdr-bloom " + path("b.hdr.exr") + " --threshold 0.3 -o " + path("b.bloom.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf hdr = read("b.hdr.exr");
+    dhdr::BloomParams params;
+    params.threshold = 0.3f;
+    ImageBuf whole;
+    ASSERT_TRUE(dhdr::bloom(whole, hdr, params));
+    const ImageBuf streamed = read("b.bloom.exr");
+    EXPECT_TRUE(equalPixels(streamed, whole, 0, 4));
+    EXPECT_FALSE(equalPixels(streamed, hdr, 0, 3)); // it did bloom
 }

@@ -1,6 +1,9 @@
 // libtonemap against hand-computed values (numbers worked out with a calculator, not with the
 // code under test).
+#include "../libtonemap/src/rgb_plane.h"
+
 #include <OpenImageIO/imagebuf.h>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <dhdr/tonemap/bloom.h>
@@ -329,4 +332,20 @@ TEST(Luminance, TransparentPixelsAreNotMetered) {
     // Two more pixels at ln(1e-4): exp((4 ln 3.16316 + 2 ln 1e-4) / 6).
     EXPECT_NEAR(stats.logAverage,
                 std::exp((4.0 * std::log(3.1631557056521333) + 2.0 * std::log(1e-4)) / 6.0), 1e-7);
+}
+
+// The streaming box downsample (rows fed one at a time, as dhdr-bloom reads strips) equals
+// the whole-plane one bit for bit, for sizes that do not divide evenly.
+TEST(BoxDownsampler, EqualsTheWholePlane) {
+    for (const auto& [w, h, ow, oh] : std::vector<std::array<int, 4>>{
+             {37, 23, 9, 5}, {64, 64, 16, 16}, {10, 7, 1, 1}, {33, 90, 8, 22}}) {
+        dhdr::detail::RgbPlane src(w, h);
+        for (size_t i = 0; i < src.rgb.size(); ++i)
+            src.rgb[i] = float((i * 2654435761u) % 1000) / 37.0f;
+        const dhdr::detail::RgbPlane whole = dhdr::detail::boxDownsample(src, ow, oh, 2);
+        dhdr::detail::BoxDownsampler stream(w, h, ow, oh);
+        for (int y = 0; y < h; ++y)
+            stream.addRow(y, src.at(0, y), 3);
+        EXPECT_EQ(stream.result().rgb, whole.rgb) << w << "x" << h << " -> " << ow << "x" << oh;
+    }
 }

@@ -1,8 +1,10 @@
 // dhdr-bloom: linear HDR in, the same with bloom added out (docs/tools.md).
 #include "../common/frames.h"
+#include "../common/layers.h"
 #include "../common/tool.h"
 
 #include <dhdr/tonemap/bloom.h>
+#include <dhdr/tonemap/sanitize.h>
 
 using namespace dhdr;
 
@@ -43,17 +45,65 @@ int run(int argc, char** argv) {
     if (const int status = app::planFrames(tool, cl.inputs(), plan); status >= 0) return status;
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
-        OIIO::ImageBuf hdr;
-        std::vector<OIIO::TypeDesc> formats;
-        if (!tool.readColour(path, layer, true, hdr, formats, tool.threads())) return false;
-        tool.warnIfEmpty(path, hdr);
-        tool.replaceNonFinite(path, hdr, 0, 3);
-        if (!bloom(hdr, hdr, params, {}, tool.threads())) {
-            tool.fail(path + ": " + hdr.geterror());
+        app::ColourStripReader reader;
+        if (!tool.openColour(path, layer, true, reader)) return false;
+        const OIIO::ImageSpec& frame = reader.spec();
+        // Two passes over the frame, strip by strip (BloomBuilder): meter and reduce to the
+        // quarter-size copy, then add the layer. Memory: a strip and the 1/4-size copy.
+        BloomBuilder builder(OIIO::get_roi(frame), params, tool.threads());
+        constexpr int kRows = 64;
+        OIIO::ImageBuf strip;
+        std::string error;
+        NonFiniteCount replaced;
+        bool anySurface = frame.alpha_channel != 3;
+        auto readStrip = [&](int y, bool count) {
+            if (!reader.read(y, y + kRows, strip, error)) {
+                tool.fail(path + ": cannot read: " + error);
+                return false;
+            }
+            OIIO::ROI colour = strip.roi();
+            colour.chend = 3;
+            const NonFiniteCount n = replaceNonFinite(strip, colour, tool.threads());
+            if (count) replaced += n;
+            return true;
+        };
+        app::Progress progress(tool, "dhdr-bloom: " + path);
+        const int rows = frame.height;
+        for (int y = frame.y; y < frame.y + rows; y += kRows) {
+            if (!readStrip(y, true)) return false;
+            if (!anySurface)
+                for (int yy = strip.roi().ybegin; yy < strip.roi().yend && !anySurface; ++yy)
+                    for (int x = frame.x; x < frame.x + frame.width && !anySurface; ++x)
+                        anySurface = static_cast<const float*>(strip.pixeladdr(x, yy))[3] != 0.0f;
+            if (!builder.addRows(strip)) {
+                tool.fail(path + ": " + builder.error());
+                return false;
+            }
+            progress.update(0.5f * float(y + kRows - frame.y) / float(rows));
+        }
+        if (!builder.finish()) {
+            tool.fail(path + ": " + builder.error());
             return false;
         }
-        hdr.specmod().attribute("dhdr:bloomStrength", float(strength));
-        return tool.writeImage(hdr, out, formats);
+        if (!anySurface)
+            tool.warn(path + ": no surface in view: alpha is 0 everywhere (an empty frame)");
+        tool.reportNonFinite(path, replaced, false);
+        OIIO::ImageSpec spec = frame;
+        spec.attribute("dhdr:bloomStrength", float(strength));
+        app::AtomicOutput file(tool, out);
+        if (!file.open(spec, reader.formats())) return false;
+        for (int y = frame.y; y < frame.y + rows; y += kRows) {
+            if (!readStrip(y, false)) return false;
+            if (!builder.apply(strip, strip)) {
+                tool.fail(path + ": " + strip.geterror());
+                return false;
+            }
+            if (!file.writeRows(strip.roi().ybegin, strip.roi().yend,
+                                static_cast<const float*>(strip.localpixels())))
+                return false;
+            progress.update(0.5f + 0.5f * float(y + kRows - frame.y) / float(rows));
+        }
+        return file.commit();
     });
 }
 

@@ -9,32 +9,19 @@
 
 namespace dhdr {
 
-namespace {
-
-// Per-row partial sums, combined in row order so the result is thread-count independent.
-struct RowStats {
-    double sumLog = 0.0;
-    double maxL = -std::numeric_limits<double>::infinity();
-    double minL = std::numeric_limits<double>::infinity();
-    long long pixels = 0, negative = 0, nonFinite = 0, transparent = 0;
-};
-
-} // namespace
-
-bool computeLuminanceStats(LuminanceStats& stats, const OIIO::ImageBuf& src,
-                           const LuminanceStatsParams& params, OIIO::ROI roi, int nthreads) {
-    stats = {};
+bool LuminanceAccumulator::add(const OIIO::ImageBuf& src, OIIO::ROI roi, int nthreads) {
     if (!src.initialized() || src.nchannels() < 3) return false;
     if (!roi.defined()) roi = src.roi();
     roi = OIIO::roi_intersection(roi, src.roi());
     if (roi.npixels() == 0) return true;
 
     const detail::FloatPixels pixels(src);
-    const bool skipTransparent = params.skipTransparent && src.nchannels() >= 4;
-    std::vector<RowStats> rows(static_cast<size_t>(roi.height()));
+    const bool skipTransparent = m_params.skipTransparent && src.nchannels() >= 4;
+    // Per-row partial sums, combined in row order so the result is thread-count independent.
+    std::vector<Row> rows(static_cast<size_t>(roi.height()));
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y) {
-            RowStats& row = rows[size_t(y - roi.ybegin)];
+            Row& row = rows[size_t(y - roi.ybegin)];
             for (int x = r.xbegin; x < r.xend; ++x) {
                 const float* p = pixels.at(x, y);
                 if (skipTransparent && p[3] == 0.0f) {
@@ -45,38 +32,50 @@ bool computeLuminanceStats(LuminanceStats& stats, const OIIO::ImageBuf& src,
                     ++row.nonFinite;
                     continue;
                 }
-                double Lw = luminance(p[0], p[1], p[2], params.weights);
+                double Lw = luminance(p[0], p[1], p[2], m_params.weights);
                 if (Lw < 0.0) {
                     ++row.negative;
                     Lw = 0.0;
                 }
-                row.sumLog += std::log(params.delta + Lw);
+                row.sumLog += std::log(m_params.delta + Lw);
                 row.maxL = std::max(row.maxL, Lw);
                 row.minL = std::min(row.minL, Lw);
                 ++row.pixels;
             }
         }
     });
+    for (const Row& row : rows) {
+        m_total.sumLog += row.sumLog;
+        m_total.maxL = std::max(m_total.maxL, row.maxL);
+        m_total.minL = std::min(m_total.minL, row.minL);
+        m_total.pixels += row.pixels;
+        m_total.negative += row.negative;
+        m_total.nonFinite += row.nonFinite;
+        m_total.transparent += row.transparent;
+    }
+    return true;
+}
 
-    RowStats total;
-    for (const RowStats& row : rows) {
-        total.sumLog += row.sumLog;
-        total.maxL = std::max(total.maxL, row.maxL);
-        total.minL = std::min(total.minL, row.minL);
-        total.pixels += row.pixels;
-        total.negative += row.negative;
-        total.nonFinite += row.nonFinite;
-        total.transparent += row.transparent;
+LuminanceStats LuminanceAccumulator::result() const {
+    LuminanceStats stats;
+    stats.pixels = m_total.pixels;
+    stats.negativePixels = m_total.negative;
+    stats.nonFinitePixels = m_total.nonFinite;
+    stats.transparentPixels = m_total.transparent;
+    if (m_total.pixels > 0) {
+        stats.logAverage = std::exp(m_total.sumLog / double(m_total.pixels));
+        stats.maxLuminance = m_total.maxL;
+        stats.minLuminance = m_total.minL;
     }
-    stats.pixels = total.pixels;
-    stats.negativePixels = total.negative;
-    stats.nonFinitePixels = total.nonFinite;
-    stats.transparentPixels = total.transparent;
-    if (total.pixels > 0) {
-        stats.logAverage = std::exp(total.sumLog / double(total.pixels));
-        stats.maxLuminance = total.maxL;
-        stats.minLuminance = total.minL;
-    }
+    return stats;
+}
+
+bool computeLuminanceStats(LuminanceStats& stats, const OIIO::ImageBuf& src,
+                           const LuminanceStatsParams& params, OIIO::ROI roi, int nthreads) {
+    stats = {};
+    LuminanceAccumulator accumulator(params);
+    if (!accumulator.add(src, roi, nthreads)) return false;
+    stats = accumulator.result();
     return true;
 }
 

@@ -65,6 +65,70 @@ RgbPlane boxDownsample(const RgbPlane& src, int width, int height, int nthreads)
     return convolve(wide, width, height, false, boxFootprints(src.height, height), nthreads);
 }
 
+struct BoxDownsampler::Impl {
+    std::vector<Footprint> across, down; // horizontal and vertical footprints
+    int srcWidth = 0, srcHeight = 0;
+    int nextOutput = 0;                   // the next output row to compute
+    int freedBelow = 0;                   // wide rows before this one are freed
+    std::vector<std::vector<float>> wide; // horizontally reduced input rows, by row; freed
+                                          // once no output row needs them
+};
+
+BoxDownsampler::BoxDownsampler(int srcWidth, int srcHeight, int width, int height)
+    : m_impl(std::make_unique<Impl>()), m_out(width, height) {
+    m_impl->across = boxFootprints(srcWidth, width);
+    m_impl->down = boxFootprints(srcHeight, height);
+    m_impl->srcWidth = srcWidth;
+    m_impl->srcHeight = srcHeight;
+    m_impl->wide.resize(size_t(srcHeight));
+}
+
+BoxDownsampler::~BoxDownsampler() = default;
+
+void BoxDownsampler::addRow(int y, const float* rgb, size_t pixelStride) {
+    Impl& m = *m_impl;
+    // The horizontal pass of convolve() for this row: the same sums in the same order.
+    std::vector<float>& row = m.wide[size_t(y)];
+    row.assign(size_t(m_out.width) * 3, 0.0f);
+    for (int x = 0; x < m_out.width; ++x) {
+        const Footprint& f = m.across[size_t(x)];
+        double sum[3] = {0.0, 0.0, 0.0};
+        for (size_t k = 0; k < f.weights.size(); ++k) {
+            const int s = std::clamp(f.first + int(k), 0, m.srcWidth - 1);
+            const float* p = rgb + size_t(s) * pixelStride;
+            for (int c = 0; c < 3; ++c)
+                sum[c] += double(f.weights[k]) * p[c];
+        }
+        for (int c = 0; c < 3; ++c)
+            row[size_t(x) * 3 + size_t(c)] = float(sum[c]);
+    }
+    // Every output row whose footprint ends at or before this row: the vertical pass.
+    while (m.nextOutput < m_out.height) {
+        const Footprint& f = m.down[size_t(m.nextOutput)];
+        const int last = std::clamp(f.first + int(f.weights.size()) - 1, 0, m.srcHeight - 1);
+        if (last > y) break;
+        for (int x = 0; x < m_out.width; ++x) {
+            double sum[3] = {0.0, 0.0, 0.0};
+            for (size_t k = 0; k < f.weights.size(); ++k) {
+                const int s = std::clamp(f.first + int(k), 0, m.srcHeight - 1);
+                const float* p = &m.wide[size_t(s)][size_t(x) * 3];
+                for (int c = 0; c < 3; ++c)
+                    sum[c] += double(f.weights[k]) * p[c];
+            }
+            float* q = m_out.at(x, m.nextOutput);
+            for (int c = 0; c < 3; ++c)
+                q[c] = float(sum[c]);
+        }
+        ++m.nextOutput;
+        // Rows before the next footprint are not needed again.
+        const int keepFrom = m.nextOutput < m_out.height
+                                 ? std::max(0, m.down[size_t(m.nextOutput)].first)
+                                 : m.srcHeight;
+        for (; m.freedBelow < std::min(keepFrom, m.srcHeight); ++m.freedBelow)
+            std::vector<float>().swap(m.wide[size_t(m.freedBelow)]);
+    }
+}
+
 RgbPlane gaussianBlur(const RgbPlane& src, float sigma, int nthreads) {
     if (!(sigma > 0.0f)) return src;
     const int radius = int(std::ceil(3.0f * sigma));

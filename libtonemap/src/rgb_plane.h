@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace dhdr::detail {
@@ -21,6 +22,24 @@ struct RgbPlane {
 // Area-weighted (box) resampling to a smaller size: each output pixel is the mean of the
 // input area it covers, fractional pixels weighted by their coverage.
 RgbPlane boxDownsample(const RgbPlane& src, int width, int height, int nthreads);
+
+// boxDownsample of an image whose rows arrive in order, full resolution: each output row is
+// computed as soon as the input rows it covers have arrived, with the same sums in the same
+// order, and input rows no longer needed are dropped. Memory: the output and a few rows.
+class BoxDownsampler {
+public:
+    BoxDownsampler(int srcWidth, int srcHeight, int width, int height);
+    ~BoxDownsampler();
+    // Input row `y` (the next one), RGB floats `pixelStride` floats apart.
+    void addRow(int y, const float* rgb, size_t pixelStride);
+    // The downsampled plane; complete once every input row has been added.
+    const RgbPlane& result() const { return m_out; }
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+    RgbPlane m_out;
+};
 
 // Separable Gaussian of standard deviation `sigma` pixels with normalized weights, radius
 // ceil(3σ), edges clamped.

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <dhdr/tonemap/luminance.h>
+#include <memory>
+#include <string>
 
 namespace dhdr {
 
@@ -18,6 +20,37 @@ struct BloomParams {
     float sigma = 2.0f;
     // Factor of the bloom layer when it is added to the image.
     float strength = 1.3f;
+};
+
+// Bloom of a frame that arrives strip by strip, in two passes over it (dhdr-bloom streams
+// frames this way, so that its memory is a strip and the 1/4-size copy): addRows() meters the
+// rows and reduces them to the quarter-size copy; finish() makes the blurred 1/8-size layer;
+// apply() adds it to any strip. The whole-image functions below are this, on one strip, so
+// both give the same pixels.
+class BloomBuilder {
+public:
+    // `frame`: the whole frame's pixels (rows [ybegin, yend), columns [xbegin, xend)).
+    BloomBuilder(OIIO::ROI frame, const BloomParams& params = {}, int nthreads = 0);
+    ~BloomBuilder();
+    BloomBuilder(const BloomBuilder&) = delete;
+    BloomBuilder& operator=(const BloomBuilder&) = delete;
+
+    // First pass: the strip's rows, each after those above it, whole rows of the frame;
+    // R, G, B are channels 0–2 and alpha (metering leaves alpha-0 pixels out) channel 3.
+    bool addRows(const OIIO::ImageBuf& strip);
+    // After the last row: the metering, the bright pass, the 1/8-size blurred layer.
+    bool finish();
+    // Second pass: dst = src + strength · layer on R, G, B over `roi` (default: all of
+    // `src`); other channels copied. dst may be src.
+    bool apply(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi = {}) const;
+    // The layer's value (before strength) at frame pixel (x, y).
+    void layerAt(int x, int y, float rgb[3]) const;
+    const std::string& error() const { return m_error; }
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+    std::string m_error;
 };
 
 // The bloom layer alone: a 3-channel float image of `src`'s size (before `strength`).

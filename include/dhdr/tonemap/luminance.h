@@ -2,6 +2,7 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <limits>
 
 namespace dhdr {
 
@@ -40,6 +41,28 @@ struct LuminanceStats {
     long long nonFinitePixels = 0;
     // Pixels left out for alpha = 0 (LuminanceStatsParams::skipTransparent).
     long long transparentPixels = 0;
+};
+
+// computeLuminanceStats over an image that arrives strip by strip, rows in order: the same
+// per-row sums combined in the same order, so the result equals the whole image's bit for
+// bit.
+class LuminanceAccumulator {
+public:
+    explicit LuminanceAccumulator(const LuminanceStatsParams& params = {}) : m_params(params) {}
+    // Rows `roi` of `src` (default: all of it), after every row above them.
+    bool add(const OIIO::ImageBuf& src, OIIO::ROI roi = {}, int nthreads = 0);
+    LuminanceStats result() const;
+
+private:
+    struct Row {
+        double sumLog = 0.0;
+        double maxL = -std::numeric_limits<double>::infinity();
+        double minL = std::numeric_limits<double>::infinity();
+        long long pixels = 0, negative = 0, nonFinite = 0, transparent = 0;
+    };
+
+    LuminanceStatsParams m_params;
+    Row m_total;
 };
 
 // Luminance statistics of the first three channels of `src` over `roi`. The sums are
