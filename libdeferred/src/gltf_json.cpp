@@ -178,6 +178,21 @@ std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const std::stri
     return out;
 }
 
+std::string gltfEmptySceneReason(const std::string& path) {
+    const nlohmann::json doc = readGltfJson(path);
+    if (doc.is_discarded() || !doc.is_object()) return {};
+    if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty())
+        return "the file has no scene";
+    const size_t index =
+        doc.contains("scene") && doc["scene"].is_number_unsigned() ? doc["scene"].get<size_t>() : 0;
+    if (index >= doc["scenes"].size()) return "its default scene does not exist";
+    const nlohmann::json& scene = doc["scenes"][index];
+    if (!scene.is_object() || !scene.contains("nodes") || !scene["nodes"].is_array() ||
+        scene["nodes"].empty())
+        return "its scene has no nodes (nothing to render)";
+    return {};
+}
+
 std::vector<std::string> gltfIgnoredFeatures(const std::string& path) {
     static const char* const kRead[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
                                         "KHR_texture_transform"};

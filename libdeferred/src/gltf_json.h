@@ -28,6 +28,10 @@ std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const std::stri
 // references to a second UV set.
 std::vector<std::string> gltfIgnoredFeatures(const std::string& path);
 
+// Why a glTF file Assimp loads without a message holds nothing to render ("its scene has no
+// nodes"); empty when the file does not say.
+std::string gltfEmptySceneReason(const std::string& path);
+
 // A KHR_lights_punctual light as the file gives it (Assimp 5.2 folds the intensity into the
 // colour and drops the range).
 struct GltfLight {

@@ -398,6 +398,7 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
     const aiScene* ai = importer.ReadFile(path, flags);
     if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
         std::string reason = importer.GetErrorString();
+        if (reason.empty() && isGltf(path)) reason = detail::gltfEmptySceneReason(path);
         if (reason.empty())
             reason = ai && !ai->mRootNode ? "the file has no nodes (no scene to render)"
                                           : "the file holds no scene Assimp can use";
