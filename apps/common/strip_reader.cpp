@@ -4,7 +4,10 @@
 #include "native_pixels.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
+#include <mutex>
+#include <thread>
 
 namespace dhdr::app {
 
@@ -76,17 +79,49 @@ bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string&
                     rowFloats * size_t(rows.height) * sizeof(float));
         return true;
     }
-    const NativeReader native(m_in->spec(), m_chbegin, m_chend);
-    m_native.resize(size_t(rows.width) * size_t(rows.height) * native.bytes);
-    if (!m_in->read_native_scanlines(m_subimage, 0, ybegin, yend, 0, m_chbegin, m_chend,
-                                     m_native.data()) ||
-        !native.toFloat(m_native.data(), out, rows.width, rows.height)) {
-        error = m_in->geterror();
-        if (error.empty())
-            error = "cannot read rows " + std::to_string(ybegin) + "–" + std::to_string(yend - 1);
-        return false;
+    if (!m_native_spec) m_native_spec = std::make_unique<OIIO::ImageSpec>(m_in->spec());
+    const NativeReader native(*m_native_spec, m_chbegin, m_chend);
+    const size_t rowBytes = size_t(rows.width) * native.bytes;
+    m_native.resize(rowBytes * size_t(rows.height));
+    // Bands of 16 rows (a ZIP chunk; a multiple of the others' but DWAB's), decoded and
+    // converted by as many workers as there are bands, up to the thread count.
+    constexpr int kBand = 64;
+    const int bands = (rows.height + kBand - 1) / kBand;
+    const int workers = std::clamp(m_workers, 1, bands);
+    while (int(m_inputs.size()) < workers) {
+        std::unique_ptr<OIIO::ImageInput> in =
+            m_inputs.empty() ? std::move(m_in) : OIIO::ImageInput::open(m_path);
+        if (in && m_subimage != 0 && !in->seek_subimage(m_subimage, 0)) in.reset();
+        if (!in) {
+            error = "cannot open it again: " + OIIO::geterror();
+            return false;
+        }
+        m_inputs.push_back(std::move(in));
     }
-    return true;
+    std::atomic<int> next{0};
+    std::atomic<bool> failed{false};
+    std::mutex errorMutex;
+    auto work = [&](int w) {
+        OIIO::ImageInput& in = *m_inputs[size_t(w)];
+        for (int b = next++; b < bands && !failed; b = next++) {
+            const int y0 = ybegin + b * kBand, y1 = std::min(y0 + kBand, yend);
+            std::byte* band = m_native.data() + size_t(y0 - ybegin) * rowBytes;
+            if (!in.read_native_scanlines(m_subimage, 0, y0, y1, 0, m_chbegin, m_chend, band) ||
+                !native.toFloat(band, out + size_t(y0 - ybegin) * rowFloats, rows.width, y1 - y0)) {
+                std::lock_guard<std::mutex> lock(errorMutex);
+                if (!failed.exchange(true)) error = in.geterror();
+            }
+        }
+    };
+    std::vector<std::thread> helpers;
+    for (int w = 1; w < workers; ++w)
+        helpers.emplace_back(work, w);
+    work(0);
+    for (std::thread& t : helpers)
+        t.join();
+    if (failed && error.empty())
+        error = "cannot read rows " + std::to_string(ybegin) + "–" + std::to_string(yend - 1);
+    return !failed;
 }
 
 } // namespace dhdr::app

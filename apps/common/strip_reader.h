@@ -6,6 +6,7 @@
 #include <OpenImageIO/imageio.h>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace dhdr::app {
 
@@ -27,7 +28,13 @@ public:
     bool streamed() const { return !m_whole.initialized(); }
 
 private:
-    std::unique_ptr<OIIO::ImageInput> m_in;
+    std::string m_path;
+    int m_workers = 1;
+    // One reader per worker: a strip's bands of rows are decoded on every core at once
+    // (OpenEXR decodes the chunks of one read call on one thread here).
+    std::vector<std::unique_ptr<OIIO::ImageInput>> m_inputs;
+    std::unique_ptr<OIIO::ImageInput> m_in;         // until the first read
+    std::unique_ptr<OIIO::ImageSpec> m_native_spec; // the part's spec as in the file
     OIIO::ImageSpec m_spec;
     OIIO::ImageBuf m_whole;
     std::vector<std::byte> m_native;

@@ -10,6 +10,7 @@
 #include <dhdr/tonemap/edge_aa.h>
 #include <dhdr/tonemap/sanitize.h>
 #include <filesystem>
+#include <future>
 #include <memory>
 
 using namespace dhdr;
@@ -146,20 +147,35 @@ int run(int argc, char** argv) {
         // Strip by strip with a halo: each output row sees the rows it would see in the whole
         // frame, so the result does not depend on the strips, and memory stays at a strip.
         constexpr int kRows = 64;
-        OIIO::ImageBuf image, geometryStrip, normal, depth, result;
+        OIIO::ImageBuf images[2], geometryStrips[2], normal, depth, result;
         NonFiniteCount replacedColour, replacedNormal;
         bool anySurface = frame.alpha_channel != 3;
         app::Progress progress(tool, "dhdr-aa: " + path);
-        for (int y = frame.y; y < frame.y + frame.height; y += kRows) {
+        // The next strip (and its geometry) is read on another thread while this one is
+        // filtered and written.
+        auto readAhead = [&](int y, int k) {
+            // The file that failed, and why; empty when both were read.
+            return std::async(std::launch::async, [&, y, k] {
+                std::string e;
+                const int yend = std::min(y + kRows, frame.y + frame.height);
+                if (!colour.read(y - halo, yend + halo, images[k], e))
+                    return std::pair<std::string, std::string>(path, e);
+                if (separate && !gbuffer.read(y - halo, yend + halo, geometryStrips[k], e))
+                    return std::pair<std::string, std::string>(geometryPath, e);
+                return std::pair<std::string, std::string>();
+            });
+        };
+        auto next = readAhead(frame.y, 0);
+        int k = 0;
+        for (int y = frame.y; y < frame.y + frame.height; y += kRows, k ^= 1) {
             const int yend = std::min(y + kRows, frame.y + frame.height);
-            if (!colour.read(y - halo, yend + halo, image, error)) {
-                tool.fail(path + ": cannot read: " + error);
+            if (const auto [file, e] = next.get(); !file.empty()) {
+                tool.fail(file + ": cannot read: " + e);
                 return false;
             }
-            if (separate && !gbuffer.read(y - halo, yend + halo, geometryStrip, error)) {
-                tool.fail(geometryPath + ": cannot read: " + error);
-                return false;
-            }
+            if (yend < frame.y + frame.height) next = readAhead(yend, k ^ 1);
+            OIIO::ImageBuf& image = images[k];
+            OIIO::ImageBuf& geometryStrip = geometryStrips[k];
             OIIO::ROI core = image.roi();
             core.ybegin = y;
             core.yend = yend;

@@ -10,6 +10,7 @@
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/tonemap/sanitize.h>
 #include <filesystem>
+#include <future>
 
 using namespace dhdr;
 
@@ -99,7 +100,6 @@ int run(int argc, char** argv) {
         const std::string& path = in[0];
         if (animatedLights && !readLights({in.begin() + 1, in.end()}, lights)) return false;
         const auto start = std::chrono::steady_clock::now();
-        OIIO::ImageBuf gbuf;
         if (!std::filesystem::exists(path)) {
             tool.fail(path + ": no such file");
             return false;
@@ -133,7 +133,7 @@ int run(int argc, char** argv) {
         // is the same as from the whole frame (tiles are laid over the frame).
         LightingParams strips = params;
         strips.frame = OIIO::get_roi(gspec);
-        const int rows = tileSize * std::max(1, 64 / tileSize);
+        const int rows = tileSize * std::max(1, 128 / tileSize);
         std::string lightFiles;
         for (size_t i = 1; i < in.size(); ++i)
             lightFiles += (i > 1 ? ", " : "") + in[i];
@@ -147,19 +147,32 @@ int run(int argc, char** argv) {
                 .count();
         };
         app::Progress progress(tool, "dhdr-light: " + path);
-        for (int y = gspec.y; y < gspec.y + gspec.height; y += rows) {
+        // The next strip is read on another thread while this one is shaded and written:
+        // decoding the G-buffer is most of the work.
+        OIIO::ImageBuf buffers[2];
+        auto readAhead = [&](int y, int k) {
+            return std::async(std::launch::async, [&, y, k] {
+                std::string e;
+                return reader.read(y, y + rows, buffers[k], e) ? std::string() : "x" + e;
+            });
+        };
+        std::future<std::string> next = readAhead(gspec.y, 0);
+        int k = 0;
+        for (int y = gspec.y; y < gspec.y + gspec.height; y += rows, k ^= 1) {
             auto t = std::chrono::steady_clock::now();
-            if (!reader.read(y, y + rows, gbuf, error)) {
-                tool.fail(path + ": cannot read: " + error);
+            if (const std::string e = next.get(); !e.empty()) {
+                tool.fail(path + ": cannot read: " + e.substr(1));
                 return false;
             }
+            if (y + rows < gspec.y + gspec.height) next = readAhead(y + rows, k ^ 1);
+            OIIO::ImageBuf& gbuf = buffers[k];
             // Z is +∞ on the background by contract; every other channel must be finite.
-            for (int c = 0; c < gbuf.nchannels(); ++c) {
-                if (c == layout.depth) continue;
-                OIIO::ROI channel = gbuf.roi();
-                channel.chbegin = c;
-                channel.chend = c + 1;
-                replaced += replaceNonFinite(gbuf, channel, tool.threads());
+            for (const auto& [c0, c1] :
+                 {std::pair(0, layout.depth), std::pair(layout.depth + 1, gbuf.nchannels())}) {
+                OIIO::ROI channels = gbuf.roi();
+                channels.chbegin = c0;
+                channels.chend = c1;
+                if (c1 > c0) replaced += replaceNonFinite(gbuf, channels, tool.threads());
             }
             readMs += since(t);
             t = std::chrono::steady_clock::now();
