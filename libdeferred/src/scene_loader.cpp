@@ -2,17 +2,19 @@
 #include "texture_loader.h"
 
 #include <algorithm>
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/Importer.hpp>
+#include <assimp/MemoryIOWrapper.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <cmath>
+#include <cstring>
 #include <dhdr/deferred/scene.h>
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <map>
-#include <optional>
 #include <sstream>
 
 namespace dhdr {
@@ -34,45 +36,31 @@ bool isGltf(const std::string& path) {
     return ext == ".gltf" || ext == ".glb";
 }
 
-// The PBR extension of MTL files (Pm metallic, Pr roughness) per material name, from the
-// .mtl files an OBJ names with mtllib.
-struct ObjPbr {
-    std::optional<float> metallic, roughness;
-};
-
-std::map<std::string, ObjPbr> readObjPbr(const std::string& objPath) {
-    std::map<std::string, ObjPbr> out;
-    std::ifstream obj(objPath);
-    std::string line;
-    std::vector<std::string> libraries;
-    while (std::getline(obj, line)) {
-        std::istringstream words(line);
-        std::string key, file;
-        if (words >> key && key == "mtllib")
-            while (words >> file)
-                libraries.push_back(file);
-    }
-    for (const std::string& lib : libraries) {
-        std::ifstream mtl(std::filesystem::path(objPath).parent_path() / lib);
-        std::string current;
-        while (std::getline(mtl, line)) {
+// Assimp 5.2's MTL parser stops at the `aniso` and `anisor` lines that Blender writes into
+// every material ("Cannot parse string \"niso\" as a real number"), so no Blender OBJ loads.
+// MTL files are handed to it without those lines; the rest (Pm, Pr, Ke...) it reads itself.
+class MtlCleaningIOSystem : public Assimp::DefaultIOSystem {
+public:
+    Assimp::IOStream* Open(const char* file, const char* mode) override {
+        const std::string path = file;
+        std::string ext = std::filesystem::path(path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+        if (ext != ".mtl") return Assimp::DefaultIOSystem::Open(file, mode);
+        std::ifstream in(path, std::ios::binary);
+        if (!in) return nullptr;
+        std::string text, line;
+        while (std::getline(in, line)) {
             std::istringstream words(line);
             std::string key;
-            if (!(words >> key)) continue;
-            if (key == "newmtl") {
-                std::getline(words >> std::ws, current);
-                while (!current.empty() && (current.back() == '\r' || current.back() == ' '))
-                    current.pop_back();
-                continue;
-            }
-            float v = 0.0f;
-            if ((key == "Pm" || key == "Pr") && (words >> v) && std::isfinite(v))
-                (key == "Pm" ? out[current].metallic : out[current].roughness) =
-                    std::clamp(v, 0.0f, 1.0f);
+            words >> key;
+            if (key == "aniso" || key == "anisor") continue;
+            text += line + "\n";
         }
+        auto* bytes = new uint8_t[text.size() + 1];
+        std::memcpy(bytes, text.data(), text.size() + 1);
+        return new Assimp::MemoryIOStream(bytes, text.size(), true);
     }
-    return out;
-}
+};
 
 class SceneBuilder {
 public:
@@ -97,7 +85,6 @@ private:
             m_gltf ? detail::gltfEmissiveStrengths(m_path) : std::map<std::string, float>{};
         const auto textures = m_gltf ? detail::gltfMaterialTextures(m_path)
                                      : std::map<std::string, detail::GltfMaterialTextures>{};
-        const auto objPbr = m_gltf ? std::map<std::string, ObjPbr>{} : readObjPbr(m_path);
         for (unsigned i = 0; i < m_ai.mNumMaterials; ++i) {
             const aiMaterial& am = *m_ai.mMaterials[i];
             Material m;
@@ -109,20 +96,14 @@ private:
                 m.alpha = base.a;
             }
             float metallic = 0.0f, roughness = 1.0f;
-            const auto pbr = objPbr.find(m.name);
-            if (m_gltf && am.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS) {
+            // glTF's factors, or the MTL's PBR extension (Pm, Pr) that Assimp reports the same.
+            if (am.Get(AI_MATKEY_METALLIC_FACTOR, metallic) == AI_SUCCESS) {
                 m.metallic = metallic;
+                float shininess = 0.0f;
                 if (am.Get(AI_MATKEY_ROUGHNESS_FACTOR, roughness) == AI_SUCCESS)
                     m.roughness = roughness;
-            } else if (pbr != objPbr.end() && (pbr->second.metallic || pbr->second.roughness)) {
-                // The MTL's PBR extension (Pm, Pr), which Blender writes and Assimp 5.2
-                // does not report.
-                m.metallic = pbr->second.metallic.value_or(0.0f);
-                float shininess = 0.0f;
-                m.roughness = pbr->second.roughness.value_or(
-                    am.Get(AI_MATKEY_SHININESS, shininess) == AI_SUCCESS
-                        ? std::sqrt(std::sqrt(2.0f / (shininess + 2.0f)))
-                        : 1.0f);
+                else if (!m_gltf && am.Get(AI_MATKEY_SHININESS, shininess) == AI_SUCCESS)
+                    m.roughness = std::sqrt(std::sqrt(2.0f / (shininess + 2.0f)));
             } else {
                 // Not a PBR material (OBJ/MTL): a dielectric, roughness from the Phong
                 // exponent by the usual α = sqrt(2 / (Ns + 2)) match.
@@ -390,6 +371,7 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
         return false;
     }
     Assimp::Importer importer;
+    importer.SetIOHandler(new MtlCleaningIOSystem); // the importer owns it
     // ValidateDataStructure turns what would crash later (a face index past the vertices)
     // into an error here.
     const unsigned flags = aiProcess_ValidateDataStructure | aiProcess_Triangulate |
