@@ -1,6 +1,5 @@
 #include "tool.h"
 
-#include "banded_read.h"
 #include "layers.h"
 #include "native_pixels.h"
 
@@ -172,21 +171,6 @@ int Tool::start(const std::vector<std::string>& inputs) const {
     return -1;
 }
 
-bool Tool::readImage(const std::string& path, OIIO::ImageBuf& image, int nthreads,
-                     int subimage) const {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) {
-        fail(path + ": no such file");
-        return false;
-    }
-    std::string error;
-    if (!readBanded(path, image, 0, 1 << 20, nthreads, error, subimage)) {
-        fail(path + ": cannot read: " + oneLine(error));
-        return false;
-    }
-    return true;
-}
-
 namespace {
 
 // The colour layer of `path` a tool works on, after printing why there is none.
@@ -248,43 +232,6 @@ void Tool::warnIfEmpty(const std::string& path, const OIIO::ImageBuf& image) con
     warn(path + ": no surface in view: alpha is 0 everywhere (an empty frame)");
 }
 
-bool Tool::readImageChannels(const std::string& path, const std::vector<std::string>& names,
-                             OIIO::ImageBuf& image) const {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) {
-        fail(path + ": no such file");
-        return false;
-    }
-    image.reset(path);
-    if (!image.init_spec(path, 0, 0)) {
-        fail(path + ": cannot read: " + oneLine(image.geterror()));
-        return false;
-    }
-    int chbegin = image.nchannels(), chend = 0;
-    for (const std::string& name : names) {
-        const int c = image.spec().channelindex(name);
-        if (c < 0) continue;
-        chbegin = std::min(chbegin, c);
-        chend = std::max(chend, c + 1);
-    }
-    if (chend <= chbegin) chbegin = 0, chend = image.nchannels();
-    std::string error;
-    if (!readBanded(path, image, chbegin, chend, threads(), error)) {
-        fail(path + ": cannot read: " + oneLine(error));
-        return false;
-    }
-    return true;
-}
-
-void Tool::replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
-                            bool zeroNegative) const {
-    OIIO::ROI roi = image.roi();
-    roi.chbegin = chbegin;
-    roi.chend = std::min(chend, image.nchannels());
-    reportNonFinite(path, dhdr::replaceNonFinite(image, roi, threads(), zeroNegative),
-                    zeroNegative);
-}
-
 void Tool::reportNonFinite(const std::string& path, const NonFiniteCount& n,
                            bool zeroNegative) const {
     if (n.total() == 0) return;
@@ -294,24 +241,6 @@ void Tool::reportNonFinite(const std::string& path, const NonFiniteCount& n,
          " NaN → 0, " + std::to_string(n.positiveInf) + " +Inf → largest finite, " +
          std::to_string(n.negativeInf) + " -Inf → 0" +
          (zeroNegative ? ", " + std::to_string(n.negative) + " negative → 0)" : ")"));
-}
-
-bool Tool::writeImage(const OIIO::ImageBuf& image, const std::string& path,
-                      const std::vector<OIIO::TypeDesc>& formats) const {
-    const OIIO::ImageBuf copy = image.spec().format == OIIO::TypeDesc::FLOAT && image.localpixels()
-                                    ? OIIO::ImageBuf()
-                                    : image.copy(OIIO::TypeDesc::FLOAT);
-    const OIIO::ImageBuf& pixels = copy.initialized() ? copy : image;
-    AtomicOutput out(*this, path);
-    if (!out.open(pixels.spec(), formats)) return false;
-    // In strips, which keeps the conversion to file types in cache.
-    constexpr int kStrip = 64;
-    const OIIO::ROI roi = pixels.roi();
-    for (int y = roi.ybegin; y < roi.yend; y += kStrip) {
-        const auto* rows = static_cast<const float*>(pixels.pixeladdr(roi.xbegin, y));
-        if (!out.writeRows(y, std::min(y + kStrip, roi.yend), rows)) return false;
-    }
-    return out.commit();
 }
 
 bool Tool::writeText(const std::string& text, const std::string& path) const {

@@ -37,13 +37,6 @@ public:
     // inputs, in a folder that exists. Returns -1 to go on, else the exit status.
     int start(const std::vector<std::string>& inputs) const;
 
-    // Reads the whole of `path` into float pixels on `nthreads` threads (default --threads);
-    // false after printing the error.
-    bool readImage(const std::string& path, OIIO::ImageBuf& image) const {
-        return readImage(path, image, threads());
-    }
-    bool readImage(const std::string& path, OIIO::ImageBuf& image, int nthreads,
-                   int subimage = 0) const;
     // Reads the colour of `path` found by name (layers.h): layer or part `layer` (--layer),
     // or the one the conventions name. Channels 0–2 (3) of `image` are then R, G, B (A); with
     // `keepOthers` the part's other channels follow. `formats` receives the file's type of
@@ -56,25 +49,13 @@ public:
                     ColourStripReader& reader) const;
     // Warns that `path` has no surface in view when its alpha channel (3) is 0 everywhere.
     void warnIfEmpty(const std::string& path, const OIIO::ImageBuf& image) const;
-    // Reads only the smallest run of channels that holds those of `names` present in the file
-    // (a G-buffer's geometry without its 18 channels); absent names are left to the caller.
-    bool readImageChannels(const std::string& path, const std::vector<std::string>& names,
-                           OIIO::ImageBuf& image) const;
-
-    // Replaces NaN and ±Inf (and with `zeroNegative` negative values) in channels
-    // [chbegin, chend) and warns with the counts, in one line.
-    void replaceNonFinite(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
-                          bool zeroNegative = false) const;
-    // That warning, for counts from dhdr::replaceNonFinite; nothing when there are none.
+    // One warning line with the counts of non-finite (and with `zeroNegative` negative)
+    // values dhdr::replaceNonFinite replaced in `path`; nothing when there are none.
     void reportNonFinite(const std::string& path, const NonFiniteCount& counts,
                          bool zeroNegative) const;
 
-    // Writes `image` through an AtomicOutput (below). `formats`: one type for all channels,
-    // or one per channel; empty keeps float. Writes nothing non-finite (AtomicOutput).
-    bool writeImage(const OIIO::ImageBuf& image, const std::string& path,
-                    const std::vector<OIIO::TypeDesc>& formats = {}) const;
-
-    // Writes a small text file (a lights file) the same way: temporary name, then rename.
+    // Writes a small text file (a lights file) as AtomicOutput writes images: temporary
+    // name, then rename.
     bool writeText(const std::string& text, const std::string& path) const;
 
     const CommandLine& commandLine() const { return m_cl; }
@@ -103,7 +84,8 @@ public:
     AtomicOutput& operator=(const AtomicOutput&) = delete;
 
     // Opens the temporary file for an image of `spec`; rows are then given as float pixels.
-    // `formats` as for Tool::writeImage. Errors are printed, naming the output.
+    // `formats`: one type for all channels, or one per channel; empty keeps float. Errors
+    // are printed, naming the output.
     bool open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats);
     // Rows [ybegin, yend), contiguous float pixels of all channels. Thread-compatible: one
     // caller at a time.
