@@ -509,3 +509,32 @@ TEST_F(Robustness, BloomStripsEqualTheWholeFrame) {
     EXPECT_TRUE(equalPixels(streamed, whole, 0, 4));
     EXPECT_FALSE(equalPixels(streamed, hdr, 0, 3)); // it did bloom
 }
+
+// 2. A G-buffer in the second part of a multi-part EXR (a render's beauty first): dhdr-light
+// and dhdr-aa --gbuffer find it by its channels, and light and filter as with the plain file.
+TEST_F(Robustness, GBufferInASecondPartIsFound) {
+    const ImageBuf g = read("g.exr"), h = read("h.exr");
+    ImageSpec beautySpec = h.spec(), gSpec = g.spec();
+    beautySpec.attribute("oiio:subimagename", "beauty");
+    gSpec.attribute("oiio:subimagename", "gbuffer");
+    {
+        auto out = OIIO::ImageOutput::create(path("gparts.exr"));
+        const ImageSpec specs[2] = {beautySpec, gSpec};
+        ASSERT_TRUE(out->open(path("gparts.exr"), 2, specs));
+        ASSERT_TRUE(h.write(out.get()));
+        ASSERT_TRUE(out->open(path("gparts.exr"), gSpec, OIIO::ImageOutput::AppendSubimage));
+        ASSERT_TRUE(g.write(out.get()));
+        ASSERT_TRUE(out->close());
+    }
+    // The plain G-buffer as the parts file holds it: float, read back by OIIO.
+    ASSERT_TRUE(g.write(path("g_float.exr")));
+    for (const std::string& gb : {std::string("gparts.exr"), std::string("g_float.exr")}) {
+        Result r = run("dhdr-light " + path(gb) + " --lights " + kLights + " --type float -o " +
+                       path("lit_" + gb));
+        ASSERT_EQ(r.status, 0) << r.err;
+        r = run("dhdr-aa " + path("h.exr") + " --gbuffer " + path(gb) + " -o " + path("aa_" + gb));
+        ASSERT_EQ(r.status, 0) << r.err;
+    }
+    EXPECT_TRUE(equalPixels(read("lit_gparts.exr"), read("lit_g_float.exr"), 0, 4));
+    EXPECT_TRUE(equalPixels(read("aa_gparts.exr"), read("aa_g_float.exr"), 0, 4));
+}

@@ -5,6 +5,7 @@
 #include "../common/tool.h"
 
 #include <OpenImageIO/imagebufalgo.h>
+#include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/tonemap/edge_aa.h>
@@ -111,6 +112,17 @@ int run(int argc, char** argv) {
                 tool.fail(geometryPath + ": cannot read: " + OIIO::geterror());
                 return false;
             }
+            // The first part holding any of the geometry channels (a multi-part G-buffer).
+            int part = 0;
+            for (int s = 0; probe->seek_subimage(s, 0); ++s) {
+                const OIIO::ImageSpec& spec = probe->spec();
+                if (std::any_of(geometryChannels.begin(), geometryChannels.end(),
+                                [&](const std::string& n) { return spec.channelindex(n) >= 0; })) {
+                    part = s;
+                    break;
+                }
+            }
+            probe->seek_subimage(part, 0);
             int chbegin = probe->spec().nchannels, chend = 0;
             for (const std::string& name : geometryChannels)
                 if (const int c = probe->spec().channelindex(name); c >= 0) {
@@ -118,7 +130,7 @@ int run(int argc, char** argv) {
                     chend = std::max(chend, c + 1);
                 }
             if (chend <= chbegin) chbegin = 0, chend = probe->spec().nchannels;
-            if (!gbuffer.open(geometryPath, 0, chbegin, chend, tool.threads(), error)) {
+            if (!gbuffer.open(geometryPath, part, chbegin, chend, tool.threads(), error)) {
                 tool.fail(geometryPath + ": cannot read: " + error);
                 return false;
             }
