@@ -36,7 +36,9 @@ protected:
                               const std::string& out = {}) {
         EXPECT_EQ(r.status, status) << r.err;
         EXPECT_NE(r.err.find(what), std::string::npos) << "expected '" << what << "' in: " << r.err;
-        if (!out.empty()) EXPECT_FALSE(fs::exists(out)) << out;
+        if (!out.empty()) {
+            EXPECT_FALSE(fs::exists(out)) << out;
+        }
         EXPECT_TRUE(noTemporaries());
     }
 
