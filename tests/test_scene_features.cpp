@@ -241,3 +241,20 @@ TEST_F(SceneFeatures, FrameAllFitsTheWholeScene) {
     EXPECT_LT(ymin, -2.85f);
     EXPECT_GT(ymax, -1.15f);
 }
+
+// An OBJ written on Windows names its texture with a backslash: found all the same.
+TEST_F(SceneFeatures, WindowsTexturePathsAreFound) {
+    writeConstantPng("red.png", {1.0f, 0.0f, 0.0f});
+    std::ofstream(path("win.mtl")) << "newmtl M\nKd 1 1 1\nmap_Kd .\\red.png\n";
+    std::ofstream(path("win.obj")) << "mtllib win.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\n"
+                                      "vt 0 0\nvt 1 0\nvt 1 1\nusemtl M\nf 1/1 2/2 3/3\n";
+    const Result r = run("dhdr-gbuffer " + path("win.obj") +
+                         " --lookat 0,0,3,0,0,0 --size 32x32 -o " + path("win.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf g = read("win.exr");
+    const int a = g.spec().channelindex("albedo.R");
+    const float* p = static_cast<const float*>(g.pixeladdr(20, 20));
+    ASSERT_EQ(p[0], 1.0f);
+    EXPECT_NEAR(p[a], 1.0f, 1e-3);
+    EXPECT_NEAR(p[a + 1], 0.0f, 1e-3);
+}

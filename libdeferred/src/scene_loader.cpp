@@ -171,7 +171,13 @@ private:
                 return false;
             texture.name = ref;
         } else {
-            const auto file = std::filesystem::path(m_path).parent_path() / ref;
+            auto file = std::filesystem::path(m_path).parent_path() / ref;
+            // Files written on Windows name textures with backslashes (".\\wall.jpg").
+            if (std::string unix = ref;
+                !std::filesystem::exists(file) && unix.find('\\') != std::string::npos) {
+                std::replace(unix.begin(), unix.end(), '\\', '/');
+                file = std::filesystem::path(m_path).parent_path() / unix;
+            }
             if (!detail::loadTexture(texture, file.string(), nullptr, 0, srgb, error)) return false;
         }
         index = int(m_scene.textures.size());
