@@ -41,17 +41,7 @@ bool readWhole(OIIO::ImageInput& in, const std::string& path, OIIO::ImageBuf& im
     }
     const NativeReader native(fileSpec, chbegin, chend);
     std::vector<std::byte> buffer(size_t(fileSpec.image_pixels()) * native.bytes);
-    OIIO::ImageSpec spec = fileSpec;
-    spec.nchannels = chend - chbegin;
-    spec.channelnames.assign(fileSpec.channelnames.begin() + chbegin,
-                             fileSpec.channelnames.begin() + chend);
-    spec.channelformats.clear();
-    spec.set_format(OIIO::TypeDesc::FLOAT);
-    spec.tile_width = spec.tile_height = spec.tile_depth = 0;
-    spec.alpha_channel = fileSpec.alpha_channel - chbegin;
-    if (spec.alpha_channel < 0 || spec.alpha_channel >= spec.nchannels) spec.alpha_channel = -1;
-    spec.z_channel = fileSpec.z_channel - chbegin;
-    if (spec.z_channel < 0 || spec.z_channel >= spec.nchannels) spec.z_channel = -1;
+    const OIIO::ImageSpec spec = floatChannelSpec(fileSpec, chbegin, chend);
     image.reset(spec, OIIO::InitializePixels::No);
     if (!image.localpixels()) {
         error = "cannot allocate memory for its pixels";
@@ -76,6 +66,40 @@ std::string gigabytes(double bytes) {
 
 } // namespace
 
+std::unique_ptr<OIIO::ImageInput> openFlatPart(const std::string& path, int subimage,
+                                               std::string& error) {
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    if (!in) {
+        error = OIIO::geterror();
+        return nullptr;
+    }
+    if (subimage != 0 && !in->seek_subimage(subimage, 0)) {
+        error = "has no part " + std::to_string(subimage);
+        return nullptr;
+    }
+    if (in->spec().deep) {
+        error = "is a deep image (a list of samples per pixel); this tool takes flat images: "
+                "flatten it first, e.g. oiiotool IN.exr --flatten -o FLAT.exr";
+        return nullptr;
+    }
+    return in;
+}
+
+OIIO::ImageSpec floatChannelSpec(const OIIO::ImageSpec& file, int chbegin, int chend) {
+    OIIO::ImageSpec spec = file;
+    spec.nchannels = chend - chbegin;
+    spec.channelnames.assign(file.channelnames.begin() + chbegin,
+                             file.channelnames.begin() + chend);
+    spec.channelformats.clear();
+    spec.set_format(OIIO::TypeDesc::FLOAT);
+    spec.tile_width = spec.tile_height = spec.tile_depth = 0;
+    spec.alpha_channel = file.alpha_channel - chbegin;
+    if (spec.alpha_channel < 0 || spec.alpha_channel >= spec.nchannels) spec.alpha_channel = -1;
+    spec.z_channel = file.z_channel - chbegin;
+    if (spec.z_channel < 0 || spec.z_channel >= spec.nchannels) spec.z_channel = -1;
+    return spec;
+}
+
 bool fitsInMemory(const OIIO::ImageSpec& spec, int channels, std::string& error) {
     const double bytes = double(spec.width) * double(spec.height) *
                          double(std::max(spec.depth, 1)) * double(channels) * sizeof(float);
@@ -89,37 +113,16 @@ bool fitsInMemory(const OIIO::ImageSpec& spec, int channels, std::string& error)
 
 bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
                 int nthreads, std::string& error, int subimage) {
-    std::unique_ptr<OIIO::ImageInput> first = OIIO::ImageInput::open(path);
-    if (!first) {
-        error = OIIO::geterror();
-        return false;
-    }
-    if (subimage != 0 && !first->seek_subimage(subimage, 0)) {
-        error = "has no part " + std::to_string(subimage);
-        return false;
-    }
+    std::unique_ptr<OIIO::ImageInput> first = openFlatPart(path, subimage, error);
+    if (!first) return false;
     const OIIO::ImageSpec& fileSpec = first->spec();
-    if (fileSpec.deep) {
-        error = "is a deep image (a list of samples per pixel); this tool takes flat images: "
-                "flatten it first, e.g. oiiotool IN.exr --flatten -o FLAT.exr";
-        return false;
-    }
     chbegin = std::clamp(chbegin, 0, fileSpec.nchannels);
     chend = std::clamp(chend, chbegin, fileSpec.nchannels);
     if (!fitsInMemory(fileSpec, chend - chbegin, error)) return false;
     if (std::string(first->format_name()) != "openexr" || fileSpec.tile_width > 0)
         return readWhole(*first, path, image, subimage, chbegin, chend, error);
 
-    OIIO::ImageSpec spec = fileSpec;
-    spec.nchannels = chend - chbegin;
-    spec.channelnames.assign(fileSpec.channelnames.begin() + chbegin,
-                             fileSpec.channelnames.begin() + chend);
-    spec.channelformats.clear();
-    spec.set_format(OIIO::TypeDesc::FLOAT);
-    spec.alpha_channel = fileSpec.alpha_channel - chbegin;
-    if (spec.alpha_channel < 0 || spec.alpha_channel >= spec.nchannels) spec.alpha_channel = -1;
-    spec.z_channel = fileSpec.z_channel - chbegin;
-    if (spec.z_channel < 0 || spec.z_channel >= spec.nchannels) spec.z_channel = -1;
+    const OIIO::ImageSpec spec = floatChannelSpec(fileSpec, chbegin, chend);
     const OIIO::ImageSpec& held = image.spec();
     if (image.initialized() && image.localpixels() && held.format == OIIO::TypeDesc::FLOAT &&
         held.channelformats.empty() && held.x == spec.x && held.y == spec.y &&

@@ -2,7 +2,9 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,6 +23,15 @@ namespace dhdr::app {
 // went wrong.
 bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int chend,
                 int nthreads, std::string& error, int subimage = 0);
+
+// Part `subimage` of `path`, opened; null with `error` when it cannot be read or is deep (a
+// list of samples per pixel, which no tool but the lighting of deep G-buffers takes).
+std::unique_ptr<OIIO::ImageInput> openFlatPart(const std::string& path, int subimage,
+                                               std::string& error);
+
+// The spec of channels [chbegin, chend) of a file of spec `file`, read as float pixels:
+// scanline, its metadata, alpha and depth channels renumbered (−1 when outside the run).
+OIIO::ImageSpec floatChannelSpec(const OIIO::ImageSpec& file, int chbegin, int chend);
 
 // Whether float pixels of `spec`'s size and `channels` fit this machine's memory; otherwise
 // false with a message that names the size.

@@ -14,22 +14,14 @@ namespace dhdr::app {
 bool StripReader::open(const std::string& path, int subimage, int chbegin, int chend, int nthreads,
                        std::string& error) {
     m_whole.reset();
-    m_in = OIIO::ImageInput::open(path);
-    if (!m_in) {
-        error = OIIO::geterror();
-        return false;
-    }
-    if (subimage != 0 && !m_in->seek_subimage(subimage, 0)) {
-        error = "has no part " + std::to_string(subimage);
-        return false;
-    }
+    m_in = openFlatPart(path, subimage, error);
+    if (!m_in) return false;
     const OIIO::ImageSpec file = m_in->spec();
-    if (file.deep) {
-        error = "is a deep image (a list of samples per pixel); this tool takes flat images: "
-                "flatten it first, e.g. oiiotool IN.exr --flatten -o FLAT.exr";
-        return false;
-    }
     m_subimage = subimage;
+    m_path = path;
+    m_workers = nthreads > 0 ? nthreads : int(std::max(1u, std::thread::hardware_concurrency()));
+    m_inputs.clear();
+    m_native_spec.reset();
     m_chbegin = std::clamp(chbegin, 0, file.nchannels);
     m_chend = std::clamp(chend, m_chbegin, file.nchannels);
     if (std::string(m_in->format_name()) != "openexr" || file.tile_width > 0) {
@@ -39,17 +31,7 @@ bool StripReader::open(const std::string& path, int subimage, int chbegin, int c
         m_spec = m_whole.spec();
         return true;
     }
-    m_spec = file;
-    m_spec.nchannels = m_chend - m_chbegin;
-    m_spec.channelnames.assign(file.channelnames.begin() + m_chbegin,
-                               file.channelnames.begin() + m_chend);
-    m_spec.channelformats.clear();
-    m_spec.set_format(OIIO::TypeDesc::FLOAT);
-    m_spec.alpha_channel = file.alpha_channel - m_chbegin;
-    if (m_spec.alpha_channel < 0 || m_spec.alpha_channel >= m_spec.nchannels)
-        m_spec.alpha_channel = -1;
-    m_spec.z_channel = file.z_channel - m_chbegin;
-    if (m_spec.z_channel < 0 || m_spec.z_channel >= m_spec.nchannels) m_spec.z_channel = -1;
+    m_spec = floatChannelSpec(file, m_chbegin, m_chend);
     return true;
 }
 

@@ -14,24 +14,6 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0, double
     return text;
 }
 
-const char* lightType(LightType t) {
-    switch (t) {
-    case LightType::Point:
-        return "point";
-    case LightType::Spot:
-        return "spot";
-    case LightType::Directional:
-        return "directional";
-    case LightType::Ambient:
-        return "ambient";
-    case LightType::Sphere:
-        return "sphere";
-    case LightType::Rectangle:
-        return "rectangle";
-    }
-    return "?";
-}
-
 } // namespace
 
 std::string describeScene(const Scene& scene, const std::string& path) {
@@ -56,7 +38,7 @@ std::string describeScene(const Scene& scene, const std::string& path) {
     out += "  lights      " + std::to_string(scene.lights.size()) + "\n";
     for (const Light& l : scene.lights)
         out += "    " + (l.name.empty() ? std::string("(unnamed)") : l.name) + ": " +
-               lightType(l.type) +
+               lightTypeName(l.type) +
                format(", intensity %g, at (%g, %g, %g)\n", l.intensity, l.position.x, l.position.y,
                       l.position.z);
     out += "  materials   " + std::to_string(scene.materials.size()) + "\n";

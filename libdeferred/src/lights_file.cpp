@@ -143,7 +143,9 @@ Light parseLight(const json& j, size_t index) {
     return light;
 }
 
-const char* typeName(LightType t) {
+} // namespace
+
+const char* lightTypeName(LightType t) {
     switch (t) {
     case LightType::Point:
         return "point";
@@ -160,8 +162,6 @@ const char* typeName(LightType t) {
     }
     return "point";
 }
-
-} // namespace
 
 bool parseLights(const std::string& text, std::vector<Light>& lights, std::string& error) {
     lights.clear();
@@ -267,7 +267,7 @@ std::string formatLights(const std::vector<Light>& lights) {
     nlohmann::ordered_json list = nlohmann::ordered_json::array();
     for (const Light& l : lights) {
         nlohmann::ordered_json j;
-        j["type"] = typeName(l.type);
+        j["type"] = lightTypeName(l.type);
         if (!l.name.empty()) j["name"] = l.name;
         j["color"] = vec3(l.color);
         j["intensity"] = shortest(l.intensity);

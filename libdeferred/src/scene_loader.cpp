@@ -186,15 +186,26 @@ private:
         return true;
     }
 
-    // Depth first in the file's order, with an explicit stack: a file may nest nodes deeper
-    // than the call stack would survive.
-    void visitAll() {
+    // Calls visit(node, world transform) for every node, depth first in the file's order,
+    // until it returns false. An explicit stack: a file may nest nodes deeper than the call
+    // stack would survive.
+    template <class Visit>
+    void forEachNode(Visit visit) const {
         std::vector<std::pair<const aiNode*, glm::dmat4>> stack = {
             {m_ai.mRootNode, glm::dmat4(1.0)}};
         while (!stack.empty()) {
             const auto [node, parent] = stack.back();
             stack.pop_back();
             const glm::dmat4 world = parent * toGlm(node->mTransformation);
+            if (!visit(*node, world)) return;
+            for (unsigned i = node->mNumChildren; i-- > 0;)
+                stack.emplace_back(node->mChildren[i], world);
+        }
+    }
+
+    void visitAll() {
+        forEachNode([&](const aiNode& n, const glm::dmat4& world) {
+            const aiNode* node = &n;
             if (node->mNumMeshes > 0) {
                 const int object = int(m_scene.objectNames.size());
                 std::string name = node->mName.C_Str();
@@ -204,9 +215,8 @@ private:
                 for (unsigned i = 0; i < node->mNumMeshes; ++i)
                     addMesh(*m_ai.mMeshes[node->mMeshes[i]], world, normalMatrix, object);
             }
-            for (unsigned i = node->mNumChildren; i-- > 0;)
-                stack.emplace_back(node->mChildren[i], world);
-        }
+            return true;
+        });
     }
 
     void addMesh(const aiMesh& am, const glm::dmat4& world, const glm::dmat3& normalMatrix,
@@ -257,17 +267,13 @@ private:
 
     // The world transform of the first node named `name`, depth first; identity when none is.
     glm::dmat4 nodeWorld(const aiString& name) const {
-        std::vector<std::pair<const aiNode*, glm::dmat4>> stack = {
-            {m_ai.mRootNode, glm::dmat4(1.0)}};
-        while (!stack.empty()) {
-            const auto [node, parent] = stack.back();
-            stack.pop_back();
-            const glm::dmat4 world = parent * toGlm(node->mTransformation);
-            if (node->mName == name) return world;
-            for (unsigned i = node->mNumChildren; i-- > 0;)
-                stack.emplace_back(node->mChildren[i], world);
-        }
-        return glm::dmat4(1.0);
+        glm::dmat4 found(1.0);
+        forEachNode([&](const aiNode& node, const glm::dmat4& world) {
+            if (node.mName != name) return true;
+            found = world;
+            return false;
+        });
+        return found;
     }
 
     void loadCameras() {

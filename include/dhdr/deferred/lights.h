@@ -38,6 +38,9 @@ struct Light {
     bool isLocal() const { return type != LightType::Directional && type != LightType::Ambient; }
 };
 
+// "point", "spot", … as the lights file names the type.
+const char* lightTypeName(LightType type);
+
 // Parses the JSON text of a lights file. On failure returns false with `error` naming the
 // light's index and field (`light 3: "range" must be a positive number`).
 bool parseLights(const std::string& json, std::vector<Light>& lights, std::string& error);
