@@ -223,12 +223,16 @@ bool Tool::readColour(const std::string& path, const std::string& layer, bool ke
     return true;
 }
 
-void Tool::warnIfEmpty(const std::string& path, const OIIO::ImageBuf& image) const {
-    if (image.nchannels() < 4 || !image.localpixels()) return;
-    const OIIO::ROI roi = image.roi();
+bool hasSurface(const OIIO::ImageBuf& image, OIIO::ROI roi) {
+    if (image.spec().alpha_channel != 3 || !image.localpixels()) return true;
+    roi = OIIO::roi_intersection(roi.defined() ? roi : image.roi(), image.roi());
     for (int y = roi.ybegin; y < roi.yend; ++y)
         for (int x = roi.xbegin; x < roi.xend; ++x)
-            if (static_cast<const float*>(image.pixeladdr(x, y))[3] != 0.0f) return;
+            if (static_cast<const float*>(image.pixeladdr(x, y))[3] != 0.0f) return true;
+    return false;
+}
+
+void Tool::warnNoSurface(const std::string& path) const {
     warn(path + ": no surface in view: alpha is 0 everywhere (an empty frame)");
 }
 

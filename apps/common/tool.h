@@ -47,8 +47,8 @@ public:
     // Opens the colour of `path` (as readColour finds it) for reading strip by strip.
     bool openColour(const std::string& path, const std::string& layer, bool keepOthers,
                     ColourStripReader& reader) const;
-    // Warns that `path` has no surface in view when its alpha channel (3) is 0 everywhere.
-    void warnIfEmpty(const std::string& path, const OIIO::ImageBuf& image) const;
+    // Warns that `path` has no surface in view (its alpha is 0 everywhere: hasSurface).
+    void warnNoSurface(const std::string& path) const;
     // One warning line with the counts of non-finite (and with `zeroNegative` negative)
     // values dhdr::replaceNonFinite replaced in `path`; nothing when there are none.
     void reportNonFinite(const std::string& path, const NonFiniteCount& counts,
@@ -64,6 +64,10 @@ private:
     std::string m_name;
     const CommandLine& m_cl;
 };
+
+// Whether `image` shows a surface over `roi` (default: all of it): some pixel's alpha
+// (channel 3, as the tools read colour) is not 0, or it has no alpha at all.
+bool hasSurface(const OIIO::ImageBuf& image, OIIO::ROI roi = {});
 
 class NativeWriter;
 

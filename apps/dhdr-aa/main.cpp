@@ -161,7 +161,7 @@ int run(int argc, char** argv) {
         constexpr int kRows = 64;
         OIIO::ImageBuf images[2], geometryStrips[2], normal, depth, result;
         NonFiniteCount replacedColour, replacedNormal;
-        bool anySurface = frame.alpha_channel != 3;
+        bool anySurface = false;
         app::Progress progress(tool, "dhdr-aa: " + path);
         // The next strip (and its geometry) is read on another thread while this one is
         // filtered and written.
@@ -206,10 +206,7 @@ int run(int argc, char** argv) {
                 replacedNormal += replaceNonFinite(normal, rows, tool.threads());
                 replaceNonFinite(normal, {}, tool.threads());
             }
-            if (!anySurface)
-                for (int yy = y; yy < yend && !anySurface; ++yy)
-                    for (int x = frame.x; x < frame.x + frame.width && !anySurface; ++x)
-                        anySurface = static_cast<const float*>(image.pixeladdr(x, yy))[3] != 0.0f;
+            anySurface = anySurface || app::hasSurface(image, core);
             result.copy(image);
             if (!edgeAA(result, image, use != "depth" ? &normal : nullptr,
                         use != "normal" ? &depth : nullptr, params, core, tool.threads())) {
@@ -223,8 +220,7 @@ int run(int argc, char** argv) {
         if (!file.commit()) return false;
         tool.reportNonFinite(path, replacedColour, false);
         tool.reportNonFinite(geometryPath, replacedNormal, false);
-        if (!anySurface)
-            tool.warn(path + ": no surface in view: alpha is 0 everywhere (an empty frame)");
+        if (!anySurface) tool.warnNoSurface(path);
         return true;
     });
 }

@@ -55,7 +55,7 @@ int run(int argc, char** argv) {
         OIIO::ImageBuf strip;
         std::string error;
         NonFiniteCount replaced;
-        bool anySurface = frame.alpha_channel != 3;
+        bool anySurface = false;
         auto readStrip = [&](int y, bool count) {
             if (!reader.read(y, y + kRows, strip, error)) {
                 tool.fail(path + ": cannot read: " + error);
@@ -71,10 +71,7 @@ int run(int argc, char** argv) {
         const int rows = frame.height;
         for (int y = frame.y; y < frame.y + rows; y += kRows) {
             if (!readStrip(y, true)) return false;
-            if (!anySurface)
-                for (int yy = strip.roi().ybegin; yy < strip.roi().yend && !anySurface; ++yy)
-                    for (int x = frame.x; x < frame.x + frame.width && !anySurface; ++x)
-                        anySurface = static_cast<const float*>(strip.pixeladdr(x, yy))[3] != 0.0f;
+            anySurface = anySurface || app::hasSurface(strip);
             if (!builder.addRows(strip)) {
                 tool.fail(path + ": " + builder.error());
                 return false;
@@ -85,8 +82,7 @@ int run(int argc, char** argv) {
             tool.fail(path + ": " + builder.error());
             return false;
         }
-        if (!anySurface)
-            tool.warn(path + ": no surface in view: alpha is 0 everywhere (an empty frame)");
+        if (!anySurface) tool.warnNoSurface(path);
         tool.reportNonFinite(path, replaced, false);
         OIIO::ImageSpec spec = frame;
         spec.attribute("dhdr:bloomStrength", float(strength));

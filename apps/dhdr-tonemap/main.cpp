@@ -55,7 +55,7 @@ bool readFrame(const app::Tool& tool, const std::string& layer, const std::strin
                OIIO::ImageBuf& hdr, bool warn, int nthreads) {
     std::vector<OIIO::TypeDesc> formats;
     if (!tool.readColour(path, layer, false, hdr, formats, nthreads)) return false;
-    if (warn) tool.warnIfEmpty(path, hdr);
+    if (warn && !app::hasSurface(hdr)) tool.warnNoSurface(path);
     // A display shows no negative light: negative colour goes with NaN and Inf, in one
     // warning; alpha keeps its negatives.
     OIIO::ROI colour = hdr.roi(), alpha = hdr.roi();
