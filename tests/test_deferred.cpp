@@ -534,7 +534,7 @@ TEST(Lighting, PlaneUnderOnePointLightMatchesClosedForm) {
     light.intensity = 10.0f;
     light.range = 3.0f;
     ImageBuf hdr;
-    ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {light}));
+    ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {{light}}));
     int checked = 0;
     for (int y = 0; y < 48; ++y)
         for (int x = 0; x < 64; ++x) {
@@ -558,7 +558,7 @@ TEST(Lighting, AmbientAndDirectionalLights) {
     ambient.type = LightType::Ambient;
     ambient.intensity = 2.0f;
     ImageBuf hdr;
-    ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {ambient}));
+    ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {{ambient}}));
     // La (c (1 − F0) + F0) for the floor's red channel, c = 0.5.
     EXPECT_NEAR(px(hdr, 8, 10)[0], 2.0 * (0.5 * 0.96 + 0.04), 1e-6);
 
@@ -566,7 +566,7 @@ TEST(Lighting, AmbientAndDirectionalLights) {
     sun.type = LightType::Directional;
     sun.direction = glm::vec3(0.0f, -1.0f, 0.0f);
     sun.intensity = 3.0f;
-    ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {sun}));
+    ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {{sun}}));
     const glm::dvec3 P(channel(gbuf, 8, 10, "P.X"), channel(gbuf, 8, 10, "P.Y"),
                        channel(gbuf, 8, 10, "P.Z"));
     // A directional light is a point light infinitely far straight up: E = 3 lux.
@@ -604,7 +604,7 @@ TEST(Lighting, RangeWindowReachesExactlyZero) {
 TEST(Lighting, MissingChannelIsNamed) {
     ImageBuf rgba(OIIO::ImageSpec(4, 4, 4, OIIO::TypeDesc::FLOAT));
     ImageBuf hdr;
-    EXPECT_FALSE(shadeGBuffer(hdr, rgba, {}));
+    EXPECT_FALSE(shadeGBuffer(hdr, rgba, {{}}));
     EXPECT_NE(hdr.geterror().find("no channel 'Z'"), std::string::npos);
 }
 
@@ -642,9 +642,9 @@ TEST(Lighting, ScreenBoundedEqualsBruteForceOnCornellBoxWith200Lights) {
     ImageBuf culled, brute;
     LightingStats culledStats, bruteStats;
     LightingParams p;
-    ASSERT_TRUE(shadeGBuffer(culled, gbuf, lights, p, &culledStats));
+    ASSERT_TRUE(shadeGBuffer(culled, gbuf, {lights}, p, {}, 0, &culledStats));
     p.bruteForce = true;
-    ASSERT_TRUE(shadeGBuffer(brute, gbuf, lights, p, &bruteStats));
+    ASSERT_TRUE(shadeGBuffer(brute, gbuf, {lights}, p, {}, 0, &bruteStats));
     double maxRelative = 0.0;
     for (int y = 0; y < params.height; ++y)
         for (int x = 0; x < params.width; ++x)

@@ -24,9 +24,9 @@ double maxRelativeDifference(const ImageBuf& gbuf, const std::vector<Light>& lig
                              LightingStats& culledStats, LightingStats& bruteStats) {
     ImageBuf culled, brute;
     LightingParams p;
-    EXPECT_TRUE(shadeGBuffer(culled, gbuf, lights, p, &culledStats));
+    EXPECT_TRUE(shadeGBuffer(culled, gbuf, {lights}, p, {}, 0, &culledStats));
     p.bruteForce = true;
-    EXPECT_TRUE(shadeGBuffer(brute, gbuf, lights, p, &bruteStats));
+    EXPECT_TRUE(shadeGBuffer(brute, gbuf, {lights}, p, {}, 0, &bruteStats));
     double worst = 0.0;
     for (int y = 0; y < gbuf.spec().height; ++y)
         for (int x = 0; x < gbuf.spec().width; ++x)
@@ -154,7 +154,7 @@ TEST(LightCulling, StripsGiveTheWholeFramesPixels) {
         LightingParams p;
         p.bruteForce = bruteForce;
         ImageBuf whole;
-        ASSERT_TRUE(shadeGBuffer(whole, gbuf, lights, p));
+        ASSERT_TRUE(shadeGBuffer(whole, gbuf, {lights}, p));
         for (const int rows : {16, 64, 37}) {
             LightingParams strips = p;
             strips.frame = gbuf.roi();
@@ -163,7 +163,7 @@ TEST(LightCulling, StripsGiveTheWholeFramesPixels) {
                 const OIIO::ROI band(0, 200, y, std::min(150, y + rows), 0, 1, 0, gbuf.nchannels());
                 strip = OIIO::ImageBufAlgo::cut(gbuf, band);
                 strip.set_origin(0, band.ybegin);
-                ASSERT_TRUE(shadeGBuffer(lit, strip, lights, strips)) << lit.geterror();
+                ASSERT_TRUE(shadeGBuffer(lit, strip, {lights}, strips)) << lit.geterror();
                 for (int yy = band.ybegin; yy < band.yend; ++yy)
                     for (int x = 0; x < 200; ++x)
                         for (int c = 0; c < 4; ++c)
@@ -239,7 +239,7 @@ TEST(LightCulling, LightEndingJustAboveTheSurfaceIsInNoTile) {
     ImageBuf hdr;
     LightingParams p;
     p.bruteForce = true;
-    ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {light}, p));
+    ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {{light}}, p));
     for (int y = 0; y < 128; ++y)
         for (int x = 0; x < 128; ++x)
             ASSERT_EQ(px(hdr, x, y)[1], 0.0f);
@@ -270,7 +270,7 @@ TEST(LightCulling, SpotConeBoundsTheTiles) {
     EXPECT_LE(maxRelativeDifference(gbuf, {spot}, culled, brute), 1e-6);
     // Lit inside the cone, exactly dark outside it.
     ImageBuf hdr;
-    ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {spot}));
+    ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {{spot}}));
     const int idx = hdr.spec().channelindex("R");
     int lit = 0;
     for (int y = 0; y < 128; ++y)

@@ -177,7 +177,7 @@ int run(int argc, char** argv) {
             readMs += since(t);
             t = std::chrono::steady_clock::now();
             LightingStats strip;
-            if (!shadeGBuffer(hdr, gbuf, lights, strips, &strip, tool.threads())) {
+            if (!shadeGBuffer(hdr, gbuf, {lights}, strips, {}, tool.threads(), &strip)) {
                 tool.fail(path + ": " + hdr.geterror());
                 return false;
             }

@@ -53,6 +53,113 @@ void rectangleCorners(const Light& light, glm::vec3 corners[4]) {
     corners[3] = light.position - u + v;
 }
 
+namespace {
+
+// The point of triangle abc nearest p (Ericson 2005, "Real-Time Collision Detection", 5.1.5).
+glm::vec3 closestPointOnTriangle(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b,
+                                 const glm::vec3& c) {
+    const glm::vec3 ab = b - a, ac = c - a, ap = p - a;
+    const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+    if (d1 <= 0.0f && d2 <= 0.0f) return a;
+    const glm::vec3 bp = p - b;
+    const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+    if (d3 >= 0.0f && d4 <= d3) return b;
+    const float vc = d1 * d4 - d3 * d2;
+    if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + ab * (d1 / (d1 - d3));
+    const glm::vec3 cp = p - c;
+    const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+    if (d6 >= 0.0f && d5 <= d6) return c;
+    const float vb = d5 * d2 - d1 * d6;
+    if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + ac * (d2 / (d2 - d6));
+    const float va = d3 * d6 - d5 * d4;
+    if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f)
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    const float denom = 1.0f / (va + vb + vc);
+    return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+// What the diffuse and specular lobes need of an area light seen from a point.
+struct AreaView {
+    float irradiance = 0.0f; // per unit radiance
+    float radiance = 0.0f;
+    float intensity = 0.0f;  // towards the point, candela
+    float size = 0.0f;       // radius of the light, or of a disk of equal area
+    glm::vec3 closest{0.0f}; // representative point for the specular lobe, relative to P
+};
+
+bool viewSphere(const Light& light, const glm::vec3& toCentre, const glm::vec3& N,
+                const glm::vec3& R, AreaView& v) {
+    v.irradiance = sphereIrradiance(N, toCentre, light.radius);
+    v.radiance = light.intensity / (kPi * light.radius * light.radius);
+    v.intensity = light.intensity;
+    v.size = light.radius;
+    // The point of the sphere nearest the reflected ray.
+    const glm::vec3 centreToRay = glm::dot(toCentre, R) * R - toCentre;
+    const float len = glm::length(centreToRay);
+    v.closest = toCentre + centreToRay * (len > 0.0f ? std::min(1.0f, light.radius / len) : 0.0f);
+    return true;
+}
+
+bool viewRectangle(const Light& light, const glm::vec3& P, const glm::vec3& toCentre,
+                   const glm::vec3& Lc, const glm::vec3& N, const glm::vec3& R, AreaView& v) {
+    // One-sided: nothing reaches a point behind the emitting face.
+    const float facing = -glm::dot(Lc, light.direction);
+    if (facing <= 0.0f) return false;
+    glm::vec3 corners[4];
+    rectangleCorners(light, corners);
+    for (glm::vec3& c : corners)
+        c -= P;
+    v.irradiance = polygonIrradiance(N, corners, 4);
+    const float area = light.width * light.height;
+    v.radiance = light.intensity / area;
+    v.intensity = light.intensity * facing;
+    v.size = std::sqrt(area / kPi);
+    // Where the reflected ray meets the light's plane, clamped to the rectangle.
+    const float denom = glm::dot(R, light.direction);
+    glm::vec3 hit = toCentre;
+    if (denom < -1e-6f) hit = R * (glm::dot(toCentre, light.direction) / denom);
+    const glm::vec3 right = glm::cross(light.up, light.direction);
+    const glm::vec3 local = hit - toCentre;
+    const float u = std::clamp(glm::dot(local, right), -0.5f * light.width, 0.5f * light.width);
+    const float w =
+        std::clamp(glm::dot(local, light.up), -0.5f * light.height, 0.5f * light.height);
+    v.closest = toCentre + u * right + w * light.up;
+    return true;
+}
+
+// An emissive mesh: the exact irradiance summed over its triangles (each a polygon of
+// Lambert's formula); for the specular lobe, of the points of each triangle nearest where the
+// reflected ray meets its plane, the one closest in angle to the ray.
+bool viewMesh(const Light& light, const glm::vec3& P, const glm::vec3& N, const glm::vec3& R,
+              AreaView& v) {
+    const EmitterMesh& m = *light.mesh;
+    float bestCos = -2.0f, projected = 0.0f;
+    for (size_t t = 0; t < m.triangles(); ++t) {
+        glm::vec3 tri[3] = {m.vertices[3 * t] - P, m.vertices[3 * t + 1] - P,
+                            m.vertices[3 * t + 2] - P};
+        v.irradiance += polygonIrradiance(N, tri, 3);
+        const glm::vec3 n = glm::cross(tri[1] - tri[0], tri[2] - tri[0]); // 2 · area · normal
+        const float towards = glm::dot(n, tri[0]);
+        projected += 0.5f * std::abs(towards) / std::max(glm::length(tri[0]), 1e-20f);
+        const float denom = glm::dot(R, n);
+        glm::vec3 hit = (tri[0] + tri[1] + tri[2]) / 3.0f;
+        if (std::abs(denom) > 1e-12f && towards / denom > 0.0f) hit = R * (towards / denom);
+        const glm::vec3 q = closestPointOnTriangle(hit, tri[0], tri[1], tri[2]);
+        const float c = glm::dot(glm::normalize(q), R);
+        if (c > bestCos) {
+            bestCos = c;
+            v.closest = q;
+        }
+    }
+    v.radiance = light.intensity;
+    // Intensity towards the point: radiance × the mesh's area projected across the view.
+    v.intensity = light.intensity * projected;
+    v.size = std::sqrt(m.area() / kPi);
+    return v.irradiance > 0.0f || projected > 0.0f;
+}
+
+} // namespace
+
 glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec3& P,
                          const glm::vec3& N, const glm::vec3& V) {
     const glm::vec3 toCentre = light.position - P;
@@ -61,66 +168,34 @@ glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec
     const float window = rangeWindow(d, light.range);
     if (window == 0.0f || d == 0.0f) return glm::vec3(0.0f);
     const glm::vec3 Lc = toCentre / d;
-
-    float irradiance = 0.0f; // per unit radiance
-    float radiance = 0.0f;
-    float intensity = light.intensity; // towards P, candela
-    float size = 0.0f;                 // radius of the light, or of a disk of equal area
-    glm::vec3 closest(0.0f);
     const glm::vec3 R = glm::reflect(-V, N);
-    if (light.type == LightType::Sphere) {
-        irradiance = sphereIrradiance(N, toCentre, light.radius);
-        radiance = light.intensity / (kPi * light.radius * light.radius);
-        size = light.radius;
-        // The point of the sphere nearest the reflected ray.
-        const glm::vec3 centreToRay = glm::dot(toCentre, R) * R - toCentre;
-        const float len = glm::length(centreToRay);
-        closest = toCentre + centreToRay * (len > 0.0f ? std::min(1.0f, light.radius / len) : 0.0f);
-    } else {
-        // One-sided: nothing reaches a point behind the emitting face.
-        const float facing = -glm::dot(Lc, light.direction);
-        if (facing <= 0.0f) return glm::vec3(0.0f);
-        glm::vec3 corners[4];
-        rectangleCorners(light, corners);
-        for (glm::vec3& c : corners)
-            c -= P;
-        irradiance = polygonIrradiance(N, corners, 4);
-        const float area = light.width * light.height;
-        radiance = light.intensity / area;
-        intensity = light.intensity * facing;
-        size = std::sqrt(area / kPi);
-        // Where the reflected ray meets the light's plane, clamped to the rectangle.
-        const float denom = glm::dot(R, light.direction);
-        glm::vec3 hit = toCentre;
-        if (denom < -1e-6f) hit = R * (glm::dot(toCentre, light.direction) / denom);
-        const glm::vec3 right = glm::cross(light.up, light.direction);
-        const glm::vec3 local = hit - toCentre;
-        const float u = std::clamp(glm::dot(local, right), -0.5f * light.width, 0.5f * light.width);
-        const float v =
-            std::clamp(glm::dot(local, light.up), -0.5f * light.height, 0.5f * light.height);
-        closest = toCentre + u * right + v * light.up;
-    }
+    AreaView view;
+    const bool seen = light.type == LightType::Sphere ? viewSphere(light, toCentre, N, R, view)
+                      : light.type == LightType::Rectangle
+                          ? viewRectangle(light, P, toCentre, Lc, N, R, view)
+                          : viewMesh(light, P, N, R, view);
+    if (!seen) return glm::vec3(0.0f);
 
     glm::vec3 Lo(0.0f);
     const float NdotV = glm::dot(N, V);
     // Diffuse: (1 − F) c_diff / π × E, with F at the centre's half vector.
-    if (irradiance > 0.0f && NdotV > 0.0f) {
+    if (view.irradiance > 0.0f && NdotV > 0.0f) {
         const glm::vec3 F =
             schlickFresnel(s.F0(), std::max(glm::dot(V, glm::normalize(Lc + V)), 0.0f));
-        Lo += (glm::vec3(1.0f) - F) * s.diffuseColor() * (radiance * irradiance / kPi);
+        Lo += (glm::vec3(1.0f) - F) * s.diffuseColor() * (view.radiance * view.irradiance / kPi);
     }
     // Specular: the lobe at the representative direction, energy-normalized.
-    const glm::vec3 Ls = glm::normalize(closest);
+    const glm::vec3 Ls = glm::normalize(view.closest);
     const float NdotL = glm::dot(N, Ls);
     if (NdotL > 0.0f && NdotV > 0.0f) {
         const glm::vec3 H = glm::normalize(Ls + V);
         const float alpha = s.alpha();
-        const float widened = std::min(1.0f, alpha + size / (2.0f * d));
+        const float widened = std::min(1.0f, alpha + view.size / (2.0f * d));
         const float normalization = (alpha / widened) * (alpha / widened);
         const glm::vec3 F = schlickFresnel(s.F0(), std::max(glm::dot(V, H), 0.0f));
         const float spec = ggxDistribution(std::max(glm::dot(N, H), 0.0f), alpha) *
                            smithGgxCorrelatedVisibility(NdotL, NdotV, alpha) * normalization;
-        Lo += F * (spec * intensity / d2 * NdotL);
+        Lo += F * (spec * view.intensity / d2 * NdotL);
     }
     return Lo * light.color * window;
 }

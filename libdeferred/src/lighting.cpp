@@ -3,10 +3,14 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <dhdr/deferred/ambient_occlusion.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/light_culling.h>
 #include <dhdr/deferred/light_eval.h>
 #include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/sampling.h>
+#include <dhdr/deferred/shading_point.h>
+#include <dhdr/deferred/shadows.h>
 
 namespace dhdr {
 
@@ -36,8 +40,19 @@ struct LightReach {
 
 } // namespace
 
-bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::vector<Light>& lights,
-                  const LightingParams& params, LightingStats* stats, int nthreads) {
+LightingStats& LightingStats::operator+=(const LightingStats& o) {
+    lightEvaluations += o.lightEvaluations;
+    lightsReaching += o.lightsReaching;
+    coveredPixels += o.coveredPixels;
+    tileListEntries += o.tileListEntries;
+    shadowRays += o.shadowRays;
+    aoRays += o.aoRays;
+    return *this;
+}
+
+bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const LightingInputs& inputs,
+                  const LightingParams& params, OIIO::ROI roi, int nthreads, LightingStats* stats) {
+    const std::vector<Light>& lights = inputs.lights;
     const OIIO::ImageSpec& in = gbuf.spec();
     gbuffer::Layout layout;
     std::string missing;
@@ -63,6 +78,24 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
         dst.errorfmt("tile size must be positive");
         return false;
     }
+    if (params.shadowSamples < 1 || params.shadowSamples > 4096 || params.aoSamples < 0 ||
+        params.aoSamples > 4096 || !(params.aoDistance > 0.0f)) {
+        dst.errorfmt("shadow samples must be 1-4096, AO samples 0-4096 and the AO distance "
+                     "positive");
+        return false;
+    }
+    roi = roi.defined() ? OIIO::roi_intersection(roi, gbuf.roi()) : gbuf.roi();
+    if (roi.npixels() == 0) {
+        dst.errorfmt("the region to shade is empty");
+        return false;
+    }
+    const OIIO::ImageBuf* ao = inputs.ambientOcclusion;
+    if (ao &&
+        (ao->nchannels() < 1 ||
+         !ao->roi().contains(OIIO::ROI(roi.xbegin, roi.xend, roi.ybegin, roi.yend, 0, 1, 0, 1)))) {
+        dst.errorfmt("the AO image does not cover the pixels shaded");
+        return false;
+    }
     OIIO::ImageBuf floatCopy;
     const OIIO::ImageBuf* src = &gbuf;
     if (in.format != OIIO::TypeDesc::FLOAT || !gbuf.localpixels()) {
@@ -70,9 +103,15 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
         src = &floatCopy;
     }
 
+    const int extra = params.writeAO ? 1 : 0;
     OIIO::ImageSpec spec = in;
-    spec.nchannels = 4 + int(passIndex.size());
+    spec.x = roi.xbegin;
+    spec.y = roi.ybegin;
+    spec.width = roi.width();
+    spec.height = roi.height();
+    spec.nchannels = 4 + extra + int(passIndex.size());
     spec.channelnames = {"R", "G", "B", "A"};
+    if (params.writeAO) spec.channelnames.push_back("AO");
     for (const std::string& name : params.passThrough)
         spec.channelnames.push_back(name);
     spec.alpha_channel = 3;
@@ -102,71 +141,95 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const std::ve
     TileLightLists tiles;
     if (!params.bruteForce)
         tiles.build(lights, camera, depth, frameWidth, frameHeight, params.tileSize, nthreads,
-                    in.y - frame.ybegin, in.y + in.height - frame.ybegin);
+                    roi.ybegin - frame.ybegin, roi.yend - frame.ybegin);
     const LightReach reach(lights);
-    std::atomic<long long> evaluations{0}, reaching{0}, covered{0};
-    OIIO::ImageBufAlgo::parallel_image(dst.roi(), OIIO::paropt(nthreads), [&](OIIO::ROI r) {
-        long long localEvaluations = 0, localReaching = 0, localCovered = 0;
+    const GBufferView view(*src, layout, camera);
+    const Visibility* shadowRays = params.shadows ? inputs.visibility : nullptr;
+    const bool rayTracedAO = !ao && inputs.visibility && params.aoSamples > 0;
+    const bool aoActive = ao || rayTracedAO;
+    std::atomic<long long> evaluations{0}, reaching{0}, covered{0}, shadowCount{0}, aoCount{0};
+    OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
+        long long localEvaluations = 0, localReaching = 0, localCovered = 0, localShadow = 0,
+                  localAO = 0;
         for (int y = r.ybegin; y < r.yend; ++y)
             for (int x = r.xbegin; x < r.xend; ++x) {
-                const float* g = static_cast<const float*>(src->pixeladdr(x, y));
+                const float* g = view.channels(x, y);
                 float* out = static_cast<float*>(dst.pixeladdr(x, y));
                 for (size_t k = 0; k < passIndex.size(); ++k)
-                    out[4 + k] = g[passIndex[k]];
-                const float coverage = g[layout.coverage];
-                if (!(coverage > 0.0f)) {
+                    out[4 + extra + k] = g[passIndex[k]];
+                if (view.samples(x, y) == 0) {
                     std::copy(params.background, params.background + 4, out);
+                    if (extra) out[4] = 1.0f;
                     continue;
                 }
-                const glm::vec3 P(g[layout.position], g[layout.position + 1],
-                                  g[layout.position + 2]);
-                const glm::vec3 N = glm::normalize(
-                    glm::vec3(g[layout.normal], g[layout.normal + 1], g[layout.normal + 2]));
-                const glm::vec3 V(camera.toEye(P));
-                PbrSurface s;
-                s.baseColor =
-                    glm::vec3(g[layout.albedo], g[layout.albedo + 1], g[layout.albedo + 2]);
-                s.roughness = std::clamp(g[layout.roughness], 0.0f, 1.0f);
-                s.metallic = std::clamp(g[layout.metallic], 0.0f, 1.0f);
-                glm::vec3 Lo(0.0f);
-                if (layout.emission >= 0)
-                    Lo = glm::vec3(g[layout.emission], g[layout.emission + 1],
-                                   g[layout.emission + 2]);
+                const ShadingPoint sp = view.at(x, y);
+                float occlusion = 1.0f;
+                if (ao)
+                    occlusion = std::clamp(ao->getchannel(x, y, 0, 0), 0.0f, 1.0f);
+                else if (rayTracedAO)
+                    occlusion =
+                        rayTracedOcclusion(sp.P, sp.N, sampleSeed(x, y, -1, 2), params.aoSamples,
+                                           params.aoDistance, *inputs.visibility, &localAO);
+                // Lo = Le + Σ V_i L_i, in the order of the lights; with AO, the ambient
+                // terms are summed apart and occluded at the end.
+                glm::vec3 Lo = sp.emission, ambient(0.0f);
+                auto addLight = [&](std::uint32_t i) {
+                    const Light& light = lights[i];
+                    glm::vec3 c = shadeLight(light, sp.surface, sp.P, sp.N, sp.V);
+                    if (light.type == LightType::Ambient) {
+                        if (aoActive) {
+                            ambient += c;
+                            return;
+                        }
+                    } else if (shadowRays && c != glm::vec3(0.0f)) {
+                        const float v =
+                            lightVisibility(light, sp.P, sp.N, sampleSeed(x, y, i, 1),
+                                            params.shadowSamples, *shadowRays, &localShadow);
+                        if (v != 1.0f) c *= v;
+                    }
+                    Lo += c;
+                };
                 if (params.bruteForce) {
                     // The reference: every light's full evaluation, which is exactly zero
                     // where it does not reach.
                     for (std::uint32_t i = 0; i < lights.size(); ++i) {
-                        localReaching += reach.reaches(i, P);
-                        Lo += shadeLight(lights[i], s, P, N, V);
+                        localReaching += reach.reaches(i, sp.P);
+                        addLight(i);
                     }
                     localEvaluations += (long long)lights.size();
                 } else {
                     const int px = x - frame.xbegin, py = y - frame.ybegin;
-                    const std::uint32_t slice = tiles.sliceBit(px, py, g[layout.depth]);
+                    const std::uint32_t slice = tiles.sliceBit(px, py, sp.depth);
                     for (const TileLightLists::Entry& e : tiles.at(px, py)) {
                         if (!(e.depthMask & slice)) continue;
                         ++localEvaluations;
                         // Out of range, the window is exactly zero: skip before reading more.
-                        if (!reach.reaches(e.light, P)) continue;
+                        if (!reach.reaches(e.light, sp.P)) continue;
                         ++localReaching;
-                        Lo += shadeLight(lights[e.light], s, P, N, V);
+                        addLight(e.light);
                     }
                 }
+                if (aoActive) Lo += ambient * occlusion;
                 ++localCovered;
                 out[0] = Lo.r;
                 out[1] = Lo.g;
                 out[2] = Lo.b;
-                out[3] = coverage;
+                out[3] = sp.coverage;
+                if (extra) out[4] = occlusion;
             }
         evaluations += localEvaluations;
         reaching += localReaching;
         covered += localCovered;
+        shadowCount += localShadow;
+        aoCount += localAO;
     });
     if (stats) {
         stats->lightEvaluations = evaluations;
         stats->lightsReaching = reaching;
         stats->coveredPixels = covered;
         stats->tileListEntries = (long long)tiles.totalEntries();
+        stats->shadowRays = shadowCount;
+        stats->aoRays = aoCount;
     }
     return true;
 }

@@ -159,6 +159,8 @@ const char* lightTypeName(LightType t) {
         return "sphere";
     case LightType::Rectangle:
         return "rectangle";
+    case LightType::Mesh:
+        return "emissive mesh";
     }
     return "point";
 }
@@ -266,6 +268,8 @@ nlohmann::ordered_json vec3(const glm::vec3& v) {
 std::string formatLights(const std::vector<Light>& lights) {
     nlohmann::ordered_json list = nlohmann::ordered_json::array();
     for (const Light& l : lights) {
+        // An emissive mesh comes from the scene, which dhdr-light reads itself (--scene).
+        if (l.type == LightType::Mesh) continue;
         nlohmann::ordered_json j;
         j["type"] = lightTypeName(l.type);
         if (!l.name.empty()) j["name"] = l.name;

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
 #include <embree3/rtcore.h>
@@ -79,6 +80,52 @@ RayHit RayCaster::intersect(const Ray& ray, double tnear) const {
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;
     return hit;
+}
+
+namespace {
+
+void setRay(RTCRay& r, const glm::vec3& origin, const glm::vec3& direction, float tmax) {
+    r.org_x = origin.x;
+    r.org_y = origin.y;
+    r.org_z = origin.z;
+    r.dir_x = direction.x;
+    r.dir_y = direction.y;
+    r.dir_z = direction.z;
+    r.tnear = 0.0f;
+    r.tfar = tmax;
+    r.time = 0.0f;
+    r.mask = ~0u;
+    r.id = 0;
+    r.flags = 0;
+}
+
+} // namespace
+
+bool RayCaster::occluded(const glm::vec3& origin, const glm::vec3& direction, float tmax) const {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    RTCRay ray;
+    setRay(ray, origin, direction, tmax);
+    rtcOccluded1(m_impl->scene, &context, &ray);
+    // Embree marks a blocked ray by setting tfar to −∞.
+    return ray.tfar < 0.0f;
+}
+
+void RayCaster::test(const ShadowRay* rays, size_t count, bool* visible) const {
+    constexpr size_t kBatch = 64;
+    RTCRay batch[kBatch];
+    for (size_t begin = 0; begin < count; begin += kBatch) {
+        const size_t n = std::min(kBatch, count - begin);
+        for (size_t i = 0; i < n; ++i)
+            setRay(batch[i], rays[begin + i].origin, rays[begin + i].direction,
+                   rays[begin + i].tmax);
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
+        rtcOccluded1M(m_impl->scene, &context, batch, unsigned(n), sizeof(RTCRay));
+        for (size_t i = 0; i < n; ++i)
+            visible[begin + i] = !(batch[i].tfar < 0.0f);
+    }
 }
 
 } // namespace dhdr

@@ -65,8 +65,7 @@ inline glm::vec3 shadeLight(const Light& light, const PbrSurface& s, const glm::
         const glm::vec3 F0 = s.F0();
         return light.color * light.intensity * (s.diffuseColor() * (glm::vec3(1.0f) - F0) + F0);
     }
-    if (light.type == LightType::Sphere || light.type == LightType::Rectangle)
-        return shadeAreaLight(light, s, P, N, V);
+    if (light.isArea()) return shadeAreaLight(light, s, P, N, V);
     const IncidentLight in = incidentLight(light, P);
     const float NdotL = glm::dot(N, in.L);
     if (NdotL <= 0.0f || in.illuminance == glm::vec3(0.0f)) return glm::vec3(0.0f);

@@ -3,10 +3,22 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/visibility.h>
 #include <string>
 #include <vector>
 
 namespace dhdr {
+
+// What lights the G-buffer, besides its own emission.
+struct LightingInputs {
+    const std::vector<Light>& lights;
+    // The scene, for shadow and ambient-occlusion rays (a RayCaster); null: nothing blocks
+    // light and AO is 1 unless `ambientOcclusion` gives it.
+    const Visibility* visibility = nullptr;
+    // Precomputed AO (one channel, e.g. screenSpaceAO) over the pixels shaded, in the same
+    // pixel coordinates as the G-buffer; it takes precedence over ray-traced AO.
+    const OIIO::ImageBuf* ambientOcclusion = nullptr;
+};
 
 struct LightingParams {
     // Evaluate every light at every pixel instead of only those whose screen rectangle
@@ -16,12 +28,23 @@ struct LightingParams {
     int tileSize = 16;
     // RGBA written where the G-buffer has no surface (A = 0).
     float background[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-    // G-buffer channels copied into the output after R, G, B, A (e.g. "Z", "N.X"...).
+    // G-buffer channels copied into the output after R, G, B, A (and AO) (e.g. "Z", "N.X").
     std::vector<std::string> passThrough;
     // The whole frame, when the G-buffer given is a strip of its rows (dhdr-light streams
     // frames strip by strip); undefined: the G-buffer's own pixels are the frame. Tiles are
     // laid over the frame, so a pixel's result does not depend on how the frame is cut.
     OIIO::ROI frame;
+    // With a Visibility: trace shadow rays (false: the unshadowed reference, AO still traced).
+    bool shadows = true;
+    // Points sampled on each sphere, rectangle or emissive-mesh light per pixel for its soft
+    // shadow, 1–4096.
+    int shadowSamples = 16;
+    // Ray-traced AO with a Visibility: cosine-weighted rays per pixel (0: no AO), 0–4096 ...
+    int aoSamples = 0;
+    // ... and the distance within which a hit occludes, scene units (metres), > 0 (+∞ allowed).
+    float aoDistance = 1.0f;
+    // Write an "AO" channel after A (1 where AO is off).
+    bool writeAO = false;
 };
 
 struct LightingStats {
@@ -33,17 +56,26 @@ struct LightingStats {
     long long coveredPixels = 0;
     // Entries of all the tile lists.
     long long tileListEntries = 0;
+    long long shadowRays = 0, aoRays = 0;
+
+    LightingStats& operator+=(const LightingStats& o);
 };
 
-// Shades every covered pixel of `gbuffer` with Lambert + Cook-Torrance (brdf.h) under
-// `lights`, adds emission, and writes R, G, B, A (then `passThrough`) as float pixels into
-// `dst`, whose spec keeps `gbuffer`'s metadata. Each light is evaluated only at the pixels of
-// the tiles and depth slices its bound reaches (light_culling.h), in the order of `lights`,
-// so the culled and brute-force results agree to rounding. Errors (a missing channel, no
-// camera in the header) are reported on `dst`. `dst` is reused when it already holds float
-// pixels of the right size and channels (the previous strip).
-bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuffer,
-                  const std::vector<Light>& lights, const LightingParams& params = {},
-                  LightingStats* stats = nullptr, int nthreads = 0);
+// Shades every covered pixel of `roi` of `gbuffer` (undefined: all of it) and writes R, G, B,
+// A (then AO with writeAO, then `passThrough`) as float pixels into `dst`, whose spec keeps
+// `gbuffer`'s metadata. For each surface point (shading_point.h):
+//   Lo = emission + Σ_lights V_i · L_i + AO · Σ_ambient L_a
+// with L_i the light's exact unshadowed reflection (Lambert + Cook-Torrance, brdf.h; area
+// lights area_light.h), V_i its visibility (shadows.h; 1 without a Visibility) and AO the
+// ambient occlusion (ambient_occlusion.h). AO multiplies only the ambient terms: punctual and
+// area lights have their shadows. Each light is evaluated only at the pixels of the tiles and
+// depth slices its bound reaches (light_culling.h), in the order of the lights, so culled and
+// brute-force results agree to rounding; every sample sequence depends only on the pixel and
+// the light, so results do not depend on `nthreads` or on the strip. Errors (a missing
+// channel, no camera in the header) are reported on `dst`. `dst` is reused when it already
+// holds float pixels of the right size and channels (the previous strip).
+bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuffer, const LightingInputs& inputs,
+                  const LightingParams& params = {}, OIIO::ROI roi = {}, int nthreads = 0,
+                  LightingStats* stats = nullptr);
 
 } // namespace dhdr

@@ -3,12 +3,26 @@
 
 #include <glm/glm.hpp>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace dhdr {
 
-enum class LightType { Point, Spot, Directional, Ambient, Sphere, Rectangle };
+// Mesh: an emissive surface of the scene made a light (emissive_lights.h); it has no entry in
+// lights files.
+enum class LightType { Point, Spot, Directional, Ambient, Sphere, Rectangle, Mesh };
+
+// The triangles of an emissive mesh in world space, 3 vertices each; they emit from both
+// faces, as Blender's Emission shader does.
+struct EmitterMesh {
+    std::vector<glm::vec3> vertices;
+    // Running sum of the triangles' areas (m²): cdf.back() is the total area.
+    std::vector<float> cdf;
+
+    size_t triangles() const { return cdf.size(); }
+    float area() const { return cdf.empty() ? 0.0f : cdf.back(); }
+};
 
 struct Light {
     LightType type = LightType::Point;
@@ -33,9 +47,16 @@ struct Light {
     // Spot: angles from the axis, radians; full intensity inside the inner cone.
     float innerConeAngle = 0.0f;
     float outerConeAngle = 0.7853982f; // π/4, glTF's default
+    // Mesh: the emitting triangles; `color` × `intensity` is their radiance (nit), `position`
+    // the centre of their bounding sphere, whose radius is `radius`.
+    std::shared_ptr<const EmitterMesh> mesh;
 
     // A light with a position, bounded by its range (all but directional and ambient).
     bool isLocal() const { return type != LightType::Directional && type != LightType::Ambient; }
+    // A light with an extent, shaded from its exact irradiance and soft-shadowed by samples.
+    bool isArea() const {
+        return type == LightType::Sphere || type == LightType::Rectangle || type == LightType::Mesh;
+    }
 };
 
 // "point", "spot", … as the lights file names the type.
@@ -48,7 +69,8 @@ bool parseLights(const std::string& json, std::vector<Light>& lights, std::strin
 // Reads and parses a lights file; errors name the file.
 bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::string& error);
 
-// The lights file text for `lights` (what dhdr-gbuffer --lights-out will write).
+// The lights file text for `lights` (what dhdr-gbuffer --lights-out writes); emissive meshes
+// are left out.
 std::string formatLights(const std::vector<Light>& lights);
 
 } // namespace dhdr

@@ -1,8 +1,10 @@
-// Closest-hit ray casting against a Scene's triangles (Embree behind a small interface, so
-// that Embree's headers stay out of everything that includes this one).
+// Scene queries against a Scene's triangles: closest hits for primary rays (dhdr-gbuffer),
+// occlusion for shadow and AO rays (dhdr-light). Embree sits behind a small interface, so that
+// its headers stay out of everything that includes this one.
 #pragma once
 
 #include <dhdr/deferred/camera.h>
+#include <dhdr/deferred/visibility.h>
 #include <memory>
 #include <string>
 
@@ -18,11 +20,11 @@ struct RayHit {
     float u = 0.0f, v = 0.0f; // barycentrics of vertices 1 and 2
 };
 
-class RayCaster {
+class RayCaster : public Visibility {
 public:
     // Builds the acceleration structure; `scene` must outlive the caster.
     explicit RayCaster(const Scene& scene);
-    ~RayCaster();
+    ~RayCaster() override;
     RayCaster(const RayCaster&) = delete;
     RayCaster& operator=(const RayCaster&) = delete;
 
@@ -32,6 +34,14 @@ public:
 
     // Closest hit along `ray` in (tnear, ∞). Safe to call from many threads.
     RayHit intersect(const Ray& ray, double tnear = 0.0) const;
+
+    // True when a triangle lies on the segment from `origin` along unit `direction` within
+    // (0, tmax) (rtcOccluded1). Safe to call from many threads.
+    bool occluded(const glm::vec3& origin, const glm::vec3& direction, float tmax) const;
+
+    // Visibility of many rays at once through rtcOccluded1M, which traces a batch of
+    // incoherent rays faster than one call per ray (bench/occlusion.py measures both).
+    void test(const ShadowRay* rays, size_t count, bool* visible) const override;
 
 private:
     struct Impl;

@@ -1,0 +1,100 @@
+// Deterministic sample sequences for light transport: every sequence is seeded by what it is
+// for (a pixel, a light, a probe) and indexed by the sample, never by a thread or a tile, so
+// results are the same for any thread count and any cut of the frame into strips.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <dhdr/deferred/brdf.h>
+#include <glm/glm.hpp>
+
+namespace dhdr {
+
+// SplitMix64's finalizer (Steele et al. 2014): a bijective 64-bit mix, good enough that
+// neighbouring pixels get unrelated seeds.
+inline std::uint64_t mixBits(std::uint64_t v) {
+    v ^= v >> 30;
+    v *= 0xbf58476d1ce4e5b9ull;
+    v ^= v >> 27;
+    v *= 0x94d049bb133111ebull;
+    v ^= v >> 31;
+    return v;
+}
+
+// A seed from up to four integers (pixel x, pixel y, light index, purpose).
+inline std::uint64_t sampleSeed(std::int64_t a, std::int64_t b, std::int64_t c = 0,
+                                std::int64_t d = 0) {
+    std::uint64_t h = mixBits(std::uint64_t(a) + 0x9e3779b97f4a7c15ull);
+    h = mixBits(h ^ std::uint64_t(b));
+    h = mixBits(h ^ std::uint64_t(c));
+    return mixBits(h ^ std::uint64_t(d));
+}
+
+// A float in [0, 1) from the top 24 bits.
+inline float unitFloat(std::uint64_t bits) { return float(bits >> 40) * 0x1p-24f; }
+
+// Van der Corput's radical inverse in base 2.
+inline float radicalInverse2(std::uint32_t i) {
+    i = (i << 16) | (i >> 16);
+    i = ((i & 0x00ff00ffu) << 8) | ((i & 0xff00ff00u) >> 8);
+    i = ((i & 0x0f0f0f0fu) << 4) | ((i & 0xf0f0f0f0u) >> 4);
+    i = ((i & 0x33333333u) << 2) | ((i & 0xccccccccu) >> 2);
+    i = ((i & 0x55555555u) << 1) | ((i & 0xaaaaaaaau) >> 1);
+    return float(i >> 8) * 0x1p-24f;
+}
+
+// Sample i of n of a Hammersley point set (i / n, radical inverse of i), stratified in every
+// elementary interval, shifted by a seed-dependent toroidal offset (Cranley-Patterson
+// rotation) so that neighbouring pixels do not share their error.
+inline glm::vec2 hammersley(std::uint32_t i, std::uint32_t n, std::uint64_t seed) {
+    const float ox = unitFloat(mixBits(seed)), oy = unitFloat(mixBits(seed ^ 0x5851f42d4c957f2dull));
+    float x = (float(i) + 0.5f) / float(n) + ox;
+    float y = radicalInverse2(i) + oy;
+    x -= std::floor(x);
+    y -= std::floor(y);
+    // Keep strictly below 1 after rounding.
+    return {std::min(x, 0x1.fffffep-1f), std::min(y, 0x1.fffffep-1f)};
+}
+
+// An orthonormal basis with `n` as its third axis (Duff et al. 2017, "Building an
+// Orthonormal Basis, Revisited").
+inline void orthonormalBasis(const glm::vec3& n, glm::vec3& t, glm::vec3& b) {
+    const float sign = std::copysign(1.0f, n.z);
+    const float a = -1.0f / (sign + n.z);
+    const float c = n.x * n.y * a;
+    t = glm::vec3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+    b = glm::vec3(c, sign + n.y * n.y * a, -n.y);
+}
+
+// A cosine-weighted direction about +Z (Malley's method: a uniform point of the unit disk
+// lifted to the hemisphere), pdf cos θ / π.
+inline glm::vec3 cosineHemisphere(glm::vec2 u) {
+    const float r = std::sqrt(u.x), phi = 2.0f * kPi * u.y;
+    const float x = r * std::cos(phi), y = r * std::sin(phi);
+    return {x, y, std::sqrt(std::max(0.0f, 1.0f - x * x - y * y))};
+}
+
+// A direction uniform in the cone of half-angle acos(cosMax) about +Z, pdf
+// 1 / (2π (1 − cosMax)) (pbrt-v4, SampleUniformCone).
+inline glm::vec3 uniformCone(glm::vec2 u, float cosMax) {
+    const float cosTheta = (1.0f - u.x) + u.x * cosMax;
+    const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    const float phi = 2.0f * kPi * u.y;
+    return {std::cos(phi) * sinTheta, std::sin(phi) * sinTheta, cosTheta};
+}
+
+// Barycentrics (b0, b1) of a point uniform on a triangle, b2 = 1 − b0 − b1 (Heitz 2019,
+// "A Low-Distortion Map Between Triangle and Square").
+inline glm::vec2 uniformTriangle(glm::vec2 u) {
+    float b0, b1;
+    if (u.x < u.y) {
+        b0 = u.x / 2.0f;
+        b1 = u.y - b0;
+    } else {
+        b1 = u.y / 2.0f;
+        b0 = u.x - b1;
+    }
+    return {b0, b1};
+}
+
+} // namespace dhdr

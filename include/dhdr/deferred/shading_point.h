@@ -1,0 +1,61 @@
+// The surface samples of a G-buffer, as the lighting pass reads them: a small view that
+// hands back the samples of a pixel (one for a flat G-buffer; deep G-buffers will hold more).
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+#include <dhdr/deferred/brdf.h>
+#include <dhdr/deferred/gbuffer.h>
+
+namespace dhdr {
+
+struct ShadingPoint {
+    glm::vec3 P{0.0f}; // world space
+    glm::vec3 N{0.0f}; // unit shading normal, facing the camera
+    glm::vec3 V{0.0f}; // unit, towards the eye
+    PbrSurface surface;
+    glm::vec3 emission{0.0f};
+    float coverage = 0.0f; // the pixel's A
+    float depth = 0.0f;    // Z
+};
+
+// Reads shading points out of a float G-buffer held in memory (e.g. one strip of a frame).
+class GBufferView {
+public:
+    GBufferView(const OIIO::ImageBuf& gbuffer, const gbuffer::Layout& layout,
+                const gbuffer::CameraInfo& camera)
+        : m_buf(gbuffer), m_layout(layout), m_camera(camera) {}
+
+    // Surface samples of pixel (x, y) in image coordinates: 0 on the background.
+    int samples(int x, int y) const { return channels(x, y)[m_layout.coverage] > 0.0f ? 1 : 0; }
+
+    ShadingPoint at(int x, int y, int /*sample*/ = 0) const {
+        const float* g = channels(x, y);
+        ShadingPoint s;
+        s.P = glm::vec3(g[m_layout.position], g[m_layout.position + 1], g[m_layout.position + 2]);
+        s.N = glm::normalize(glm::vec3(g[m_layout.normal], g[m_layout.normal + 1],
+                                       g[m_layout.normal + 2]));
+        s.V = glm::vec3(m_camera.toEye(s.P));
+        s.surface.baseColor =
+            glm::vec3(g[m_layout.albedo], g[m_layout.albedo + 1], g[m_layout.albedo + 2]);
+        s.surface.roughness = std::clamp(g[m_layout.roughness], 0.0f, 1.0f);
+        s.surface.metallic = std::clamp(g[m_layout.metallic], 0.0f, 1.0f);
+        if (m_layout.emission >= 0)
+            s.emission = glm::vec3(g[m_layout.emission], g[m_layout.emission + 1],
+                                   g[m_layout.emission + 2]);
+        s.coverage = g[m_layout.coverage];
+        s.depth = g[m_layout.depth];
+        return s;
+    }
+
+    // All channels of pixel (x, y), for passing channels through.
+    const float* channels(int x, int y) const {
+        return static_cast<const float*>(m_buf.pixeladdr(x, y));
+    }
+
+private:
+    const OIIO::ImageBuf& m_buf; // float pixels in memory
+    const gbuffer::Layout& m_layout;
+    const gbuffer::CameraInfo& m_camera;
+};
+
+} // namespace dhdr

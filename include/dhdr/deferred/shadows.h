@@ -1,0 +1,23 @@
+// Shadows: how much of a light's unshadowed contribution reaches a surface point.
+#pragma once
+
+#include <cstdint>
+#include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/visibility.h>
+
+namespace dhdr {
+
+// The visible share of `light` at the G-buffer point P with normal N (unit, facing the
+// camera), in [0, 1]:
+// - a delta light (point, spot, directional): 0 or 1 from one ray towards it;
+// - an area light: `samples` points of it, a stratified set (Hammersley, rotated by `seed`),
+//   each ray weighted by its share of the unshadowed irradiance, L cos θ / pdf; the weighted
+//   sum of the visible ones over the sum of all. Exactly 1 when every ray gets through, 0 when
+//   none does.
+// Rays start at offsetRayOrigin(P, N) and stop kShadowRayShortening short of the light.
+// `rays` (optional) counts the rays traced.
+float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N,
+                      std::uint64_t seed, int samples, const Visibility& visibility,
+                      long long* rays = nullptr);
+
+} // namespace dhdr

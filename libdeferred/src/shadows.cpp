@@ -1,0 +1,60 @@
+#include <algorithm>
+#include <dhdr/deferred/light_sample.h>
+#include <dhdr/deferred/sampling.h>
+#include <dhdr/deferred/shadows.h>
+
+namespace dhdr {
+
+namespace {
+
+ShadowRay towards(const glm::vec3& origin, const LightLiSample& s) {
+    return {origin, s.wi, s.distance * (1.0f - kShadowRayShortening)};
+}
+
+} // namespace
+
+float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N,
+                      std::uint64_t seed, int samples, const Visibility& visibility,
+                      long long* rays) {
+    if (light.type == LightType::Ambient) return 1.0f;
+    const glm::vec3 origin = offsetRayOrigin(P, N);
+    if (!light.isArea()) {
+        const LightLiSample s = sampleLi(light, origin, {0.0f, 0.0f});
+        if (s.pdf == 0.0f) return 1.0f;
+        if (rays) ++*rays;
+        return visibility.unoccluded(towards(origin, s)) ? 1.0f : 0.0f;
+    }
+    constexpr int kBatch = 64;
+    ShadowRay batch[kBatch];
+    float weight[kBatch];
+    bool visible[kBatch];
+    // Sums in double, in sample order: the same value for any thread count.
+    double total = 0.0, seen = 0.0, count = 0.0, seenCount = 0.0;
+    for (int begin = 0; begin < samples; begin += kBatch) {
+        int n = 0;
+        for (int i = begin; i < std::min(samples, begin + kBatch); ++i) {
+            const LightLiSample s =
+                sampleLi(light, origin, hammersley(std::uint32_t(i), std::uint32_t(samples), seed));
+            if (s.pdf == 0.0f) continue;
+            const float cosTheta = glm::dot(N, s.wi);
+            weight[n] = cosTheta > 0.0f ? (s.L.r + s.L.g + s.L.b) * cosTheta / s.pdf : 0.0f;
+            batch[n++] = towards(origin, s);
+        }
+        visibility.test(batch, size_t(n), visible);
+        if (rays) *rays += n;
+        for (int i = 0; i < n; ++i) {
+            total += weight[i];
+            count += 1.0;
+            if (visible[i]) {
+                seen += weight[i];
+                seenCount += 1.0;
+            }
+        }
+    }
+    if (seenCount == count) return 1.0f;
+    if (seenCount == 0.0) return 0.0f;
+    // Every sample below the horizon (a light grazing the surface): the plain fraction.
+    return float(total > 0.0 ? seen / total : seenCount / count);
+}
+
+} // namespace dhdr
