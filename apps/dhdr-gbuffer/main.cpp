@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
 #include <dhdr/deferred/scene.h>
 #include <glm/gtc/constants.hpp>
@@ -153,6 +154,8 @@ int run(int argc, char** argv) {
         }
         OIIO::ImageSpec spec = renderer.spec();
         spec.attribute("dhdr:source", scenePath);
+        if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
+            spec.attribute(gbuffer::kSceneFingerprint, sha);
         app::AtomicOutput file(tool, outPath);
         if (!file.open(spec, gbufferChannelFormats())) return false;
         // Strip by strip: each strip is traced in parallel and written while it is warm in

@@ -6,11 +6,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <dhdr/deferred/ambient_occlusion.h>
+#include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/ray_caster.h>
+#include <dhdr/deferred/scene.h>
 #include <dhdr/tonemap/sanitize.h>
 #include <filesystem>
 #include <future>
+#include <memory>
+#include <thread>
 
 using namespace dhdr;
 
@@ -18,31 +24,59 @@ namespace {
 
 int run(int argc, char** argv) {
     app::CommandLine cl(
-        "dhdr-light", "GBUFFER.exr --lights LIGHTS.json... -o FRAME.exr [options]",
+        "dhdr-light",
+        "GBUFFER.exr [--scene SCENE] [--lights LIGHTS.json...] -o FRAME.exr [options]",
         "Deferred lighting: shades every covered pixel of a G-buffer with Lambert diffuse plus\n"
         "Cook-Torrance specular (GGX, height-correlated Smith, Schlick) under point, spot,\n"
         "directional, ambient, sphere and rectangle lights (docs/lights.md), adds emission,\n"
         "and writes linear HDR RGBA. Each light is evaluated only in the tiles its screen\n"
-        "rectangle covers. Half output clamps radiance past 65504 (and says how many values);\n"
-        "--type float keeps it.");
+        "rectangle covers. With --scene (the glTF/OBJ file the G-buffer was rendered from),\n"
+        "shadow rays make lights cast hard and soft shadows, glowing surfaces light the\n"
+        "scene, and --ao rt traces ambient occlusion (docs/lighting.md). Half output clamps\n"
+        "radiance past 65504 (and says how many values); --type float keeps it.");
     std::vector<std::string> lightsPaths;
-    std::string background, dataType = "half";
-    bool bruteForce = false, aovs = false;
-    int tileSize = 16;
+    std::string background, dataType = "half", scenePath, emissive = "auto", aoMode = "off";
+    bool bruteForce = false, aovs = false, noShadows = false;
+    int tileSize = 16, shadowSamples = 16, aoSamples = 16;
+    double aoDistance = 1.0;
     cl.option("--lights", "FILE",
-              "lights file (JSON, docs/lights.md); required; repeat to add the lights of several",
+              "lights file (JSON, docs/lights.md); repeat to add the lights of several; "
+              "replaces the scene's own punctual lights; needed without --scene",
               [&](const std::string& v, std::string&) {
                   lightsPaths.push_back(v);
                   return true;
               });
+    cl.option("--scene", scenePath, "FILE",
+              "the scene the G-buffer was rendered from: shadows, emissive lights, --ao rt, and "
+              "its own lights when no --lights is given");
+    cl.flag("--no-shadows", noShadows,
+            "with --scene, trace no shadow rays (the unshadowed reference; AO is still traced)");
+    cl.option("--shadow-samples", shadowSamples, "N",
+              "points per pixel on each sphere, rectangle or emissive light, for soft shadows "
+              "(default 16)",
+              1, 4096);
+    cl.option("--emissive-lights", emissive, "on|off",
+              "with --scene, make every emissive mesh an area light (default: on)");
+    cl.option("--ao", aoMode, "off|rt|ssao",
+              "ambient occlusion of the ambient light: rt traces rays in the scene (needs "
+              "--scene), ssao works from the G-buffer alone (default off)");
+    cl.option("--ao-samples", aoSamples, "N", "AO rays or kernel points per pixel (default 16)", 1,
+              4096);
+    cl.option("--ao-distance", aoDistance, "D",
+              "rt: a hit closer than D occludes; ssao: the kernel's radius; scene units, metres "
+              "for glTF (default 1)",
+              {0.0, 1e30, true, false});
     cl.option("--background", background, "R,G,B[,A]",
               "colour where there is no surface (default: transparent black)");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
     cl.option("--tile", tileSize, "N", "tile size of the light lists in pixels (default 16)", 1,
               1024);
-    cl.flag("--aovs", aovs, "also write the G-buffer's Z and N.X N.Y N.Z channels");
+    cl.flag("--aovs", aovs, "also write the G-buffer's Z and N.X N.Y N.Z channels, and AO");
     cl.option("--type", dataType, "half|float", "pixel type of the output EXR (default half)");
-    cl.epilog("Example:\n  dhdr-light frame.gbuf.exr --lights testdata/cornell_box.lights.json "
+    cl.epilog("Examples:\n"
+              "  dhdr-light frame.gbuf.exr --lights testdata/cornell_box.lights.json "
+              "-o frame.hdr.exr\n"
+              "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --ao rt "
               "-o frame.hdr.exr");
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-light", cl);
@@ -50,9 +84,20 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-light: usage error: give one G-buffer file\n");
         return app::kExitUsage;
     }
-    if (lightsPaths.empty()) {
-        std::fprintf(stderr, "dhdr-light: usage error: no lights file (--lights FILE)\n");
+    auto usage = [](const char* message) {
+        std::fprintf(stderr, "dhdr-light: usage error: %s\n", message);
         return app::kExitUsage;
+    };
+    if (lightsPaths.empty() && scenePath.empty())
+        return usage("no lights: give --lights FILE, or --scene SCENE for the scene's own");
+    if (emissive != "auto" && emissive != "on" && emissive != "off")
+        return usage("--emissive-lights must be on or off");
+    if (aoMode != "off" && aoMode != "rt" && aoMode != "ssao")
+        return usage("--ao must be off, rt or ssao");
+    if (scenePath.empty()) {
+        if (aoMode == "rt") return usage("--ao rt traces rays in the scene: give --scene SCENE");
+        if (noShadows) return usage("--no-shadows needs --scene (without it nothing is shadowed)");
+        if (emissive != "auto") return usage("--emissive-lights needs --scene");
     }
     if (dataType != "half" && dataType != "float") {
         std::fprintf(stderr, "dhdr-light: usage error: --type must be half or float\n");
@@ -71,13 +116,53 @@ int run(int argc, char** argv) {
             params.background[i] = i < v.size() ? float(v[i]) : 1.0f;
     }
     if (aovs) params.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
+    params.shadows = !noShadows;
+    params.shadowSamples = shadowSamples;
+    params.aoSamples = aoMode == "rt" ? aoSamples : 0;
+    params.aoDistance = float(aoDistance);
+    params.writeAO = aovs && aoMode != "off";
+    SsaoParams ssao;
+    ssao.radius = float(aoDistance);
+    ssao.samples = std::min(aoSamples, 256);
+    // The scene: its triangles for shadow and AO rays, its emissive meshes and its lights.
+    Scene scene;
+    std::unique_ptr<RayCaster> caster;
+    std::string sceneSHA;
+    std::vector<Light> sceneLights;
+    if (!scenePath.empty()) {
+        const auto t = std::chrono::steady_clock::now();
+        std::string error;
+        if (!loadScene(scenePath, scene, error)) return tool.fail(error);
+        for (const std::string& warning : scene.warnings)
+            tool.info(scenePath + ": " + warning);
+        caster = std::make_unique<RayCaster>(scene);
+        if (!caster->ok()) return tool.fail(scenePath + ": " + caster->error());
+        sceneSHA = sceneFingerprint(scenePath);
+        if (lightsPaths.empty()) sceneLights = scene.lights;
+        if (emissive != "off") {
+            const std::vector<Light> glowing = emissiveLights(scene);
+            sceneLights.insert(sceneLights.end(), glowing.begin(), glowing.end());
+            tool.info(scenePath + ": " + std::to_string(glowing.size()) + " emissive mesh" +
+                      (glowing.size() == 1 ? "" : "es") + " as area lights");
+        }
+        if (lightsPaths.empty() && sceneLights.empty())
+            return tool.fail(scenePath + ": the scene has no lights and no emissive surfaces; " +
+                             "give a lights file with --lights");
+        tool.info(scenePath + ": " + std::to_string(scene.meshes.size()) + " meshes loaded in " +
+                  std::to_string(int(std::chrono::duration<double, std::milli>(
+                                         std::chrono::steady_clock::now() - t)
+                                         .count())) +
+                  " ms" + (noShadows ? "; shadows off (--no-shadows)" : ""));
+    } else {
+        tool.info("no --scene: lights are not shadowed and emissive surfaces light nothing");
+    }
     std::vector<std::string> paths = {cl.inputs()[0]};
     paths.insert(paths.end(), lightsPaths.begin(), lightsPaths.end());
     app::FramePlan plan;
     if (const int status = app::planFrames(tool, paths, plan); status >= 0) return status;
 
     auto readLights = [&](const std::vector<std::string>& files, std::vector<Light>& lights) {
-        lights.clear();
+        lights = sceneLights;
         for (const std::string& file : files) {
             std::vector<Light> more;
             std::string error;
@@ -93,8 +178,9 @@ int run(int argc, char** argv) {
     const bool animatedLights =
         std::any_of(plan.inputs.begin() + 1, plan.inputs.end(),
                     [](const app::FramePattern& p) { return p.isSequence(); });
-    std::vector<Light> lights;
+    std::vector<Light> lights = sceneLights;
     if (!animatedLights && !readLights(lightsPaths, lights)) return app::kExitFailure;
+    const LightingInputs inputs{lights, caster.get()};
 
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
@@ -128,12 +214,21 @@ int run(int argc, char** argv) {
             tool.fail(path + ": " + error);
             return false;
         }
+        if (caster) {
+            const std::string recorded = gspec.get_string_attribute(gbuffer::kSceneFingerprint);
+            if (recorded.empty())
+                tool.info(path + ": the G-buffer does not record its scene; trusting --scene");
+            else if (recorded != sceneSHA)
+                tool.warn(path + ": rendered from another scene file than " + scenePath +
+                          " (its SHA-1 differs): shadows may not match the pixels");
+        }
         // Strip by strip, whole rows of tiles at a time: memory stays at one strip of the
         // G-buffer and one of the output whatever the frame's size, and each pixel's result
         // is the same as from the whole frame (tiles are laid over the frame).
         LightingParams strips = params;
         strips.frame = OIIO::get_roi(gspec);
-        const int rows = tileSize * std::max(1, 128 / tileSize);
+        // SSAO looks at neighbouring pixels anywhere in the frame: one strip, the whole frame.
+        const int rows = aoMode == "ssao" ? gspec.height : tileSize * std::max(1, 128 / tileSize);
         std::string lightFiles;
         for (size_t i = 1; i < in.size(); ++i)
             lightFiles += (i > 1 ? ", " : "") + in[i];
@@ -177,14 +272,20 @@ int run(int argc, char** argv) {
             readMs += since(t);
             t = std::chrono::steady_clock::now();
             LightingStats strip;
-            if (!shadeGBuffer(hdr, gbuf, {lights}, strips, {}, tool.threads(), &strip)) {
+            LightingInputs stripInputs = inputs;
+            OIIO::ImageBuf ao;
+            if (aoMode == "ssao") {
+                if (!screenSpaceAO(ao, gbuf, ssao, tool.threads())) {
+                    tool.fail(path + ": " + ao.geterror());
+                    return false;
+                }
+                stripInputs.ambientOcclusion = &ao;
+            }
+            if (!shadeGBuffer(hdr, gbuf, stripInputs, strips, {}, tool.threads(), &strip)) {
                 tool.fail(path + ": " + hdr.geterror());
                 return false;
             }
-            stats.lightEvaluations += strip.lightEvaluations;
-            stats.lightsReaching += strip.lightsReaching;
-            stats.coveredPixels += strip.coveredPixels;
-            stats.tileListEntries += strip.tileListEntries;
+            stats += strip;
             shadeMs += since(t);
             t = std::chrono::steady_clock::now();
             if (y == gspec.y) {
@@ -219,6 +320,18 @@ int run(int argc, char** argv) {
                       double(stats.lightsReaching) / pixels, bruteForce ? " (brute force)" : "",
                       stats.tileListEntries);
         tool.info(line);
+        if (stats.shadowRays + stats.aoRays > 0) {
+            const double seconds = std::max(shadeMs, 1e-3) / 1000.0;
+            std::snprintf(line, sizeof line,
+                          "%lld shadow rays (%.2f per covered pixel), %lld AO rays; "
+                          "%.2f M rays/s per thread over the shading time",
+                          stats.shadowRays, double(stats.shadowRays) / pixels, stats.aoRays,
+                          double(stats.shadowRays + stats.aoRays) / seconds / 1e6 /
+                              double(tool.threads() > 0
+                                         ? tool.threads()
+                                         : int(std::thread::hardware_concurrency())));
+            tool.info(line);
+        }
         tool.info("total " + ms(since(start)) + ": read " + ms(readMs) + ", shade " + ms(shadeMs) +
                   ", write " + ms(writeMs) +
                   (reader.streamed() ? "" : " (read whole: not a scanline EXR)"));

@@ -129,25 +129,26 @@ bool viewRectangle(const Light& light, const glm::vec3& P, const glm::vec3& toCe
 
 // An emissive mesh: the exact irradiance summed over its triangles (each a polygon of
 // Lambert's formula); for the specular lobe, of the points of each triangle nearest where the
-// reflected ray meets its plane, the one closest in angle to the ray.
-bool viewMesh(const Light& light, const glm::vec3& P, const glm::vec3& N, const glm::vec3& R,
-              AreaView& v) {
+// reflected ray meets its plane, the one nearest its hit (for a flat mesh, the point of the
+// mesh nearest the hit, as for a rectangle).
+bool viewMesh(const Light& light, const glm::vec3& P, const glm::vec3& Lc, const glm::vec3& N,
+              const glm::vec3& R, AreaView& v) {
     const EmitterMesh& m = *light.mesh;
-    float bestCos = -2.0f, projected = 0.0f;
+    float best = INFINITY, projected = 0.0f;
     for (size_t t = 0; t < m.triangles(); ++t) {
         glm::vec3 tri[3] = {m.vertices[3 * t] - P, m.vertices[3 * t + 1] - P,
                             m.vertices[3 * t + 2] - P};
         v.irradiance += polygonIrradiance(N, tri, 3);
         const glm::vec3 n = glm::cross(tri[1] - tri[0], tri[2] - tri[0]); // 2 · area · normal
+        // Projected towards the light's centre, as a rectangle light's intensity is.
+        projected += 0.5f * std::abs(glm::dot(n, Lc));
         const float towards = glm::dot(n, tri[0]);
-        projected += 0.5f * std::abs(towards) / std::max(glm::length(tri[0]), 1e-20f);
         const float denom = glm::dot(R, n);
         glm::vec3 hit = (tri[0] + tri[1] + tri[2]) / 3.0f;
         if (std::abs(denom) > 1e-12f && towards / denom > 0.0f) hit = R * (towards / denom);
         const glm::vec3 q = closestPointOnTriangle(hit, tri[0], tri[1], tri[2]);
-        const float c = glm::dot(glm::normalize(q), R);
-        if (c > bestCos) {
-            bestCos = c;
+        if (const float gap = glm::length(q - hit); gap < best) {
+            best = gap;
             v.closest = q;
         }
     }
@@ -173,7 +174,7 @@ glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec
     const bool seen = light.type == LightType::Sphere ? viewSphere(light, toCentre, N, R, view)
                       : light.type == LightType::Rectangle
                           ? viewRectangle(light, P, toCentre, Lc, N, R, view)
-                          : viewMesh(light, P, N, R, view);
+                          : viewMesh(light, P, Lc, N, R, view);
     if (!seen) return glm::vec3(0.0f);
 
     glm::vec3 Lo(0.0f);

@@ -50,8 +50,8 @@ std::vector<Light> emissiveLights(const Scene& scene) {
 
         Light light;
         light.type = LightType::Mesh;
-        light.name = scene.objectNames.empty() ? "emissive mesh"
-                                               : scene.objectNames[size_t(mesh.object)];
+        light.name =
+            scene.objectNames.empty() ? "emissive mesh" : scene.objectNames[size_t(mesh.object)];
         light.color = radiance;
         light.intensity = 1.0f;
         const glm::dvec3 centre = 0.5 * (lo + hi);

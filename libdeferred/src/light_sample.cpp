@@ -36,8 +36,8 @@ LightLiSample sampleLi(const Light& light, const glm::vec3& P, glm::vec2 u) {
         const IncidentLight in = incidentLight(light, P);
         s.L = in.illuminance;
         s.wi = in.L;
-        s.distance = light.type == LightType::Directional ? INFINITY
-                                                          : glm::length(light.position - P);
+        s.distance =
+            light.type == LightType::Directional ? INFINITY : glm::length(light.position - P);
         s.pdf = 1.0f;
         s.delta = true;
         return s;
@@ -73,14 +73,15 @@ LightLiSample sampleLi(const Light& light, const glm::vec3& P, glm::vec2 u) {
     const EmitterMesh& m = *light.mesh;
     // The triangle whose share of the running area holds u.x, and u.x rescaled within it.
     const float target = u.x * m.area();
-    const size_t t = std::min(size_t(std::upper_bound(m.cdf.begin(), m.cdf.end(), target) -
-                                     m.cdf.begin()),
-                              m.triangles() - 1);
+    const size_t t =
+        std::min(size_t(std::upper_bound(m.cdf.begin(), m.cdf.end(), target) - m.cdf.begin()),
+                 m.triangles() - 1);
     const float lo = t ? m.cdf[t - 1] : 0.0f;
-    const float ux = std::clamp((target - lo) / std::max(m.cdf[t] - lo, 1e-30f), 0.0f,
-                                0x1.fffffep-1f);
+    const float ux =
+        std::clamp((target - lo) / std::max(m.cdf[t] - lo, 1e-30f), 0.0f, 0x1.fffffep-1f);
     const glm::vec2 b = uniformTriangle({ux, u.y});
-    const glm::vec3 &a = m.vertices[3 * t], &p1 = m.vertices[3 * t + 1], &p2 = m.vertices[3 * t + 2];
+    const glm::vec3 &a = m.vertices[3 * t], &p1 = m.vertices[3 * t + 1],
+                    &p2 = m.vertices[3 * t + 2];
     const glm::vec3 point = a * b.x + p1 * b.y + p2 * (1.0f - b.x - b.y);
     const glm::vec3 n = glm::normalize(glm::cross(p1 - a, p2 - a));
     return fromAreaPoint(P, point, n, m.area(), true, light.color * (light.intensity * window));

@@ -25,6 +25,9 @@ inline constexpr const char* kEmission[3] = {"emission.R", "emission.G", "emissi
 inline constexpr const char* kObjectId = "id.object";
 inline constexpr const char* kMaterialId = "id.material";
 
+// Header attribute: SHA-1 of the scene file the G-buffer was rendered from (sceneFingerprint).
+inline constexpr const char* kSceneFingerprint = "dhdr:sceneSHA1";
+
 // Index of each channel within a G-buffer's channel list (of its first component for the
 // 3-vectors, whose components must follow in X Y Z / R G B order).
 struct Layout {

@@ -11,7 +11,7 @@ struct LightLiSample {
     // Area lights: radiance arriving along wi (nit, per channel). Delta lights (point, spot,
     // directional): the illuminance they give a surface facing them (lux).
     glm::vec3 L{0.0f};
-    glm::vec3 wi{0.0f}; // unit, from the point towards the light
+    glm::vec3 wi{0.0f};    // unit, from the point towards the light
     float distance = 0.0f; // to the sampled point of the light; +∞ for a directional light
     // Density of wi per steradian; 1 for a delta light; 0 when nothing was sampled (an
     // ambient light, a point inside a sphere light, a point behind a one-sided light).

@@ -31,7 +31,9 @@ inline std::uint64_t sampleSeed(std::int64_t a, std::int64_t b, std::int64_t c =
 }
 
 // A float in [0, 1) from the top 24 bits.
-inline float unitFloat(std::uint64_t bits) { return float(bits >> 40) * 0x1p-24f; }
+inline float unitFloat(std::uint64_t bits) {
+    return float(bits >> 40) * 0x1p-24f;
+}
 
 // Van der Corput's radical inverse in base 2.
 inline float radicalInverse2(std::uint32_t i) {
@@ -47,7 +49,8 @@ inline float radicalInverse2(std::uint32_t i) {
 // elementary interval, shifted by a seed-dependent toroidal offset (Cranley-Patterson
 // rotation) so that neighbouring pixels do not share their error.
 inline glm::vec2 hammersley(std::uint32_t i, std::uint32_t n, std::uint64_t seed) {
-    const float ox = unitFloat(mixBits(seed)), oy = unitFloat(mixBits(seed ^ 0x5851f42d4c957f2dull));
+    const float ox = unitFloat(mixBits(seed)),
+                oy = unitFloat(mixBits(seed ^ 0x5851f42d4c957f2dull));
     float x = (float(i) + 0.5f) / float(n) + ox;
     float y = radicalInverse2(i) + oy;
     x -= std::floor(x);

@@ -91,4 +91,10 @@ Camera frameScene(const Scene& scene, const Camera& like, double aspect);
 // (docs/scenes.md). On failure returns false with a message in `error`.
 bool loadScene(const std::string& path, Scene& scene, std::string& error);
 
+// SHA-1 of the bytes of the scene file at `path` (40 hex digits), the fingerprint dhdr-gbuffer
+// records in the G-buffer (gbuffer::kSceneFingerprint) so that dhdr-light can tell whether
+// --scene names the file the G-buffer was rendered from. Empty when the file cannot be read.
+// Only the file named is hashed, not the buffers or textures it refers to.
+std::string sceneFingerprint(const std::string& path);
+
 } // namespace dhdr

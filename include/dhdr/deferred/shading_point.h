@@ -32,16 +32,16 @@ public:
         const float* g = channels(x, y);
         ShadingPoint s;
         s.P = glm::vec3(g[m_layout.position], g[m_layout.position + 1], g[m_layout.position + 2]);
-        s.N = glm::normalize(glm::vec3(g[m_layout.normal], g[m_layout.normal + 1],
-                                       g[m_layout.normal + 2]));
+        s.N = glm::normalize(
+            glm::vec3(g[m_layout.normal], g[m_layout.normal + 1], g[m_layout.normal + 2]));
         s.V = glm::vec3(m_camera.toEye(s.P));
         s.surface.baseColor =
             glm::vec3(g[m_layout.albedo], g[m_layout.albedo + 1], g[m_layout.albedo + 2]);
         s.surface.roughness = std::clamp(g[m_layout.roughness], 0.0f, 1.0f);
         s.surface.metallic = std::clamp(g[m_layout.metallic], 0.0f, 1.0f);
         if (m_layout.emission >= 0)
-            s.emission = glm::vec3(g[m_layout.emission], g[m_layout.emission + 1],
-                                   g[m_layout.emission + 2]);
+            s.emission =
+                glm::vec3(g[m_layout.emission], g[m_layout.emission + 1], g[m_layout.emission + 2]);
         s.coverage = g[m_layout.coverage];
         s.depth = g[m_layout.depth];
         return s;

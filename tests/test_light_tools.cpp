@@ -1,0 +1,157 @@
+// dhdr-light with the scene, run as a user runs it: shadows, emissive lights, AO, and the
+// errors of its options.
+#include "tool_test.h"
+
+#include <OpenImageIO/imagebufalgo.h>
+
+using namespace dhdr::test;
+
+namespace {
+
+const std::string kCornell = kTestdata + "/cornell_box.gltf";
+const std::string kLights = kTestdata + "/cornell_box.lights.json";
+const std::string kFill = kTestdata + "/cornell_box.fill.lights.json";
+
+class LightTools : public ToolTest {
+protected:
+    static void SetUpTestSuite() {
+        makeScratch();
+        ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 96x96 -o " + path("g.exr")).status, 0);
+    }
+
+    // Pixels of two images identical, channel by channel.
+    static bool samePixels(const ImageBuf& a, const ImageBuf& b) {
+        if (a.nchannels() != b.nchannels() || a.spec().image_pixels() != b.spec().image_pixels())
+            return false;
+        const auto* p = static_cast<const float*>(a.localpixels());
+        const auto* q = static_cast<const float*>(b.localpixels());
+        return std::equal(p, p + a.spec().image_pixels() * size_t(a.nchannels()), q);
+    }
+};
+
+} // namespace
+
+TEST_F(LightTools, SceneThatDoesNotLoadFailsNamingIt) {
+    const Result r = run("dhdr-light " + path("g.exr") + " --scene " + path("nope.gltf") +
+                         " -o " + path("x.exr"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("nope.gltf"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+    EXPECT_TRUE(noTemporaries());
+}
+
+TEST_F(LightTools, OptionsThatNeedTheSceneAreUsageErrors) {
+    for (const std::string& option : {"--ao rt", "--no-shadows", "--emissive-lights on"}) {
+        const Result r = run("dhdr-light " + path("g.exr") + " --lights " + kLights + " " +
+                             option + " -o " + path("x.exr"));
+        EXPECT_EQ(r.status, 2) << option;
+        EXPECT_NE(r.err.find("--scene"), std::string::npos) << r.err;
+    }
+    const Result none = run("dhdr-light " + path("g.exr") + " -o " + path("x.exr"));
+    EXPECT_EQ(none.status, 2);
+    EXPECT_NE(none.err.find("--lights"), std::string::npos) << none.err;
+    const Result bad = run("dhdr-light " + path("g.exr") + " --scene " + kCornell +
+                           " --ao maybe -o " + path("x.exr"));
+    EXPECT_EQ(bad.status, 2);
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+}
+
+TEST_F(LightTools, WithoutSceneNothingIsShadowedAndVerboseSaysSo) {
+    const Result r = run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -v -o " +
+                         path("plain.exr") + " --type float");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("no --scene"), std::string::npos) << r.err;
+    // --no-shadows with the scene's emissive lights off is that same unshadowed image.
+    const Result s = run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --scene " +
+                         kCornell + " --no-shadows --emissive-lights off -o " +
+                         path("noshadows.exr") + " --type float");
+    ASSERT_EQ(s.status, 0) << s.err;
+    EXPECT_TRUE(samePixels(read("plain.exr"), read("noshadows.exr")));
+    // Shadows darken some pixels and brighten none.
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --scene " + kCornell +
+                  " --emissive-lights off --type float -o " + path("shadowed.exr"))
+                  .status,
+              0);
+    const ImageBuf plain = read("plain.exr"), shadowed = read("shadowed.exr");
+    int darker = 0;
+    for (int y = 0; y < 96; ++y)
+        for (int x = 0; x < 96; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float a = plain.getchannel(x, y, 0, c), b = shadowed.getchannel(x, y, 0, c);
+                ASSERT_LE(b, a);
+                darker += b < a;
+            }
+    EXPECT_GT(darker, 500);
+}
+
+TEST_F(LightTools, TheScenesOwnLightsAndGlowingPanelLightIt) {
+    // No --lights: the scene's punctual lights plus its emissive panel.
+    const Result r = run("dhdr-light " + path("g.exr") + " --scene " + kCornell +
+                         " -v --type float -o " + path("own.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("1 emissive mesh as area lights"), std::string::npos) << r.err;
+    // The panel alone (its punctual lights replaced by an empty lights file) still lights the
+    // box: a Cornell box with no hand-written lights.
+    {
+        std::ofstream(path("none.json")) << "{\"lights\": []}\n";
+    }
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
+                  path("none.json") + " --type float -o " + path("panel.exr"))
+                  .status,
+              0);
+    OIIO::ImageBufAlgo::PixelStats lit, dark;
+    ASSERT_TRUE(OIIO::ImageBufAlgo::computePixelStats(lit, read("panel.exr")));
+    const Result off = run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
+                           path("none.json") + " --emissive-lights off --type float -o " +
+                           path("dark.exr"));
+    ASSERT_EQ(off.status, 0);
+    ASSERT_TRUE(OIIO::ImageBufAlgo::computePixelStats(dark, read("dark.exr")));
+    // Off, only the panel's own pixels glow; on, the walls, floor and blocks are lit too.
+    EXPECT_GT(lit.avg[0], 1.3 * dark.avg[0]);
+}
+
+TEST_F(LightTools, ResultsDoNotDependOnTheThreadCount) {
+    for (const int threads : {1, 2})
+        ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
+                      kLights + " --lights " + kFill +
+                      " --ao rt --aovs --shadow-samples 8 --type float --threads " +
+                      std::to_string(threads) + " -o " + path("t" + std::to_string(threads) + ".exr"))
+                      .status,
+                  0);
+    const ImageBuf a = read("t1.exr"), b = read("t2.exr");
+    EXPECT_GE(a.spec().channelindex("AO"), 4);
+    EXPECT_TRUE(samePixels(a, b));
+}
+
+TEST_F(LightTools, WarnsWhenTheSceneIsAnotherFile) {
+    const Result same = run("dhdr-light " + path("g.exr") + " --scene " + kCornell +
+                            " -o " + path("same.exr"));
+    ASSERT_EQ(same.status, 0) << same.err;
+    EXPECT_EQ(same.err.find("another scene"), std::string::npos) << same.err;
+    // The same scene with one byte more is another file.
+    fs::copy_file(kCornell, path("edited.gltf"), fs::copy_options::overwrite_existing);
+    std::ofstream(path("edited.gltf"), std::ios::app) << "\n";
+    const Result other = run("dhdr-light " + path("g.exr") + " --scene " + path("edited.gltf") +
+                             " -o " + path("other.exr"));
+    ASSERT_EQ(other.status, 0) << other.err;
+    EXPECT_NE(other.err.find("another scene"), std::string::npos) << other.err;
+}
+
+TEST_F(LightTools, ScreenSpaceAOWorksWithoutTheScene) {
+    const Result r = run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --lights " +
+                         kFill + " --ao ssao --ao-distance 0.1 --aovs --type float -o " +
+                         path("ssao.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf img = read("ssao.exr");
+    const int ao = img.spec().channelindex("AO");
+    ASSERT_GE(ao, 4);
+    OIIO::ImageBufAlgo::PixelStats stats;
+    ASSERT_TRUE(OIIO::ImageBufAlgo::computePixelStats(stats, img));
+    EXPECT_GE(stats.min[ao], 0.0f);
+    EXPECT_LE(stats.max[ao], 1.0f);
+    EXPECT_LT(stats.avg[ao], 0.99); // the box's corners are occluded
+    for (int c : {0, 1, 2, 3, ao}) {
+        EXPECT_TRUE(std::isfinite(stats.min[c]) && std::isfinite(stats.max[c])) << c;
+        EXPECT_EQ(stats.nancount[c] + stats.infcount[c], 0u) << c;
+    }
+}

@@ -1,0 +1,531 @@
+// Visibility in the lighting pass against independent answers: analytic shadow regions and
+// penumbrae, closed forms of ambient occlusion, Monte Carlo against exact irradiance, and the
+// culled pass against brute force with shadow rays.
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+#include <cmath>
+#include <dhdr/deferred/ambient_occlusion.h>
+#include <dhdr/deferred/area_light.h>
+#include <dhdr/deferred/emissive_lights.h>
+#include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/deferred/light_sample.h>
+#include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/ray_caster.h>
+#include <dhdr/deferred/sampling.h>
+#include <dhdr/deferred/scene.h>
+#include <gtest/gtest.h>
+
+using namespace dhdr;
+using OIIO::ImageBuf;
+
+namespace {
+
+const float* px(const ImageBuf& img, int x, int y) {
+    return static_cast<const float*>(img.pixeladdr(x, y));
+}
+
+// A quad a b c d (counter-clockwise seen from where its normal points) as one flat mesh.
+void addQuad(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, int material = 0) {
+    Mesh m;
+    m.positions = {a, b, c, d};
+    const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+    m.normals = {n, n, n, n};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    m.material = material;
+    scene.meshes.push_back(m);
+}
+
+// An axis-aligned box as six outward-facing quads.
+void addBox(Scene& scene, glm::vec3 lo, glm::vec3 hi) {
+    const glm::vec3 p[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z},
+                            {lo.x, hi.y, lo.z}, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z},
+                            {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}};
+    addQuad(scene, p[0], p[3], p[2], p[1]); // −z
+    addQuad(scene, p[4], p[5], p[6], p[7]); // +z
+    addQuad(scene, p[0], p[4], p[7], p[3]); // −x
+    addQuad(scene, p[1], p[2], p[6], p[5]); // +x
+    addQuad(scene, p[0], p[1], p[5], p[4]); // −y
+    addQuad(scene, p[3], p[7], p[6], p[2]); // +y
+}
+
+Scene emptyScene() {
+    Scene scene;
+    Material white;
+    white.name = "white";
+    white.baseColor = glm::vec3(0.8f);
+    white.roughness = 1.0f;
+    white.metallic = 0.0f;
+    scene.materials.push_back(white);
+    scene.objectNames = {"object"};
+    return scene;
+}
+
+// The floor y = 0 over [−s, s]², facing up.
+void addFloor(Scene& scene, float s) {
+    addQuad(scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s});
+}
+
+ImageBuf gbufferOf(const Scene& scene, const Camera& camera, int w, int h) {
+    ImageBuf gbuf;
+    GBufferParams p;
+    p.width = w;
+    p.height = h;
+    EXPECT_TRUE(renderGBuffer(gbuf, scene, camera, p)) << gbuf.geterror();
+    return gbuf;
+}
+
+ImageBuf shade(const ImageBuf& gbuf, const std::vector<Light>& lights, const Visibility* vis,
+               LightingParams p = {}, int nthreads = 0, LightingStats* stats = nullptr) {
+    ImageBuf out;
+    EXPECT_TRUE(shadeGBuffer(out, gbuf, {lights, vis}, p, {}, nthreads, stats)) << out.geterror();
+    return out;
+}
+
+glm::vec3 positionAt(const ImageBuf& gbuf, int x, int y) {
+    const float* g = px(gbuf, x, y);
+    const int c = gbuf.spec().channelindex("P.X");
+    return {g[c], g[c + 1], g[c + 2]};
+}
+
+// Does the segment from p to q pass through the box [lo, hi] (slab test in double)?
+bool segmentHitsBox(glm::dvec3 p, glm::dvec3 q, glm::dvec3 lo, glm::dvec3 hi) {
+    double t0 = 0.0, t1 = 1.0;
+    const glm::dvec3 d = q - p;
+    for (int a = 0; a < 3; ++a) {
+        if (std::abs(d[a]) < 1e-300) {
+            if (p[a] < lo[a] || p[a] > hi[a]) return false;
+            continue;
+        }
+        double ta = (lo[a] - p[a]) / d[a], tb = (hi[a] - p[a]) / d[a];
+        if (ta > tb) std::swap(ta, tb);
+        t0 = std::max(t0, ta);
+        t1 = std::min(t1, tb);
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
+struct BoxShadowCounts {
+    int shadowed = 0, lit = 0, footShadowed = 0;
+};
+
+// A box over (or on) a floor under one point light: every floor pixel whose segment to the
+// light passes through the box (shrunk by a margin) is exactly 0, every one whose segment
+// misses the box (grown by the margin) is exactly the unshadowed value.
+BoxShadowCounts checkBoxShadow(glm::vec3 lo, glm::vec3 hi) {
+    Scene scene = emptyScene();
+    addFloor(scene, 3.0f);
+    addBox(scene, lo, hi);
+    Light light;
+    light.type = LightType::Point;
+    light.position = {0.9f, 1.6f, 0.4f};
+    light.intensity = 2.0f;
+    const Camera camera = Camera::lookAt({-0.5, 3.0, 2.5}, {-0.4, 0.0, -0.2}, {0, 1, 0}, 0.9);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 240, 180);
+    const RayCaster caster(scene);
+    const ImageBuf lit = shade(gbuf, {light}, &caster);
+    const ImageBuf reference = shade(gbuf, {light}, nullptr);
+    const double margin = 1e-4;
+    const glm::dvec3 m(margin);
+    BoxShadowCounts counts;
+    for (int y = 0; y < 180; ++y)
+        for (int x = 0; x < 240; ++x) {
+            if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f)) continue;
+            const glm::dvec3 P(positionAt(gbuf, x, y));
+            if (std::abs(P.y) > 1e-6) continue; // the floor only
+            const glm::dvec3 L(light.position);
+            const float* v = px(lit, x, y);
+            const float* r = px(reference, x, y);
+            if (segmentHitsBox(P, L, glm::dvec3(lo) + m, glm::dvec3(hi) - m)) {
+                ++counts.shadowed;
+                if (v[0] != 0.0f || v[1] != 0.0f || v[2] != 0.0f) {
+                    ADD_FAILURE() << "lit inside the shadow at " << x << "," << y;
+                    return counts;
+                }
+                const double toFoot = std::min({std::abs(P.x - lo.x), std::abs(P.x - hi.x),
+                                                std::abs(P.z - lo.z), std::abs(P.z - hi.z)});
+                if (lo.y == 0.0f && toFoot < 0.01) ++counts.footShadowed;
+            } else if (!segmentHitsBox(P, L, glm::dvec3(lo) - m, glm::dvec3(hi) + m)) {
+                ++counts.lit;
+                EXPECT_GT(r[0], 0.0f);
+                if (v[0] != r[0] || v[1] != r[1] || v[2] != r[2]) {
+                    ADD_FAILURE() << "acne outside the shadow at " << x << "," << y;
+                    return counts;
+                }
+            }
+        }
+    return counts;
+}
+
+} // namespace
+
+TEST(Shadows, FloatingBoxCastsItsAnalyticShadowWithoutAcne) {
+    const BoxShadowCounts n = checkBoxShadow({-0.3f, 0.4f, -0.3f}, {0.2f, 0.8f, 0.1f});
+    EXPECT_GT(n.shadowed, 1000);
+    EXPECT_GT(n.lit, 10000);
+}
+
+TEST(Shadows, BoxOnTheFloorLeavesNoLitGapAtItsFoot) {
+    const BoxShadowCounts n = checkBoxShadow({-0.3f, 0.0f, -0.3f}, {0.2f, 0.5f, 0.1f});
+    EXPECT_GT(n.shadowed, 300);
+    // Pixels within 1 cm of the foot on the shadowed side were checked to be dark.
+    EXPECT_GT(n.footShadowed, 20);
+}
+
+// A sphere light over the straight edge of a horizontal sheet: the penumbra on the floor lies
+// between the two planes through the edge tangent to the sphere.
+TEST(Shadows, SphereLightPenumbraMatchesTheGeometricConstruction) {
+    Scene scene = emptyScene();
+    addFloor(scene, 4.0f);
+    const float h = 0.5f; // the sheet covers x < 0 at height h
+    addQuad(scene, {-4, h, -4}, {-4, h, 4}, {0, h, 4}, {0, h, -4});
+    Light light;
+    light.type = LightType::Sphere;
+    light.position = {0.3f, 1.0f, 0.0f};
+    light.radius = 0.1f;
+    light.intensity = 1.0f;
+    // Low, under the sheet, looking along −z at the floor around the shadow's edge.
+    const Camera camera = Camera::lookAt({-0.3, 0.3, 1.5}, {-0.3, 0.0, 0.0}, {0, 1, 0}, 0.7);
+    const int W = 320, H = 200;
+    const ImageBuf gbuf = gbufferOf(scene, camera, W, H);
+    const RayCaster caster(scene);
+    LightingParams p;
+    p.shadowSamples = 256;
+    const ImageBuf lit = shade(gbuf, {light}, &caster, p);
+    const ImageBuf reference = shade(gbuf, {light}, nullptr);
+
+    // The lines through the edge (0, h) tangent to the light's circle, where they meet y = 0.
+    const double ex = light.position.x, ey = light.position.y - h;
+    const double L = std::hypot(ex, ey), phi = std::atan2(ey, ex), spread = std::asin(0.1 / L);
+    double x1 = -h / std::tan(phi + spread), x2 = -h / std::tan(phi - spread);
+    if (x1 > x2) std::swap(x1, x2);
+
+    double lo = INFINITY, hi = -INFINITY, footprint = 0.0;
+    int dark = 0, full = 0, penumbra = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x + 1 < W; ++x) {
+            const glm::vec3 P = positionAt(gbuf, x, y);
+            if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f) ||
+                std::abs(P.y) > 1e-6 || std::abs(P.z) > 0.3f)
+                continue;
+            footprint = std::max(footprint, double(std::abs(positionAt(gbuf, x + 1, y).x - P.x)));
+            const float v = px(lit, x, y)[0], r = px(reference, x, y)[0];
+            ASSERT_GT(r, 0.0f) << P.x << " " << P.y << " " << P.z << " at " << x << "," << y;
+            if (P.x < x1 - 1e-3) {
+                ASSERT_EQ(v, 0.0f) << "light inside the umbra at x = " << P.x;
+                ++dark;
+            } else if (P.x > x2 + 1e-3) {
+                ASSERT_EQ(v, r) << "shadow outside the penumbra at x = " << P.x;
+                ++full;
+            }
+            if (v > 0.0f && v < r) {
+                lo = std::min(lo, double(P.x));
+                hi = std::max(hi, double(P.x));
+                ++penumbra;
+            }
+        }
+    EXPECT_GT(dark, 500);
+    EXPECT_GT(full, 500);
+    EXPECT_GT(penumbra, 500);
+    std::printf("penumbra measured [%.4f, %.4f], constructed [%.4f, %.4f], pixel %.4f\n", lo, hi,
+                x1, x2, footprint);
+    // Within two pixels of the construction at both ends.
+    EXPECT_NEAR(lo, x1, 2.0 * footprint) << "penumbra [" << lo << ", " << hi << "], expected ["
+                                         << x1 << ", " << x2 << "], pixel " << footprint;
+    EXPECT_NEAR(hi, x2, 2.0 * footprint);
+}
+
+namespace {
+
+// Ray-traced AO of the floor pixels of `scene` seen from straight above.
+ImageBuf aoFromAbove(const Scene& scene, float distance, int samples, ImageBuf& gbuf) {
+    Camera camera = Camera::lookAt({-0.5, 5.0, 0.0}, {-0.5, 0.0, 0.0}, {0, 0, -1}, 0.5);
+    camera.orthographic = true;
+    camera.ymag = 0.6;
+    gbuf = gbufferOf(scene, camera, 200, 200);
+    const RayCaster caster(scene);
+    LightingParams p;
+    p.aoSamples = samples;
+    p.aoDistance = distance;
+    p.writeAO = true;
+    return shade(gbuf, {}, &caster, p);
+}
+
+// Share of cosine-weighted directions from a floor point that reach the wall x = a within
+// distance D: those whose x component exceeds c = a / D. Integrated numerically over the
+// hemisphere in double ...
+double wallOcclusionIntegrated(double c) {
+    const int n = 1000;
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double theta = (i + 0.5) / n * M_PI / 2;
+        for (int j = 0; j < n; ++j) {
+            const double phi = (j + 0.5) / n * 2 * M_PI;
+            if (std::sin(theta) * std::cos(phi) > c) sum += std::cos(theta) * std::sin(theta);
+        }
+    }
+    return sum * (M_PI / 2 / n) * (2 * M_PI / n) / M_PI;
+}
+
+// ... and in closed form: a cosine-weighted direction projects to a uniform point of the unit
+// disk, so the share is the disk's segment beyond x = c over π.
+double wallOcclusion(double a, double D) {
+    const double c = std::min(a / D, 1.0);
+    return (std::acos(c) - c * std::sqrt(1.0 - c * c)) / M_PI;
+}
+
+} // namespace
+
+TEST(AmbientOcclusion, OpenPlaneIsExactlyOne) {
+    Scene scene = emptyScene();
+    addFloor(scene, 3.0f);
+    ImageBuf gbuf;
+    const ImageBuf ao = aoFromAbove(scene, 1.0f, 16, gbuf);
+    const int c = ao.spec().channelindex("AO");
+    ASSERT_EQ(c, 4);
+    for (int y = 0; y < 200; ++y)
+        for (int x = 0; x < 200; ++x)
+            ASSERT_EQ(px(ao, x, y)[c], 1.0f);
+}
+
+TEST(AmbientOcclusion, WallOcclusionClosedFormMatchesIntegration) {
+    for (const double c : {0.0, 0.25, 0.5, 0.8})
+        EXPECT_NEAR(wallOcclusion(c, 1.0), wallOcclusionIntegrated(c), 2e-4) << c;
+}
+
+TEST(AmbientOcclusion, FloorBesideAnInfiniteWall) {
+    // The wall x = 0 (facing −x, 1 km high and wide) beside the floor x < 0.
+    Scene scene = emptyScene();
+    addQuad(scene, {-1000, 0, -1000}, {-1000, 0, 1000}, {0, 0, 1000}, {0, 0, -1000});
+    addQuad(scene, {0, 0, -1000}, {0, 0, 1000}, {0, 1000, 1000}, {0, 1000, -1000});
+    for (const double D : {1e30, 1.0, 0.5}) {
+        ImageBuf gbuf;
+        const ImageBuf ao = aoFromAbove(scene, float(D), 16, gbuf);
+        // Bins of distance to the wall; in each the mean AO against the mean closed form.
+        constexpr int kBins = 5;
+        double got[kBins] = {}, want[kBins] = {};
+        int count[kBins] = {};
+        for (int y = 0; y < 200; ++y)
+            for (int x = 0; x < 200; ++x) {
+                const glm::vec3 P = positionAt(gbuf, x, y);
+                if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f) ||
+                    std::abs(P.y) > 1e-6 || P.x > -0.01f)
+                    continue;
+                const double a = -P.x;
+                const int bin = std::min(kBins - 1, int(a / 1.1 * kBins));
+                got[bin] += px(ao, x, y)[4];
+                want[bin] += 1.0 - wallOcclusion(a, D);
+                ++count[bin];
+            }
+        for (int b = 0; b < kBins; ++b) {
+            ASSERT_GT(count[b], 500);
+            // 16 rays per pixel, > 500 pixels per bin: the standard error is below 0.006.
+            EXPECT_NEAR(got[b] / count[b], want[b] / count[b], 0.025)
+                << "distance " << D << ", bin " << b;
+        }
+        if (D > 1e20) EXPECT_NEAR(want[0] / count[0], 0.5, 1e-3); // the closed form, ½
+    }
+}
+
+TEST(AmbientOcclusion, OccludesOnlyTheAmbientLight) {
+    Scene scene = emptyScene();
+    addQuad(scene, {-1000, 0, -1000}, {-1000, 0, 1000}, {0, 0, 1000}, {0, 0, -1000});
+    addQuad(scene, {0, 0, -1000}, {0, 0, 1000}, {0, 1000, 1000}, {0, 1000, -1000});
+    Camera camera = Camera::lookAt({-0.5, 5.0, 0.0}, {-0.5, 0.0, 0.0}, {0, 0, -1}, 0.5);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 64, 64);
+    const RayCaster caster(scene);
+    Light ambient;
+    ambient.type = LightType::Ambient;
+    ambient.intensity = 1.0f;
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f)); // away from the wall
+    sun.intensity = 3.0f;
+    LightingParams p;
+    p.aoSamples = 16;
+    p.writeAO = true;
+    p.shadows = false;
+    const ImageBuf both = shade(gbuf, {ambient, sun}, &caster, p);
+    const ImageBuf ambientOnly = shade(gbuf, {ambient}, &caster, p);
+    const ImageBuf sunOnly = shade(gbuf, {sun}, nullptr);
+    const ImageBuf open = shade(gbuf, {ambient}, nullptr);
+    int occluded = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const float ao = px(both, x, y)[4];
+            occluded += ao < 1.0f;
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_FLOAT_EQ(px(ambientOnly, x, y)[c], px(open, x, y)[c] * ao);
+                EXPECT_FLOAT_EQ(px(both, x, y)[c], px(sunOnly, x, y)[c] + px(open, x, y)[c] * ao);
+            }
+        }
+    EXPECT_GT(occluded, 1000);
+}
+
+// Σ L cos θ / pdf over many samples of each area light against its exact irradiance
+// (sphereIrradiance, polygonIrradiance): the pdfs and radiances of sampleLi are consistent.
+TEST(LightSampling, MonteCarloIrradianceMatchesTheExactValue) {
+    Light sphere;
+    sphere.type = LightType::Sphere;
+    sphere.position = {0.3f, 1.2f, -0.2f};
+    sphere.radius = 0.25f;
+    sphere.intensity = 2.0f;
+    Light rect;
+    rect.type = LightType::Rectangle;
+    rect.position = {-0.2f, 0.9f, 0.4f};
+    rect.direction = glm::normalize(glm::vec3(0.2f, -1.0f, -0.1f));
+    rect.up = glm::normalize(glm::cross(rect.direction, glm::vec3(1, 0, 0)));
+    rect.width = 0.5f;
+    rect.height = 0.3f;
+    rect.intensity = 1.5f;
+    Scene scene = emptyScene();
+    scene.materials[0].emission = glm::vec3(3.0f, 2.0f, 1.0f);
+    addQuad(scene, {-0.4f, 1.0f, -0.3f}, {0.3f, 1.1f, -0.3f}, {0.3f, 1.1f, 0.4f},
+            {-0.4f, 1.0f, 0.4f});
+    addQuad(scene, {0.5f, 0.4f, -0.3f}, {0.5f, 0.4f, 0.3f}, {0.5f, 1.0f, 0.3f},
+            {0.5f, 1.0f, -0.3f}); // a second quad: the mesh light picks triangles by area
+    scene.meshes[1].material = 0;
+    Mesh merged = scene.meshes[0];
+    for (const glm::vec3& v : scene.meshes[1].positions)
+        merged.positions.push_back(v);
+    merged.normals.insert(merged.normals.end(), scene.meshes[1].normals.begin(),
+                          scene.meshes[1].normals.end());
+    merged.triangles.push_back({4, 5, 6});
+    merged.triangles.push_back({4, 6, 7});
+    scene.meshes = {merged};
+    const std::vector<Light> glowing = emissiveLights(scene);
+    ASSERT_EQ(glowing.size(), 1u);
+    const Light& mesh = glowing[0];
+
+    const glm::vec3 P(0.0f, 0.0f, 0.0f), N = glm::normalize(glm::vec3(0.1f, 1.0f, 0.05f));
+    auto exact = [&](const Light& l) -> double {
+        if (l.type == LightType::Sphere)
+            return sphereIrradiance(N, l.position - P, l.radius) * l.intensity /
+                   (kPi * l.radius * l.radius);
+        if (l.type == LightType::Rectangle) {
+            glm::vec3 c[4];
+            rectangleCorners(l, c);
+            for (glm::vec3& v : c)
+                v -= P;
+            return polygonIrradiance(N, c, 4) * l.intensity / (l.width * l.height);
+        }
+        double e = 0.0;
+        for (size_t t = 0; t < l.mesh->triangles(); ++t) {
+            glm::vec3 v[3] = {l.mesh->vertices[3 * t] - P, l.mesh->vertices[3 * t + 1] - P,
+                              l.mesh->vertices[3 * t + 2] - P};
+            e += polygonIrradiance(N, v, 3);
+        }
+        return e * l.color.r;
+    };
+    for (const Light* l : std::initializer_list<const Light*>{&sphere, &rect, &mesh}) {
+        const int n = 1 << 18;
+        double sum = 0.0;
+        for (int i = 0; i < n; ++i) {
+            const LightLiSample s = sampleLi(*l, P, hammersley(std::uint32_t(i), n, 7));
+            if (s.pdf > 0.0f) sum += double(s.L.r) * std::max(0.0f, glm::dot(N, s.wi)) / s.pdf;
+        }
+        EXPECT_NEAR(sum / n, exact(*l), 2e-3 * exact(*l)) << lightTypeName(l->type);
+    }
+}
+
+TEST(EmissiveLights, AGlowingQuadLightsLikeTheRectangleLightItIs) {
+    Scene scene = emptyScene();
+    addFloor(scene, 2.0f);
+    Material glow;
+    glow.emission = glm::vec3(4.0f, 2.0f, 1.0f);
+    glow.baseColor = glm::vec3(0.0f);
+    scene.materials.push_back(glow);
+    // A 0.4 × 0.2 panel at y = 1 facing down.
+    addQuad(scene, {-0.2f, 1.0f, -0.1f}, {0.2f, 1.0f, -0.1f}, {0.2f, 1.0f, 0.1f},
+            {-0.2f, 1.0f, 0.1f}, 1);
+    const std::vector<Light> glowing = emissiveLights(scene);
+    ASSERT_EQ(glowing.size(), 1u);
+    EXPECT_EQ(glowing[0].type, LightType::Mesh);
+    Light rect;
+    rect.type = LightType::Rectangle;
+    rect.position = {0.0f, 1.0f, 0.0f};
+    rect.direction = {0.0f, -1.0f, 0.0f};
+    rect.up = {0.0f, 0.0f, 1.0f};
+    rect.width = 0.4f;
+    rect.height = 0.2f;
+    rect.color = glow.emission;
+    rect.intensity = 0.08f; // radiance 1 × area: candela along the normal
+    rect.range = glowing[0].range;
+    const Camera camera = Camera::lookAt({0.0, 2.5, 2.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.9);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 96, 64);
+    const ImageBuf a = shade(gbuf, glowing, nullptr), b = shade(gbuf, {rect}, nullptr);
+    int floor = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 96; ++x) {
+            if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f) ||
+                std::abs(positionAt(gbuf, x, y).y) > 1e-6)
+                continue;
+            ++floor;
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(px(a, x, y)[c], px(b, x, y)[c], 1e-4 * px(b, x, y)[c] + 1e-7);
+        }
+    EXPECT_GT(floor, 2000);
+}
+
+// With 1,000 lights and shadow rays, the culled pass equals brute force; the result does not
+// depend on the thread count or on cutting the frame into strips.
+TEST(Shadows, CulledEqualsBruteForceAndThreadsDoNotMatter) {
+    Scene scene;
+    std::string error;
+    ASSERT_TRUE(loadScene(DHDR_TESTDATA "/cornell_box.gltf", scene, error)) << error;
+    const ImageBuf gbuf = gbufferOf(scene, scene.cameras[0].camera, 160, 120);
+    const RayCaster caster(scene);
+    std::vector<Light> lights = emissiveLights(scene);
+    std::uint64_t seed = 3;
+    auto u = [&]() { return unitFloat(seed = mixBits(seed)); };
+    for (int i = 0; i < 1000; ++i) {
+        Light l;
+        l.type = i % 3 == 0 ? LightType::Sphere : i % 3 == 1 ? LightType::Spot : LightType::Point;
+        l.position = glm::vec3(0.05f + 0.45f * u(), 0.05f + 0.45f * u(), 0.05f + 0.45f * u());
+        l.direction = glm::normalize(glm::vec3(u() - 0.5f, -1.0f, u() - 0.5f));
+        l.radius = 0.01f + 0.02f * u();
+        l.intensity = 0.002f + 0.01f * u();
+        l.range = 0.05f + 0.2f * u();
+        l.color = glm::vec3(u(), u(), u());
+        lights.push_back(l);
+    }
+    Light ambient;
+    ambient.type = LightType::Ambient;
+    ambient.intensity = 0.05f;
+    lights.push_back(ambient);
+    LightingParams p;
+    p.aoSamples = 8;
+    p.shadowSamples = 4;
+    p.writeAO = true;
+    LightingStats culledStats, bruteStats;
+    const ImageBuf culled = shade(gbuf, lights, &caster, p, 2, &culledStats);
+    p.bruteForce = true;
+    const ImageBuf brute = shade(gbuf, lights, &caster, p, 2, &bruteStats);
+    p.bruteForce = false;
+    const ImageBuf oneThread = shade(gbuf, lights, &caster, p, 1);
+    EXPECT_GT(culledStats.shadowRays, 100000);
+    EXPECT_EQ(culledStats.shadowRays, bruteStats.shadowRays);
+    double worst = 0.0;
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 160; ++x)
+            for (int c = 0; c < 5; ++c) {
+                const float a = px(culled, x, y)[c], b = px(brute, x, y)[c];
+                worst = std::max(worst, std::abs(double(a) - b) / std::max(std::abs(double(b)), 1e-6));
+                ASSERT_EQ(px(oneThread, x, y)[c], a) << "thread count changed pixel " << x << "," << y;
+            }
+    EXPECT_LT(worst, 1e-5);
+    // Strips of 37 rows shade every pixel as the whole frame does.
+    LightingParams strips = p;
+    strips.frame = gbuf.roi();
+    for (int y = 0; y < 120; y += 37) {
+        const OIIO::ROI band(0, 160, y, std::min(120, y + 37), 0, 1, 0, gbuf.nchannels());
+        ImageBuf strip = OIIO::ImageBufAlgo::cut(gbuf, band);
+        strip.set_origin(0, band.ybegin);
+        const ImageBuf lit = shade(strip, lights, &caster, strips, 2);
+        for (int yy = band.ybegin; yy < band.yend; ++yy)
+            for (int x = 0; x < 160; ++x)
+                for (int c = 0; c < 5; ++c)
+                    ASSERT_EQ(px(lit, x, yy)[c], px(culled, x, yy)[c]);
+    }
+}
