@@ -40,6 +40,8 @@ demo: build
 
 bench: build
 	@python3 bench/pipeline.py --bin $(BUILD)/apps
+	@python3 bench/shadows.py --bin $(BUILD)/apps
+	@$(BUILD)/dhdr-bench-occlusion testdata/cornell_box.gltf
 
 format:
 	@clang-format -i $$(git ls-files '*.h' '*.cpp')

@@ -10,11 +10,14 @@ mkdir -p "$out"
 
 step() { echo "== $*"; "$@"; }
 # The scene's own lights (KHR_lights_punctual) travel to the lighting stage as a lights file;
-# an ambient fill is added from a second one.
+# an ambient fill is added from a second one. --scene gives the lighting stage the scene's
+# triangles: lights cast shadows, the ceiling's glowing panel lights the box (soft shadows),
+# and --ao rt occludes the ambient fill within 10 cm.
 step "$tools/dhdr-gbuffer" "$scene" --size 1024x1024 --lights-out "$out/cornell.lights.json" \
   -o "$out/cornell.gbuf.exr" -v
-step "$tools/dhdr-light" "$out/cornell.gbuf.exr" --lights "$out/cornell.lights.json" \
-  --lights "$here/testdata/cornell_box.fill.lights.json" \
+step "$tools/dhdr-light" "$out/cornell.gbuf.exr" --scene "$scene" \
+  --lights "$out/cornell.lights.json" --lights "$here/testdata/cornell_box.fill.lights.json" \
+  --ao rt --ao-distance 0.1 \
   -o "$out/cornell.hdr.exr" -v
 step "$tools/dhdr-aa" "$out/cornell.hdr.exr" --gbuffer "$out/cornell.gbuf.exr" \
   -o "$out/cornell.aa.exr" -v

@@ -32,8 +32,8 @@ protected:
 } // namespace
 
 TEST_F(LightTools, SceneThatDoesNotLoadFailsNamingIt) {
-    const Result r = run("dhdr-light " + path("g.exr") + " --scene " + path("nope.gltf") +
-                         " -o " + path("x.exr"));
+    const Result r = run("dhdr-light " + path("g.exr") + " --scene " + path("nope.gltf") + " -o " +
+                         path("x.exr"));
     EXPECT_EQ(r.status, 1);
     EXPECT_NE(r.err.find("nope.gltf"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("x.exr")));
@@ -42,8 +42,8 @@ TEST_F(LightTools, SceneThatDoesNotLoadFailsNamingIt) {
 
 TEST_F(LightTools, OptionsThatNeedTheSceneAreUsageErrors) {
     for (const std::string& option : {"--ao rt", "--no-shadows", "--emissive-lights on"}) {
-        const Result r = run("dhdr-light " + path("g.exr") + " --lights " + kLights + " " +
-                             option + " -o " + path("x.exr"));
+        const Result r = run("dhdr-light " + path("g.exr") + " --lights " + kLights + " " + option +
+                             " -o " + path("x.exr"));
         EXPECT_EQ(r.status, 2) << option;
         EXPECT_NE(r.err.find("--scene"), std::string::npos) << r.err;
     }
@@ -62,9 +62,9 @@ TEST_F(LightTools, WithoutSceneNothingIsShadowedAndVerboseSaysSo) {
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("no --scene"), std::string::npos) << r.err;
     // --no-shadows with the scene's emissive lights off is that same unshadowed image.
-    const Result s = run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --scene " +
-                         kCornell + " --no-shadows --emissive-lights off -o " +
-                         path("noshadows.exr") + " --type float");
+    const Result s =
+        run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --scene " + kCornell +
+            " --no-shadows --emissive-lights off -o " + path("noshadows.exr") + " --type float");
     ASSERT_EQ(s.status, 0) << s.err;
     EXPECT_TRUE(samePixels(read("plain.exr"), read("noshadows.exr")));
     // Shadows darken some pixels and brighten none.
@@ -92,18 +92,16 @@ TEST_F(LightTools, TheScenesOwnLightsAndGlowingPanelLightIt) {
     EXPECT_NE(r.err.find("1 emissive mesh as area lights"), std::string::npos) << r.err;
     // The panel alone (its punctual lights replaced by an empty lights file) still lights the
     // box: a Cornell box with no hand-written lights.
-    {
-        std::ofstream(path("none.json")) << "{\"lights\": []}\n";
-    }
+    { std::ofstream(path("none.json")) << "{\"lights\": []}\n"; }
     ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
                   path("none.json") + " --type float -o " + path("panel.exr"))
                   .status,
               0);
     OIIO::ImageBufAlgo::PixelStats lit, dark;
     ASSERT_TRUE(OIIO::ImageBufAlgo::computePixelStats(lit, read("panel.exr")));
-    const Result off = run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
-                           path("none.json") + " --emissive-lights off --type float -o " +
-                           path("dark.exr"));
+    const Result off =
+        run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
+            path("none.json") + " --emissive-lights off --type float -o " + path("dark.exr"));
     ASSERT_EQ(off.status, 0);
     ASSERT_TRUE(OIIO::ImageBufAlgo::computePixelStats(dark, read("dark.exr")));
     // Off, only the panel's own pixels glow; on, the walls, floor and blocks are lit too.
@@ -115,7 +113,8 @@ TEST_F(LightTools, ResultsDoNotDependOnTheThreadCount) {
         ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
                       kLights + " --lights " + kFill +
                       " --ao rt --aovs --shadow-samples 8 --type float --threads " +
-                      std::to_string(threads) + " -o " + path("t" + std::to_string(threads) + ".exr"))
+                      std::to_string(threads) + " -o " +
+                      path("t" + std::to_string(threads) + ".exr"))
                       .status,
                   0);
     const ImageBuf a = read("t1.exr"), b = read("t2.exr");
@@ -124,8 +123,8 @@ TEST_F(LightTools, ResultsDoNotDependOnTheThreadCount) {
 }
 
 TEST_F(LightTools, WarnsWhenTheSceneIsAnotherFile) {
-    const Result same = run("dhdr-light " + path("g.exr") + " --scene " + kCornell +
-                            " -o " + path("same.exr"));
+    const Result same =
+        run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " -o " + path("same.exr"));
     ASSERT_EQ(same.status, 0) << same.err;
     EXPECT_EQ(same.err.find("another scene"), std::string::npos) << same.err;
     // The same scene with one byte more is another file.
@@ -138,9 +137,9 @@ TEST_F(LightTools, WarnsWhenTheSceneIsAnotherFile) {
 }
 
 TEST_F(LightTools, ScreenSpaceAOWorksWithoutTheScene) {
-    const Result r = run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --lights " +
-                         kFill + " --ao ssao --ao-distance 0.1 --aovs --type float -o " +
-                         path("ssao.exr"));
+    const Result r =
+        run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --lights " + kFill +
+            " --ao ssao --ao-distance 0.1 --aovs --type float -o " + path("ssao.exr"));
     ASSERT_EQ(r.status, 0) << r.err;
     const ImageBuf img = read("ssao.exr");
     const int ao = img.spec().channelindex("AO");

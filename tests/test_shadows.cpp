@@ -206,8 +206,8 @@ TEST(Shadows, SphereLightPenumbraMatchesTheGeometricConstruction) {
     for (int y = 0; y < H; ++y)
         for (int x = 0; x + 1 < W; ++x) {
             const glm::vec3 P = positionAt(gbuf, x, y);
-            if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f) ||
-                std::abs(P.y) > 1e-6 || std::abs(P.z) > 0.3f)
+            if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f) || std::abs(P.y) > 1e-6 ||
+                std::abs(P.z) > 0.3f)
                 continue;
             footprint = std::max(footprint, double(std::abs(positionAt(gbuf, x + 1, y).x - P.x)));
             const float v = px(lit, x, y)[0], r = px(reference, x, y)[0];
@@ -511,8 +511,10 @@ TEST(Shadows, CulledEqualsBruteForceAndThreadsDoNotMatter) {
         for (int x = 0; x < 160; ++x)
             for (int c = 0; c < 5; ++c) {
                 const float a = px(culled, x, y)[c], b = px(brute, x, y)[c];
-                worst = std::max(worst, std::abs(double(a) - b) / std::max(std::abs(double(b)), 1e-6));
-                ASSERT_EQ(px(oneThread, x, y)[c], a) << "thread count changed pixel " << x << "," << y;
+                worst =
+                    std::max(worst, std::abs(double(a) - b) / std::max(std::abs(double(b)), 1e-6));
+                ASSERT_EQ(px(oneThread, x, y)[c], a)
+                    << "thread count changed pixel " << x << "," << y;
             }
     EXPECT_LT(worst, 1e-5);
     // Strips of 37 rows shade every pixel as the whole frame does.

@@ -112,6 +112,10 @@ bool RayCaster::occluded(const glm::vec3& origin, const glm::vec3& direction, fl
 }
 
 void RayCaster::test(const ShadowRay* rays, size_t count, bool* visible) const {
+    if (count == 1) {
+        visible[0] = !occluded(rays[0].origin, rays[0].direction, rays[0].tmax);
+        return;
+    }
     constexpr size_t kBatch = 64;
     RTCRay batch[kBatch];
     for (size_t begin = 0; begin < count; begin += kBatch) {

