@@ -2,8 +2,8 @@
 #include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/ambient_occlusion.h>
-#include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/sampling.h>
+#include <dhdr/deferred/shading_point.h>
 #include <vector>
 
 namespace dhdr {
@@ -44,28 +44,16 @@ float smoothstep01(float x) {
 
 bool screenSpaceAO(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const SsaoParams& params,
                    int nthreads) {
-    const OIIO::ImageSpec& in = gbuf.spec();
-    gbuffer::Layout layout;
-    std::string missing;
-    if (!gbuffer::findLayout(in, layout, missing)) {
-        dst.errorfmt("no channel '{}' — is this a G-buffer?", missing);
-        return false;
-    }
-    gbuffer::CameraInfo camera;
-    if (std::string error; !gbuffer::readCamera(in, camera, error)) {
-        dst.errorfmt("{}", error);
-        return false;
-    }
     if (!(params.radius > 0.0f) || params.samples < 1 || params.samples > 256) {
         dst.errorfmt("SSAO radius must be positive and samples 1-256");
         return false;
     }
-    OIIO::ImageBuf floatCopy;
-    const OIIO::ImageBuf* src = &gbuf;
-    if (in.format != OIIO::TypeDesc::FLOAT || !gbuf.localpixels()) {
-        floatCopy = gbuf.copy(OIIO::TypeDesc::FLOAT);
-        src = &floatCopy;
-    }
+    GBufferPixels g;
+    if (!openGBuffer(gbuf, g, dst)) return false;
+    const OIIO::ImageSpec& in = gbuf.spec();
+    const gbuffer::Layout& layout = g.layout;
+    const gbuffer::CameraInfo& camera = g.camera;
+    const OIIO::ImageBuf* src = g.pixels;
     const int W = in.width, H = in.height;
     const size_t nch = size_t(in.nchannels);
     const float* pixels = static_cast<const float*>(src->localpixels());

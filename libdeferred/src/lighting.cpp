@@ -54,17 +54,11 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                   const LightingParams& params, OIIO::ROI roi, int nthreads, LightingStats* stats) {
     const std::vector<Light>& lights = inputs.lights;
     const OIIO::ImageSpec& in = gbuf.spec();
-    gbuffer::Layout layout;
-    std::string missing;
-    if (!gbuffer::findLayout(in, layout, missing)) {
-        dst.errorfmt("no channel '{}' — is this a G-buffer?", missing);
-        return false;
-    }
-    gbuffer::CameraInfo camera;
-    if (std::string error; !gbuffer::readCamera(in, camera, error)) {
-        dst.errorfmt("{}", error);
-        return false;
-    }
+    GBufferPixels g;
+    if (!openGBuffer(gbuf, g, dst)) return false;
+    const gbuffer::Layout& layout = g.layout;
+    const gbuffer::CameraInfo& camera = g.camera;
+    const OIIO::ImageBuf* src = g.pixels;
     std::vector<int> passIndex;
     for (const std::string& name : params.passThrough) {
         const int c = in.channelindex(name);
@@ -95,12 +89,6 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
          !ao->roi().contains(OIIO::ROI(roi.xbegin, roi.xend, roi.ybegin, roi.yend, 0, 1, 0, 1)))) {
         dst.errorfmt("the AO image does not cover the pixels shaded");
         return false;
-    }
-    OIIO::ImageBuf floatCopy;
-    const OIIO::ImageBuf* src = &gbuf;
-    if (in.format != OIIO::TypeDesc::FLOAT || !gbuf.localpixels()) {
-        floatCopy = gbuf.copy(OIIO::TypeDesc::FLOAT);
-        src = &floatCopy;
     }
 
     const int extra = params.writeAO ? 1 : 0;

@@ -18,6 +18,18 @@ struct ShadingPoint {
     float depth = 0.0f;    // Z
 };
 
+// What every pass over a G-buffer needs first: its channels, its camera and its pixels as
+// float in memory (the G-buffer itself when it already is, else `floatCopy`).
+struct GBufferPixels {
+    gbuffer::Layout layout;
+    gbuffer::CameraInfo camera;
+    OIIO::ImageBuf floatCopy;
+    const OIIO::ImageBuf* pixels = nullptr;
+};
+
+// Fills `out` from `gbuffer`; false with the error on `errors` (a missing channel, no camera).
+bool openGBuffer(const OIIO::ImageBuf& gbuffer, GBufferPixels& out, OIIO::ImageBuf& errors);
+
 // Reads shading points out of a float G-buffer held in memory (e.g. one strip of a frame).
 class GBufferView {
 public:
