@@ -15,14 +15,16 @@ float rayTracedOcclusion(const glm::vec3& P, const glm::vec3& N, std::uint64_t s
     glm::vec3 t, b;
     orthonormalBasis(N, t, b);
     constexpr int kBatch = 64;
-    ShadowRay batch[kBatch];
+    // Per thread, so that the rays are not value-initialized again at every pixel.
+    thread_local ShadowRay batch[kBatch];
     bool visible[kBatch];
+    const RotatedHammersley sequence(seed);
     int open = 0;
     for (int begin = 0; begin < samples; begin += kBatch) {
         const int n = std::min(kBatch, samples - begin);
         for (int i = 0; i < n; ++i) {
-            const glm::vec3 d = cosineHemisphere(
-                hammersley(std::uint32_t(begin + i), std::uint32_t(samples), seed));
+            const glm::vec3 d =
+                cosineHemisphere(sequence(std::uint32_t(begin + i), std::uint32_t(samples)));
             batch[i] = {origin, glm::normalize(t * d.x + b * d.y + N * d.z), distance};
         }
         visibility.test(batch, size_t(n), visible);

@@ -25,7 +25,9 @@ float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N
         return visibility.unoccluded(towards(origin, s)) ? 1.0f : 0.0f;
     }
     constexpr int kBatch = 64;
-    ShadowRay batch[kBatch];
+    // Per thread, so that the rays are not value-initialized again at every pixel.
+    thread_local ShadowRay batch[kBatch];
+    const RotatedHammersley sequence(seed);
     float weight[kBatch];
     bool visible[kBatch];
     // Sums in double, in sample order: the same value for any thread count.
@@ -34,7 +36,7 @@ float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N
         int n = 0;
         for (int i = begin; i < std::min(samples, begin + kBatch); ++i) {
             const LightLiSample s =
-                sampleLi(light, origin, hammersley(std::uint32_t(i), std::uint32_t(samples), seed));
+                sampleLi(light, origin, sequence(std::uint32_t(i), std::uint32_t(samples)));
             if (s.pdf == 0.0f) continue;
             const float cosTheta = glm::dot(N, s.wi);
             weight[n] = cosTheta > 0.0f ? (s.L.r + s.L.g + s.L.b) * cosTheta / s.pdf : 0.0f;

@@ -45,18 +45,28 @@ inline float radicalInverse2(std::uint32_t i) {
     return float(i >> 8) * 0x1p-24f;
 }
 
-// Sample i of n of a Hammersley point set (i / n, radical inverse of i), stratified in every
-// elementary interval, shifted by a seed-dependent toroidal offset (Cranley-Patterson
-// rotation) so that neighbouring pixels do not share their error.
+// A Hammersley point set (i / n, radical inverse of i), stratified in every elementary
+// interval, shifted by a seed-dependent toroidal offset (Cranley-Patterson rotation) so that
+// neighbouring pixels do not share their error. The offset is drawn once per set.
+struct RotatedHammersley {
+    float ox, oy;
+
+    explicit RotatedHammersley(std::uint64_t seed)
+        : ox(unitFloat(mixBits(seed))), oy(unitFloat(mixBits(seed ^ 0x5851f42d4c957f2dull))) {}
+
+    // Sample i of n.
+    glm::vec2 operator()(std::uint32_t i, std::uint32_t n) const {
+        float x = (float(i) + 0.5f) / float(n) + ox;
+        float y = radicalInverse2(i) + oy;
+        x -= std::floor(x);
+        y -= std::floor(y);
+        // Keep strictly below 1 after rounding.
+        return {std::min(x, 0x1.fffffep-1f), std::min(y, 0x1.fffffep-1f)};
+    }
+};
+
 inline glm::vec2 hammersley(std::uint32_t i, std::uint32_t n, std::uint64_t seed) {
-    const float ox = unitFloat(mixBits(seed)),
-                oy = unitFloat(mixBits(seed ^ 0x5851f42d4c957f2dull));
-    float x = (float(i) + 0.5f) / float(n) + ox;
-    float y = radicalInverse2(i) + oy;
-    x -= std::floor(x);
-    y -= std::floor(y);
-    // Keep strictly below 1 after rounding.
-    return {std::min(x, 0x1.fffffep-1f), std::min(y, 0x1.fffffep-1f)};
+    return RotatedHammersley(seed)(i, n);
 }
 
 // An orthonormal basis with `n` as its third axis (Duff et al. 2017, "Building an
