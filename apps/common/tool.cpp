@@ -247,24 +247,19 @@ void Tool::reportNonFinite(const std::string& path, const NonFiniteCount& n,
          (zeroNegative ? ", " + std::to_string(n.negative) + " negative → 0)" : ")"));
 }
 
-bool Tool::writeText(const std::string& text, const std::string& path) const {
+bool Tool::writeAtomically(const std::string& path,
+                           const std::function<bool(const std::string&, std::string&)>& write) const {
     const fs::path target(path);
     removeStaleTemporaries(target);
     const fs::path temporary = temporaryFor(target, getpid());
     TemporaryRegistry::instance().add(temporary.string());
     std::error_code ec;
-    auto forget = [&] {
+    std::string error;
+    if (!write(temporary.string(), error)) {
         fs::remove(temporary, ec);
         TemporaryRegistry::instance().remove(temporary.string());
-    };
-    {
-        std::ofstream out(temporary, std::ios::binary);
-        out << text;
-        if (!out.flush()) {
-            forget();
-            fail(path + ": cannot write");
-            return false;
-        }
+        fail(path + ": cannot write" + (error.empty() ? "" : ": " + error));
+        return false;
     }
     fs::rename(temporary, target, ec);
     TemporaryRegistry::instance().remove(temporary.string());
@@ -274,6 +269,14 @@ bool Tool::writeText(const std::string& text, const std::string& path) const {
         return false;
     }
     return true;
+}
+
+bool Tool::writeText(const std::string& text, const std::string& path) const {
+    return writeAtomically(path, [&](const std::string& temporary, std::string&) {
+        std::ofstream out(temporary, std::ios::binary);
+        out << text;
+        return bool(out.flush());
+    });
 }
 
 AtomicOutput::AtomicOutput(const Tool& tool, std::string path)

@@ -56,6 +56,10 @@ public:
 
     // Writes a small text file (a lights file) as AtomicOutput writes images: temporary
     // name, then rename.
+    // Writes `path` through `write`, which fills the temporary it is given (keeping the
+    // extension) and returns false with a reason; renamed into place only when complete.
+    bool writeAtomically(const std::string& path,
+                         const std::function<bool(const std::string&, std::string&)>& write) const;
     bool writeText(const std::string& text, const std::string& path) const;
 
     const CommandLine& commandLine() const { return m_cl; }

@@ -166,10 +166,23 @@ int run(int argc, char** argv) {
         for (const std::string& file : files) {
             std::vector<Light> more;
             std::string error;
-            if (!readLightsFile(file, more, error)) {
+            std::vector<std::string> warnings;
+            const auto t = std::chrono::steady_clock::now();
+            if (!readLightsFile(file, more, error, warnings)) {
                 tool.fail(error);
                 return false;
             }
+            for (const std::string& warning : warnings)
+                tool.warn(warning);
+            const bool environment =
+                std::any_of(more.begin(), more.end(),
+                            [](const Light& l) { return l.type == LightType::Environment; });
+            if (environment)
+                tool.info(file + ": read with its environment images in " +
+                          std::to_string(int(std::chrono::duration<double, std::milli>(
+                                                 std::chrono::steady_clock::now() - t)
+                                                 .count())) +
+                          " ms (a raw image is baked on reading; dhdr-ibl bakes it once)");
             lights.insert(lights.end(), more.begin(), more.end());
         }
         return true;

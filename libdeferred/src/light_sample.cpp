@@ -31,7 +31,7 @@ LightLiSample fromAreaPoint(const glm::vec3& P, const glm::vec3& point, const gl
 
 LightLiSample sampleLi(const Light& light, const glm::vec3& P, glm::vec2 u) {
     LightLiSample s;
-    if (light.type == LightType::Ambient) return s;
+    if (light.type == LightType::Ambient || light.type == LightType::Environment) return s;
     if (!light.isArea()) {
         const IncidentLight in = incidentLight(light, P);
         s.L = in.illuminance;

@@ -160,9 +160,16 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                                            params.aoDistance, *inputs.visibility, &localAO);
                 // Lo = Le + Σ V_i L_i, in the order of the lights; with AO, the ambient
                 // terms are summed apart and occluded at the end.
-                glm::vec3 Lo = sp.emission, ambient(0.0f);
+                glm::vec3 Lo = sp.emission, ambient(0.0f), environmentSpecular(0.0f);
                 auto addLight = [&](std::uint32_t i) {
                     const Light& light = lights[i];
+                    if (light.type == LightType::Environment && aoActive) {
+                        // AO occludes the diffuse part, specular occlusion the specular.
+                        const IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
+                        ambient += e.diffuse;
+                        environmentSpecular += e.specular;
+                        return;
+                    }
                     glm::vec3 c = shadeLight(light, sp.surface, sp.P, sp.N, sp.V);
                     if (light.type == LightType::Ambient) {
                         if (aoActive) {
@@ -197,7 +204,11 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                         addLight(e.light);
                     }
                 }
-                if (aoActive) Lo += ambient * occlusion;
+                if (aoActive)
+                    Lo += ambient * occlusion +
+                          environmentSpecular *
+                              specularOcclusion(std::max(glm::dot(sp.N, sp.V), 0.0f), occlusion,
+                                                sp.surface.roughness);
                 ++localCovered;
                 out[0] = Lo.r;
                 out[1] = Lo.g;

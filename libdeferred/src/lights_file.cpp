@@ -2,7 +2,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/lights.h>
+#include <map>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -85,8 +87,11 @@ Light parseLight(const json& j, size_t index) {
         light.type = LightType::Sphere;
     else if (type == "rectangle")
         light.type = LightType::Rectangle;
+    else if (type == "environment")
+        light.type = LightType::Environment;
     else
-        r.fail("type", "must be point, spot, directional, ambient, sphere or rectangle, not \"" +
+        r.fail("type", "must be point, spot, directional, ambient, sphere, rectangle or "
+                       "environment, not \"" +
                            type + "\"");
 
     if (j.contains("name")) {
@@ -98,6 +103,13 @@ Light parseLight(const json& j, size_t index) {
         r.fail("color", "must not be negative");
     light.intensity = r.number("intensity", 1.0f);
     if (light.intensity < 0) r.fail("intensity", "must not be negative");
+    if (light.type == LightType::Environment) {
+        if (!j.contains("image") || !j.at("image").is_string() ||
+            j.at("image").get<std::string>().empty())
+            r.fail("image", "is required: the path of an equirectangular HDR image");
+        light.image = j.at("image").get<std::string>();
+        light.rotation = r.number("rotation", 0.0f) * 3.14159265358979f / 180.0f;
+    }
 
     if (light.isLocal()) {
         light.position = r.vec3("position", glm::vec3(0.0f), true);
@@ -161,6 +173,8 @@ const char* lightTypeName(LightType t) {
         return "rectangle";
     case LightType::Mesh:
         return "emissive mesh";
+    case LightType::Environment:
+        return "environment";
     }
     return "point";
 }
@@ -220,7 +234,8 @@ bool parseLights(const std::string& text, std::vector<Light>& lights, std::strin
     return true;
 }
 
-bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::string& error) {
+bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::string& error,
+                    std::vector<std::string>& warnings) {
     std::error_code ec;
     if (std::filesystem::is_directory(path, ec)) {
         error = path + ": is a folder, not a lights file";
@@ -241,6 +256,33 @@ bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::st
     if (!parseLights(text, lights, error)) {
         error = path + ": " + error;
         return false;
+    }
+    // Environment images: relative to the lights file's folder, baked once per image.
+    const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+    std::map<std::string, std::shared_ptr<const Ibl>> baked;
+    for (size_t i = 0; i < lights.size(); ++i) {
+        Light& light = lights[i];
+        if (light.type != LightType::Environment) continue;
+        const std::filesystem::path image(light.image);
+        light.image = image.is_absolute() ? image.string() : (folder / image).string();
+        std::shared_ptr<const Ibl>& ibl = baked[light.image];
+        if (!ibl) {
+            auto loaded = std::make_shared<Ibl>();
+            bool bakedHere = false;
+            std::string why;
+            long long replaced = 0;
+            if (!loadIbl(light.image, IblBakeParams{}, *loaded, bakedHere, why, &replaced)) {
+                error = path + ": light " + std::to_string(i) +
+                        (light.name.empty() ? "" : " \"" + light.name + "\"") +
+                        ": environment image " + light.image + ": " + why;
+                return false;
+            }
+            if (replaced > 0)
+                warnings.push_back(light.image + ": " + std::to_string(replaced) +
+                                   " NaN or infinite texel values replaced by 0");
+            ibl = std::move(loaded);
+        }
+        light.ibl = ibl;
     }
     return true;
 }
@@ -287,6 +329,10 @@ std::string formatLights(const std::vector<Light>& lights) {
             j["outerConeAngle"] = shortest(l.outerConeAngle);
         }
         if (l.type == LightType::Sphere) j["radius"] = shortest(l.radius);
+        if (l.type == LightType::Environment) {
+            j["image"] = l.image;
+            j["rotation"] = shortest(l.rotation * 180.0f / 3.14159265f);
+        }
         if (l.type == LightType::Rectangle) {
             j["width"] = shortest(l.width);
             j["height"] = shortest(l.height);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <dhdr/deferred/area_light.h>
 #include <dhdr/deferred/brdf.h>
+#include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/lights.h>
 
 namespace dhdr {
@@ -54,6 +55,24 @@ inline IncidentLight incidentLight(const Light& light, const glm::vec3& P) {
                          std::cos(light.outerConeAngle));
     in.illuminance = light.color * e;
     return in;
+}
+
+// A direction of the scene in an environment light's own frame: the image turned by
+// `rotation` about +Y (right-handed) is read at R_y(−rotation) · d.
+inline glm::vec3 intoEnvironment(const Light& light, const glm::vec3& d) {
+    const float c = std::cos(light.rotation), s = std::sin(light.rotation);
+    return {c * d.x - s * d.z, d.y, s * d.x + c * d.z};
+}
+
+// The diffuse and specular light an environment light reflects towards V (ibl.h), in the
+// light's colour and intensity.
+inline IblShading shadeEnvironment(const Light& light, const PbrSurface& s, const glm::vec3& N,
+                                   const glm::vec3& V) {
+    IblShading r = shadeIbl(*light.ibl, s, intoEnvironment(light, N), intoEnvironment(light, V));
+    const glm::vec3 k = light.color * light.intensity;
+    r.diffuse *= k;
+    r.specular *= k;
+    return r;
 }
 
 // Radiance reflected towards V from `light` at a surface point.

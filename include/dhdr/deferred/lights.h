@@ -11,7 +11,10 @@ namespace dhdr {
 
 // Mesh: an emissive surface of the scene made a light (emissive_lights.h); it has no entry in
 // lights files.
-enum class LightType { Point, Spot, Directional, Ambient, Sphere, Rectangle, Mesh };
+// Environment: an equirectangular HDR image of the light arriving from every direction (ibl.h).
+enum class LightType { Point, Spot, Directional, Ambient, Sphere, Rectangle, Mesh, Environment };
+
+struct Ibl;
 
 // The triangles of an emissive mesh in world space, 3 vertices each; they emit from both
 // faces, as Blender's Emission shader does.
@@ -50,9 +53,17 @@ struct Light {
     // Mesh: the emitting triangles; `color` × `intensity` is their radiance (nit), `position`
     // the centre of their bounding sphere, whose radius is `radius`.
     std::shared_ptr<const EmitterMesh> mesh;
+    // Environment: the image as the lights file names it, resolved against the file's folder;
+    // its turn about +Y (radians, counter-clockwise seen from above); and its bake.
+    std::string image;
+    float rotation = 0.0f;
+    std::shared_ptr<const Ibl> ibl;
 
     // A light with a position, bounded by its range (all but directional and ambient).
-    bool isLocal() const { return type != LightType::Directional && type != LightType::Ambient; }
+    bool isLocal() const {
+        return type != LightType::Directional && type != LightType::Ambient &&
+               type != LightType::Environment;
+    }
     // A light with an extent, shaded from its exact irradiance and soft-shadowed by samples.
     bool isArea() const {
         return type == LightType::Sphere || type == LightType::Rectangle || type == LightType::Mesh;
@@ -66,8 +77,11 @@ const char* lightTypeName(LightType type);
 // light's index and field (`light 3: "range" must be a positive number`).
 bool parseLights(const std::string& json, std::vector<Light>& lights, std::string& error);
 
-// Reads and parses a lights file; errors name the file.
-bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::string& error);
+// Reads and parses a lights file; errors name the file. Environment images are read (relative
+// to the file's folder) and baked, or read as baked (ibl.h); what was repaired in them (NaN
+// texels) is added to `warnings`.
+bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::string& error,
+                    std::vector<std::string>& warnings);
 
 // The lights file text for `lights` (what dhdr-gbuffer --lights-out writes); emissive meshes
 // are left out.

@@ -1,0 +1,75 @@
+// dhdr-ibl: bakes an equirectangular HDR environment for image-based lighting (docs/ibl.md).
+#include "../common/tool.h"
+
+#include <chrono>
+#include <cstdio>
+#include <dhdr/deferred/ibl.h>
+
+using namespace dhdr;
+
+namespace {
+
+int run(int argc, char** argv) {
+    app::CommandLine cl(
+        "dhdr-ibl", "ENV.exr -o ENV.ibl.exr [options]",
+        "Bakes an equirectangular HDR environment (2:1, any format OpenImageIO reads) for\n"
+        "dhdr-light's environment lights, as Filament's cmgen does: diffuse irradiance as 9\n"
+        "spherical harmonics, a chain of GGX-prefiltered levels (one roughness per level,\n"
+        "importance-sampled with the source mip chosen by each sample's pdf), and the\n"
+        "split-sum DFG table with the multiple-scattering terms. One multi-part EXR: the\n"
+        "levels as subimages, then the DFG table; the SH and parameters in the header.");
+    IblBakeParams p;
+    cl.option("--levels", p.levels, "N", "prefiltered levels, roughness 0 to 1 (default 6)", 2, 16);
+    cl.option("--base-width", p.baseWidth, "W",
+              "width of level 1; each later level is half as wide (default 256)", 8, 4096);
+    cl.option("--samples", p.samples, "N", "GGX samples per texel (default 128)", 1, 65536);
+    cl.option("--dfg-size", p.dfgSize, "N", "side of the DFG table (default 128)", 2, 1024);
+    cl.option("--dfg-samples", p.dfgSamples, "N", "samples per DFG entry (default 1024)", 1,
+              65536);
+    cl.epilog("Example:\n  dhdr-ibl studio.exr -o studio.ibl.exr\n"
+              "  then in a lights file: {\"type\": \"environment\", \"image\": "
+              "\"studio.ibl.exr\"}");
+    if (const int status = cl.parse(argc, argv); status >= 0) return status;
+    app::Tool tool("dhdr-ibl", cl);
+    if (cl.inputs().size() != 1 || cl.output().empty()) {
+        std::fprintf(stderr, "dhdr-ibl: usage error: give one environment and -o OUTPUT\n");
+        return app::kExitUsage;
+    }
+    const std::string& path = cl.inputs()[0];
+    const auto t0 = std::chrono::steady_clock::now();
+    EnvironmentImage env;
+    std::string error;
+    long long replaced = 0;
+    if (!readEnvironmentImage(path, env, error, &replaced)) return tool.fail(path + ": " + error);
+    if (replaced > 0)
+        tool.warn(path + ": " + std::to_string(replaced) +
+                  " NaN or infinite texel values replaced by 0");
+    const auto t1 = std::chrono::steady_clock::now();
+    Ibl ibl;
+    if (!bakeIbl(env, p, ibl, error, tool.threads())) return tool.fail(path + ": " + error);
+    const auto t2 = std::chrono::steady_clock::now();
+    if (!tool.writeAtomically(cl.output(), [&](const std::string& temporary, std::string& why) {
+            return writeIbl(temporary, ibl, why);
+        }))
+        return app::kExitFailure;
+    const auto t3 = std::chrono::steady_clock::now();
+    auto ms = [](auto a, auto b) {
+        return std::to_string(int(std::chrono::duration<double, std::milli>(b - a).count())) +
+               " ms";
+    };
+    char line[200];
+    std::snprintf(line, sizeof line,
+                  "%dx%d environment; %d levels from %d wide, %d samples per texel; DFG %d² at "
+                  "%d samples",
+                  env.width, env.height, p.levels, p.baseWidth, p.samples, p.dfgSize,
+                  p.dfgSamples);
+    tool.info(line);
+    tool.info("read " + ms(t0, t1) + ", bake " + ms(t1, t2) + ", write " + ms(t2, t3));
+    return app::kExitSuccess;
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    return app::guardedMain("dhdr-ibl", [&] { return run(argc, argv); });
+}

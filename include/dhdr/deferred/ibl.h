@@ -1,0 +1,79 @@
+// Image-based lighting (docs/ibl.md): an environment pre-integrated for the split-sum
+// approximation, as Filament's cmgen bakes it.
+#pragma once
+
+#include <array>
+#include <dhdr/deferred/brdf.h>
+#include <dhdr/deferred/environment.h>
+#include <string>
+#include <vector>
+
+namespace dhdr {
+
+struct IblBakeParams {
+    // Prefiltered levels, roughness k / (levels − 1) at level k; 2–16. Level 0 is the
+    // environment itself (a mirror).
+    int levels = 6;
+    // Width of level 1, texels (halved at each level after it, at least 8); 8–4096.
+    int baseWidth = 256;
+    // GGX importance samples per texel of levels ≥ 1; 1–65536.
+    int samples = 128;
+    // Side of the DFG table and samples per entry.
+    int dfgSize = 128;
+    int dfgSamples = 1024;
+};
+
+// The baked environment.
+struct Ibl {
+    IblBakeParams params;
+    // Irradiance as 9 spherical harmonics (bands 0–2) per colour, already convolved with the
+    // clamped cosine (Ramamoorthi & Hanrahan 2001): E(n) = Σ sh[i] · Y_i(n).
+    std::array<glm::vec3, 9> sh{};
+    // Prefiltered radiance per level (level 0: the environment at full resolution).
+    std::vector<EnvironmentImage> levels;
+    // The split-sum DFG table, dfgSize² entries indexed [roughness][N·V] (texel centres):
+    // x = ∫ f/F · cos · (1 − v·h)⁵, y = ∫ f/F · cos (Karis 2013 with the multiple-scattering
+    // form of Fdez-Agüera 2019): specular = F0 · (y − x) + x, and y is the single-scattering
+    // albedo of a white metal.
+    std::vector<glm::vec2> dfg;
+
+    glm::vec3 irradiance(const glm::vec3& n) const;
+    // Prefiltered radiance along R at a roughness, linear between the two nearest levels.
+    glm::vec3 prefiltered(const glm::vec3& R, float roughness) const;
+    glm::vec2 dfgAt(float NdotV, float roughness) const;
+};
+
+// The 9 real spherical harmonics Y_0^0 … Y_2^2 at a unit direction.
+std::array<float, 9> shBasis(const glm::vec3& d);
+
+// Bakes `env` (in its own frame; a light's rotation turns directions at shading) into `ibl`.
+// Deterministic: the same result for any `nthreads`. False with `error` on bad parameters.
+bool bakeIbl(const EnvironmentImage& env, const IblBakeParams& params, Ibl& ibl,
+             std::string& error, int nthreads = 0);
+
+// The DFG terms at one (N·V, roughness) by importance sampling GGX with `samples` points.
+glm::vec2 integrateDFG(float NdotV, float roughness, int samples);
+
+// Writes `ibl` as one EXR: subimage k is prefiltered level k ("specular" with its roughness
+// in dhdr:roughness), the last subimage the DFG table; the SH coefficients (dhdr:irradianceSH,
+// 27 floats) and the bake's parameters are in every header.
+bool writeIbl(const std::string& path, const Ibl& ibl, std::string& error);
+
+// Reads an environment for lighting: a file written by writeIbl as it is, or any 2:1 image,
+// baked here with `params`. `baked` says which it was; `replaced` counts NaN/Inf texels.
+bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, bool& baked,
+             std::string& error, long long* replaced = nullptr, int nthreads = 0);
+
+// Light reflected towards V from an environment seen through `ibl`: diffuse =
+// c_diff · E(n) / π, specular = prefiltered(R, roughness) · (F0 (y − x) + x) · (1 + F0 (1/y − 1))
+// (the multiple-scattering energy compensation).
+struct IblShading {
+    glm::vec3 diffuse{0.0f}, specular{0.0f};
+};
+IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, const glm::vec3& V);
+
+// Specular occlusion from ambient occlusion (Lagarde & de Rousiers 2014, "Moving Frostbite to
+// PBR", eq. 51): saturate((N·V + ao)^(2^(−16 roughness − 1)) − 1 + ao); 1 where ao is 1.
+float specularOcclusion(float NdotV, float ao, float roughness);
+
+} // namespace dhdr

@@ -1,0 +1,102 @@
+#include <OpenImageIO/imagebuf.h>
+#include <algorithm>
+#include <cmath>
+#include <dhdr/deferred/brdf.h>
+#include <dhdr/deferred/environment.h>
+
+namespace dhdr {
+
+glm::vec2 equirectUV(const glm::vec3& d) {
+    const float u = 0.5f + std::atan2(d.z, d.x) / (2.0f * kPi);
+    const float t = std::acos(std::clamp(d.y, -1.0f, 1.0f)) / kPi;
+    return {u, t};
+}
+
+glm::vec3 equirectDirection(glm::vec2 uv) {
+    const float phi = (uv.x - 0.5f) * 2.0f * kPi, theta = uv.y * kPi;
+    const float s = std::sin(theta);
+    return {s * std::cos(phi), std::cos(theta), s * std::sin(phi)};
+}
+
+glm::vec3 EnvironmentImage::bilinear(glm::vec2 uv) const {
+    const float fx = uv.x * float(width) - 0.5f, fy = uv.y * float(height) - 0.5f;
+    const float x0f = std::floor(fx), y0f = std::floor(fy);
+    const float ax = fx - x0f, ay = fy - y0f;
+    auto wrapX = [&](int x) { return ((x % width) + width) % width; };
+    auto clampY = [&](int y) { return std::clamp(y, 0, height - 1); };
+    const int x0 = wrapX(int(x0f)), x1 = wrapX(int(x0f) + 1);
+    const int y0 = clampY(int(y0f)), y1 = clampY(int(y0f) + 1);
+    return glm::mix(glm::mix(texel(x0, y0), texel(x1, y0), ax),
+                    glm::mix(texel(x0, y1), texel(x1, y1), ax), ay);
+}
+
+double EnvironmentImage::texelSolidAngle(int y) const {
+    // Δφ (cos θ0 − cos θ1): the rows' solid angles add up to exactly 4π.
+    const double pi = 3.14159265358979323846;
+    const double t0 = pi * double(y) / double(height), t1 = pi * double(y + 1) / double(height);
+    return 2.0 * pi / double(width) * (std::cos(t0) - std::cos(t1));
+}
+
+EnvironmentImage EnvironmentImage::downsampled() const {
+    EnvironmentImage half;
+    half.width = std::max(1, width / 2);
+    half.height = std::max(1, height / 2);
+    half.rgb.assign(size_t(half.width) * size_t(half.height) * 3, 0.0f);
+    for (int y = 0; y < half.height; ++y)
+        for (int x = 0; x < half.width; ++x) {
+            glm::dvec3 sum(0.0);
+            double weight = 0.0;
+            for (int dy = 0; dy < 2; ++dy)
+                for (int dx = 0; dx < 2; ++dx) {
+                    const int sx = std::min(2 * x + dx, width - 1);
+                    const int sy = std::min(2 * y + dy, height - 1);
+                    const double w = texelSolidAngle(sy);
+                    sum += glm::dvec3(texel(sx, sy)) * w;
+                    weight += w;
+                }
+            const glm::vec3 v(sum / std::max(weight, 1e-300));
+            float* p = &half.rgb[3 * (size_t(y) * size_t(half.width) + size_t(x))];
+            p[0] = v.r;
+            p[1] = v.g;
+            p[2] = v.b;
+        }
+    return half;
+}
+
+bool readEnvironmentImage(const std::string& path, EnvironmentImage& env, std::string& error,
+                          long long* replaced, int subimage) {
+    OIIO::ImageBuf img(path, subimage, 0);
+    if (!img.read(subimage, 0, true, OIIO::TypeDesc::FLOAT)) {
+        error = "cannot read: " + img.geterror();
+        return false;
+    }
+    const OIIO::ImageSpec& spec = img.spec();
+    if (spec.deep) {
+        error = "a deep image is not an environment";
+        return false;
+    }
+    if (spec.width != 2 * spec.height || spec.height < 2) {
+        error = "an equirectangular environment is twice as wide as it is high; this one is " +
+                std::to_string(spec.width) + "x" + std::to_string(spec.height);
+        return false;
+    }
+    env.width = spec.width;
+    env.height = spec.height;
+    env.rgb.assign(size_t(env.width) * size_t(env.height) * 3, 0.0f);
+    long long bad = 0;
+    const int nch = spec.nchannels;
+    const float* src = static_cast<const float*>(img.localpixels());
+    for (size_t i = 0; i < size_t(env.width) * size_t(env.height); ++i)
+        for (int c = 0; c < 3; ++c) {
+            float v = src[i * size_t(nch) + size_t(std::min(c, nch - 1))];
+            if (!std::isfinite(v)) {
+                v = 0.0f;
+                ++bad;
+            }
+            env.rgb[3 * i + size_t(c)] = v;
+        }
+    if (replaced) *replaced = bad;
+    return true;
+}
+
+} // namespace dhdr

@@ -1,0 +1,349 @@
+#include <OpenImageIO/imagebufalgo_util.h>
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
+#include <cmath>
+#include <dhdr/common/parallel.h>
+#include <dhdr/deferred/ibl.h>
+#include <dhdr/deferred/sampling.h>
+
+namespace dhdr {
+
+std::array<float, 9> shBasis(const glm::vec3& d) {
+    const float x = d.x, y = d.y, z = d.z;
+    return {0.282095f,
+            0.488603f * y,
+            0.488603f * z,
+            0.488603f * x,
+            1.092548f * x * y,
+            1.092548f * y * z,
+            0.315392f * (3.0f * z * z - 1.0f),
+            1.092548f * x * z,
+            0.546274f * (x * x - y * y)};
+}
+
+namespace {
+
+// A GGX half vector about +Z for u in [0, 1)² (Walter et al. 2007, eq. 35–36).
+glm::vec3 sampleGgxHalf(glm::vec2 u, float alpha) {
+    const float a2 = alpha * alpha;
+    const float cosTheta = std::sqrt((1.0f - u.x) / (1.0f + (a2 - 1.0f) * u.x));
+    const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    const float phi = 2.0f * kPi * u.y;
+    return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
+}
+
+// Level k's roughness.
+float levelRoughness(int k, int levels) { return float(k) / float(levels - 1); }
+
+// Prefilters one level: for each texel direction R (with N = V = R, the split sum's
+// assumption), the GGX-weighted mean of the environment, Σ L(l) N·l / Σ N·l over importance
+// samples, each read from the source mip whose texels match the sample's solid angle
+// (Křivánek & Colbert 2008: lod = ½ log₂(Ωs / Ωp) + 1).
+EnvironmentImage prefilter(const std::vector<EnvironmentImage>& mips, int width, float roughness,
+                           int samples, int nthreads) {
+    EnvironmentImage out;
+    out.width = width;
+    out.height = width / 2;
+    out.rgb.assign(size_t(out.width) * size_t(out.height) * 3, 0.0f);
+    const float alpha = std::max(roughness * roughness, kMinAlpha);
+    const double texelOmega = 4.0 * 3.14159265358979 / (double(mips[0].width) * mips[0].height);
+    // The samples in the lobe's frame, the same for every texel.
+    struct Sample {
+        glm::vec3 l;
+        float weight, lod;
+    };
+    std::vector<Sample> lobe;
+    for (int i = 0; i < samples; ++i) {
+        const glm::vec3 h = sampleGgxHalf(hammersley(std::uint32_t(i), std::uint32_t(samples), 0),
+                                          alpha);
+        const glm::vec3 l = 2.0f * h.z * h - glm::vec3(0, 0, 1);
+        if (l.z <= 0.0f) continue;
+        // pdf(l) = D(h) (n·h) / (4 v·h) = D(h) / 4 with n = v.
+        const float pdf = ggxDistribution(h.z, alpha) / 4.0f;
+        const double omegaS = 1.0 / (double(samples) * std::max(pdf, 1e-20f));
+        const float lod = std::max(0.0f, float(0.5 * std::log2(omegaS / texelOmega)) + 1.0f);
+        lobe.push_back({l, l.z, std::min(lod, float(mips.size() - 1))});
+    }
+    auto lookup = [&](const glm::vec3& d, float lod) {
+        const int l0 = int(lod);
+        const int l1 = std::min(l0 + 1, int(mips.size()) - 1);
+        const glm::vec2 uv = equirectUV(d);
+        return glm::mix(mips[size_t(l0)].bilinear(uv), mips[size_t(l1)].bilinear(uv),
+                        lod - float(l0));
+    };
+    OIIO::parallel_for(0, out.height, [&](int64_t y) {
+        for (int x = 0; x < out.width; ++x) {
+            const glm::vec3 R = equirectDirection(
+                {(float(x) + 0.5f) / float(out.width), (float(y) + 0.5f) / float(out.height)});
+            glm::vec3 t, b;
+            orthonormalBasis(R, t, b);
+            glm::dvec3 sum(0.0);
+            double weight = 0.0;
+            for (const Sample& s : lobe) {
+                const glm::vec3 d = t * s.l.x + b * s.l.y + R * s.l.z;
+                sum += glm::dvec3(lookup(d, s.lod)) * double(s.weight);
+                weight += s.weight;
+            }
+            const glm::vec3 v(sum / std::max(weight, 1e-300));
+            float* p = &out.rgb[3 * (size_t(y) * size_t(out.width) + size_t(x))];
+            p[0] = v.r;
+            p[1] = v.g;
+            p[2] = v.b;
+        }
+    }, perItem(nthreads));
+    return out;
+}
+
+} // namespace
+
+glm::vec2 integrateDFG(float NdotV, float roughness, int samples) {
+    const float alpha = std::max(roughness * roughness, kMinAlpha);
+    const glm::vec3 V(std::sqrt(std::max(0.0f, 1.0f - NdotV * NdotV)), 0.0f, NdotV);
+    double x = 0.0, y = 0.0;
+    for (int i = 0; i < samples; ++i) {
+        const glm::vec3 H = sampleGgxHalf(hammersley(std::uint32_t(i), std::uint32_t(samples), 0),
+                                          alpha);
+        const float VdotH = glm::dot(V, H);
+        const glm::vec3 L = 2.0f * VdotH * H - V;
+        if (L.z <= 0.0f || VdotH <= 0.0f) continue;
+        // f cos / pdf with pdf = D (n·h) / (4 v·h): Vis · 4 (v·h) (n·l) / (n·h), F left out.
+        const double g = double(smithGgxCorrelatedVisibility(L.z, NdotV, alpha)) * 4.0 *
+                         VdotH * L.z / H.z;
+        const double fc = std::pow(1.0 - VdotH, 5.0);
+        x += g * fc;
+        y += g;
+    }
+    return {float(x / samples), float(y / samples)};
+}
+
+glm::vec3 Ibl::irradiance(const glm::vec3& n) const {
+    const std::array<float, 9> Y = shBasis(n);
+    glm::vec3 e(0.0f);
+    for (int i = 0; i < 9; ++i)
+        e += sh[size_t(i)] * Y[size_t(i)];
+    return glm::max(e, glm::vec3(0.0f));
+}
+
+glm::vec3 Ibl::prefiltered(const glm::vec3& R, float roughness) const {
+    const float f = std::clamp(roughness, 0.0f, 1.0f) * float(levels.size() - 1);
+    const int k0 = std::min(int(f), int(levels.size()) - 1);
+    const int k1 = std::min(k0 + 1, int(levels.size()) - 1);
+    const glm::vec2 uv = equirectUV(R);
+    const glm::vec3 a = levels[size_t(k0)].bilinear(uv);
+    if (k1 == k0) return a;
+    return glm::mix(a, levels[size_t(k1)].bilinear(uv), f - float(k0));
+}
+
+glm::vec2 Ibl::dfgAt(float NdotV, float roughness) const {
+    const int n = params.dfgSize;
+    const float fx = std::clamp(NdotV, 0.0f, 1.0f) * float(n) - 0.5f;
+    const float fy = std::clamp(roughness, 0.0f, 1.0f) * float(n) - 0.5f;
+    const int x0 = std::clamp(int(std::floor(fx)), 0, n - 1), y0 = std::clamp(int(std::floor(fy)), 0, n - 1);
+    const int x1 = std::min(x0 + 1, n - 1), y1 = std::min(y0 + 1, n - 1);
+    const float ax = std::clamp(fx - float(x0), 0.0f, 1.0f), ay = std::clamp(fy - float(y0), 0.0f, 1.0f);
+    auto at = [&](int x, int y) { return dfg[size_t(y) * size_t(n) + size_t(x)]; };
+    return glm::mix(glm::mix(at(x0, y0), at(x1, y0), ax), glm::mix(at(x0, y1), at(x1, y1), ax), ay);
+}
+
+bool bakeIbl(const EnvironmentImage& env, const IblBakeParams& p, Ibl& ibl, std::string& error,
+             int nthreads) {
+    if (p.levels < 2 || p.levels > 16 || p.baseWidth < 8 || p.baseWidth > 4096 ||
+        p.samples < 1 || p.samples > 65536 || p.dfgSize < 2 || p.dfgSize > 1024 ||
+        p.dfgSamples < 1 || p.dfgSamples > 65536) {
+        error = "IBL bake parameters out of range";
+        return false;
+    }
+    if (env.width != 2 * env.height || env.height < 2) {
+        error = "the environment is not a 2:1 equirectangular image";
+        return false;
+    }
+    ibl.params = p;
+
+    // (a) Irradiance SH: project the radiance (texel solid angles, in double, row by row in
+    // a fixed order), then convolve with the clamped cosine: Â = π, 2π/3, π/4.
+    std::vector<std::array<glm::dvec3, 9>> rows(size_t(env.height));
+    OIIO::parallel_for(0, env.height, [&](int64_t y) {
+        std::array<glm::dvec3, 9> acc{};
+        const double omega = env.texelSolidAngle(int(y));
+        for (int x = 0; x < env.width; ++x) {
+            const glm::vec3 d = equirectDirection(
+                {(float(x) + 0.5f) / float(env.width), (float(y) + 0.5f) / float(env.height)});
+            const std::array<float, 9> Y = shBasis(d);
+            const glm::dvec3 L(env.texel(x, int(y)));
+            for (int i = 0; i < 9; ++i)
+                acc[size_t(i)] += L * (double(Y[size_t(i)]) * omega);
+        }
+        rows[size_t(y)] = acc;
+    }, perItem(nthreads));
+    std::array<glm::dvec3, 9> total{};
+    for (const auto& r : rows)
+        for (int i = 0; i < 9; ++i)
+            total[size_t(i)] += r[size_t(i)];
+    const double pi = 3.14159265358979323846;
+    const double band[9] = {pi, 2 * pi / 3, 2 * pi / 3, 2 * pi / 3, pi / 4,
+                            pi / 4, pi / 4, pi / 4, pi / 4};
+    for (int i = 0; i < 9; ++i)
+        ibl.sh[size_t(i)] = glm::vec3(total[size_t(i)] * band[i]);
+
+    // (b) The prefiltered chain, from a mip pyramid of the environment.
+    std::vector<EnvironmentImage> mips = {env};
+    while (mips.back().height > 4)
+        mips.push_back(mips.back().downsampled());
+    ibl.levels.clear();
+    ibl.levels.push_back(env);
+    for (int k = 1; k < p.levels; ++k) {
+        const int width = std::max(8, p.baseWidth >> (k - 1));
+        ibl.levels.push_back(prefilter(mips, width, levelRoughness(k, p.levels), p.samples, nthreads));
+    }
+
+    // (c) The DFG table.
+    ibl.dfg.assign(size_t(p.dfgSize) * size_t(p.dfgSize), glm::vec2(0.0f));
+    OIIO::parallel_for(0, p.dfgSize, [&](int64_t j) {
+        for (int i = 0; i < p.dfgSize; ++i)
+            ibl.dfg[size_t(j) * size_t(p.dfgSize) + size_t(i)] =
+                integrateDFG((float(i) + 0.5f) / float(p.dfgSize),
+                             (float(j) + 0.5f) / float(p.dfgSize), p.dfgSamples);
+    }, perItem(nthreads));
+    return true;
+}
+
+IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, const glm::vec3& V) {
+    IblShading out;
+    const float NdotV = std::max(glm::dot(N, V), 1e-4f);
+    out.diffuse = s.diffuseColor() * ibl.irradiance(N) * (1.0f / kPi);
+    const glm::vec3 R = glm::reflect(-V, N);
+    const glm::vec2 dfg = ibl.dfgAt(NdotV, s.roughness);
+    const glm::vec3 F0 = s.F0();
+    const glm::vec3 single = F0 * (dfg.y - dfg.x) + glm::vec3(dfg.x);
+    const glm::vec3 compensation = glm::vec3(1.0f) + F0 * (1.0f / std::max(dfg.y, 1e-4f) - 1.0f);
+    out.specular = ibl.prefiltered(R, s.roughness) * single * compensation;
+    return out;
+}
+
+float specularOcclusion(float NdotV, float ao, float roughness) {
+    return std::clamp(std::pow(NdotV + ao, std::exp2(-16.0f * roughness - 1.0f)) - 1.0f + ao,
+                      0.0f, 1.0f);
+}
+
+namespace {
+
+constexpr const char* kShAttribute = "dhdr:irradianceSH";
+
+void setParams(OIIO::ImageSpec& spec, const Ibl& ibl) {
+    // OpenEXR's parts share one display window: level 0's.
+    spec.full_x = spec.full_y = 0;
+    spec.full_width = ibl.levels.empty() ? spec.width : ibl.levels[0].width;
+    spec.full_height = ibl.levels.empty() ? spec.height : ibl.levels[0].height;
+    std::vector<float> sh;
+    for (const glm::vec3& c : ibl.sh)
+        sh.insert(sh.end(), {c.r, c.g, c.b});
+    spec.attribute(kShAttribute, OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 27), sh.data());
+    spec.attribute("dhdr:iblLevels", ibl.params.levels);
+    spec.attribute("dhdr:iblBaseWidth", ibl.params.baseWidth);
+    spec.attribute("dhdr:iblSamples", ibl.params.samples);
+    spec.attribute("dhdr:dfgSize", ibl.params.dfgSize);
+    spec.attribute("dhdr:dfgSamples", ibl.params.dfgSamples);
+}
+
+} // namespace
+
+bool writeIbl(const std::string& path, const Ibl& ibl, std::string& error) {
+    std::vector<OIIO::ImageSpec> specs;
+    for (size_t k = 0; k < ibl.levels.size(); ++k) {
+        OIIO::ImageSpec spec(ibl.levels[k].width, ibl.levels[k].height, 3, OIIO::TypeDesc::FLOAT);
+        spec.channelnames = {"R", "G", "B"};
+        spec.attribute("oiio:subimagename", "specular" + std::to_string(k));
+        spec.attribute("dhdr:roughness", levelRoughness(int(k), int(ibl.levels.size())));
+        spec.attribute("compression", "zip");
+        setParams(spec, ibl);
+        specs.push_back(spec);
+    }
+    OIIO::ImageSpec dfg(ibl.params.dfgSize, ibl.params.dfgSize, 2, OIIO::TypeDesc::FLOAT);
+    dfg.channelnames = {"dfg.x", "dfg.y"};
+    dfg.attribute("oiio:subimagename", "dfg");
+    setParams(dfg, ibl);
+    specs.push_back(dfg);
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out || !out->supports("multiimage")) {
+        error = "cannot write a multi-part EXR here";
+        return false;
+    }
+    if (!out->open(path, int(specs.size()), specs.data())) {
+        error = out->geterror();
+        return false;
+    }
+    for (size_t k = 0; k < specs.size(); ++k) {
+        if (k > 0 && !out->open(path, specs[k], OIIO::ImageOutput::AppendSubimage)) {
+            error = out->geterror();
+            return false;
+        }
+        const void* data = k < ibl.levels.size() ? static_cast<const void*>(ibl.levels[k].rgb.data())
+                                                 : static_cast<const void*>(ibl.dfg.data());
+        if (!out->write_image(OIIO::TypeDesc::FLOAT, data)) {
+            error = out->geterror();
+            return false;
+        }
+    }
+    if (!out->close()) {
+        error = out->geterror();
+        return false;
+    }
+    return true;
+}
+
+bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, bool& baked,
+             std::string& error, long long* replaced, int nthreads) {
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) {
+        error = "cannot read: " + OIIO::geterror();
+        return false;
+    }
+    const OIIO::ImageSpec first = in->spec();
+    const OIIO::ParamValue* sh = first.find_attribute(kShAttribute);
+    baked = false;
+    if (!sh || sh->type() != OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 27)) {
+        in->close();
+        EnvironmentImage env;
+        if (!readEnvironmentImage(path, env, error, replaced)) return false;
+        baked = true;
+        return bakeIbl(env, params, ibl, error, nthreads);
+    }
+    const float* c = static_cast<const float*>(sh->data());
+    for (int i = 0; i < 9; ++i)
+        ibl.sh[size_t(i)] = glm::vec3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
+    ibl.params.levels = first.get_int_attribute("dhdr:iblLevels");
+    ibl.params.baseWidth = first.get_int_attribute("dhdr:iblBaseWidth");
+    ibl.params.samples = first.get_int_attribute("dhdr:iblSamples");
+    ibl.params.dfgSize = first.get_int_attribute("dhdr:dfgSize");
+    ibl.params.dfgSamples = first.get_int_attribute("dhdr:dfgSamples");
+    in->close();
+    if (ibl.params.levels < 2 || ibl.params.dfgSize < 2) {
+        error = "a baked IBL file without its levels";
+        return false;
+    }
+    ibl.levels.clear();
+    long long bad = 0;
+    for (int k = 0; k < ibl.params.levels; ++k) {
+        EnvironmentImage level;
+        long long n = 0;
+        if (!readEnvironmentImage(path, level, error, &n, k)) return false;
+        bad += n;
+        ibl.levels.push_back(std::move(level));
+    }
+    OIIO::ImageBuf dfg(path, ibl.params.levels, 0);
+    if (!dfg.read(ibl.params.levels, 0, true, OIIO::TypeDesc::FLOAT) ||
+        dfg.spec().width != ibl.params.dfgSize || dfg.spec().height != ibl.params.dfgSize ||
+        dfg.nchannels() != 2) {
+        error = "a baked IBL file without its DFG table";
+        return false;
+    }
+    const float* p = static_cast<const float*>(dfg.localpixels());
+    ibl.dfg.assign(p == nullptr ? 0 : size_t(ibl.params.dfgSize) * size_t(ibl.params.dfgSize),
+                   glm::vec2(0.0f));
+    for (size_t i = 0; i < ibl.dfg.size(); ++i)
+        ibl.dfg[i] = {p[2 * i], p[2 * i + 1]};
+    if (replaced) *replaced = bad;
+    return true;
+}
+
+} // namespace dhdr
