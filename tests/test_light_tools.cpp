@@ -154,3 +154,75 @@ TEST_F(LightTools, ScreenSpaceAOWorksWithoutTheScene) {
         EXPECT_EQ(stats.nancount[c] + stats.infcount[c], 0u) << c;
     }
 }
+
+namespace {
+
+// A 2:1 sky written with OpenImageIO: brighter up, warmer towards +X.
+void writeSky(const std::string& path, int width) {
+    OIIO::ImageBuf sky(OIIO::ImageSpec(width, width / 2, 3, OIIO::TypeDesc::FLOAT));
+    for (int y = 0; y < width / 2; ++y)
+        for (int x = 0; x < width; ++x) {
+            const float up = std::cos(float(M_PI) * (y + 0.5f) / float(width / 2));
+            const float v[3] = {0.6f + 0.3f * up + 0.2f * float(x) / float(width),
+                                0.7f + 0.35f * up, 0.9f + 0.6f * up};
+            sky.setpixel(x, y, v);
+        }
+    ASSERT_TRUE(sky.write(path));
+}
+
+} // namespace
+
+TEST_F(LightTools, EnvironmentLightRawOrBakedGivesTheSameFrame) {
+    writeSky(path("sky.exr"), 256);
+    ASSERT_EQ(run("dhdr-gbuffer " + kCornell +
+                  " --lookat 0.28,0.4,-1.6,0.28,0.27,0.28 --fov 50 --size 80x60 -o " +
+                  path("outside.exr"))
+                  .status,
+              0);
+    const Result bake = run("dhdr-ibl " + path("sky.exr") + " -o " + path("sky.ibl.exr") + " -v");
+    ASSERT_EQ(bake.status, 0) << bake.err;
+    EXPECT_NE(bake.err.find("bake"), std::string::npos);
+    {
+        std::ofstream(path("raw.json"))
+            << R"({"lights": [{"type": "environment", "image": "sky.exr", "rotation": 30}]})";
+        std::ofstream(path("baked.json"))
+            << R"({"lights": [{"type": "environment", "image": "sky.ibl.exr", "rotation": 30}]})";
+    }
+    const Result raw = run("dhdr-light " + path("outside.exr") + " --lights " + path("raw.json") +
+                           " --background env --type float -v -o " + path("env_raw.exr"));
+    ASSERT_EQ(raw.status, 0) << raw.err;
+    EXPECT_NE(raw.err.find("environment images in"), std::string::npos) << raw.err;
+    ASSERT_EQ(run("dhdr-light " + path("outside.exr") + " --lights " + path("baked.json") +
+                  " --background env --type float -o " + path("env_baked.exr"))
+                  .status,
+              0);
+    const ImageBuf a = read("env_raw.exr"), b = read("env_baked.exr");
+    EXPECT_TRUE(samePixels(a, b));
+    // The background is the sky, opaque; the box is lit by it.
+    const ImageBuf g = read("outside.exr");
+    int background = 0;
+    for (int y = 0; y < 60; ++y)
+        for (int x = 0; x < 80; ++x) {
+            const bool covered = g.getchannel(x, y, 0, g.spec().channelindex("A")) > 0.0f;
+            EXPECT_EQ(a.getchannel(x, y, 0, 3), 1.0f);
+            EXPECT_GT(a.getchannel(x, y, 0, 2), 0.0f);
+            background += !covered;
+        }
+    EXPECT_GT(background, 500);
+}
+
+TEST_F(LightTools, EnvironmentThatCannotBeReadIsAnErrorNamingIt) {
+    std::ofstream(path("gone.json"))
+        << R"({"lights": [{"type": "environment", "image": "gone.hdr"}]})";
+    const Result r = run("dhdr-light " + path("g.exr") + " --lights " + path("gone.json") + " -o " +
+                         path("x.exr"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("gone.json"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("gone.hdr"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+    const Result ibl = run("dhdr-ibl " + path("gone.hdr") + " -o " + path("x.ibl.exr"));
+    EXPECT_EQ(ibl.status, 1);
+    EXPECT_NE(ibl.err.find("gone.hdr"), std::string::npos) << ibl.err;
+    EXPECT_FALSE(fs::exists(path("x.ibl.exr")));
+    EXPECT_TRUE(noTemporaries());
+}

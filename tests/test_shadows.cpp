@@ -9,11 +9,14 @@
 #include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/deferred/ibl.h>
+#include <dhdr/deferred/light_eval.h>
 #include <dhdr/deferred/light_sample.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/shading_point.h>
 #include <gtest/gtest.h>
 
 using namespace dhdr;
@@ -530,4 +533,117 @@ TEST(Shadows, CulledEqualsBruteForceAndThreadsDoNotMatter) {
                 for (int c = 0; c < 5; ++c)
                     ASSERT_EQ(px(lit, x, yy)[c], px(culled, x, yy)[c]);
     }
+}
+
+namespace {
+
+// An environment that is black but for a small bright sun around `sun`.
+std::shared_ptr<const Ibl> sunOnlyEnvironment(const glm::vec3& sun) {
+    EnvironmentImage env;
+    env.width = 512;
+    env.height = 256;
+    env.rgb.assign(size_t(512) * 256 * 3, 0.0f);
+    const glm::vec2 uv = equirectUV(sun);
+    const int sx = int(uv.x * 512), sy = int(uv.y * 256);
+    for (int y = sy - 1; y <= sy; ++y)
+        for (int x = sx - 1; x <= sx; ++x)
+            for (int c = 0; c < 3; ++c)
+                env.rgb[3 * (size_t(y) * 512 + size_t(x)) + size_t(c)] = 5000.0f;
+    auto ibl = std::make_shared<Ibl>();
+    std::string error;
+    EXPECT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
+    return ibl;
+}
+
+} // namespace
+
+// A box over a floor under an environment that is one small sun: with environment shadow rays,
+// the floor is exactly unlit where the way to the sun passes through the box (shrunk by more
+// than the sun's penumbra) and exactly the unshadowed value where it misses the grown box.
+TEST(EnvironmentShadows, ASunInTheEnvironmentCastsTheBoxesShadow) {
+    Scene scene = emptyScene();
+    addFloor(scene, 3.0f);
+    const glm::vec3 lo(-0.3f, 0.4f, -0.3f), hi(0.2f, 0.8f, 0.1f);
+    addBox(scene, lo, hi);
+    const glm::vec3 sun = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));
+    Light light;
+    light.type = LightType::Environment;
+    light.ibl = sunOnlyEnvironment(sun);
+    // Its direction in the scene: the texels' centre, as the sampler sees them.
+    const glm::vec2 uv = equirectUV(sun);
+    const glm::vec3 centre =
+        equirectDirection({std::floor(uv.x * 512) / 512, std::floor(uv.y * 256) / 256});
+    const Camera camera = Camera::lookAt({-0.5, 3.0, 2.5}, {-0.4, 0.0, -0.2}, {0, 1, 0}, 0.9);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 200, 150);
+    const RayCaster caster(scene);
+    LightingParams p;
+    p.environmentSamples = 16;
+    const ImageBuf lit = shade(gbuf, {light}, &caster, p);
+    const ImageBuf reference = shade(gbuf, {light}, nullptr);
+    // The sun spans two texels (0.7° each): at most 2 cm of penumbra at 1 m.
+    const glm::dvec3 m(0.03);
+    int dark = 0, bright = 0;
+    for (int y = 0; y < 150; ++y)
+        for (int x = 0; x < 200; ++x) {
+            if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f)) continue;
+            const glm::dvec3 P(positionAt(gbuf, x, y));
+            if (std::abs(P.y) > 1e-6) continue;
+            const glm::dvec3 far = P + glm::dvec3(centre) * 10.0;
+            const float* v = px(lit, x, y);
+            const float* r = px(reference, x, y);
+            if (segmentHitsBox(P, far, glm::dvec3(lo) + m, glm::dvec3(hi) - m)) {
+                ++dark;
+                ASSERT_EQ(v[0], 0.0f) << x << "," << y;
+            } else if (!segmentHitsBox(P, far, glm::dvec3(lo) - m, glm::dvec3(hi) + m)) {
+                ++bright;
+                ASSERT_GT(r[0], 0.0f);
+                ASSERT_EQ(v[0], r[0]) << x << "," << y;
+            }
+        }
+    EXPECT_GT(dark, 150);
+    EXPECT_GT(bright, 5000);
+}
+
+// AO scales the environment's diffuse light and, by Lagarde's specular occlusion, its
+// specular light.
+TEST(EnvironmentShadows, AmbientOcclusionOccludesTheEnvironment) {
+    Scene scene = emptyScene();
+    addQuad(scene, {-1000, 0, -1000}, {-1000, 0, 1000}, {0, 0, 1000}, {0, 0, -1000});
+    addQuad(scene, {0, 0, -1000}, {0, 0, 1000}, {0, 1000, 1000}, {0, 1000, -1000});
+    Camera camera = Camera::lookAt({-0.5, 5.0, 0.0}, {-0.5, 0.0, 0.0}, {0, 0, -1}, 0.5);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 48, 48);
+    const RayCaster caster(scene);
+    EnvironmentImage env;
+    env.width = 64;
+    env.height = 32;
+    env.rgb.assign(64 * 32 * 3, 1.0f);
+    auto ibl = std::make_shared<Ibl>();
+    std::string error;
+    ASSERT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
+    Light light;
+    light.type = LightType::Environment;
+    light.ibl = ibl;
+    LightingParams p;
+    p.aoSamples = 16;
+    p.writeAO = true;
+    const ImageBuf occluded = shade(gbuf, {light}, &caster, p);
+    const GBufferPixels g = [&] {
+        GBufferPixels out;
+        ImageBuf errors;
+        EXPECT_TRUE(openGBuffer(gbuf, out, errors));
+        return out;
+    }();
+    const GBufferView view(*g.pixels, g.layout, g.camera);
+    int partial = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 48; ++x) {
+            if (view.samples(x, y) == 0) continue;
+            const ShadingPoint sp = view.at(x, y);
+            const float ao = px(occluded, x, y)[4];
+            const IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
+            const float so = specularOcclusion(glm::dot(sp.N, sp.V), ao, sp.surface.roughness);
+            EXPECT_NEAR(px(occluded, x, y)[0], e.diffuse.r * ao + e.specular.r * so, 1e-5f);
+            partial += ao < 1.0f;
+        }
+    EXPECT_GT(partial, 500);
 }

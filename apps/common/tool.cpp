@@ -247,8 +247,9 @@ void Tool::reportNonFinite(const std::string& path, const NonFiniteCount& n,
          (zeroNegative ? ", " + std::to_string(n.negative) + " negative → 0)" : ")"));
 }
 
-bool Tool::writeAtomically(const std::string& path,
-                           const std::function<bool(const std::string&, std::string&)>& write) const {
+bool Tool::writeAtomically(
+    const std::string& path,
+    const std::function<bool(const std::string&, std::string&)>& write) const {
     const fs::path target(path);
     removeStaleTemporaries(target);
     const fs::path temporary = temporaryFor(target, getpid());

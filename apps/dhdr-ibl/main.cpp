@@ -24,8 +24,7 @@ int run(int argc, char** argv) {
               "width of level 1; each later level is half as wide (default 256)", 8, 4096);
     cl.option("--samples", p.samples, "N", "GGX samples per texel (default 128)", 1, 65536);
     cl.option("--dfg-size", p.dfgSize, "N", "side of the DFG table (default 128)", 2, 1024);
-    cl.option("--dfg-samples", p.dfgSamples, "N", "samples per DFG entry (default 1024)", 1,
-              65536);
+    cl.option("--dfg-samples", p.dfgSamples, "N", "samples per DFG entry (default 1024)", 1, 65536);
     cl.epilog("Example:\n  dhdr-ibl studio.exr -o studio.ibl.exr\n"
               "  then in a lights file: {\"type\": \"environment\", \"image\": "
               "\"studio.ibl.exr\"}");
@@ -61,8 +60,7 @@ int run(int argc, char** argv) {
     std::snprintf(line, sizeof line,
                   "%dx%d environment; %d levels from %d wide, %d samples per texel; DFG %d² at "
                   "%d samples",
-                  env.width, env.height, p.levels, p.baseWidth, p.samples, p.dfgSize,
-                  p.dfgSamples);
+                  env.width, env.height, p.levels, p.baseWidth, p.samples, p.dfgSize, p.dfgSamples);
     tool.info(line);
     tool.info("read " + ms(t0, t1) + ", bake " + ms(t1, t2) + ", write " + ms(t2, t3));
     return app::kExitSuccess;

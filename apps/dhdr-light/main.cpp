@@ -37,7 +37,7 @@ int run(int argc, char** argv) {
     std::vector<std::string> lightsPaths;
     std::string background, dataType = "half", scenePath, emissive = "auto", aoMode = "off";
     bool bruteForce = false, aovs = false, noShadows = false;
-    int tileSize = 16, shadowSamples = 16, aoSamples = 16;
+    int tileSize = 16, shadowSamples = 16, aoSamples = 16, envSamples = 0;
     double aoDistance = 1.0;
     cl.option("--lights", "FILE",
               "lights file (JSON, docs/lights.md); repeat to add the lights of several; "
@@ -55,6 +55,10 @@ int run(int argc, char** argv) {
               "points per pixel on each sphere, rectangle or emissive light, for soft shadows "
               "(default 16)",
               1, 4096);
+    cl.option("--env-samples", envSamples, "N",
+              "with --scene, shadow rays per pixel drawn from each environment light by its "
+              "luminance, so that a sun in the HDRI casts shadows (default 0: none)",
+              0, 4096);
     cl.option("--emissive-lights", emissive, "on|off",
               "with --scene, make every emissive mesh an area light (default: on)");
     cl.option("--ao", aoMode, "off|rt|ssao",
@@ -66,8 +70,9 @@ int run(int argc, char** argv) {
               "rt: a hit closer than D occludes; ssao: the kernel's radius; scene units, metres "
               "for glTF (default 1)",
               {0.0, 1e30, true, false});
-    cl.option("--background", background, "R,G,B[,A]",
-              "colour where there is no surface (default: transparent black)");
+    cl.option("--background", background, "R,G,B[,A]|env",
+              "colour where there is no surface (default: transparent black); env: the "
+              "environment light seen by the camera");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
     cl.option("--tile", tileSize, "N", "tile size of the light lists in pixels (default 16)", 1,
               1024);
@@ -98,6 +103,7 @@ int run(int argc, char** argv) {
         if (aoMode == "rt") return usage("--ao rt traces rays in the scene: give --scene SCENE");
         if (noShadows) return usage("--no-shadows needs --scene (without it nothing is shadowed)");
         if (emissive != "auto") return usage("--emissive-lights needs --scene");
+        if (envSamples > 0) return usage("--env-samples traces rays in the scene: give --scene");
     }
     if (dataType != "half" && dataType != "float") {
         std::fprintf(stderr, "dhdr-light: usage error: --type must be half or float\n");
@@ -106,7 +112,9 @@ int run(int argc, char** argv) {
     LightingParams params;
     params.bruteForce = bruteForce;
     params.tileSize = tileSize;
-    if (!background.empty()) {
+    if (background == "env") {
+        params.environmentBackground = true;
+    } else if (!background.empty()) {
         std::vector<double> v;
         if (!app::parseNumbers(background, v) || (v.size() != 3 && v.size() != 4)) {
             std::fprintf(stderr, "dhdr-light: usage error: --background needs 3 or 4 numbers\n");
@@ -118,6 +126,7 @@ int run(int argc, char** argv) {
     if (aovs) params.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
     params.shadows = !noShadows;
     params.shadowSamples = shadowSamples;
+    params.environmentSamples = envSamples;
     params.aoSamples = aoMode == "rt" ? aoSamples : 0;
     params.aoDistance = float(aoDistance);
     params.writeAO = aovs && aoMode != "off";
@@ -174,9 +183,9 @@ int run(int argc, char** argv) {
             }
             for (const std::string& warning : warnings)
                 tool.warn(warning);
-            const bool environment =
-                std::any_of(more.begin(), more.end(),
-                            [](const Light& l) { return l.type == LightType::Environment; });
+            const bool environment = std::any_of(more.begin(), more.end(), [](const Light& l) {
+                return l.type == LightType::Environment;
+            });
             if (environment)
                 tool.info(file + ": read with its environment images in " +
                           std::to_string(int(std::chrono::duration<double, std::milli>(
@@ -194,6 +203,10 @@ int run(int argc, char** argv) {
     std::vector<Light> lights = sceneLights;
     if (!animatedLights && !readLights(lightsPaths, lights)) return app::kExitFailure;
     const LightingInputs inputs{lights, caster.get()};
+    if (params.environmentBackground &&
+        std::none_of(lights.begin(), lights.end(),
+                     [](const Light& l) { return l.type == LightType::Environment; }))
+        tool.warn("--background env: no environment light; the background stays transparent");
 
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];

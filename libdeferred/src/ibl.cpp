@@ -8,18 +8,63 @@
 
 namespace dhdr {
 
+namespace {
+
+// The normalization constants of the real SH bands 0–2: 1/(2√π), √3/(2√π), √15/(2√π),
+// √5/(4√π), √15/(4√π).
+constexpr double kC0 = 0.28209479177387814, kC1 = 0.4886025119029199, kC2 = 1.0925484305920792,
+                 kC3 = 0.31539156525252005, kC4 = 0.5462742152960396;
+
+} // namespace
+
 std::array<float, 9> shBasis(const glm::vec3& d) {
-    const float x = d.x, y = d.y, z = d.z;
-    return {0.282095f,
-            0.488603f * y,
-            0.488603f * z,
-            0.488603f * x,
-            1.092548f * x * y,
-            1.092548f * y * z,
-            0.315392f * (3.0f * z * z - 1.0f),
-            1.092548f * x * z,
-            0.546274f * (x * x - y * y)};
+    const double x = d.x, y = d.y, z = d.z;
+    return {float(kC0),
+            float(kC1 * y),
+            float(kC1 * z),
+            float(kC1 * x),
+            float(kC2 * x * y),
+            float(kC2 * y * z),
+            float(kC3 * (3.0 * z * z - 1.0)),
+            float(kC2 * x * z),
+            float(kC4 * (x * x - y * y))};
 }
+
+namespace {
+
+// ∫ Y_i dω over texel (x, y) of an equirectangular image, in closed form. With θ from +Y and
+// φ = 2π (u − ½): x = sin θ cos φ, y = cos θ, z = sin θ sin φ, dω = sin θ dθ dφ.
+std::array<double, 9> shTexelIntegrals(const EnvironmentImage& env, int x, int y) {
+    const double pi = 3.14159265358979323846;
+    const double t0 = pi * y / env.height, t1 = pi * (y + 1) / env.height;
+    const double p0 = 2.0 * pi * (double(x) / env.width - 0.5);
+    const double p1 = 2.0 * pi * (double(x + 1) / env.width - 0.5);
+    const double s0 = std::sin(t0), s1 = std::sin(t1), c0 = std::cos(t0), c1 = std::cos(t1);
+    // θ integrals of sin θ · {1, cos θ, sin θ, sin θ cos θ, sin² θ, cos² θ}.
+    const double a1 = c0 - c1;
+    const double aCos = 0.5 * (s1 * s1 - s0 * s0);
+    const double aSin = 0.5 * (t1 - t0) - 0.25 * (std::sin(2 * t1) - std::sin(2 * t0));
+    const double aSinCos = (s1 * s1 * s1 - s0 * s0 * s0) / 3.0;
+    const double aSin2 = (c1 * c1 * c1 - c0 * c0 * c0) / 3.0 - (c1 - c0); // ∫ sin³
+    const double aCos2 = (c0 * c0 * c0 - c1 * c1 * c1) / 3.0;             // ∫ cos² sin
+    // φ integrals of {1, cos, sin, cos², sin², sin cos}.
+    const double dp = p1 - p0;
+    const double bCos = std::sin(p1) - std::sin(p0), bSin = std::cos(p0) - std::cos(p1);
+    const double bCos2 = 0.5 * dp + 0.25 * (std::sin(2 * p1) - std::sin(2 * p0));
+    const double bSin2 = 0.5 * dp - 0.25 * (std::sin(2 * p1) - std::sin(2 * p0));
+    const double bSinCos = 0.5 * (std::sin(p1) * std::sin(p1) - std::sin(p0) * std::sin(p0));
+    return {kC0 * a1 * dp,
+            kC1 * aCos * dp,
+            kC1 * aSin * bSin,
+            kC1 * aSin * bCos,
+            kC2 * aSinCos * bCos,
+            kC2 * aSinCos * bSin,
+            kC3 * (3.0 * aSin2 * bSin2 - a1 * dp),
+            kC2 * aSin2 * bSinCos,
+            kC4 * (aSin2 * bCos2 - aCos2 * dp)};
+}
+
+} // namespace
 
 namespace {
 
@@ -33,7 +78,9 @@ glm::vec3 sampleGgxHalf(glm::vec2 u, float alpha) {
 }
 
 // Level k's roughness.
-float levelRoughness(int k, int levels) { return float(k) / float(levels - 1); }
+float levelRoughness(int k, int levels) {
+    return float(k) / float(levels - 1);
+}
 
 // Prefilters one level: for each texel direction R (with N = V = R, the split sum's
 // assumption), the GGX-weighted mean of the environment, Σ L(l) N·l / Σ N·l over importance
@@ -54,8 +101,8 @@ EnvironmentImage prefilter(const std::vector<EnvironmentImage>& mips, int width,
     };
     std::vector<Sample> lobe;
     for (int i = 0; i < samples; ++i) {
-        const glm::vec3 h = sampleGgxHalf(hammersley(std::uint32_t(i), std::uint32_t(samples), 0),
-                                          alpha);
+        const glm::vec3 h =
+            sampleGgxHalf(hammersley(std::uint32_t(i), std::uint32_t(samples), 0), alpha);
         const glm::vec3 l = 2.0f * h.z * h - glm::vec3(0, 0, 1);
         if (l.z <= 0.0f) continue;
         // pdf(l) = D(h) (n·h) / (4 v·h) = D(h) / 4 with n = v.
@@ -71,26 +118,29 @@ EnvironmentImage prefilter(const std::vector<EnvironmentImage>& mips, int width,
         return glm::mix(mips[size_t(l0)].bilinear(uv), mips[size_t(l1)].bilinear(uv),
                         lod - float(l0));
     };
-    OIIO::parallel_for(0, out.height, [&](int64_t y) {
-        for (int x = 0; x < out.width; ++x) {
-            const glm::vec3 R = equirectDirection(
-                {(float(x) + 0.5f) / float(out.width), (float(y) + 0.5f) / float(out.height)});
-            glm::vec3 t, b;
-            orthonormalBasis(R, t, b);
-            glm::dvec3 sum(0.0);
-            double weight = 0.0;
-            for (const Sample& s : lobe) {
-                const glm::vec3 d = t * s.l.x + b * s.l.y + R * s.l.z;
-                sum += glm::dvec3(lookup(d, s.lod)) * double(s.weight);
-                weight += s.weight;
+    OIIO::parallel_for(
+        0, out.height,
+        [&](int64_t y) {
+            for (int x = 0; x < out.width; ++x) {
+                const glm::vec3 R = equirectDirection(
+                    {(float(x) + 0.5f) / float(out.width), (float(y) + 0.5f) / float(out.height)});
+                glm::vec3 t, b;
+                orthonormalBasis(R, t, b);
+                glm::dvec3 sum(0.0);
+                double weight = 0.0;
+                for (const Sample& s : lobe) {
+                    const glm::vec3 d = t * s.l.x + b * s.l.y + R * s.l.z;
+                    sum += glm::dvec3(lookup(d, s.lod)) * double(s.weight);
+                    weight += s.weight;
+                }
+                const glm::vec3 v(sum / std::max(weight, 1e-300));
+                float* p = &out.rgb[3 * (size_t(y) * size_t(out.width) + size_t(x))];
+                p[0] = v.r;
+                p[1] = v.g;
+                p[2] = v.b;
             }
-            const glm::vec3 v(sum / std::max(weight, 1e-300));
-            float* p = &out.rgb[3 * (size_t(y) * size_t(out.width) + size_t(x))];
-            p[0] = v.r;
-            p[1] = v.g;
-            p[2] = v.b;
-        }
-    }, perItem(nthreads));
+        },
+        perItem(nthreads));
     return out;
 }
 
@@ -101,19 +151,65 @@ glm::vec2 integrateDFG(float NdotV, float roughness, int samples) {
     const glm::vec3 V(std::sqrt(std::max(0.0f, 1.0f - NdotV * NdotV)), 0.0f, NdotV);
     double x = 0.0, y = 0.0;
     for (int i = 0; i < samples; ++i) {
-        const glm::vec3 H = sampleGgxHalf(hammersley(std::uint32_t(i), std::uint32_t(samples), 0),
-                                          alpha);
+        const glm::vec3 H =
+            sampleGgxHalf(hammersley(std::uint32_t(i), std::uint32_t(samples), 0), alpha);
         const float VdotH = glm::dot(V, H);
         const glm::vec3 L = 2.0f * VdotH * H - V;
         if (L.z <= 0.0f || VdotH <= 0.0f) continue;
         // f cos / pdf with pdf = D (n·h) / (4 v·h): Vis · 4 (v·h) (n·l) / (n·h), F left out.
-        const double g = double(smithGgxCorrelatedVisibility(L.z, NdotV, alpha)) * 4.0 *
-                         VdotH * L.z / H.z;
+        const double g =
+            double(smithGgxCorrelatedVisibility(L.z, NdotV, alpha)) * 4.0 * VdotH * L.z / H.z;
         const double fc = std::pow(1.0 - VdotH, 5.0);
         x += g * fc;
         y += g;
     }
     return {float(x / samples), float(y / samples)};
+}
+
+void EnvironmentSampler::build(const EnvironmentImage& full) {
+    EnvironmentImage env = full;
+    while (env.width > 512)
+        env = env.downsampled();
+    width = env.width;
+    height = env.height;
+    marginal.assign(size_t(height) + 1, 0.0);
+    conditional.assign(size_t(height) * size_t(width + 1), 0.0);
+    for (int y = 0; y < height; ++y) {
+        const double omega = env.texelSolidAngle(y);
+        double* row = &conditional[size_t(y) * size_t(width + 1)];
+        for (int x = 0; x < width; ++x) {
+            const glm::vec3 L = env.texel(x, y);
+            const double luminance = std::max(0.0, 0.2126 * L.r + 0.7152 * L.g + 0.0722 * L.b);
+            row[x + 1] = row[x] + luminance * omega;
+        }
+        marginal[size_t(y) + 1] = marginal[size_t(y)] + row[width];
+    }
+}
+
+glm::vec3 EnvironmentSampler::sample(glm::vec2 u, float& pdf) const {
+    // The row, then the texel within it, whose share of the running sum holds u; the point
+    // within the texel uniform in u and t.
+    auto pick = [](const double* cdf, int n, double target, double& within) {
+        const int i =
+            std::clamp(int(std::upper_bound(cdf, cdf + n + 1, target) - cdf) - 1, 0, n - 1);
+        const double span = cdf[i + 1] - cdf[i];
+        within = span > 0.0 ? std::clamp((target - cdf[i]) / span, 0.0, 1.0) : 0.5;
+        return i;
+    };
+    double fy = 0.0, fx = 0.0;
+    const int y = pick(marginal.data(), height, double(u.y) * marginal.back(), fy);
+    const double* row = &conditional[size_t(y) * size_t(width + 1)];
+    const int x = pick(row, width, double(u.x) * row[width], fx);
+    // Within the texel the point is uniform in φ and cos θ, i.e. uniform in solid angle, so
+    // the density is the texel's probability over its solid angle.
+    const double pi = 3.14159265358979323846;
+    const double t0 = pi * y / height, t1 = pi * (y + 1) / height;
+    const double cosTheta = std::cos(t0) + fy * (std::cos(t1) - std::cos(t0));
+    const float uu = (float(x) + float(fx)) / float(width);
+    const float tt = float(std::acos(std::clamp(cosTheta, -1.0, 1.0)) / pi);
+    const double omega = 2.0 * pi / width * (std::cos(t0) - std::cos(t1));
+    pdf = float((row[x + 1] - row[x]) / marginal.back() / omega);
+    return equirectDirection({uu, tt});
 }
 
 glm::vec3 Ibl::irradiance(const glm::vec3& n) const {
@@ -138,18 +234,20 @@ glm::vec2 Ibl::dfgAt(float NdotV, float roughness) const {
     const int n = params.dfgSize;
     const float fx = std::clamp(NdotV, 0.0f, 1.0f) * float(n) - 0.5f;
     const float fy = std::clamp(roughness, 0.0f, 1.0f) * float(n) - 0.5f;
-    const int x0 = std::clamp(int(std::floor(fx)), 0, n - 1), y0 = std::clamp(int(std::floor(fy)), 0, n - 1);
+    const int x0 = std::clamp(int(std::floor(fx)), 0, n - 1),
+              y0 = std::clamp(int(std::floor(fy)), 0, n - 1);
     const int x1 = std::min(x0 + 1, n - 1), y1 = std::min(y0 + 1, n - 1);
-    const float ax = std::clamp(fx - float(x0), 0.0f, 1.0f), ay = std::clamp(fy - float(y0), 0.0f, 1.0f);
+    const float ax = std::clamp(fx - float(x0), 0.0f, 1.0f),
+                ay = std::clamp(fy - float(y0), 0.0f, 1.0f);
     auto at = [&](int x, int y) { return dfg[size_t(y) * size_t(n) + size_t(x)]; };
     return glm::mix(glm::mix(at(x0, y0), at(x1, y0), ax), glm::mix(at(x0, y1), at(x1, y1), ax), ay);
 }
 
 bool bakeIbl(const EnvironmentImage& env, const IblBakeParams& p, Ibl& ibl, std::string& error,
              int nthreads) {
-    if (p.levels < 2 || p.levels > 16 || p.baseWidth < 8 || p.baseWidth > 4096 ||
-        p.samples < 1 || p.samples > 65536 || p.dfgSize < 2 || p.dfgSize > 1024 ||
-        p.dfgSamples < 1 || p.dfgSamples > 65536) {
+    if (p.levels < 2 || p.levels > 16 || p.baseWidth < 8 || p.baseWidth > 4096 || p.samples < 1 ||
+        p.samples > 65536 || p.dfgSize < 2 || p.dfgSize > 1024 || p.dfgSamples < 1 ||
+        p.dfgSamples > 65536) {
         error = "IBL bake parameters out of range";
         return false;
     }
@@ -158,52 +256,62 @@ bool bakeIbl(const EnvironmentImage& env, const IblBakeParams& p, Ibl& ibl, std:
         return false;
     }
     ibl.params = p;
+    ibl.sampler.build(env);
 
-    // (a) Irradiance SH: project the radiance (texel solid angles, in double, row by row in
-    // a fixed order), then convolve with the clamped cosine: Â = π, 2π/3, π/4.
+    // (a) Irradiance SH: project the radiance, each texel's value times the exact integral of
+    // every basis function over the texel (so a constant environment projects exactly onto
+    // band 0), in double, row by row in a fixed order; then convolve with the clamped cosine:
+    // Â = π, 2π/3, π/4.
     std::vector<std::array<glm::dvec3, 9>> rows(size_t(env.height));
-    OIIO::parallel_for(0, env.height, [&](int64_t y) {
-        std::array<glm::dvec3, 9> acc{};
-        const double omega = env.texelSolidAngle(int(y));
-        for (int x = 0; x < env.width; ++x) {
-            const glm::vec3 d = equirectDirection(
-                {(float(x) + 0.5f) / float(env.width), (float(y) + 0.5f) / float(env.height)});
-            const std::array<float, 9> Y = shBasis(d);
-            const glm::dvec3 L(env.texel(x, int(y)));
-            for (int i = 0; i < 9; ++i)
-                acc[size_t(i)] += L * (double(Y[size_t(i)]) * omega);
-        }
-        rows[size_t(y)] = acc;
-    }, perItem(nthreads));
+    OIIO::parallel_for(
+        0, env.height,
+        [&](int64_t y) {
+            std::array<glm::dvec3, 9> acc{};
+            for (int x = 0; x < env.width; ++x) {
+                const std::array<double, 9> Y = shTexelIntegrals(env, x, int(y));
+                const glm::dvec3 L(env.texel(x, int(y)));
+                for (int i = 0; i < 9; ++i)
+                    acc[size_t(i)] += L * Y[size_t(i)];
+            }
+            rows[size_t(y)] = acc;
+        },
+        perItem(nthreads));
     std::array<glm::dvec3, 9> total{};
     for (const auto& r : rows)
         for (int i = 0; i < 9; ++i)
             total[size_t(i)] += r[size_t(i)];
     const double pi = 3.14159265358979323846;
-    const double band[9] = {pi, 2 * pi / 3, 2 * pi / 3, 2 * pi / 3, pi / 4,
-                            pi / 4, pi / 4, pi / 4, pi / 4};
+    const double band[9] = {pi,     2 * pi / 3, 2 * pi / 3, 2 * pi / 3, pi / 4,
+                            pi / 4, pi / 4,     pi / 4,     pi / 4};
     for (int i = 0; i < 9; ++i)
         ibl.sh[size_t(i)] = glm::vec3(total[size_t(i)] * band[i]);
 
-    // (b) The prefiltered chain, from a mip pyramid of the environment.
+    // (b) The prefiltered chain, from a mip pyramid of the environment down to 32 × 16: below
+    // that, bilinear reads of a lat-long image are too coarse near the poles (7 % off at
+    // roughness 1 with an 8 × 4 level, under 2 % with 32 × 16;
+    // Ibl.PrefilteredAgainstBruteForceGgx).
     std::vector<EnvironmentImage> mips = {env};
-    while (mips.back().height > 4)
+    while (mips.back().height > 16)
         mips.push_back(mips.back().downsampled());
     ibl.levels.clear();
     ibl.levels.push_back(env);
     for (int k = 1; k < p.levels; ++k) {
         const int width = std::max(8, p.baseWidth >> (k - 1));
-        ibl.levels.push_back(prefilter(mips, width, levelRoughness(k, p.levels), p.samples, nthreads));
+        ibl.levels.push_back(
+            prefilter(mips, width, levelRoughness(k, p.levels), p.samples, nthreads));
     }
 
     // (c) The DFG table.
     ibl.dfg.assign(size_t(p.dfgSize) * size_t(p.dfgSize), glm::vec2(0.0f));
-    OIIO::parallel_for(0, p.dfgSize, [&](int64_t j) {
-        for (int i = 0; i < p.dfgSize; ++i)
-            ibl.dfg[size_t(j) * size_t(p.dfgSize) + size_t(i)] =
-                integrateDFG((float(i) + 0.5f) / float(p.dfgSize),
-                             (float(j) + 0.5f) / float(p.dfgSize), p.dfgSamples);
-    }, perItem(nthreads));
+    OIIO::parallel_for(
+        0, p.dfgSize,
+        [&](int64_t j) {
+            for (int i = 0; i < p.dfgSize; ++i)
+                ibl.dfg[size_t(j) * size_t(p.dfgSize) + size_t(i)] =
+                    integrateDFG((float(i) + 0.5f) / float(p.dfgSize),
+                                 (float(j) + 0.5f) / float(p.dfgSize), p.dfgSamples);
+        },
+        perItem(nthreads));
     return true;
 }
 
@@ -221,8 +329,8 @@ IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, con
 }
 
 float specularOcclusion(float NdotV, float ao, float roughness) {
-    return std::clamp(std::pow(NdotV + ao, std::exp2(-16.0f * roughness - 1.0f)) - 1.0f + ao,
-                      0.0f, 1.0f);
+    return std::clamp(std::pow(NdotV + ao, std::exp2(-16.0f * roughness - 1.0f)) - 1.0f + ao, 0.0f,
+                      1.0f);
 }
 
 namespace {
@@ -277,8 +385,9 @@ bool writeIbl(const std::string& path, const Ibl& ibl, std::string& error) {
             error = out->geterror();
             return false;
         }
-        const void* data = k < ibl.levels.size() ? static_cast<const void*>(ibl.levels[k].rgb.data())
-                                                 : static_cast<const void*>(ibl.dfg.data());
+        const void* data = k < ibl.levels.size()
+                               ? static_cast<const void*>(ibl.levels[k].rgb.data())
+                               : static_cast<const void*>(ibl.dfg.data());
         if (!out->write_image(OIIO::TypeDesc::FLOAT, data)) {
             error = out->geterror();
             return false;
@@ -342,6 +451,7 @@ bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, boo
                    glm::vec2(0.0f));
     for (size_t i = 0; i < ibl.dfg.size(); ++i)
         ibl.dfg[i] = {p[2 * i], p[2 * i + 1]};
+    ibl.sampler.build(ibl.levels[0]);
     if (replaced) *replaced = bad;
     return true;
 }

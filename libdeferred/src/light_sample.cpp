@@ -31,7 +31,15 @@ LightLiSample fromAreaPoint(const glm::vec3& P, const glm::vec3& point, const gl
 
 LightLiSample sampleLi(const Light& light, const glm::vec3& P, glm::vec2 u) {
     LightLiSample s;
-    if (light.type == LightType::Ambient || light.type == LightType::Environment) return s;
+    if (light.type == LightType::Ambient) return s;
+    if (light.type == LightType::Environment) {
+        if (!light.ibl || light.ibl->sampler.empty()) return s;
+        const glm::vec3 d = light.ibl->sampler.sample(u, s.pdf);
+        s.wi = fromEnvironment(light, d);
+        s.L = light.ibl->levels[0].radiance(d) * light.color * light.intensity;
+        s.distance = INFINITY;
+        return s;
+    }
     if (!light.isArea()) {
         const IncidentLight in = incidentLight(light, P);
         s.L = in.illuminance;

@@ -73,6 +73,7 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
         return false;
     }
     if (params.shadowSamples < 1 || params.shadowSamples > 4096 || params.aoSamples < 0 ||
+        params.environmentSamples < 0 || params.environmentSamples > 4096 ||
         params.aoSamples > 4096 || !(params.aoDistance > 0.0f)) {
         dst.errorfmt("shadow samples must be 1-4096, AO samples 0-4096 and the AO distance "
                      "positive");
@@ -135,6 +136,24 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
     const Visibility* shadowRays = params.shadows ? inputs.visibility : nullptr;
     const bool rayTracedAO = !ao && inputs.visibility && params.aoSamples > 0;
     const bool aoActive = ao || rayTracedAO;
+    // The environment behind the surfaces: the view ray through each pixel's centre, from the
+    // inverse of worldToNDC (the near and far planes' points).
+    const Light* sky = nullptr;
+    if (params.environmentBackground)
+        for (const Light& l : lights)
+            if (l.type == LightType::Environment && l.ibl) {
+                sky = &l;
+                break;
+            }
+    const glm::dmat4 ndcToWorld = glm::inverse(camera.worldToNDC);
+    auto skyRadiance = [&](int px, int py) {
+        const double nx = (px + 0.5) / frameWidth * 2.0 - 1.0;
+        const double ny = 1.0 - (py + 0.5) / frameHeight * 2.0;
+        const glm::dvec4 a = ndcToWorld * glm::dvec4(nx, ny, -1.0, 1.0);
+        const glm::dvec4 b = ndcToWorld * glm::dvec4(nx, ny, 1.0, 1.0);
+        const glm::vec3 d(glm::normalize(glm::dvec3(b) / b.w - glm::dvec3(a) / a.w));
+        return sky->ibl->levels[0].radiance(intoEnvironment(*sky, d)) * sky->color * sky->intensity;
+    };
     std::atomic<long long> evaluations{0}, reaching{0}, covered{0}, shadowCount{0}, aoCount{0};
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         long long localEvaluations = 0, localReaching = 0, localCovered = 0, localShadow = 0,
@@ -147,6 +166,13 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                     out[4 + extra + k] = g[passIndex[k]];
                 if (view.samples(x, y) == 0) {
                     std::copy(params.background, params.background + 4, out);
+                    if (sky) {
+                        const glm::vec3 L = skyRadiance(x - frame.xbegin, y - frame.ybegin);
+                        out[0] = L.r;
+                        out[1] = L.g;
+                        out[2] = L.b;
+                        out[3] = 1.0f;
+                    }
                     if (extra) out[4] = 1.0f;
                     continue;
                 }
@@ -163,11 +189,26 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                 glm::vec3 Lo = sp.emission, ambient(0.0f), environmentSpecular(0.0f);
                 auto addLight = [&](std::uint32_t i) {
                     const Light& light = lights[i];
-                    if (light.type == LightType::Environment && aoActive) {
-                        // AO occludes the diffuse part, specular occlusion the specular.
-                        const IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
-                        ambient += e.diffuse;
-                        environmentSpecular += e.specular;
+                    if (light.type == LightType::Environment) {
+                        IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
+                        // The visible share of the environment, from rays drawn by its
+                        // luminance, scales the prefiltered result.
+                        if (shadowRays && params.environmentSamples > 0) {
+                            const float v = lightVisibility(
+                                light, sp.P, sp.N, sampleSeed(x, y, i, 1),
+                                params.environmentSamples, *shadowRays, &localShadow);
+                            if (v != 1.0f) {
+                                e.diffuse *= v;
+                                e.specular *= v;
+                            }
+                        }
+                        if (aoActive) {
+                            // AO occludes the diffuse part, specular occlusion the specular.
+                            ambient += e.diffuse;
+                            environmentSpecular += e.specular;
+                        } else {
+                            Lo += e.diffuse + e.specular;
+                        }
                         return;
                     }
                     glm::vec3 c = shadeLight(light, sp.surface, sp.P, sp.N, sp.V);

@@ -4,10 +4,10 @@
 #include <cstdlib>
 #include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/lights.h>
-#include <map>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 
 namespace dhdr {

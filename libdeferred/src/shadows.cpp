@@ -16,9 +16,9 @@ ShadowRay towards(const glm::vec3& origin, const LightLiSample& s) {
 float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N,
                       std::uint64_t seed, int samples, const Visibility& visibility,
                       long long* rays) {
-    if (light.type == LightType::Ambient || light.type == LightType::Environment) return 1.0f;
+    if (light.type == LightType::Ambient) return 1.0f;
     const glm::vec3 origin = offsetRayOrigin(P, N);
-    if (!light.isArea()) {
+    if (!light.isArea() && light.type != LightType::Environment) {
         const LightLiSample s = sampleLi(light, origin, {0.0f, 0.0f});
         if (s.pdf == 0.0f) return 1.0f;
         if (rays) ++*rays;

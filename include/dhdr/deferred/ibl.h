@@ -23,6 +23,21 @@ struct IblBakeParams {
     int dfgSamples = 1024;
 };
 
+// Importance sampling of an environment by its luminance (pbrt-v4's piecewise-constant 2D
+// distribution over an equirectangular image, each texel's weight its luminance times its
+// solid angle), for environment shadow rays.
+struct EnvironmentSampler {
+    int width = 0, height = 0;
+    std::vector<double> marginal;    // running sum over rows, height + 1 entries from 0
+    std::vector<double> conditional; // per row, running sums over its texels, width + 1 each
+
+    void build(const EnvironmentImage& env);
+    bool empty() const { return marginal.empty() || !(marginal.back() > 0.0); }
+    // A direction (in the environment's frame) for u in [0, 1)², with its density per
+    // steradian.
+    glm::vec3 sample(glm::vec2 u, float& pdf) const;
+};
+
 // The baked environment.
 struct Ibl {
     IblBakeParams params;
@@ -36,6 +51,8 @@ struct Ibl {
     // form of Fdez-Agüera 2019): specular = F0 · (y − x) + x, and y is the single-scattering
     // albedo of a white metal.
     std::vector<glm::vec2> dfg;
+    // Built from level 0 at most 512 wide, when the IBL is baked or loaded.
+    EnvironmentSampler sampler;
 
     glm::vec3 irradiance(const glm::vec3& n) const;
     // Prefiltered radiance along R at a roughness, linear between the two nearest levels.
@@ -48,8 +65,8 @@ std::array<float, 9> shBasis(const glm::vec3& d);
 
 // Bakes `env` (in its own frame; a light's rotation turns directions at shading) into `ibl`.
 // Deterministic: the same result for any `nthreads`. False with `error` on bad parameters.
-bool bakeIbl(const EnvironmentImage& env, const IblBakeParams& params, Ibl& ibl,
-             std::string& error, int nthreads = 0);
+bool bakeIbl(const EnvironmentImage& env, const IblBakeParams& params, Ibl& ibl, std::string& error,
+             int nthreads = 0);
 
 // The DFG terms at one (N·V, roughness) by importance sampling GGX with `samples` points.
 glm::vec2 integrateDFG(float NdotV, float roughness, int samples);

@@ -64,6 +64,12 @@ inline glm::vec3 intoEnvironment(const Light& light, const glm::vec3& d) {
     return {c * d.x - s * d.z, d.y, s * d.x + c * d.z};
 }
 
+// The inverse of intoEnvironment: a direction of the environment's image in the scene.
+inline glm::vec3 fromEnvironment(const Light& light, const glm::vec3& d) {
+    const float c = std::cos(light.rotation), s = std::sin(light.rotation);
+    return {c * d.x + s * d.z, d.y, -s * d.x + c * d.z};
+}
+
 // The diffuse and specular light an environment light reflects towards V (ibl.h), in the
 // light's colour and intensity.
 inline IblShading shadeEnvironment(const Light& light, const PbrSurface& s, const glm::vec3& N,
@@ -83,6 +89,10 @@ inline glm::vec3 shadeLight(const Light& light, const PbrSurface& s, const glm::
         // approximated by its value at normal incidence, c_diff (1 − F0) + F0.
         const glm::vec3 F0 = s.F0();
         return light.color * light.intensity * (s.diffuseColor() * (glm::vec3(1.0f) - F0) + F0);
+    }
+    if (light.type == LightType::Environment) {
+        const IblShading e = shadeEnvironment(light, s, N, V);
+        return e.diffuse + e.specular;
     }
     if (light.isArea()) return shadeAreaLight(light, s, P, N, V);
     const IncidentLight in = incidentLight(light, P);

@@ -28,6 +28,9 @@ struct LightingParams {
     int tileSize = 16;
     // RGBA written where the G-buffer has no surface (A = 0).
     float background[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+    // Instead, where there is no surface, the first environment light as the camera sees it
+    // (full resolution, bilinear; A = 1), so that the frame is complete.
+    bool environmentBackground = false;
     // G-buffer channels copied into the output after R, G, B, A (and AO) (e.g. "Z", "N.X").
     std::vector<std::string> passThrough;
     // The whole frame, when the G-buffer given is a strip of its rows (dhdr-light streams
@@ -39,6 +42,9 @@ struct LightingParams {
     // Points sampled on each sphere, rectangle or emissive-mesh light per pixel for its soft
     // shadow, 1–4096.
     int shadowSamples = 16;
+    // With a Visibility: directions drawn from each environment light per pixel for its
+    // shadows (0: none, the environment is unshadowed), 0–4096.
+    int environmentSamples = 0;
     // Ray-traced AO with a Visibility: cosine-weighted rays per pixel (0: no AO), 0–4096 ...
     int aoSamples = 0;
     // ... and the distance within which a hit occludes, scene units (metres), > 0 (+∞ allowed).

@@ -10,6 +10,8 @@ namespace dhdr {
 // The visible share of `light` at the G-buffer point P with normal N (unit, facing the
 // camera), in [0, 1]:
 // - a delta light (point, spot, directional): 0 or 1 from one ray towards it;
+// - an environment light: `samples` directions drawn by its luminance (EnvironmentSampler),
+//   weighted and summed like an area light's;
 // - an area light: `samples` points of it, a stratified set (Hammersley, rotated by `seed`),
 //   each ray weighted by its share of the unshadowed irradiance, L cos θ / pdf; the weighted
 //   sum of the visible ones over the sum of all. Exactly 1 when every ray gets through, 0 when
