@@ -140,7 +140,8 @@ TEST(Ibl, IrradianceSHAgainstQuadrature) {
             for (int y = 0; y < env.height; ++y) {
                 const double omega = env.texelSolidAngle(y);
                 for (int x = 0; x < env.width; ++x) {
-                    const glm::vec3 l = equirectDirection({(x + 0.5f) / env.width, (y + 0.5f) / env.height});
+                    const glm::vec3 l =
+                        equirectDirection({(x + 0.5f) / env.width, (y + 0.5f) / env.height});
                     e += double(env.texel(x, y).r) * std::max(0.0, double(glm::dot(n, l))) * omega;
                 }
             }
@@ -183,7 +184,8 @@ TEST(Ibl, PrefilteredAgainstBruteForceGgx) {
                 }
             }
             const double expected = sum / weight;
-            worst = std::max(worst, std::abs(ibl.prefiltered(R, roughness).g - expected) / expected);
+            worst =
+                std::max(worst, std::abs(ibl.prefiltered(R, roughness).g - expected) / expected);
         }
         std::printf("prefiltered vs brute force, roughness %.1f: largest error %.4f\n", roughness,
                     worst);
@@ -205,7 +207,8 @@ TEST(Ibl, DfgAgainstQuadrature) {
                 for (int c = 0; c < 2 * n; ++c) {
                     const double phi = (c + 0.5) / (2 * n) * 2 * M_PI;
                     const glm::vec3 L(float(std::sin(theta) * std::cos(phi)),
-                                      float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)));
+                                      float(std::sin(theta) * std::sin(phi)),
+                                      float(std::cos(theta)));
                     const glm::vec3 H = glm::normalize(L + V);
                     const double f = double(ggxDistribution(H.z, alpha)) *
                                      smithGgxCorrelatedVisibility(L.z, NdotV, alpha) * L.z *
@@ -277,7 +280,8 @@ TEST(Ibl, BadEnvironmentsAreClearErrors) {
     const float nan[3] = {NAN, INFINITY, 1.0f};
     bad.setpixel(3, 4, nan);
     ASSERT_TRUE(bad.write(dir + "/bad.exr"));
-    std::ofstream(dir + "/nan.json") << R"({"lights": [{"type": "environment", "image": "bad.exr"}]})";
+    std::ofstream(dir + "/nan.json")
+        << R"({"lights": [{"type": "environment", "image": "bad.exr"}]})";
     warnings.clear();
     ASSERT_TRUE(readLightsFile(dir + "/nan.json", lights, error, warnings)) << error;
     ASSERT_EQ(warnings.size(), 1u);

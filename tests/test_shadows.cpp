@@ -647,3 +647,103 @@ TEST(EnvironmentShadows, AmbientOcclusionOccludesTheEnvironment) {
         }
     EXPECT_GT(partial, 500);
 }
+
+namespace {
+
+// A UV sphere of `segments` × `segments / 2` quads.
+void addSphere(Scene& scene, glm::vec3 centre, float radius, int segments) {
+    Mesh m;
+    const int rings = segments / 2;
+    for (int i = 0; i <= rings; ++i)
+        for (int j = 0; j <= segments; ++j) {
+            const float theta = kPi * float(i) / float(rings),
+                        phi = 2 * kPi * float(j) / float(segments);
+            const glm::vec3 n(std::sin(theta) * std::cos(phi), std::cos(theta),
+                              std::sin(theta) * std::sin(phi));
+            m.positions.push_back(centre + radius * n);
+            m.normals.push_back(n);
+        }
+    for (int i = 0; i < rings; ++i)
+        for (int j = 0; j < segments; ++j) {
+            const unsigned a = unsigned(i * (segments + 1) + j), b = a + unsigned(segments) + 1;
+            m.triangles.push_back({a, a + 1, b});
+            m.triangles.push_back({a + 1, b + 1, b});
+        }
+    scene.meshes.push_back(m);
+}
+
+ImageBuf catcherFrame(const Scene& scene, const Light& light, ImageBuf& gbuf) {
+    const Camera camera = Camera::lookAt({0.3, 2.5, 2.5}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.9);
+    gbuf = gbufferOf(scene, camera, 160, 120);
+    // dhdr-light's scene: the glTF's meshes, without the ground plane.
+    Scene meshesOnly = scene;
+    meshesOnly.hasGroundPlane = false;
+    const RayCaster caster(meshesOnly);
+    LightingParams p;
+    p.environmentSamples = 16;
+    return shade(gbuf, {light}, &caster, p);
+}
+
+} // namespace
+
+TEST(ShadowCatcher, WithNoObjectsTheCatcherIsClear) {
+    Scene scene = emptyScene();
+    addGroundPlane(scene, 0.0f);
+    Light light;
+    light.type = LightType::Environment;
+    light.ibl = sunOnlyEnvironment(glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f)));
+    ImageBuf gbuf;
+    const ImageBuf lit = catcherFrame(scene, light, gbuf);
+    int catcher = 0;
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 160; ++x) {
+            if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f)) continue;
+            ++catcher;
+            ASSERT_EQ(px(lit, x, y)[3], 0.0f);
+            ASSERT_EQ(px(lit, x, y)[0], 0.0f);
+        }
+    EXPECT_GT(catcher, 10000);
+}
+
+// A sphere over the ground plane under an environment that is one sun: the catcher's alpha is
+// exactly 1 where the way to the sun passes through the sphere (shrunk by the sun's penumbra
+// and the facets' sag) and exactly 0 where it misses it.
+TEST(ShadowCatcher, SphereShadowMatchesItsAnalyticProjection) {
+    Scene scene = emptyScene();
+    const glm::vec3 centre(0.0f, 0.6f, 0.0f);
+    const float radius = 0.3f;
+    addSphere(scene, centre, radius, 96);
+    addGroundPlane(scene, 0.0f);
+    const glm::vec3 sun = glm::normalize(glm::vec3(0.4f, 1.0f, 0.3f));
+    Light light;
+    light.type = LightType::Environment;
+    light.ibl = sunOnlyEnvironment(sun);
+    const glm::vec2 uv = equirectUV(sun);
+    const glm::dvec3 d(
+        equirectDirection({std::floor(uv.x * 512) / 512, std::floor(uv.y * 256) / 256}));
+    ImageBuf gbuf;
+    const ImageBuf lit = catcherFrame(scene, light, gbuf);
+    const int catcherId = gbuf.spec().get_int_attribute("dhdr:shadowCatcher");
+    ASSERT_GT(catcherId, 0);
+    int inside = 0, outside = 0;
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 160; ++x) {
+            const glm::dvec3 P(positionAt(gbuf, x, y));
+            if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f) || std::abs(P.y) > 1e-9)
+                continue;
+            // Distance from the sphere's centre to the line P + t d.
+            const glm::dvec3 c = glm::dvec3(centre) - P;
+            const double miss = glm::length(c - glm::dot(c, d) * d);
+            const float a = px(lit, x, y)[3];
+            ASSERT_EQ(px(lit, x, y)[0], 0.0f);
+            if (miss < radius - 0.03) {
+                ++inside;
+                ASSERT_EQ(a, 1.0f) << x << "," << y;
+            } else if (miss > radius + 0.03) {
+                ++outside;
+                ASSERT_EQ(a, 0.0f) << x << "," << y;
+            }
+        }
+    EXPECT_GT(inside, 100);
+    EXPECT_GT(outside, 5000);
+}

@@ -115,6 +115,17 @@ int CommandLine::usageError(const std::string& message) const {
     return kExitUsage;
 }
 
+void CommandLine::flagWithNumber(const std::string& name, bool& given, std::optional<double>& value,
+                                 const std::string& metavar, const std::string& help) {
+    Option o;
+    o.name = name;
+    o.metavar = "[" + metavar + "]";
+    o.help = help;
+    o.flag = &given;
+    o.number = &value;
+    m_options.push_back(o);
+}
+
 int CommandLine::parse(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         std::string arg = argv[i];
@@ -181,6 +192,19 @@ int CommandLine::parse(int argc, char** argv) {
             for (const Option& o : m_options)
                 if (o.name == arg) found = &o;
             if (!found) return usageError("unknown option " + arg);
+            if (found->number) {
+                *found->flag = true;
+                std::string v = hasValue ? value : (i + 1 < argc ? argv[i + 1] : "");
+                char* end = nullptr;
+                const double d = std::strtod(v.c_str(), &end);
+                const bool isNumber = !v.empty() && *end == '\0' && std::isfinite(d);
+                if (hasValue && !isNumber) return usageError(arg + ": '" + v + "' is not a number");
+                if (isNumber) {
+                    *found->number = d;
+                    if (!hasValue) ++i;
+                }
+                continue;
+            }
             if (found->flag) {
                 if (hasValue) return usageError(arg + " takes no value");
                 *found->flag = true;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,10 @@ public:
                 const std::string& help, Range range);
     void option(const std::string& name, int& target, const std::string& metavar,
                 const std::string& help, int lo, int hi);
+    // A switch with an optional number after it (`--ground-plane` or `--ground-plane 0.2`,
+    // `--ground-plane=0.2`): `given` is set, and `value` when a number follows.
+    void flagWithNumber(const std::string& name, bool& given, std::optional<double>& value,
+                        const std::string& metavar, const std::string& help);
     // Text printed after the options in --help (examples, notes).
     void epilog(const std::string& text) { m_epilog = text; }
 
@@ -58,6 +63,7 @@ private:
         std::string name, metavar, help;
         std::function<bool(const std::string&, std::string&)> parse; // null for flags
         bool* flag = nullptr;
+        std::optional<double>* number = nullptr; // flagWithNumber's value
     };
     void printHelp() const;
     int usageError(const std::string& message) const;

@@ -33,7 +33,12 @@ int run(int argc, char** argv) {
               {0.0, 180.0, true, true});
     cl.option("--lights-out", lightsOut, "FILE",
               "also write the scene's punctual lights as a lights file (docs/lights.md)");
-    bool frameAll = false, info = false;
+    bool frameAll = false, info = false, groundPlane = false;
+    std::optional<double> groundY;
+    cl.flagWithNumber("--ground-plane", groundPlane, groundY, "Y",
+                      "add an infinite horizontal plane at height Y (default: the scene's lowest "
+                      "point) that dhdr-light treats as a shadow catcher for compositing "
+                      "(docs/ibl.md)");
     cl.flag("--frame-all", frameAll,
             "move the camera (the scene's, --lookat's, or without either one looking from the "
             "front and a little above) back until the whole scene fits the image");
@@ -103,6 +108,12 @@ int run(int argc, char** argv) {
         }
         for (const std::string& warning : scene.warnings)
             tool.warn(scenePath + ": " + warning);
+        if (groundPlane) {
+            const double y =
+                groundY ? *groundY : (scene.meshes.empty() ? 0.0 : scene.boundsMin().y);
+            addGroundPlane(scene, float(y));
+            tool.info("ground plane (shadow catcher) at y = " + std::to_string(y));
+        }
 
         Camera camera;
         if (lookatCamera) {

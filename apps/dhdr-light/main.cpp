@@ -35,7 +35,8 @@ int run(int argc, char** argv) {
         "scene, and --ao rt traces ambient occlusion (docs/lighting.md). Half output clamps\n"
         "radiance past 65504 (and says how many values); --type float keeps it.");
     std::vector<std::string> lightsPaths;
-    std::string background, dataType = "half", scenePath, emissive = "auto", aoMode = "off";
+    std::string plateArg, background, dataType = "half", scenePath, emissive = "auto",
+                                      aoMode = "off";
     bool bruteForce = false, aovs = false, noShadows = false;
     int tileSize = 16, shadowSamples = 16, aoSamples = 16, envSamples = 0;
     double aoDistance = 1.0;
@@ -73,6 +74,10 @@ int run(int argc, char** argv) {
     cl.option("--background", background, "R,G,B[,A]|env",
               "colour where there is no surface (default: transparent black); env: the "
               "environment light seen by the camera");
+    cl.option("--plate", plateArg, "FILE|env",
+              "composite the result over a photograph of the frame's size (or the environment "
+              "light as the camera sees it): objects and the shadows a --ground-plane catches, "
+              "onto the plate; A is then 1");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
     cl.option("--tile", tileSize, "N", "tile size of the light lists in pixels (default 16)", 1,
               1024);
@@ -112,6 +117,7 @@ int run(int argc, char** argv) {
     LightingParams params;
     params.bruteForce = bruteForce;
     params.tileSize = tileSize;
+    params.plateEnvironment = plateArg == "env";
     if (background == "env") {
         params.environmentBackground = true;
     } else if (!background.empty()) {
@@ -202,7 +208,18 @@ int run(int argc, char** argv) {
                     [](const app::FramePattern& p) { return p.isSequence(); });
     std::vector<Light> lights = sceneLights;
     if (!animatedLights && !readLights(lightsPaths, lights)) return app::kExitFailure;
-    const LightingInputs inputs{lights, caster.get()};
+    LightingInputs inputs{lights, caster.get()};
+    OIIO::ImageBuf plate;
+    if (!plateArg.empty() && plateArg != "env") {
+        plate.reset(plateArg);
+        if (!plate.read(0, 0, true, OIIO::TypeDesc::FLOAT))
+            return tool.fail(plateArg + ": cannot read the plate: " + plate.geterror());
+        inputs.plate = &plate;
+    }
+    if (plateArg == "env" && std::none_of(lights.begin(), lights.end(), [](const Light& l) {
+            return l.type == LightType::Environment;
+        }))
+        return tool.fail("--plate env: there is no environment light to composite over");
     if (params.environmentBackground &&
         std::none_of(lights.begin(), lights.end(),
                      [](const Light& l) { return l.type == LightType::Environment; }))
@@ -240,6 +257,14 @@ int run(int argc, char** argv) {
             tool.fail(path + ": " + error);
             return false;
         }
+        if (inputs.plate &&
+            (plate.spec().width != gspec.width || plate.spec().height != gspec.height)) {
+            tool.fail(plateArg + ": the plate is " + std::to_string(plate.spec().width) + "x" +
+                      std::to_string(plate.spec().height) + ", the frame " +
+                      std::to_string(gspec.width) + "x" + std::to_string(gspec.height));
+            return false;
+        }
+        if (inputs.plate) plate.set_origin(gspec.x, gspec.y);
         if (caster) {
             const std::string recorded = gspec.get_string_attribute(gbuffer::kSceneFingerprint);
             if (recorded.empty())

@@ -22,6 +22,17 @@ struct SurfaceSample {
 };
 
 SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
+    if (hit.mesh == kGroundPlaneHit) {
+        SurfaceSample s;
+        s.position = ray.origin + hit.t * ray.direction;
+        s.position.y = scene.groundPlaneY; // on the plane exactly
+        s.normal = glm::dvec3(0.0, ray.direction.y < 0.0 ? 1.0 : -1.0, 0.0);
+        s.geometric = s.normal;
+        s.material = &scene.materials[size_t(scene.groundMaterial)];
+        s.albedo = s.material->baseColor;
+        s.emission = glm::vec3(0.0f);
+        return s;
+    }
     const Mesh& mesh = scene.meshes[size_t(hit.mesh)];
     const glm::uvec3 tri = mesh.triangles[size_t(hit.triangle)];
     const double w1 = hit.u, w2 = hit.v, w0 = 1.0 - w1 - w2;
@@ -123,6 +134,10 @@ GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
         materialNames.push_back(m.name);
     setNameTable(m_spec, "dhdr:objectNames", scene.objectNames);
     setNameTable(m_spec, "dhdr:materialNames", materialNames);
+    if (scene.hasGroundPlane) {
+        m_spec.attribute(gbuffer::kGroundPlaneY, scene.groundPlaneY);
+        m_spec.attribute(gbuffer::kShadowCatcher, scene.groundObject + 1);
+    }
 }
 
 GBufferRenderer::~GBufferRenderer() = default;
@@ -178,7 +193,11 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
                 }
                 const SurfaceSample s = surfaceAt(m_scene, ray, hit);
                 const Material& m = *s.material;
-                const Mesh& mesh = m_scene.meshes[size_t(hit.mesh)];
+                const bool ground = hit.mesh == kGroundPlaneHit;
+                const int object =
+                    ground ? m_scene.groundObject : m_scene.meshes[size_t(hit.mesh)].object;
+                const int material =
+                    ground ? m_scene.groundMaterial : m_scene.meshes[size_t(hit.mesh)].material;
                 float* out = px;
                 *out++ = 1.0f;
                 *out++ = float(-(worldToCamera * glm::dvec4(s.position, 1.0)).z);
@@ -192,8 +211,8 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
                 *out++ = m.metallic;
                 for (int c = 0; c < 3; ++c)
                     *out++ = s.emission[c];
-                *out++ = float(mesh.object + 1);
-                *out++ = float(mesh.material + 1);
+                *out++ = float(object + 1);
+                *out++ = float(material + 1);
             }
             const int done = ++rowsDone;
             if (m_params.progress && (done % 64 == 0 || done == roi.height()))

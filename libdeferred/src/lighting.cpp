@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <dhdr/deferred/ambient_occlusion.h>
 #include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/light_culling.h>
 #include <dhdr/deferred/light_eval.h>
 #include <dhdr/deferred/lighting.h>
@@ -37,6 +38,38 @@ struct LightReach {
         return dx * dx + dy * dy + dz * dz < range2[i];
     }
 };
+
+// The light of a surface point in the parts that occlusion treats apart: what shadows have
+// already scaled (`direct`), what AO scales (`ambient`: ambient lights and environments'
+// diffuse light) and what specular occlusion scales (environments' specular light).
+struct Terms {
+    glm::vec3 direct{0.0f}, ambient{0.0f}, environmentSpecular{0.0f};
+
+    void add(const glm::vec3& c, float visibility, bool occludable) {
+        const glm::vec3 v = visibility != 1.0f ? c * visibility : c;
+        if (occludable)
+            ambient += v;
+        else
+            direct += v;
+    }
+    void addEnvironment(const IblShading& e, float visibility, bool occludable) {
+        const glm::vec3 d = visibility != 1.0f ? e.diffuse * visibility : e.diffuse;
+        const glm::vec3 s = visibility != 1.0f ? e.specular * visibility : e.specular;
+        if (occludable) {
+            ambient += d;
+            environmentSpecular += s;
+        } else {
+            direct += d + s;
+        }
+    }
+    glm::vec3 total(bool occludable, float ao, float so) const {
+        return occludable ? direct + (ambient * ao + environmentSpecular * so) : direct;
+    }
+};
+
+float luminance(const glm::vec3& c) {
+    return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
 
 } // namespace
 
@@ -139,13 +172,14 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
     // The environment behind the surfaces: the view ray through each pixel's centre, from the
     // inverse of worldToNDC (the near and far planes' points).
     const Light* sky = nullptr;
-    if (params.environmentBackground)
+    if (params.environmentBackground || params.plateEnvironment)
         for (const Light& l : lights)
             if (l.type == LightType::Environment && l.ibl) {
                 sky = &l;
                 break;
             }
     const glm::dmat4 ndcToWorld = glm::inverse(camera.worldToNDC);
+    const float catcherId = float(in.get_int_attribute(gbuffer::kShadowCatcher, 0));
     auto skyRadiance = [&](int px, int py) {
         const double nx = (px + 0.5) / frameWidth * 2.0 - 1.0;
         const double ny = 1.0 - (py + 0.5) / frameHeight * 2.0;
@@ -153,6 +187,23 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
         const glm::dvec4 b = ndcToWorld * glm::dvec4(nx, ny, 1.0, 1.0);
         const glm::vec3 d(glm::normalize(glm::dvec3(b) / b.w - glm::dvec3(a) / a.w));
         return sky->ibl->levels[0].radiance(intoEnvironment(*sky, d)) * sky->color * sky->intensity;
+    };
+    // Composited over a plate: a photograph of the frame's pixels, or the environment.
+    const OIIO::ImageBuf* plateImage = inputs.plate;
+    const bool plate = plateImage || (params.plateEnvironment && sky);
+    auto overPlate = [&](float* out, int x, int y) {
+        glm::vec3 behind(0.0f);
+        if (plateImage) {
+            for (int c = 0; c < 3; ++c)
+                behind[c] =
+                    plateImage->getchannel(x, y, 0, std::min(c, plateImage->nchannels() - 1));
+        } else {
+            behind = skyRadiance(x - frame.xbegin, y - frame.ybegin);
+        }
+        const float a = out[3];
+        for (int c = 0; c < 3; ++c)
+            out[c] += behind[c] * (1.0f - a);
+        out[3] = 1.0f;
     };
     std::atomic<long long> evaluations{0}, reaching{0}, covered{0}, shadowCount{0}, aoCount{0};
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
@@ -166,7 +217,7 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                     out[4 + extra + k] = g[passIndex[k]];
                 if (view.samples(x, y) == 0) {
                     std::copy(params.background, params.background + 4, out);
-                    if (sky) {
+                    if (sky && params.environmentBackground) {
                         const glm::vec3 L = skyRadiance(x - frame.xbegin, y - frame.ybegin);
                         out[0] = L.r;
                         out[1] = L.g;
@@ -174,6 +225,7 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                         out[3] = 1.0f;
                     }
                     if (extra) out[4] = 1.0f;
+                    if (plate) overPlate(out, x, y);
                     continue;
                 }
                 const ShadingPoint sp = view.at(x, y);
@@ -186,44 +238,33 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                                            params.aoDistance, *inputs.visibility, &localAO);
                 // Lo = Le + Σ V_i L_i, in the order of the lights; with AO, the ambient
                 // terms are summed apart and occluded at the end.
-                glm::vec3 Lo = sp.emission, ambient(0.0f), environmentSpecular(0.0f);
+                // Lo = Le + Σ V_i L_i, in the order of the lights; with AO, the ambient terms
+                // are summed apart and occluded at the end. The same sums without visibility
+                // give a shadow catcher its alpha.
+                Terms lit{sp.emission}, open{sp.emission};
                 auto addLight = [&](std::uint32_t i) {
                     const Light& light = lights[i];
                     if (light.type == LightType::Environment) {
-                        IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
+                        const IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
                         // The visible share of the environment, from rays drawn by its
                         // luminance, scales the prefiltered result.
-                        if (shadowRays && params.environmentSamples > 0) {
-                            const float v = lightVisibility(
-                                light, sp.P, sp.N, sampleSeed(x, y, i, 1),
-                                params.environmentSamples, *shadowRays, &localShadow);
-                            if (v != 1.0f) {
-                                e.diffuse *= v;
-                                e.specular *= v;
-                            }
-                        }
-                        if (aoActive) {
-                            // AO occludes the diffuse part, specular occlusion the specular.
-                            ambient += e.diffuse;
-                            environmentSpecular += e.specular;
-                        } else {
-                            Lo += e.diffuse + e.specular;
-                        }
+                        float v = 1.0f;
+                        if (shadowRays && params.environmentSamples > 0)
+                            v = lightVisibility(light, sp.P, sp.N, sampleSeed(x, y, i, 1),
+                                                params.environmentSamples, *shadowRays,
+                                                &localShadow);
+                        lit.addEnvironment(e, v, aoActive);
+                        open.addEnvironment(e, 1.0f, aoActive);
                         return;
                     }
-                    glm::vec3 c = shadeLight(light, sp.surface, sp.P, sp.N, sp.V);
-                    if (light.type == LightType::Ambient) {
-                        if (aoActive) {
-                            ambient += c;
-                            return;
-                        }
-                    } else if (shadowRays && c != glm::vec3(0.0f)) {
-                        const float v =
-                            lightVisibility(light, sp.P, sp.N, sampleSeed(x, y, i, 1),
+                    const glm::vec3 c = shadeLight(light, sp.surface, sp.P, sp.N, sp.V);
+                    float v = 1.0f;
+                    if (light.type != LightType::Ambient && shadowRays && c != glm::vec3(0.0f))
+                        v = lightVisibility(light, sp.P, sp.N, sampleSeed(x, y, i, 1),
                                             params.shadowSamples, *shadowRays, &localShadow);
-                        if (v != 1.0f) c *= v;
-                    }
-                    Lo += c;
+                    const bool occludable = light.type == LightType::Ambient && aoActive;
+                    lit.add(c, v, occludable);
+                    open.add(c, 1.0f, occludable);
                 };
                 if (params.bruteForce) {
                     // The reference: every light's full evaluation, which is exactly zero
@@ -245,16 +286,26 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                         addLight(e.light);
                     }
                 }
-                if (aoActive)
-                    Lo += ambient * occlusion +
-                          environmentSpecular *
-                              specularOcclusion(std::max(glm::dot(sp.N, sp.V), 0.0f), occlusion,
-                                                sp.surface.roughness);
+                const float so = aoActive ? specularOcclusion(std::max(glm::dot(sp.N, sp.V), 0.0f),
+                                                              occlusion, sp.surface.roughness)
+                                          : 1.0f;
+                const glm::vec3 Lo = lit.total(aoActive, occlusion, so);
                 ++localCovered;
-                out[0] = Lo.r;
-                out[1] = Lo.g;
-                out[2] = Lo.b;
-                out[3] = sp.coverage;
+                if (catcherId > 0 && layout.objectId >= 0 && g[layout.objectId] == catcherId) {
+                    // A shadow catcher (Blender's convention): no colour of its own, and the
+                    // share of light that shadows and AO take away as alpha.
+                    const float unshadowed = luminance(open.total(aoActive, 1.0f, 1.0f));
+                    out[0] = out[1] = out[2] = 0.0f;
+                    out[3] = unshadowed > 0.0f
+                                 ? std::clamp(1.0f - luminance(Lo) / unshadowed, 0.0f, 1.0f)
+                                 : 0.0f;
+                } else {
+                    out[0] = Lo.r;
+                    out[1] = Lo.g;
+                    out[2] = Lo.b;
+                    out[3] = sp.coverage;
+                }
+                if (plate) overPlate(out, x, y);
                 if (extra) out[4] = occlusion;
             }
         evaluations += localEvaluations;

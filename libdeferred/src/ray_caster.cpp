@@ -45,6 +45,8 @@ RayCaster::RayCaster(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
         rtcReleaseGeometry(geom);
     }
     rtcCommitScene(m_impl->scene);
+    m_plane = scene.hasGroundPlane;
+    m_planeY = scene.groundPlaneY;
     if (rtcGetDeviceError(m_impl->device) != RTC_ERROR_NONE)
         m_error = "Embree could not build the scene";
 }
@@ -72,6 +74,15 @@ RayHit RayCaster::intersect(const Ray& ray, double tnear) const {
     rtcIntersect1(m_impl->scene, &context, &rh);
 
     RayHit hit;
+    if (m_plane && ray.direction.y != 0.0) {
+        const double t = (double(m_planeY) - ray.origin.y) / ray.direction.y;
+        if (t > tnear && (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID || t < rh.ray.tfar)) {
+            hit.hit = true;
+            hit.t = t;
+            hit.mesh = kGroundPlaneHit;
+            return hit;
+        }
+    }
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
     hit.hit = true;
     hit.t = rh.ray.tfar;
@@ -102,6 +113,10 @@ void setRay(RTCRay& r, const glm::vec3& origin, const glm::vec3& direction, floa
 } // namespace
 
 bool RayCaster::occluded(const glm::vec3& origin, const glm::vec3& direction, float tmax) const {
+    if (m_plane && direction.y != 0.0f) {
+        const float t = (m_planeY - origin.y) / direction.y;
+        if (t > 0.0f && t < tmax) return true;
+    }
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     RTCRay ray;
@@ -127,8 +142,14 @@ void RayCaster::test(const ShadowRay* rays, size_t count, bool* visible) const {
         rtcInitIntersectContext(&context);
         context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
         rtcOccluded1M(m_impl->scene, &context, batch, unsigned(n), sizeof(RTCRay));
-        for (size_t i = 0; i < n; ++i)
+        for (size_t i = 0; i < n; ++i) {
             visible[begin + i] = !(batch[i].tfar < 0.0f);
+            const ShadowRay& r = rays[begin + i];
+            if (m_plane && visible[begin + i] && r.direction.y != 0.0f) {
+                const float t = (m_planeY - r.origin.y) / r.direction.y;
+                if (t > 0.0f && t < r.tmax) visible[begin + i] = false;
+            }
+        }
     }
 }
 

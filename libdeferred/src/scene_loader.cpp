@@ -410,6 +410,20 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
     return true;
 }
 
+void addGroundPlane(Scene& scene, float y) {
+    scene.hasGroundPlane = true;
+    scene.groundPlaneY = y;
+    scene.groundObject = int(scene.objectNames.size());
+    scene.objectNames.push_back(kGroundPlaneName);
+    Material ground;
+    ground.name = kGroundPlaneName;
+    ground.baseColor = glm::vec3(0.8f);
+    ground.roughness = 1.0f;
+    ground.metallic = 0.0f;
+    scene.groundMaterial = int(scene.materials.size());
+    scene.materials.push_back(ground);
+}
+
 glm::dvec3 Scene::boundsMin() const {
     glm::dvec3 lo(std::numeric_limits<double>::infinity());
     for (const Mesh& m : meshes)

@@ -28,6 +28,12 @@ inline constexpr const char* kMaterialId = "id.material";
 // Header attribute: SHA-1 of the scene file the G-buffer was rendered from (sceneFingerprint).
 inline constexpr const char* kSceneFingerprint = "dhdr:sceneSHA1";
 
+// Header attributes of a G-buffer with a ground plane (dhdr-gbuffer --ground-plane): its
+// height (float), and the id.object of its pixels (int), which dhdr-light treats as a shadow
+// catcher.
+inline constexpr const char* kGroundPlaneY = "dhdr:groundPlaneY";
+inline constexpr const char* kShadowCatcher = "dhdr:shadowCatcher";
+
 // Index of each channel within a G-buffer's channel list (of its first component for the
 // 3-vectors, whose components must follow in X Y Z / R G B order).
 struct Layout {

@@ -18,6 +18,9 @@ struct LightingInputs {
     // Precomputed AO (one channel, e.g. screenSpaceAO) over the pixels shaded, in the same
     // pixel coordinates as the G-buffer; it takes precedence over ray-traced AO.
     const OIIO::ImageBuf* ambientOcclusion = nullptr;
+    // A photograph (RGB, the frame's pixels) the result is composited over ("over": RGB +
+    // plate × (1 − A), A = 1): objects and their caught shadows onto the real place.
+    const OIIO::ImageBuf* plate = nullptr;
 };
 
 struct LightingParams {
@@ -31,6 +34,8 @@ struct LightingParams {
     // Instead, where there is no surface, the first environment light as the camera sees it
     // (full resolution, bilinear; A = 1), so that the frame is complete.
     bool environmentBackground = false;
+    // Composite over the first environment light as the camera sees it (when no plate image).
+    bool plateEnvironment = false;
     // G-buffer channels copied into the output after R, G, B, A (and AO) (e.g. "Z", "N.X").
     std::vector<std::string> passThrough;
     // The whole frame, when the G-buffer given is a strip of its rows (dhdr-light streams

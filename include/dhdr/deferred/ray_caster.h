@@ -15,10 +15,12 @@ struct Scene;
 struct RayHit {
     bool hit = false;
     double t = 0.0;
-    int mesh = -1;            // index into Scene::meshes
+    int mesh = -1;            // index into Scene::meshes; kGroundPlaneHit: the ground plane
     int triangle = -1;        // index into that mesh's triangles
     float u = 0.0f, v = 0.0f; // barycentrics of vertices 1 and 2
 };
+
+inline constexpr int kGroundPlaneHit = -2;
 
 class RayCaster : public Visibility {
 public:
@@ -32,7 +34,8 @@ public:
     bool ok() const { return m_error.empty(); }
     const std::string& error() const { return m_error; }
 
-    // Closest hit along `ray` in (tnear, ∞). Safe to call from many threads.
+    // Closest hit along `ray` in (tnear, ∞), the scene's ground plane included. Safe to call
+    // from many threads.
     RayHit intersect(const Ray& ray, double tnear = 0.0) const;
 
     // True when a triangle lies on the segment from `origin` along unit `direction` within
@@ -47,6 +50,8 @@ public:
 private:
     struct Impl;
     std::unique_ptr<Impl> m_impl;
+    bool m_plane = false;
+    float m_planeY = 0.0f;
     std::string m_error;
 };
 

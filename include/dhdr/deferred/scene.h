@@ -76,10 +76,22 @@ struct Scene {
     std::vector<Light> lights; // world space, KHR_lights_punctual units
     // What the loader repaired or left out, one line each, for the tool to print.
     std::vector<std::string> warnings;
+    // An infinite horizontal plane y = groundPlaneY under everything, intersected exactly (not
+    // a mesh): the shadow catcher of AR compositing (addGroundPlane, docs/ibl.md).
+    bool hasGroundPlane = false;
+    float groundPlaneY = 0.0f;
+    int groundObject = -1, groundMaterial = -1; // indices into objectNames and materials
 
     glm::dvec3 boundsMin() const;
     glm::dvec3 boundsMax() const;
 };
+
+// The name the ground plane has among the objects (and materials) of a G-buffer.
+inline constexpr const char* kGroundPlaneName = "dhdr:ground plane";
+
+// Adds the infinite ground plane at height y: an object and a white rough material of that
+// name (RGB 0.8, roughness 1).
+void addGroundPlane(Scene& scene, float y);
 
 // A camera like `like` (its direction, up and projection) moved so that the scene's bounding
 // sphere just fits an image of `aspect` (width / height): perspective cameras back off along
