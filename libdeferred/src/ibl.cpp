@@ -167,11 +167,15 @@ glm::vec2 integrateDFG(float NdotV, float roughness, int samples) {
 }
 
 void EnvironmentSampler::build(const EnvironmentImage& full) {
-    EnvironmentImage env = full;
-    while (env.width > 512)
-        env = env.downsampled();
+    image = full;
+    while (image.width > 512)
+        image = image.downsampled();
+    const EnvironmentImage& env = image;
     width = env.width;
     height = env.height;
+    rowCos.resize(size_t(height) + 1);
+    for (int y = 0; y <= height; ++y)
+        rowCos[size_t(y)] = std::cos(3.14159265358979323846 * y / height);
     marginal.assign(size_t(height) + 1, 0.0);
     conditional.assign(size_t(height) * size_t(width + 1), 0.0);
     for (int y = 0; y < height; ++y) {
@@ -186,7 +190,7 @@ void EnvironmentSampler::build(const EnvironmentImage& full) {
     }
 }
 
-glm::vec3 EnvironmentSampler::sample(glm::vec2 u, float& pdf) const {
+glm::vec3 EnvironmentSampler::sample(glm::vec2 u, float& pdf, glm::vec3& radiance) const {
     // The row, then the texel within it, whose share of the running sum holds u; the point
     // within the texel uniform in u and t.
     auto pick = [](const double* cdf, int n, double target, double& within) {
@@ -203,13 +207,14 @@ glm::vec3 EnvironmentSampler::sample(glm::vec2 u, float& pdf) const {
     // Within the texel the point is uniform in φ and cos θ, i.e. uniform in solid angle, so
     // the density is the texel's probability over its solid angle.
     const double pi = 3.14159265358979323846;
-    const double t0 = pi * y / height, t1 = pi * (y + 1) / height;
-    const double cosTheta = std::cos(t0) + fy * (std::cos(t1) - std::cos(t0));
-    const float uu = (float(x) + float(fx)) / float(width);
-    const float tt = float(std::acos(std::clamp(cosTheta, -1.0, 1.0)) / pi);
-    const double omega = 2.0 * pi / width * (std::cos(t0) - std::cos(t1));
+    const double c0 = rowCos[size_t(y)], c1 = rowCos[size_t(y) + 1];
+    const float cosTheta = float(c0 + fy * (c1 - c0));
+    const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+    const float phi = ((float(x) + float(fx)) / float(width) - 0.5f) * 2.0f * kPi;
+    const double omega = 2.0 * pi / width * (c0 - c1);
     pdf = float((row[x + 1] - row[x]) / marginal.back() / omega);
-    return equirectDirection({uu, tt});
+    radiance = image.texel(x, y);
+    return {sinTheta * std::cos(phi), cosTheta, sinTheta * std::sin(phi)};
 }
 
 glm::vec3 Ibl::irradiance(const glm::vec3& n) const {

@@ -34,9 +34,10 @@ LightLiSample sampleLi(const Light& light, const glm::vec3& P, glm::vec2 u) {
     if (light.type == LightType::Ambient) return s;
     if (light.type == LightType::Environment) {
         if (!light.ibl || light.ibl->sampler.empty()) return s;
-        const glm::vec3 d = light.ibl->sampler.sample(u, s.pdf);
+        glm::vec3 radiance;
+        const glm::vec3 d = light.ibl->sampler.sample(u, s.pdf, radiance);
         s.wi = fromEnvironment(light, d);
-        s.L = light.ibl->levels[0].radiance(d) * light.color * light.intensity;
+        s.L = radiance * light.color * light.intensity;
         s.distance = INFINITY;
         return s;
     }

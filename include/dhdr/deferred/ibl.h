@@ -30,12 +30,14 @@ struct EnvironmentSampler {
     int width = 0, height = 0;
     std::vector<double> marginal;    // running sum over rows, height + 1 entries from 0
     std::vector<double> conditional; // per row, running sums over its texels, width + 1 each
+    std::vector<double> rowCos;      // cos θ at the rows' edges, height + 1
+    EnvironmentImage image;          // the environment it samples, at most 512 wide
 
     void build(const EnvironmentImage& env);
     bool empty() const { return marginal.empty() || !(marginal.back() > 0.0); }
     // A direction (in the environment's frame) for u in [0, 1)², with its density per
-    // steradian.
-    glm::vec3 sample(glm::vec2 u, float& pdf) const;
+    // steradian and the radiance of the texel it lies in.
+    glm::vec3 sample(glm::vec2 u, float& pdf, glm::vec3& radiance) const;
 };
 
 // The baked environment.
