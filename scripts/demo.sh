@@ -24,8 +24,13 @@ step "$tools/dhdr-aa" "$out/cornell.hdr.exr" --gbuffer "$out/cornell.gbuf.exr" \
 step "$tools/dhdr-bloom" "$out/cornell.aa.exr" -o "$out/cornell.bloom.exr" -v
 step "$tools/dhdr-tonemap" "$out/cornell.bloom.exr" -o "$out/cornell.png" -v
 
+# Image-based lighting and AR compositing: spheres on a shadow-catching ground plane under an
+# HDR sky, composited over it (docs/ibl.md).
+bash "$here/scripts/ibl_demo.sh" "$tools" "$out"
+
 echo
 echo "Outputs:"
-for f in cornell.gbuf.exr cornell.lights.json cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png; do
+for f in cornell.gbuf.exr cornell.lights.json cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png \
+  sky.exr sky.ibl.exr spheres.gbuf.exr spheres.hdr.exr spheres.png; do
   echo "  $out/$f"
 done

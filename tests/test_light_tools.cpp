@@ -226,3 +226,58 @@ TEST_F(LightTools, EnvironmentThatCannotBeReadIsAnErrorNamingIt) {
     EXPECT_FALSE(fs::exists(path("x.ibl.exr")));
     EXPECT_TRUE(noTemporaries());
 }
+
+TEST_F(LightTools, GroundPlaneCatchesShadowsAndPlatesComposite) {
+    writeSky(path("sky2.exr"), 128);
+    std::ofstream(path("sky2.json"))
+        << R"({"lights": [{"type": "environment", "image": "sky2.exr"}]})";
+    const std::string spheres = kTestdata + "/spheres.gltf";
+    const Result g =
+        run("dhdr-gbuffer " + spheres + " --size 64x36 --ground-plane 0.001 -o " + path("sp.exr"));
+    ASSERT_EQ(g.status, 0) << g.err;
+    const ImageBuf gbuf = read("sp.exr");
+    EXPECT_FLOAT_EQ(gbuf.spec().get_float_attribute("dhdr:groundPlaneY"), 0.001f);
+    const int catcher = gbuf.spec().get_int_attribute("dhdr:shadowCatcher");
+    EXPECT_GT(catcher, 0);
+    // Without a number the plane goes to the scene's lowest point, 0 for the spheres.
+    ASSERT_EQ(run("dhdr-gbuffer " + spheres + " --size 64x36 --ground-plane -o " + path("sp0.exr"))
+                  .status,
+              0);
+    EXPECT_NEAR(read("sp0.exr").spec().get_float_attribute("dhdr:groundPlaneY"), 0.0f, 1e-6f);
+
+    const Result lit =
+        run("dhdr-light " + path("sp.exr") + " --scene " + spheres + " --lights " +
+            path("sky2.json") + " --env-samples 4 --type float -o " + path("sp_lit.exr"));
+    ASSERT_EQ(lit.status, 0) << lit.err;
+    const ImageBuf l = read("sp_lit.exr");
+    int catcherPixels = 0;
+    for (int y = 0; y < 36; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const float a = l.getchannel(x, y, 0, 3);
+            ASSERT_GE(a, 0.0f);
+            ASSERT_LE(a, 1.0f);
+            if (gbuf.getchannel(x, y, 0, gbuf.spec().channelindex("A")) > 0.0f &&
+                l.getchannel(x, y, 0, 0) == 0.0f && l.getchannel(x, y, 0, 1) == 0.0f)
+                ++catcherPixels;
+        }
+    EXPECT_GT(catcherPixels, 300);
+    // Over the environment: opaque everywhere.
+    ASSERT_EQ(run("dhdr-light " + path("sp.exr") + " --lights " + path("sky2.json") +
+                  " --plate env --type float -o " + path("sp_env.exr"))
+                  .status,
+              0);
+    OIIO::ImageBufAlgo::PixelStats stats;
+    ASSERT_TRUE(OIIO::ImageBufAlgo::computePixelStats(stats, read("sp_env.exr")));
+    EXPECT_EQ(stats.min[3], 1.0f);
+    // A plate of another size, or --plate env without an environment: errors, no output.
+    OIIO::ImageBuf small(OIIO::ImageSpec(10, 10, 3, OIIO::TypeDesc::FLOAT));
+    ASSERT_TRUE(small.write(path("small.exr")));
+    const Result wrong = run("dhdr-light " + path("sp.exr") + " --lights " + path("sky2.json") +
+                             " --plate " + path("small.exr") + " -o " + path("bad.exr"));
+    EXPECT_EQ(wrong.status, 1);
+    EXPECT_NE(wrong.err.find("10x10"), std::string::npos) << wrong.err;
+    const Result noEnv = run("dhdr-light " + path("sp.exr") + " --lights " + kFill +
+                             " --plate env -o " + path("bad.exr"));
+    EXPECT_EQ(noEnv.status, 1);
+    EXPECT_FALSE(fs::exists(path("bad.exr")));
+}
