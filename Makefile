@@ -41,6 +41,7 @@ demo: build
 bench: build
 	@python3 bench/pipeline.py --bin $(BUILD)/apps
 	@python3 bench/shadows.py --bin $(BUILD)/apps
+	@python3 bench/ibl.py --bin $(BUILD)/apps
 	@$(BUILD)/dhdr-bench-occlusion testdata/cornell_box.gltf
 
 format:

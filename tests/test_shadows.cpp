@@ -471,7 +471,12 @@ TEST(EmissiveLights, AGlowingQuadLightsLikeTheRectangleLightItIs) {
     EXPECT_GT(floor, 2000);
 }
 
-// With 1,000 lights and shadow rays, the culled pass equals brute force; the result does not
+namespace {
+std::shared_ptr<const Ibl> sunOnlyEnvironment(const glm::vec3& sun);
+} // namespace
+
+// With 1,000 lights and shadow rays (and an environment with environment shadows), the culled
+// pass equals brute force; the result does not
 // depend on the thread count or on cutting the frame into strips.
 TEST(Shadows, CulledEqualsBruteForceAndThreadsDoNotMatter) {
     Scene scene;
@@ -497,9 +502,16 @@ TEST(Shadows, CulledEqualsBruteForceAndThreadsDoNotMatter) {
     ambient.type = LightType::Ambient;
     ambient.intensity = 0.05f;
     lights.push_back(ambient);
+    Light sky;
+    sky.type = LightType::Environment;
+    sky.intensity = 0.02f;
+    sky.rotation = 0.7f;
+    sky.ibl = sunOnlyEnvironment(glm::normalize(glm::vec3(0.2f, 1.0f, -0.9f)));
+    lights.push_back(sky);
     LightingParams p;
     p.aoSamples = 8;
     p.shadowSamples = 4;
+    p.environmentSamples = 4;
     p.writeAO = true;
     LightingStats culledStats, bruteStats;
     const ImageBuf culled = shade(gbuf, lights, &caster, p, 2, &culledStats);
