@@ -41,7 +41,8 @@ TEST_F(LightTools, SceneThatDoesNotLoadFailsNamingIt) {
 }
 
 TEST_F(LightTools, OptionsThatNeedTheSceneAreUsageErrors) {
-    for (const std::string& option : {"--ao rt", "--no-shadows", "--emissive-lights on"}) {
+    for (const std::string& option :
+         {"--ao rt", "--no-shadows", "--emissive-lights on", "--env-samples 4"}) {
         const Result r = run("dhdr-light " + path("g.exr") + " --lights " + kLights + " " + option +
                              " -o " + path("x.exr"));
         EXPECT_EQ(r.status, 2) << option;

@@ -30,33 +30,35 @@ float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N
     const RotatedHammersley sequence(seed);
     float weight[kBatch];
     bool visible[kBatch];
-    // Sums in double, in sample order: the same value for any thread count.
-    double total = 0.0, seen = 0.0, count = 0.0, seenCount = 0.0;
+    // Sums in double, in sample order: the same value for any thread count. Samples below
+    // the horizon weigh nothing and are not traced.
+    double total = 0.0, seen = 0.0;
+    int count = 0, seenCount = 0;
     for (int begin = 0; begin < samples; begin += kBatch) {
         int n = 0;
         for (int i = begin; i < std::min(samples, begin + kBatch); ++i) {
             const LightLiSample s =
                 sampleLi(light, origin, sequence(std::uint32_t(i), std::uint32_t(samples)));
-            if (s.pdf == 0.0f) continue;
             const float cosTheta = glm::dot(N, s.wi);
-            weight[n] = cosTheta > 0.0f ? (s.L.r + s.L.g + s.L.b) * cosTheta / s.pdf : 0.0f;
+            if (s.pdf == 0.0f || !(cosTheta > 0.0f)) continue;
+            weight[n] = (s.L.r + s.L.g + s.L.b) * cosTheta / s.pdf;
             batch[n++] = towards(origin, s);
         }
         visibility.test(batch, size_t(n), visible);
         if (rays) *rays += n;
         for (int i = 0; i < n; ++i) {
             total += weight[i];
-            count += 1.0;
+            ++count;
             if (visible[i]) {
                 seen += weight[i];
-                seenCount += 1.0;
+                ++seenCount;
             }
         }
     }
+    // No sample above the horizon (a light grazing the surface): its unshadowed value stands.
     if (seenCount == count) return 1.0f;
-    if (seenCount == 0.0) return 0.0f;
-    // Every sample below the horizon (a light grazing the surface): the plain fraction.
-    return float(total > 0.0 ? seen / total : seenCount / count);
+    if (seenCount == 0) return 0.0f;
+    return float(total > 0.0 ? seen / total : double(seenCount) / count);
 }
 
 } // namespace dhdr

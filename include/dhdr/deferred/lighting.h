@@ -77,13 +77,16 @@ struct LightingStats {
 // `gbuffer`'s metadata. For each surface point (shading_point.h):
 //   Lo = emission + Σ_lights V_i · L_i + AO · Σ_ambient L_a
 // with L_i the light's exact unshadowed reflection (Lambert + Cook-Torrance, brdf.h; area
-// lights area_light.h), V_i its visibility (shadows.h; 1 without a Visibility) and AO the
-// ambient occlusion (ambient_occlusion.h). AO multiplies only the ambient terms: punctual and
-// area lights have their shadows. Each light is evaluated only at the pixels of the tiles and
-// depth slices its bound reaches (light_culling.h), in the order of the lights, so culled and
-// brute-force results agree to rounding; every sample sequence depends only on the pixel and
-// the light, so results do not depend on `nthreads` or on the strip. Errors (a missing
-// channel, no camera in the header) are reported on `dst`. `dst` is reused when it already
+// lights area_light.h; environments the split sum of ibl.h), V_i its visibility (shadows.h; 1
+// without a Visibility) and AO the ambient occlusion (ambient_occlusion.h). AO multiplies only
+// the ambient terms (ambient lights, environments' diffuse light; their specular light by
+// specular occlusion): punctual and area lights have their shadows. Pixels of the G-buffer's
+// shadow catcher (gbuffer::kShadowCatcher) get RGB 0 and A = 1 − shadowed / unshadowed
+// luminance; with a plate, every pixel is then composited over it. Each light is evaluated only at
+// the pixels of the tiles and depth slices its bound reaches (light_culling.h), in the order of the
+// lights, so culled and brute-force results agree to rounding; every sample sequence depends only
+// on the pixel and the light, so results do not depend on `nthreads` or on the strip. Errors (a
+// missing channel, no camera in the header) are reported on `dst`. `dst` is reused when it already
 // holds float pixels of the right size and channels (the previous strip).
 bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuffer, const LightingInputs& inputs,
                   const LightingParams& params = {}, OIIO::ROI roi = {}, int nthreads = 0,

@@ -16,6 +16,8 @@ namespace dhdr {
 //   each ray weighted by its share of the unshadowed irradiance, L cos θ / pdf; the weighted
 //   sum of the visible ones over the sum of all. Exactly 1 when every ray gets through, 0 when
 //   none does.
+// Samples below the horizon weigh nothing and are not traced; with none above it the light's
+// unshadowed value stands (1).
 // Rays start at offsetRayOrigin(P, N) and stop kShadowRayShortening short of the light.
 // `rays` (optional) counts the rays traced.
 float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N,
