@@ -150,7 +150,9 @@ TEST(Ibl, IrradianceSHAgainstQuadrature) {
         }
         std::printf("SH9 irradiance, %s: largest error %.4f of the maximum\n",
                     sun ? "sky with a sun" : "smooth sky", worst / largest);
-        if (!sun) EXPECT_LT(worst, 0.01 * largest);
+        if (!sun) {
+            EXPECT_LT(worst, 0.01 * largest);
+        }
     }
 }
 

@@ -327,7 +327,9 @@ TEST(AmbientOcclusion, FloorBesideAnInfiniteWall) {
             EXPECT_NEAR(got[b] / count[b], want[b] / count[b], 0.025)
                 << "distance " << D << ", bin " << b;
         }
-        if (D > 1e20) EXPECT_NEAR(want[0] / count[0], 0.5, 1e-3); // the closed form, ½
+        if (D > 1e20) {
+            EXPECT_NEAR(want[0] / count[0], 0.5, 1e-3); // the closed form, ½
+        }
     }
 }
 

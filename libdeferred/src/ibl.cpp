@@ -1,5 +1,4 @@
 #include <OpenImageIO/imagebufalgo_util.h>
-#include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cmath>
 #include <dhdr/common/parallel.h>
@@ -75,11 +74,6 @@ glm::vec3 sampleGgxHalf(glm::vec2 u, float alpha) {
     const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
     const float phi = 2.0f * kPi * u.y;
     return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
-}
-
-// Level k's roughness.
-float levelRoughness(int k, int levels) {
-    return float(k) / float(levels - 1);
 }
 
 // Prefilters one level: for each texel direction R (with N = V = R, the split sum's
@@ -303,7 +297,7 @@ bool bakeIbl(const EnvironmentImage& env, const IblBakeParams& p, Ibl& ibl, std:
     for (int k = 1; k < p.levels; ++k) {
         const int width = std::max(8, p.baseWidth >> (k - 1));
         ibl.levels.push_back(
-            prefilter(mips, width, levelRoughness(k, p.levels), p.samples, nthreads));
+            prefilter(mips, width, iblLevelRoughness(k, p.levels), p.samples, nthreads));
     }
 
     // (c) The DFG table.
@@ -336,129 +330,6 @@ IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, con
 float specularOcclusion(float NdotV, float ao, float roughness) {
     return std::clamp(std::pow(NdotV + ao, std::exp2(-16.0f * roughness - 1.0f)) - 1.0f + ao, 0.0f,
                       1.0f);
-}
-
-namespace {
-
-constexpr const char* kShAttribute = "dhdr:irradianceSH";
-
-void setParams(OIIO::ImageSpec& spec, const Ibl& ibl) {
-    // OpenEXR's parts share one display window: level 0's.
-    spec.full_x = spec.full_y = 0;
-    spec.full_width = ibl.levels.empty() ? spec.width : ibl.levels[0].width;
-    spec.full_height = ibl.levels.empty() ? spec.height : ibl.levels[0].height;
-    std::vector<float> sh;
-    for (const glm::vec3& c : ibl.sh)
-        sh.insert(sh.end(), {c.r, c.g, c.b});
-    spec.attribute(kShAttribute, OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 27), sh.data());
-    spec.attribute("dhdr:iblLevels", ibl.params.levels);
-    spec.attribute("dhdr:iblBaseWidth", ibl.params.baseWidth);
-    spec.attribute("dhdr:iblSamples", ibl.params.samples);
-    spec.attribute("dhdr:dfgSize", ibl.params.dfgSize);
-    spec.attribute("dhdr:dfgSamples", ibl.params.dfgSamples);
-}
-
-} // namespace
-
-bool writeIbl(const std::string& path, const Ibl& ibl, std::string& error) {
-    std::vector<OIIO::ImageSpec> specs;
-    for (size_t k = 0; k < ibl.levels.size(); ++k) {
-        OIIO::ImageSpec spec(ibl.levels[k].width, ibl.levels[k].height, 3, OIIO::TypeDesc::FLOAT);
-        spec.channelnames = {"R", "G", "B"};
-        spec.attribute("oiio:subimagename", "specular" + std::to_string(k));
-        spec.attribute("dhdr:roughness", levelRoughness(int(k), int(ibl.levels.size())));
-        spec.attribute("compression", "zip");
-        setParams(spec, ibl);
-        specs.push_back(spec);
-    }
-    OIIO::ImageSpec dfg(ibl.params.dfgSize, ibl.params.dfgSize, 2, OIIO::TypeDesc::FLOAT);
-    dfg.channelnames = {"dfg.x", "dfg.y"};
-    dfg.attribute("oiio:subimagename", "dfg");
-    setParams(dfg, ibl);
-    specs.push_back(dfg);
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out || !out->supports("multiimage")) {
-        error = "cannot write a multi-part EXR here";
-        return false;
-    }
-    if (!out->open(path, int(specs.size()), specs.data())) {
-        error = out->geterror();
-        return false;
-    }
-    for (size_t k = 0; k < specs.size(); ++k) {
-        if (k > 0 && !out->open(path, specs[k], OIIO::ImageOutput::AppendSubimage)) {
-            error = out->geterror();
-            return false;
-        }
-        const void* data = k < ibl.levels.size()
-                               ? static_cast<const void*>(ibl.levels[k].rgb.data())
-                               : static_cast<const void*>(ibl.dfg.data());
-        if (!out->write_image(OIIO::TypeDesc::FLOAT, data)) {
-            error = out->geterror();
-            return false;
-        }
-    }
-    if (!out->close()) {
-        error = out->geterror();
-        return false;
-    }
-    return true;
-}
-
-bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, bool& baked,
-             std::string& error, long long* replaced, int nthreads) {
-    auto in = OIIO::ImageInput::open(path);
-    if (!in) {
-        error = "cannot read: " + OIIO::geterror();
-        return false;
-    }
-    const OIIO::ImageSpec first = in->spec();
-    const OIIO::ParamValue* sh = first.find_attribute(kShAttribute);
-    baked = false;
-    if (!sh || sh->type() != OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 27)) {
-        in->close();
-        EnvironmentImage env;
-        if (!readEnvironmentImage(path, env, error, replaced)) return false;
-        baked = true;
-        return bakeIbl(env, params, ibl, error, nthreads);
-    }
-    const float* c = static_cast<const float*>(sh->data());
-    for (int i = 0; i < 9; ++i)
-        ibl.sh[size_t(i)] = glm::vec3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
-    ibl.params.levels = first.get_int_attribute("dhdr:iblLevels");
-    ibl.params.baseWidth = first.get_int_attribute("dhdr:iblBaseWidth");
-    ibl.params.samples = first.get_int_attribute("dhdr:iblSamples");
-    ibl.params.dfgSize = first.get_int_attribute("dhdr:dfgSize");
-    ibl.params.dfgSamples = first.get_int_attribute("dhdr:dfgSamples");
-    in->close();
-    if (ibl.params.levels < 2 || ibl.params.dfgSize < 2) {
-        error = "a baked IBL file without its levels";
-        return false;
-    }
-    ibl.levels.clear();
-    long long bad = 0;
-    for (int k = 0; k < ibl.params.levels; ++k) {
-        EnvironmentImage level;
-        long long n = 0;
-        if (!readEnvironmentImage(path, level, error, &n, k)) return false;
-        bad += n;
-        ibl.levels.push_back(std::move(level));
-    }
-    OIIO::ImageBuf dfg(path, ibl.params.levels, 0);
-    if (!dfg.read(ibl.params.levels, 0, true, OIIO::TypeDesc::FLOAT) ||
-        dfg.spec().width != ibl.params.dfgSize || dfg.spec().height != ibl.params.dfgSize ||
-        dfg.nchannels() != 2) {
-        error = "a baked IBL file without its DFG table";
-        return false;
-    }
-    const float* p = static_cast<const float*>(dfg.localpixels());
-    ibl.dfg.assign(p == nullptr ? 0 : size_t(ibl.params.dfgSize) * size_t(ibl.params.dfgSize),
-                   glm::vec2(0.0f));
-    for (size_t i = 0; i < ibl.dfg.size(); ++i)
-        ibl.dfg[i] = {p[2 * i], p[2 * i + 1]};
-    ibl.sampler.build(ibl.levels[0]);
-    if (replaced) *replaced = bad;
-    return true;
 }
 
 } // namespace dhdr

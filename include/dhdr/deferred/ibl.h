@@ -62,6 +62,11 @@ struct Ibl {
     glm::vec2 dfgAt(float NdotV, float roughness) const;
 };
 
+// The roughness prefiltered level k of `levels` holds: k / (levels − 1).
+inline float iblLevelRoughness(int k, int levels) {
+    return float(k) / float(levels - 1);
+}
+
 // The 9 real spherical harmonics Y_0^0 … Y_2^2 at a unit direction.
 std::array<float, 9> shBasis(const glm::vec3& d);
 
