@@ -160,6 +160,53 @@ glm::vec2 integrateDFG(float NdotV, float roughness, int samples) {
     return {float(x / samples), float(y / samples)};
 }
 
+namespace {
+
+// Vose's alias table of n weights: probability[i] of keeping bucket i, else alias[i].
+void buildAlias(const double* weights, int n, float* probability, int* alias) {
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i)
+        sum += weights[i];
+    std::vector<double> scaled(static_cast<size_t>(n));
+    std::vector<int> small, large;
+    for (int i = 0; i < n; ++i) {
+        scaled[size_t(i)] = sum > 0.0 ? weights[i] * n / sum : 1.0;
+        (scaled[size_t(i)] < 1.0 ? small : large).push_back(i);
+        alias[i] = i;
+    }
+    while (!small.empty() && !large.empty()) {
+        const int s = small.back(), l = large.back();
+        small.pop_back();
+        probability[s] = float(scaled[size_t(s)]);
+        alias[s] = l;
+        scaled[size_t(l)] -= 1.0 - scaled[size_t(s)];
+        if (scaled[size_t(l)] < 1.0) {
+            large.pop_back();
+            small.push_back(l);
+        }
+    }
+    for (const int i : large)
+        probability[i] = 1.0f;
+    for (const int i : small)
+        probability[i] = 1.0f;
+}
+
+// The bucket of an alias table for u in [0, 1), and where u falls within it, in [0, 1).
+int pickAlias(const float* probability, const int* alias, int n, float u, double& within) {
+    const double scaled = double(u) * n;
+    const int i = std::min(int(scaled), n - 1);
+    const double f = scaled - i;
+    const double p = probability[i];
+    if (f < p) {
+        within = f / p;
+        return i;
+    }
+    within = std::min((f - p) / std::max(1.0 - p, 1e-12), 0x1.fffffffffffffp-1);
+    return alias[i];
+}
+
+} // namespace
+
 void EnvironmentSampler::build(const EnvironmentImage& full) {
     image = full;
     while (image.width > 512)
@@ -182,22 +229,31 @@ void EnvironmentSampler::build(const EnvironmentImage& full) {
         }
         marginal[size_t(y) + 1] = marginal[size_t(y)] + row[width];
     }
+    rowProbability.resize(size_t(height));
+    rowAlias.resize(size_t(height));
+    texelProbability.resize(size_t(height) * size_t(width));
+    texelAlias.resize(size_t(height) * size_t(width));
+    std::vector<double> weights(size_t(std::max(width, height)));
+    for (int y = 0; y < height; ++y)
+        weights[size_t(y)] = marginal[size_t(y) + 1] - marginal[size_t(y)];
+    buildAlias(weights.data(), height, rowProbability.data(), rowAlias.data());
+    for (int y = 0; y < height; ++y) {
+        const double* row = &conditional[size_t(y) * size_t(width + 1)];
+        for (int x = 0; x < width; ++x)
+            weights[size_t(x)] = row[x + 1] - row[x];
+        buildAlias(weights.data(), width, &texelProbability[size_t(y) * size_t(width)],
+                   &texelAlias[size_t(y) * size_t(width)]);
+    }
 }
 
 glm::vec3 EnvironmentSampler::sample(glm::vec2 u, float& pdf, glm::vec3& radiance) const {
-    // The row, then the texel within it, whose share of the running sum holds u; the point
-    // within the texel uniform in u and t.
-    auto pick = [](const double* cdf, int n, double target, double& within) {
-        const int i =
-            std::clamp(int(std::upper_bound(cdf, cdf + n + 1, target) - cdf) - 1, 0, n - 1);
-        const double span = cdf[i + 1] - cdf[i];
-        within = span > 0.0 ? std::clamp((target - cdf[i]) / span, 0.0, 1.0) : 0.5;
-        return i;
-    };
+    // The row, then the texel within it, from the alias tables; where u fell within its bucket
+    // places the point within the texel.
     double fy = 0.0, fx = 0.0;
-    const int y = pick(marginal.data(), height, double(u.y) * marginal.back(), fy);
+    const int y = pickAlias(rowProbability.data(), rowAlias.data(), height, u.y, fy);
+    const int x = pickAlias(&texelProbability[size_t(y) * size_t(width)],
+                            &texelAlias[size_t(y) * size_t(width)], width, u.x, fx);
     const double* row = &conditional[size_t(y) * size_t(width + 1)];
-    const int x = pick(row, width, double(u.x) * row[width], fx);
     // Within the texel the point is uniform in φ and cos θ, i.e. uniform in solid angle, so
     // the density is the texel's probability over its solid angle.
     const double pi = 3.14159265358979323846;

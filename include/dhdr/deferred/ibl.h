@@ -31,7 +31,11 @@ struct EnvironmentSampler {
     std::vector<double> marginal;    // running sum over rows, height + 1 entries from 0
     std::vector<double> conditional; // per row, running sums over its texels, width + 1 each
     std::vector<double> rowCos;      // cos θ at the rows' edges, height + 1
-    EnvironmentImage image;          // the environment it samples, at most 512 wide
+    // Alias tables (Walker; Vose's construction) of the rows and of each row's texels, so that
+    // a sample costs two lookups instead of two binary searches.
+    std::vector<float> rowProbability, texelProbability;
+    std::vector<int> rowAlias, texelAlias;
+    EnvironmentImage image; // the environment it samples, at most 512 wide
 
     void build(const EnvironmentImage& env);
     bool empty() const { return marginal.empty() || !(marginal.back() > 0.0); }
