@@ -2,6 +2,7 @@
 // quadrature in double of the irradiance, the GGX lobe and the DFG integrals.
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <dhdr/deferred/brdf.h>
@@ -101,6 +102,57 @@ TEST(Environment, ASunOfKnownDirectionLightsTheSurfaceFacingIt) {
     light.rotation = kPi / 2;
     const glm::vec3 turned(sunGltf.z, sunGltf.y, -sunGltf.x);
     EXPECT_GT(env.radiance(intoEnvironment(light, turned)).r, 500.0f);
+}
+
+TEST(Environment, SamplerDrawsEachTexelByItsLuminanceTimesSolidAngle) {
+    // A sky with a sun: the sampler's histogram over texels and the density it reports against
+    // luminance × solid angle computed here in double, independently of its alias tables.
+    const EnvironmentImage env = makeEnvironment(64, [](glm::vec3 d) {
+        const float sun =
+            glm::dot(d, glm::normalize(glm::vec3(0.4f, 0.7f, 0.3f))) > 0.995f ? 500.0f : 0.0f;
+        return gradientSky(d) + glm::vec3(sun);
+    });
+    EnvironmentSampler sampler;
+    sampler.build(env);
+    ASSERT_FALSE(sampler.empty());
+    const int W = env.width, H = env.height;
+    std::vector<double> expected(size_t(W) * size_t(H));
+    double total = 0.0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const glm::vec3 L = env.texel(x, y);
+            const double w = (0.2126 * L.r + 0.7152 * L.g + 0.0722 * L.b) * env.texelSolidAngle(y);
+            expected[size_t(y) * size_t(W) + size_t(x)] = w;
+            total += w;
+        }
+    const int n = 1 << 21;
+    std::vector<double> count(expected.size(), 0.0);
+    int wrongDensity = 0, wrongRadiance = 0;
+    for (int i = 0; i < n; ++i) {
+        float pdf = 0.0f;
+        glm::vec3 radiance;
+        const glm::vec3 d =
+            sampler.sample(hammersley(std::uint32_t(i), std::uint32_t(n), 7), pdf, radiance);
+        ASSERT_NEAR(glm::length(d), 1.0f, 1e-5f);
+        const glm::vec2 uv = equirectUV(d);
+        const int x = std::clamp(int(uv.x * float(W)), 0, W - 1),
+                  y = std::clamp(int(uv.y * float(H)), 0, H - 1);
+        const size_t k = size_t(y) * size_t(W) + size_t(x);
+        count[k] += 1.0;
+        const double p = expected[k] / total / env.texelSolidAngle(y);
+        // A direction rounded onto a texel edge may land in its neighbour; those are rare.
+        wrongDensity += std::abs(pdf - p) > 1e-3 * p;
+        wrongRadiance += radiance != env.texel(x, y);
+    }
+    EXPECT_LT(wrongDensity, n / 1000);
+    EXPECT_LT(wrongRadiance, n / 1000);
+    double worst = 0.0;
+    for (size_t k = 0; k < count.size(); ++k) {
+        const double p = expected[k] / total;
+        const double sigma = std::sqrt(n * p * (1.0 - p)) + 1.0;
+        worst = std::max(worst, std::abs(count[k] - n * p) / sigma);
+    }
+    EXPECT_LT(worst, 6.0) << "a texel drawn more or less often than its share";
 }
 
 TEST(Ibl, WhiteFurnace) {

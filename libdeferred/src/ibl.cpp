@@ -162,8 +162,8 @@ glm::vec2 integrateDFG(float NdotV, float roughness, int samples) {
 
 namespace {
 
-// Vose's alias table of n weights: probability[i] of keeping bucket i, else alias[i].
-void buildAlias(const double* weights, int n, float* probability, int* alias) {
+// Vose's alias table of n ≤ 65536 weights; `keep` in units of 2⁻¹⁶.
+void buildAlias(const double* weights, int n, EnvironmentSampler::Bucket* buckets) {
     double sum = 0.0;
     for (int i = 0; i < n; ++i)
         sum += weights[i];
@@ -172,37 +172,35 @@ void buildAlias(const double* weights, int n, float* probability, int* alias) {
     for (int i = 0; i < n; ++i) {
         scaled[size_t(i)] = sum > 0.0 ? weights[i] * n / sum : 1.0;
         (scaled[size_t(i)] < 1.0 ? small : large).push_back(i);
-        alias[i] = i;
+        buckets[i] = {0xffff, std::uint16_t(i)};
     }
     while (!small.empty() && !large.empty()) {
         const int s = small.back(), l = large.back();
         small.pop_back();
-        probability[s] = float(scaled[size_t(s)]);
-        alias[s] = l;
+        // Rounded to 16 bits: a texel's probability moves by at most 2⁻¹⁷ / n, and the
+        // density the sample reports is the rounded one's (test_ibl checks the histogram).
+        buckets[s].keep = std::uint16_t(std::lround(scaled[size_t(s)] * 65535.0));
+        buckets[s].alias = std::uint16_t(l);
         scaled[size_t(l)] -= 1.0 - scaled[size_t(s)];
         if (scaled[size_t(l)] < 1.0) {
             large.pop_back();
             small.push_back(l);
         }
     }
-    for (const int i : large)
-        probability[i] = 1.0f;
-    for (const int i : small)
-        probability[i] = 1.0f;
 }
 
 // The bucket of an alias table for u in [0, 1), and where u falls within it, in [0, 1).
-int pickAlias(const float* probability, const int* alias, int n, float u, double& within) {
-    const double scaled = double(u) * n;
+int pickAlias(const EnvironmentSampler::Bucket* buckets, int n, float u, float& within) {
+    const float scaled = u * float(n);
     const int i = std::min(int(scaled), n - 1);
-    const double f = scaled - i;
-    const double p = probability[i];
-    if (f < p) {
-        within = f / p;
+    const float f = scaled - float(i);
+    const float keep = float(buckets[i].keep) * (1.0f / 65535.0f);
+    if (f < keep) {
+        within = f / keep;
         return i;
     }
-    within = std::min((f - p) / std::max(1.0 - p, 1e-12), 0x1.fffffffffffffp-1);
-    return alias[i];
+    within = std::min((f - keep) / std::max(1.0f - keep, 1e-7f), 0x1.fffffep-1f);
+    return buckets[i].alias;
 }
 
 } // namespace
@@ -214,57 +212,80 @@ void EnvironmentSampler::build(const EnvironmentImage& full) {
     const EnvironmentImage& env = image;
     width = env.width;
     height = env.height;
+    const double pi = 3.14159265358979323846;
     rowCos.resize(size_t(height) + 1);
     for (int y = 0; y <= height; ++y)
-        rowCos[size_t(y)] = std::cos(3.14159265358979323846 * y / height);
-    marginal.assign(size_t(height) + 1, 0.0);
-    conditional.assign(size_t(height) * size_t(width + 1), 0.0);
+        rowCos[size_t(y)] = float(std::cos(pi * y / height));
+    columnPhi.resize(size_t(width));
+    for (int x = 0; x < width; ++x) {
+        const double phi = (double(x) / width - 0.5) * 2.0 * pi;
+        columnPhi[size_t(x)] = {float(std::cos(phi)), float(std::sin(phi))};
+    }
+    // Weights in double: luminance times solid angle, summed in a fixed order.
+    std::vector<double> weight(size_t(height) * size_t(width)), rowWeight(size_t(height), 0.0);
+    total = 0.0;
     for (int y = 0; y < height; ++y) {
         const double omega = env.texelSolidAngle(y);
-        double* row = &conditional[size_t(y) * size_t(width + 1)];
         for (int x = 0; x < width; ++x) {
             const glm::vec3 L = env.texel(x, y);
-            const double luminance = std::max(0.0, 0.2126 * L.r + 0.7152 * L.g + 0.0722 * L.b);
-            row[x + 1] = row[x] + luminance * omega;
+            const double w = std::max(0.0, 0.2126 * L.r + 0.7152 * L.g + 0.0722 * L.b) * omega;
+            weight[size_t(y) * size_t(width) + size_t(x)] = w;
+            rowWeight[size_t(y)] += w;
         }
-        marginal[size_t(y) + 1] = marginal[size_t(y)] + row[width];
+        total += rowWeight[size_t(y)];
     }
-    rowProbability.resize(size_t(height));
-    rowAlias.resize(size_t(height));
-    texelProbability.resize(size_t(height) * size_t(width));
-    texelAlias.resize(size_t(height) * size_t(width));
-    std::vector<double> weights(size_t(std::max(width, height)));
+    rows.assign(size_t(height), Bucket{});
+    buckets.assign(size_t(height) * size_t(width), Bucket{});
+    texels.assign(size_t(height) * size_t(width), Texel{});
+    buildAlias(rowWeight.data(), height, rows.data());
     for (int y = 0; y < height; ++y)
-        weights[size_t(y)] = marginal[size_t(y) + 1] - marginal[size_t(y)];
-    buildAlias(weights.data(), height, rowProbability.data(), rowAlias.data());
+        buildAlias(&weight[size_t(y) * size_t(width)], width, &buckets[size_t(y) * size_t(width)]);
+    // The density each texel is actually drawn with, from the rounded tables: uniform in solid
+    // angle within the texel, its probability over its solid angle.
+    std::vector<double> rowP(size_t(height), 0.0), texelP(static_cast<size_t>(width));
+    auto probabilities = [](const Bucket* b, int n, double* p) {
+        std::fill(p, p + n, 0.0);
+        for (int i = 0; i < n; ++i) {
+            const double keep = b[i].keep / 65535.0;
+            p[i] += keep / n;
+            p[b[i].alias] += (1.0 - keep) / n;
+        }
+    };
+    probabilities(rows.data(), height, rowP.data());
     for (int y = 0; y < height; ++y) {
-        const double* row = &conditional[size_t(y) * size_t(width + 1)];
-        for (int x = 0; x < width; ++x)
-            weights[size_t(x)] = row[x + 1] - row[x];
-        buildAlias(weights.data(), width, &texelProbability[size_t(y) * size_t(width)],
-                   &texelAlias[size_t(y) * size_t(width)]);
+        const size_t first = size_t(y) * size_t(width);
+        probabilities(&buckets[first], width, texelP.data());
+        const double omega = env.texelSolidAngle(y);
+        for (int x = 0; x < width; ++x) {
+            Texel& t = texels[first + size_t(x)];
+            t.radiance = env.texel(x, y);
+            t.pdf = total > 0.0 ? float(rowP[size_t(y)] * texelP[size_t(x)] / omega) : 0.0f;
+        }
     }
 }
 
 glm::vec3 EnvironmentSampler::sample(glm::vec2 u, float& pdf, glm::vec3& radiance) const {
     // The row, then the texel within it, from the alias tables; where u fell within its bucket
-    // places the point within the texel.
-    double fy = 0.0, fx = 0.0;
-    const int y = pickAlias(rowProbability.data(), rowAlias.data(), height, u.y, fy);
-    const int x = pickAlias(&texelProbability[size_t(y) * size_t(width)],
-                            &texelAlias[size_t(y) * size_t(width)], width, u.x, fx);
-    const double* row = &conditional[size_t(y) * size_t(width + 1)];
-    // Within the texel the point is uniform in φ and cos θ, i.e. uniform in solid angle, so
-    // the density is the texel's probability over its solid angle.
-    const double pi = 3.14159265358979323846;
-    const double c0 = rowCos[size_t(y)], c1 = rowCos[size_t(y) + 1];
-    const float cosTheta = float(c0 + fy * (c1 - c0));
+    // places the point within the texel, uniform in φ and cos θ (uniform in solid angle).
+    float fy = 0.0f, fx = 0.0f;
+    const int y = pickAlias(rows.data(), height, u.y, fy);
+    const size_t first = size_t(y) * size_t(width);
+    const int x = pickAlias(&buckets[first], width, u.x, fx);
+    const float c0 = rowCos[size_t(y)], c1 = rowCos[size_t(y) + 1];
+    const float cosTheta = c0 + fy * (c1 - c0);
     const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
-    const float phi = ((float(x) + float(fx)) / float(width) - 0.5f) * 2.0f * kPi;
-    const double omega = 2.0 * pi / width * (c0 - c1);
-    pdf = float((row[x + 1] - row[x]) / marginal.back() / omega);
-    radiance = image.texel(x, y);
-    return {sinTheta * std::cos(phi), cosTheta, sinTheta * std::sin(phi)};
+    // φ = φ_x + δ with δ < 2π / width ≤ 0.1: the angle-sum identities with δ's Taylor series
+    // to δ⁵ (error below 2⁻³⁰) instead of a sine and cosine call.
+    const float delta = fx * (2.0f * kPi / float(width)), d2 = delta * delta;
+    const float cosDelta = 1.0f - d2 * (0.5f - d2 * (1.0f / 24.0f));
+    const float sinDelta = delta * (1.0f - d2 * ((1.0f / 6.0f) - d2 * (1.0f / 120.0f)));
+    const glm::vec2 edge = columnPhi[size_t(x)];
+    const float cosPhi = edge.x * cosDelta - edge.y * sinDelta;
+    const float sinPhi = edge.y * cosDelta + edge.x * sinDelta;
+    const Texel& t = texels[first + size_t(x)];
+    pdf = t.pdf;
+    radiance = t.radiance;
+    return {sinTheta * cosPhi, cosTheta, sinTheta * sinPhi};
 }
 
 glm::vec3 Ibl::irradiance(const glm::vec3& n) const {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/environment.h>
 #include <string>
@@ -27,18 +28,29 @@ struct IblBakeParams {
 // distribution over an equirectangular image, each texel's weight its luminance times its
 // solid angle), for environment shadow rays.
 struct EnvironmentSampler {
+    // One bucket of an alias table (Walker; Vose's construction): keep it with probability
+    // keep / 65536, else take `alias`. Four bytes a bucket keep a 512×256 table within a
+    // core's L2 cache: a sample's random lookups were most of its cost with wider entries.
+    struct Bucket {
+        std::uint16_t keep = 0xffff;
+        std::uint16_t alias = 0;
+    };
+    // What a sample that lands in a texel returns.
+    struct Texel {
+        glm::vec3 radiance{0.0f};
+        float pdf = 0.0f; // density per steradian of directions within this texel
+    };
     int width = 0, height = 0;
-    std::vector<double> marginal;    // running sum over rows, height + 1 entries from 0
-    std::vector<double> conditional; // per row, running sums over its texels, width + 1 each
-    std::vector<double> rowCos;      // cos θ at the rows' edges, height + 1
-    // Alias tables (Walker; Vose's construction) of the rows and of each row's texels, so that
-    // a sample costs two lookups instead of two binary searches.
-    std::vector<float> rowProbability, texelProbability;
-    std::vector<int> rowAlias, texelAlias;
-    EnvironmentImage image; // the environment it samples, at most 512 wide
+    double total = 0.0;               // Σ luminance · solid angle over the texels
+    std::vector<Bucket> rows;         // the rows, weighted by their share of `total`
+    std::vector<Bucket> buckets;      // per row, its texels weighted by luminance · solid angle
+    std::vector<Texel> texels;        // width × height
+    std::vector<float> rowCos;        // cos θ at the rows' edges, height + 1
+    std::vector<glm::vec2> columnPhi; // cos φ and sin φ at the columns' left edges
+    EnvironmentImage image;           // the environment it samples, at most 512 wide
 
     void build(const EnvironmentImage& env);
-    bool empty() const { return marginal.empty() || !(marginal.back() > 0.0); }
+    bool empty() const { return !(total > 0.0); }
     // A direction (in the environment's frame) for u in [0, 1)², with its density per
     // steradian and the radiance of the texel it lies in.
     glm::vec3 sample(glm::vec2 u, float& pdf, glm::vec3& radiance) const;

@@ -60,12 +60,14 @@ inline IncidentLight incidentLight(const Light& light, const glm::vec3& P) {
 // A direction of the scene in an environment light's own frame: the image turned by
 // `rotation` about +Y (right-handed) is read at R_y(−rotation) · d.
 inline glm::vec3 intoEnvironment(const Light& light, const glm::vec3& d) {
+    if (light.rotation == 0.0f) return d; // the common case, without two trigonometric calls
     const float c = std::cos(light.rotation), s = std::sin(light.rotation);
     return {c * d.x - s * d.z, d.y, s * d.x + c * d.z};
 }
 
 // The inverse of intoEnvironment: a direction of the environment's image in the scene.
 inline glm::vec3 fromEnvironment(const Light& light, const glm::vec3& d) {
+    if (light.rotation == 0.0f) return d; // the common case, without two trigonometric calls
     const float c = std::cos(light.rotation), s = std::sin(light.rotation);
     return {c * d.x + s * d.z, d.y, -s * d.x + c * d.z};
 }

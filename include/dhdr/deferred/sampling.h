@@ -58,8 +58,9 @@ struct RotatedHammersley {
     glm::vec2 operator()(std::uint32_t i, std::uint32_t n) const {
         float x = (float(i) + 0.5f) / float(n) + ox;
         float y = radicalInverse2(i) + oy;
-        x -= std::floor(x);
-        y -= std::floor(y);
+        // Both are in [0, 2): wrap without std::floor, a library call on baseline x86-64.
+        if (x >= 1.0f) x -= 1.0f;
+        if (y >= 1.0f) y -= 1.0f;
         // Keep strictly below 1 after rounding.
         return {std::min(x, 0x1.fffffep-1f), std::min(y, 0x1.fffffep-1f)};
     }
