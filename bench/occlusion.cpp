@@ -38,18 +38,18 @@ int main(int argc, char** argv) {
         const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
         rays[i] = {origin, {r * std::cos(phi), r * std::sin(phi), z}, diagonal * u(6)};
     }
-    std::vector<char> one(count);
+    std::vector<float> one(count);
     auto t0 = std::chrono::steady_clock::now();
     for (size_t i = 0; i < count; ++i)
-        one[i] = !caster.occluded(rays[i].origin, rays[i].direction, rays[i].tmax);
+        one[i] = caster.transmittance(rays[i].origin, rays[i].direction, rays[i].tmax);
     auto t1 = std::chrono::steady_clock::now();
-    std::unique_ptr<bool[]> batch(new bool[count]);
-    caster.test(rays.data(), count, batch.get());
+    std::vector<float> batch(count);
+    caster.test(rays.data(), count, batch.data());
     auto t2 = std::chrono::steady_clock::now();
     size_t disagree = 0, visible = 0;
     for (size_t i = 0; i < count; ++i) {
-        disagree += bool(one[i]) != batch[i];
-        visible += batch[i];
+        disagree += one[i] != batch[i];
+        visible += batch[i] == 1.0f;
     }
     const double s1 = std::chrono::duration<double>(t1 - t0).count();
     const double sm = std::chrono::duration<double>(t2 - t1).count();

@@ -17,9 +17,10 @@ float rayTracedOcclusion(const glm::vec3& P, const glm::vec3& N, std::uint64_t s
     constexpr int kBatch = 64;
     // Per thread, so that the rays are not value-initialized again at every pixel.
     thread_local ShadowRay batch[kBatch];
-    bool visible[kBatch];
+    float transmittance[kBatch];
     const RotatedHammersley sequence(seed);
-    int open = 0;
+    // Summed in sample order in double: the same for any thread count.
+    double open = 0.0;
     for (int begin = 0; begin < samples; begin += kBatch) {
         const int n = std::min(kBatch, samples - begin);
         for (int i = 0; i < n; ++i) {
@@ -27,12 +28,12 @@ float rayTracedOcclusion(const glm::vec3& P, const glm::vec3& N, std::uint64_t s
                 cosineHemisphere(sequence(std::uint32_t(begin + i), std::uint32_t(samples)));
             batch[i] = {origin, glm::normalize(t * d.x + b * d.y + N * d.z), distance};
         }
-        visibility.test(batch, size_t(n), visible);
+        visibility.test(batch, size_t(n), transmittance);
         for (int i = 0; i < n; ++i)
-            open += visible[i];
+            open += double(transmittance[i]);
     }
     if (rays) *rays += samples;
-    return float(open) / float(samples);
+    return float(open / samples);
 }
 
 namespace {

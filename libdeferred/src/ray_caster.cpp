@@ -9,6 +9,8 @@ namespace dhdr {
 struct RayCaster::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
+    const Scene* source = nullptr;
+    bool transparent = false; // some mesh's material masks or blends
 
     ~Impl() {
         if (scene) rtcReleaseScene(scene);
@@ -16,7 +18,57 @@ struct RayCaster::Impl {
     }
 };
 
+namespace {
+
+// What an occlusion query carries through Embree to the filter below (the context first, so
+// that Embree's pointer to it is one to this).
+struct OcclusionQuery {
+    RTCIntersectContext context;
+    const Scene* scene = nullptr;
+    float transmittance = 1.0f;
+    // The Blend surfaces already counted: with spatial splits Embree may report one triangle
+    // twice, and it must not dim the ray twice.
+    static constexpr int kSeen = 32;
+    unsigned seen[kSeen][2];
+    int nseen = 0;
+};
+
+// Called by Embree for every candidate hit of an occlusion ray on a Mask or Blend mesh:
+// rejecting the hit (valid = 0) lets the ray go on. Mask cut-outs are no surface; a Blend
+// surface lets 1 − α through, and the ray is blocked once (almost) nothing gets through.
+void occlusionFilter(const RTCFilterFunctionNArguments* args) {
+    auto* query = reinterpret_cast<OcclusionQuery*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] == 0) continue;
+        const unsigned geom = RTCHitN_geomID(args->hit, args->N, i);
+        const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
+        const SurfaceCoverage c =
+            surfaceCoverage(*query->scene, int(geom), int(prim), RTCHitN_u(args->hit, args->N, i),
+                            RTCHitN_v(args->hit, args->N, i));
+        if (!c.present) {
+            args->valid[i] = 0;
+            continue;
+        }
+        if (c.alpha >= 1.0f) continue;
+        bool counted = false;
+        for (int k = 0; k < query->nseen; ++k)
+            counted = counted || (query->seen[k][0] == geom && query->seen[k][1] == prim);
+        if (!counted) {
+            query->transmittance *= 1.0f - c.alpha;
+            if (query->nseen < OcclusionQuery::kSeen) {
+                query->seen[query->nseen][0] = geom;
+                query->seen[query->nseen][1] = prim;
+                ++query->nseen;
+            }
+        }
+        if (query->transmittance > 1e-6f) args->valid[i] = 0;
+    }
+}
+
+} // namespace
+
 RayCaster::RayCaster(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
+    m_impl->source = &scene;
     // Embree's own threads only build the BVH; they do not change which surface a ray hits.
     m_impl->device = rtcNewDevice(nullptr);
     if (!m_impl->device) {
@@ -40,6 +92,10 @@ RayCaster::RayCaster(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
         for (size_t t = 0; t < mesh.triangles.size(); ++t)
             for (int c = 0; c < 3; ++c)
                 indices[3 * t + size_t(c)] = mesh.triangles[t][c];
+        if (scene.materials[size_t(mesh.material)].alphaMode != AlphaMode::Opaque) {
+            rtcSetGeometryOccludedFilterFunction(geom, occlusionFilter);
+            m_impl->transparent = true;
+        }
         rtcCommitGeometry(geom);
         rtcAttachGeometryByID(m_impl->scene, geom, unsigned(i));
         rtcReleaseGeometry(geom);
@@ -112,23 +168,27 @@ void setRay(RTCRay& r, const glm::vec3& origin, const glm::vec3& direction, floa
 
 } // namespace
 
-bool RayCaster::occluded(const glm::vec3& origin, const glm::vec3& direction, float tmax) const {
+float RayCaster::transmittance(const glm::vec3& origin, const glm::vec3& direction,
+                               float tmax) const {
     if (m_plane && direction.y != 0.0f) {
         const float t = (m_planeY - origin.y) / direction.y;
-        if (t > 0.0f && t < tmax) return true;
+        if (t > 0.0f && t < tmax) return 0.0f;
     }
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
+    OcclusionQuery query;
+    rtcInitIntersectContext(&query.context);
+    query.scene = m_impl->source;
     RTCRay ray;
     setRay(ray, origin, direction, tmax);
-    rtcOccluded1(m_impl->scene, &context, &ray);
+    rtcOccluded1(m_impl->scene, &query.context, &ray);
     // Embree marks a blocked ray by setting tfar to −∞.
-    return ray.tfar < 0.0f;
+    return ray.tfar < 0.0f ? 0.0f : query.transmittance;
 }
 
-void RayCaster::test(const ShadowRay* rays, size_t count, bool* visible) const {
-    if (count == 1) {
-        visible[0] = !occluded(rays[0].origin, rays[0].direction, rays[0].tmax);
+void RayCaster::test(const ShadowRay* rays, size_t count, float* transmittance) const {
+    // One ray at a time when surfaces may let light through: each carries its own product.
+    if (count == 1 || m_impl->transparent) {
+        for (size_t i = 0; i < count; ++i)
+            transmittance[i] = this->transmittance(rays[i].origin, rays[i].direction, rays[i].tmax);
         return;
     }
     constexpr size_t kBatch = 64;
@@ -143,12 +203,13 @@ void RayCaster::test(const ShadowRay* rays, size_t count, bool* visible) const {
         context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
         rtcOccluded1M(m_impl->scene, &context, batch, unsigned(n), sizeof(RTCRay));
         for (size_t i = 0; i < n; ++i) {
-            visible[begin + i] = !(batch[i].tfar < 0.0f);
+            bool open = !(batch[i].tfar < 0.0f);
             const ShadowRay& r = rays[begin + i];
-            if (m_plane && visible[begin + i] && r.direction.y != 0.0f) {
+            if (m_plane && open && r.direction.y != 0.0f) {
                 const float t = (m_planeY - r.origin.y) / r.direction.y;
-                if (t > 0.0f && t < r.tmax) visible[begin + i] = false;
+                if (t > 0.0f && t < r.tmax) open = false;
             }
+            transmittance[begin + i] = open ? 1.0f : 0.0f;
         }
     }
 }

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <assimp/DefaultIOSystem.h>
+#include <assimp/GltfMaterial.h>
 #include <assimp/Importer.hpp>
 #include <assimp/MemoryIOWrapper.h>
 #include <assimp/material.h>
@@ -94,6 +95,25 @@ private:
                 am.Get(AI_MATKEY_COLOR_DIFFUSE, base) == AI_SUCCESS) {
                 m.baseColor = glm::vec3(base.r, base.g, base.b);
                 m.alpha = base.a;
+            }
+            if (m_gltf) {
+                aiString mode;
+                if (am.Get(AI_MATKEY_GLTF_ALPHAMODE, mode) == AI_SUCCESS) {
+                    const std::string name = mode.C_Str();
+                    m.alphaMode = name == "BLEND"  ? AlphaMode::Blend
+                                  : name == "MASK" ? AlphaMode::Mask
+                                                   : AlphaMode::Opaque;
+                }
+                float cutoff = 0.5f;
+                if (am.Get(AI_MATKEY_GLTF_ALPHACUTOFF, cutoff) == AI_SUCCESS)
+                    m.alphaCutoff = cutoff;
+            } else {
+                // OBJ/MTL: Assimp reports d (or 1 − Tr) as the opacity; below 1 it blends.
+                float opacity = 1.0f;
+                if (am.Get(AI_MATKEY_OPACITY, opacity) == AI_SUCCESS && opacity < 1.0f) {
+                    m.alpha = std::clamp(opacity, 0.0f, 1.0f);
+                    m.alphaMode = AlphaMode::Blend;
+                }
             }
             float metallic = 0.0f, roughness = 1.0f;
             // glTF's factors, or the MTL's PBR extension (Pm, Pr) that Assimp reports the same.

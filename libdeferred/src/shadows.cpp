@@ -22,18 +22,18 @@ float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N
         const LightLiSample s = sampleLi(light, origin, {0.0f, 0.0f});
         if (s.pdf == 0.0f) return 1.0f;
         if (rays) ++*rays;
-        return visibility.unoccluded(towards(origin, s)) ? 1.0f : 0.0f;
+        return visibility.transmittance(towards(origin, s));
     }
     constexpr int kBatch = 64;
     // Per thread, so that the rays are not value-initialized again at every pixel.
     thread_local ShadowRay batch[kBatch];
     const RotatedHammersley sequence(seed);
     float weight[kBatch];
-    bool visible[kBatch];
+    float transmittance[kBatch];
     // Sums in double, in sample order: the same value for any thread count. Samples below
     // the horizon weigh nothing and are not traced.
-    double total = 0.0, seen = 0.0;
-    int count = 0, seenCount = 0;
+    double total = 0.0, seen = 0.0, unweighted = 0.0;
+    int count = 0, open = 0, closed = 0;
     for (int begin = 0; begin < samples; begin += kBatch) {
         int n = 0;
         for (int i = begin; i < std::min(samples, begin + kBatch); ++i) {
@@ -44,21 +44,22 @@ float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N
             weight[n] = (s.L.r + s.L.g + s.L.b) * cosTheta / s.pdf;
             batch[n++] = towards(origin, s);
         }
-        visibility.test(batch, size_t(n), visible);
+        visibility.test(batch, size_t(n), transmittance);
         if (rays) *rays += n;
         for (int i = 0; i < n; ++i) {
             total += weight[i];
+            seen += weight[i] * double(transmittance[i]);
+            unweighted += double(transmittance[i]);
             ++count;
-            if (visible[i]) {
-                seen += weight[i];
-                ++seenCount;
-            }
+            open += transmittance[i] == 1.0f;
+            closed += transmittance[i] == 0.0f;
         }
     }
     // No sample above the horizon (a light grazing the surface): its unshadowed value stands.
-    if (seenCount == count) return 1.0f;
-    if (seenCount == 0) return 0.0f;
-    return float(total > 0.0 ? seen / total : double(seenCount) / count);
+    // Wholly lit or wholly hidden points are exact whatever the weights' rounding.
+    if (open == count) return 1.0f;
+    if (closed == count) return 0.0f;
+    return float(total > 0.0 ? seen / total : unweighted / count);
 }
 
 } // namespace dhdr

@@ -29,4 +29,25 @@ glm::vec4 Texture::sample(glm::vec2 uv) const {
                     glm::mix(texel(x0, y0 + 1), texel(x0 + 1, y0 + 1), tx), ty);
 }
 
+float surfaceAlpha(const Scene& scene, int mesh, int triangle, float u, float v) {
+    const Mesh& m = scene.meshes[size_t(mesh)];
+    const Material& material = scene.materials[size_t(m.material)];
+    float alpha = material.alpha;
+    const TextureRef& ref = material.baseColorTexture;
+    if (ref.texture >= 0 && !m.uvs.empty()) {
+        const glm::uvec3 t = m.triangles[size_t(triangle)];
+        const glm::vec2 uv = (1.0f - u - v) * m.uvs[t[0]] + u * m.uvs[t[1]] + v * m.uvs[t[2]];
+        alpha *= scene.textures[size_t(ref.texture)].sample(ref.transform.apply(uv)).a;
+    }
+    return std::clamp(alpha, 0.0f, 1.0f);
+}
+
+SurfaceCoverage surfaceCoverage(const Scene& scene, int mesh, int triangle, float u, float v) {
+    const Material& material = scene.materials[size_t(scene.meshes[size_t(mesh)].material)];
+    if (material.alphaMode == AlphaMode::Opaque) return {};
+    const float alpha = surfaceAlpha(scene, mesh, triangle, u, v);
+    if (material.alphaMode == AlphaMode::Mask) return {alpha >= material.alphaCutoff, 1.0f};
+    return {alpha > 0.0f, alpha};
+}
+
 } // namespace dhdr

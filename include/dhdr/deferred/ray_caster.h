@@ -38,14 +38,16 @@ public:
     // from many threads.
     RayHit intersect(const Ray& ray, double tnear = 0.0) const;
 
-    // True when a triangle lies on the segment from `origin` along unit `direction` within
-    // (0, tmax) (rtcOccluded1). Safe to call from many threads.
-    bool occluded(const glm::vec3& origin, const glm::vec3& direction, float tmax) const;
+    // The share of light that gets through the segment from `origin` along unit `direction`
+    // within (0, tmax) (rtcOccluded1): 0 behind an opaque triangle, the product of (1 − α) of
+    // the Blend surfaces crossed, Mask surfaces counted only where they are not cut out. Safe
+    // to call from many threads.
+    float transmittance(const glm::vec3& origin, const glm::vec3& direction, float tmax) const;
 
-    // Visibility of many rays at once through rtcOccluded1M, which traces a batch of
-    // incoherent rays faster than one call per ray (bench/occlusion.cpp measures both: 16 vs
-    // 12 M rays/s here); a single ray goes through rtcOccluded1.
-    void test(const ShadowRay* rays, size_t count, bool* visible) const override;
+    // Many rays at once: through rtcOccluded1M when every surface is opaque, which traces a
+    // batch of incoherent rays faster than one call per ray (bench/occlusion.cpp measures
+    // both: 16 vs 12 M rays/s here), else one at a time.
+    void test(const ShadowRay* rays, size_t count, float* transmittance) const override;
 
 private:
     struct Impl;

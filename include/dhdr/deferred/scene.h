@@ -36,10 +36,19 @@ struct TextureRef {
     TextureTransform transform;
 };
 
+// How a material's alpha is used (glTF 2.0 §3.9.4 alphaMode).
+enum class AlphaMode {
+    Opaque, // alpha ignored
+    Mask,   // a surface where alpha ≥ alphaCutoff, none elsewhere (cut-outs)
+    Blend   // a partly transparent surface of coverage alpha
+};
+
 struct Material {
     std::string name;
     glm::vec3 baseColor{1.0f}; // linear
-    float alpha = 1.0f;
+    float alpha = 1.0f;        // baseColorFactor.a (glTF), d or 1 − Tr (OBJ)
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float alphaCutoff = 0.5f; // Mask only, glTF's default
     float roughness = 1.0f;
     float metallic = 1.0f;       // glTF defaults: a material without these is rough metal
     glm::vec3 emission{0.0f};    // linear radiance: emissiveFactor × emissive strength
@@ -85,6 +94,18 @@ struct Scene {
     glm::dvec3 boundsMin() const;
     glm::dvec3 boundsMax() const;
 };
+
+// The alpha of a mesh's surface at barycentrics (u, v) of a triangle: the material's alpha
+// times its base colour texture's alpha there.
+float surfaceAlpha(const Scene& scene, int mesh, int triangle, float u, float v);
+
+// Whether a hit on that surface is a surface at all (false: a Mask material cut out there),
+// and its coverage in [0, 1] (1 unless the material blends).
+struct SurfaceCoverage {
+    bool present = true;
+    float alpha = 1.0f;
+};
+SurfaceCoverage surfaceCoverage(const Scene& scene, int mesh, int triangle, float u, float v);
 
 // The name the ground plane has among the objects (and materials) of a G-buffer.
 inline constexpr const char* kGroundPlaneName = "dhdr:ground plane";

@@ -19,13 +19,15 @@ struct ShadowRay {
 class Visibility {
 public:
     virtual ~Visibility() = default;
-    // visible[i] is true when nothing blocks rays[i] in (0, tmax). Safe from many threads.
-    virtual void test(const ShadowRay* rays, size_t count, bool* visible) const = 0;
+    // transmittance[i]: the share of light that gets through rays[i] in (0, tmax), in [0, 1]:
+    // 1 when nothing is in the way, 0 when an opaque surface is, the product of (1 − α) of
+    // the partly transparent surfaces crossed otherwise. Safe from many threads.
+    virtual void test(const ShadowRay* rays, size_t count, float* transmittance) const = 0;
 
-    bool unoccluded(const ShadowRay& ray) const {
-        bool visible = false;
-        test(&ray, 1, &visible);
-        return visible;
+    float transmittance(const ShadowRay& ray) const {
+        float t = 0.0f;
+        test(&ray, 1, &t);
+        return t;
     }
 };
 
