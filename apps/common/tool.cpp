@@ -335,6 +335,36 @@ bool AtomicOutput::open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>&
     return true;
 }
 
+bool AtomicOutput::openDeep(OIIO::ImageSpec spec) {
+    m_out = OIIO::ImageOutput::create(m_path);
+    if (!m_out || !m_out->supports("deepdata")) {
+        m_tool.fail(m_path + ": cannot write deep images in this format (use .exr)");
+        m_out.reset();
+        return false;
+    }
+    spec.attribute("Software", m_tool.name() + " (dhdr " DHDR_VERSION ")");
+    // OpenImageIO 2.4 writes deep EXRs zip-compressed per scanline (ZIPS) whatever it is
+    // asked; OpenEXR 3.1 takes only NONE, RLE and ZIPS for deep parts.
+    spec.tile_width = spec.tile_height = spec.tile_depth = 0;
+    spec.deep = true;
+    spec.erase_attribute("oiio:subimages");
+    TemporaryRegistry::instance().add(m_temporary);
+    if (!m_out->open(m_temporary, spec)) {
+        m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
+        m_out.reset();
+        return false;
+    }
+    return true;
+}
+
+bool AtomicOutput::writeDeepRows(int ybegin, int yend, const OIIO::DeepData& samples) {
+    if (!m_out->write_deep_scanlines(ybegin, yend, 0, samples)) {
+        m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
+        return false;
+    }
+    return true;
+}
+
 bool AtomicOutput::writeRows(int ybegin, int yend, const float* pixels) {
     const OIIO::ImageSpec& spec = m_out->spec();
     const size_t count = size_t(yend - ybegin) * size_t(spec.width);

@@ -4,6 +4,7 @@
 
 #include "command_line.h"
 
+#include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <atomic>
@@ -95,6 +96,10 @@ public:
     // `formats`: one type for all channels, or one per channel; empty keeps float. Errors
     // are printed, naming the output.
     bool open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats);
+    // Opens the temporary file for a deep scanline image of `spec` (its channelformats the
+    // samples' types); rows are then given as DeepData.
+    bool openDeep(OIIO::ImageSpec spec);
+    bool writeDeepRows(int ybegin, int yend, const OIIO::DeepData& samples);
     // Rows [ybegin, yend), contiguous float pixels of all channels. Thread-compatible: one
     // caller at a time.
     bool writeRows(int ybegin, int yend, const float* pixels);

@@ -5,6 +5,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <algorithm>
+#include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
 #include <dhdr/deferred/scene.h>
@@ -33,7 +35,17 @@ int run(int argc, char** argv) {
               {0.0, 180.0, true, true});
     cl.option("--lights-out", lightsOut, "FILE",
               "also write the scene's punctual lights as a lights file (docs/lights.md)");
-    bool frameAll = false, info = false, groundPlane = false;
+    bool frameAll = false, info = false, groundPlane = false, deep = false, flat = false;
+    int maxLayers = 8;
+    cl.flag("--deep", deep,
+            "always write a deep EXR: per pixel every surface up to the first opaque one "
+            "(default: only when some pixel holds a partly transparent surface)");
+    cl.flag("--flat", flat,
+            "never write a deep EXR: each pixel's first surface, transparent or not");
+    cl.option("--max-layers", maxLayers, "N",
+              "deep G-buffers: at most N samples a pixel (1-64, default 8); the opaque surface "
+              "keeps its place, Blend surfaces beyond the first N-1 are left out",
+              1, 64);
     std::optional<double> groundY;
     cl.flagWithNumber("--ground-plane", groundPlane, groundY, "Y",
                       "add an infinite horizontal plane at height Y (default: the scene's lowest "
@@ -69,7 +81,12 @@ int run(int argc, char** argv) {
     if (const int status = app::planFrames(tool, cl.inputs(), plan); status >= 0) return status;
     const app::FramePattern lightsOutput(lightsOut);
 
+    if (deep && flat) {
+        std::fprintf(stderr, "dhdr-gbuffer: usage error: --deep and --flat exclude each other\n");
+        return app::kExitUsage;
+    }
     GBufferParams params;
+    params.maxLayers = maxLayers;
     if (!app::parseSize(size, params.width, params.height)) {
         std::fprintf(stderr, "dhdr-gbuffer: usage error: --size '%s' is not WxH\n", size.c_str());
         return app::kExitUsage;
@@ -97,6 +114,15 @@ int run(int argc, char** argv) {
             Camera::lookAt({v[0], v[1], v[2]}, {v[3], v[4], v[5]}, up, glm::radians(39.6));
     }
 
+    auto writeLightsOut = [&](int frame, const Scene& scene, const std::string& scenePath) {
+        if (lightsOut.empty()) return true;
+        const std::string lightsPath = lightsOutput.path(frame);
+        if (scene.lights.empty())
+            tool.warn(scenePath + ": the scene has no lights; writing an empty list");
+        if (!tool.writeText(formatLights(scene.lights), lightsPath)) return false;
+        tool.info(std::to_string(scene.lights.size()) + " lights written to " + lightsPath);
+        return true;
+    };
     return app::runFrames(tool, plan, [&](int frame, const auto& in, const std::string& outPath) {
         const std::string& scenePath = in[0];
         const auto t0 = std::chrono::steady_clock::now();
@@ -167,11 +193,64 @@ int run(int argc, char** argv) {
         spec.attribute("dhdr:source", scenePath);
         if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
             spec.attribute(gbuffer::kSceneFingerprint, sha);
+        constexpr int kStrip = 64;
+        const bool blends = std::any_of(scene.materials.begin(), scene.materials.end(),
+                                        [](const Material& m) { return m.alphaMode == AlphaMode::Blend; });
+        if (deep || (!flat && blends)) {
+            // Deep: the strips are traced first, to know whether any pixel holds a partly
+            // transparent surface; without one (and without --deep) the flat file is written.
+            std::vector<DeepGBuffer> strips;
+            long long transparent = 0, samples = 0;
+            const auto s0 = std::chrono::steady_clock::now();
+            {
+                app::Progress progress(tool, "dhdr-gbuffer: rendering layers");
+                for (int y = 0; y < params.height; y += kStrip) {
+                    const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
+                    long long t = 0;
+                    strips.emplace_back();
+                    if (!renderer.renderDeep(strips.back(), rows, tool.threads(), &t)) {
+                        tool.fail(scenePath + ": cannot render the layers");
+                        return false;
+                    }
+                    transparent += t;
+                    samples += (long long)strips.back().totalSamples();
+                    progress.update(float(rows.yend) / float(params.height));
+                }
+            }
+            const double layersMs =
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0).count();
+            if (deep || transparent > 0) {
+                OIIO::ImageSpec deepSpec = strips.front().spec;
+                deepSpec.y = 0;
+                deepSpec.height = params.height;
+                deepSpec.channelformats = gbuffer::deepChannelFormats();
+                deepSpec.attribute("dhdr:source", scenePath);
+                if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
+                    deepSpec.attribute(gbuffer::kSceneFingerprint, sha);
+                app::AtomicOutput file(tool, outPath);
+                if (!file.openDeep(deepSpec)) return false;
+                for (const DeepGBuffer& strip : strips) {
+                    OIIO::DeepData data;
+                    toDeepData(strip, strip.spec.y, strip.spec.y + strip.spec.height, data);
+                    if (!file.writeDeepRows(strip.spec.y, strip.spec.y + strip.spec.height, data))
+                        return false;
+                }
+                if (!file.commit()) return false;
+                const auto t2 = std::chrono::steady_clock::now();
+                tool.info("deep: " + std::to_string(samples) + " samples, " +
+                          std::to_string(transparent) + " partly transparent; trace " +
+                          std::to_string(int(layersMs + 0.5)) + " ms, write " +
+                          std::to_string(int(std::chrono::duration<double, std::milli>(t2 - s0).count() - layersMs + 0.5)) + " ms");
+                if (samples == 0)
+                    tool.warn(outPath + ": no surface in view: every pixel is background");
+                return writeLightsOut(frame, scene, scenePath);
+            }
+            tool.info("no partly transparent surface in view: writing a flat G-buffer");
+        }
         app::AtomicOutput file(tool, outPath);
         if (!file.open(spec, gbufferChannelFormats())) return false;
         // Strip by strip: each strip is traced in parallel and written while it is warm in
         // cache, and memory stays at one strip whatever the image size.
-        constexpr int kStrip = 64;
         OIIO::ImageBuf strip;
         double traceMs = 0.0;
         long long covered = 0;
@@ -199,13 +278,7 @@ int run(int argc, char** argv) {
         if (covered == 0)
             tool.warn(outPath + ": no surface in view: every pixel is background (check the "
                                 "camera, or the scene's geometry)");
-        if (!lightsOut.empty()) {
-            const std::string lightsPath = lightsOutput.path(frame);
-            if (scene.lights.empty())
-                tool.warn(scenePath + ": the scene has no lights; writing an empty list");
-            if (!tool.writeText(formatLights(scene.lights), lightsPath)) return false;
-            tool.info(std::to_string(scene.lights.size()) + " lights written to " + lightsPath);
-        }
+        if (!writeLightsOut(frame, scene, scenePath)) return false;
         const auto t2 = std::chrono::steady_clock::now();
         auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
         const double totalMs = std::chrono::duration<double, std::milli>(t2 - t1).count();

@@ -1,6 +1,7 @@
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <atomic>
 #include <cmath>
+#include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
 #include <dhdr/deferred/ray_caster.h>
@@ -89,6 +90,68 @@ void setNameTable(OIIO::ImageSpec& spec, const char* name, const std::vector<std
         pointers.push_back(n.c_str());
     spec.attribute(name, OIIO::TypeDesc(OIIO::TypeDesc::STRING, int(pointers.size())),
                    pointers.data());
+}
+
+// A surface along a primary ray and its alpha.
+struct Layer {
+    RayHit hit;
+    float alpha = 1.0f;
+};
+
+// The surfaces along `ray` front to back up to and including the first opaque one (with
+// `firstOnly`, the first surface of any kind): Mask cut-outs are no surface; Blend surfaces
+// are kept while there is room for them and the opaque one (at most maxLayers in all), later
+// ones are passed through.
+int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int maxLayers,
+                Layer* out, bool firstOnly = false) {
+    int n = 0;
+    double tnear = 0.0;
+    RayHit last;
+    // Bounded: a ray crosses a finite number of surfaces, but rounding must not loop forever.
+    for (int step = 0; step < 4096; ++step) {
+        const RayHit hit = caster.intersect(ray, tnear);
+        if (!hit.hit) break;
+        // The surface just recorded, hit again at (nearly) its depth: a triangle reported
+        // twice, or its neighbour across a shared edge. Move on past it.
+        const bool again = last.hit && hit.mesh == last.mesh &&
+                           std::abs(hit.t - last.t) <= 1e-6 * std::max(last.t, 1e-3);
+        tnear = std::nextafter(float(hit.t), INFINITY);
+        if (again) continue;
+        SurfaceCoverage c;
+        if (hit.mesh != kGroundPlaneHit) c = surfaceCoverage(scene, hit.mesh, hit.triangle, hit.u, hit.v);
+        if (!c.present) continue;
+        last = hit;
+        const bool opaque = c.alpha >= 1.0f || firstOnly;
+        if (opaque || n < maxLayers - 1) out[n++] = {hit, c.alpha};
+        if (opaque) break;
+    }
+    return n;
+}
+
+// The contract's channels of a hit (deepChannelNames() with `deep`, channelNames() without).
+void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const Ray& ray,
+                const RayHit& hit, float alpha, bool deep, float* out) {
+    const SurfaceSample s = surfaceAt(scene, ray, hit);
+    const Material& m = *s.material;
+    const bool ground = hit.mesh == kGroundPlaneHit;
+    const int object = ground ? scene.groundObject : scene.meshes[size_t(hit.mesh)].object;
+    const int material = ground ? scene.groundMaterial : scene.meshes[size_t(hit.mesh)].material;
+    *out++ = alpha;
+    const float z = float(-(worldToCamera * glm::dvec4(s.position, 1.0)).z);
+    *out++ = z;
+    if (deep) *out++ = z; // ZBack: a point sample
+    for (int c = 0; c < 3; ++c)
+        *out++ = float(s.position[c]);
+    for (int c = 0; c < 3; ++c)
+        *out++ = float(s.normal[c]);
+    for (int c = 0; c < 3; ++c)
+        *out++ = s.albedo[c];
+    *out++ = m.roughness;
+    *out++ = m.metallic;
+    for (int c = 0; c < 3; ++c)
+        *out++ = s.emission[c];
+    *out++ = float(object + 1);
+    *out++ = float(material + 1);
 }
 
 } // namespace
@@ -185,40 +248,74 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
             for (int x = r.xbegin; x < r.xend; ++x) {
                 float* px = static_cast<float*>(dst.pixeladdr(x, y));
                 const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
-                const RayHit hit = m_caster->intersect(ray);
-                if (!hit.hit) {
+                Layer front;
+                if (traceLayers(m_scene, *m_caster, ray, 1, &front, true) == 0) {
                     std::fill(px, px + nch, 0.0f);
                     px[1] = std::numeric_limits<float>::infinity();
                     continue;
                 }
-                const SurfaceSample s = surfaceAt(m_scene, ray, hit);
-                const Material& m = *s.material;
-                const bool ground = hit.mesh == kGroundPlaneHit;
-                const int object =
-                    ground ? m_scene.groundObject : m_scene.meshes[size_t(hit.mesh)].object;
-                const int material =
-                    ground ? m_scene.groundMaterial : m_scene.meshes[size_t(hit.mesh)].material;
-                float* out = px;
-                *out++ = 1.0f;
-                *out++ = float(-(worldToCamera * glm::dvec4(s.position, 1.0)).z);
-                for (int c = 0; c < 3; ++c)
-                    *out++ = float(s.position[c]);
-                for (int c = 0; c < 3; ++c)
-                    *out++ = float(s.normal[c]);
-                for (int c = 0; c < 3; ++c)
-                    *out++ = s.albedo[c];
-                *out++ = m.roughness;
-                *out++ = m.metallic;
-                for (int c = 0; c < 3; ++c)
-                    *out++ = s.emission[c];
-                *out++ = float(object + 1);
-                *out++ = float(material + 1);
+                fillSample(m_scene, worldToCamera, ray, front.hit, 1.0f, false, px);
             }
             const int done = ++rowsDone;
             if (m_params.progress && (done % 64 == 0 || done == roi.height()))
                 m_params.progress(float(done) / float(roi.height()));
         }
     });
+    return true;
+}
+
+bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
+                                 long long* transparentSamples) const {
+    if (!ok()) return false;
+    if (m_params.maxLayers < 1) return false;
+    const OIIO::ROI frame = OIIO::get_roi_full(m_spec);
+    roi = roi.defined() ? OIIO::roi_intersection(roi, frame) : frame;
+    dst.spec = m_spec;
+    const std::vector<std::string> names = gbuffer::deepChannelNames();
+    dst.spec.nchannels = int(names.size());
+    dst.spec.channelnames = names;
+    dst.spec.x = roi.xbegin;
+    dst.spec.y = roi.ybegin;
+    dst.spec.width = roi.width();
+    dst.spec.height = roi.height();
+    const size_t nch = names.size();
+    const glm::dmat4 worldToCamera = m_camera.worldToCamera();
+    // Each row's samples apart, joined in row order after: the same buffer for any threads.
+    std::vector<std::vector<std::uint32_t>> counts(size_t(roi.height()));
+    std::vector<std::vector<float>> values(size_t(roi.height()));
+    std::atomic<long long> transparent{0};
+    std::atomic<int> rowsDone{0};
+    OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
+        std::vector<Layer> layers(size_t(m_params.maxLayers));
+        long long local = 0;
+        for (int y = r.ybegin; y < r.yend; ++y) {
+            std::vector<std::uint32_t>& rowCounts = counts[size_t(y - roi.ybegin)];
+            std::vector<float>& rowValues = values[size_t(y - roi.ybegin)];
+            for (int x = r.xbegin; x < r.xend; ++x) {
+                const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
+                const int n = traceLayers(m_scene, *m_caster, ray, m_params.maxLayers, layers.data());
+                rowCounts.push_back(std::uint32_t(n));
+                for (int k = 0; k < n; ++k) {
+                    rowValues.resize(rowValues.size() + nch);
+                    fillSample(m_scene, worldToCamera, ray, layers[size_t(k)].hit,
+                               layers[size_t(k)].alpha, true, &rowValues[rowValues.size() - nch]);
+                    local += layers[size_t(k)].alpha < 1.0f;
+                }
+            }
+            const int done = ++rowsDone;
+            if (m_params.progress && (done % 64 == 0 || done == roi.height()))
+                m_params.progress(float(done) / float(roi.height()));
+        }
+        transparent += local;
+    });
+    dst.first.assign(1, 0);
+    dst.values.clear();
+    for (size_t row = 0; row < counts.size(); ++row) {
+        for (const std::uint32_t n : counts[row])
+            dst.first.push_back(dst.first.back() + n);
+        dst.values.insert(dst.values.end(), values[row].begin(), values[row].end());
+    }
+    if (transparentSamples) *transparentSamples = transparent;
     return true;
 }
 

@@ -10,18 +10,23 @@
 namespace dhdr {
 
 struct Camera;
+struct DeepGBuffer;
 class RayCaster;
 struct Scene;
 
 struct GBufferParams {
     int width = 1920;
     int height = 1080;
+    // Deep G-buffers (renderDeep): the most samples a pixel keeps, 1-64. The opaque surface
+    // that ends a ray always has its place; Blend surfaces beyond the first maxLayers − 1 are
+    // left out (they are the farthest).
+    int maxLayers = 8;
     // Called now and then from the rendering threads with the fraction of rows done of the
     // region being rendered, in [0, 1].
     std::function<void(float)> progress;
 };
 
-// Casts one primary ray through each pixel centre and writes the channels of the G-buffer
+// Casts primary rays through each pixel centre and writes the channels of the G-buffer
 // contract (gbuffer::channelNames()) as float pixels. Background pixels have A = 0, Z = +∞,
 // zero elsewhere and ids 0; ids index the name tables in the spec, whose entry 0 is the
 // background. The acceleration structure is built once, so a caller can render a large frame
@@ -40,7 +45,15 @@ public:
 
     // Renders the pixels of `roi` (default: the whole frame) into `dst`, which becomes a float
     // image with spec() over exactly that region (its data window) when it is not already.
+    // The first surface of each pixel (Mask cut-outs skipped; a Blend surface is the first
+    // like any other, with A = 1).
     bool render(OIIO::ImageBuf& dst, OIIO::ROI roi = {}, int nthreads = 0) const;
+
+    // Every surface of each pixel of `roi` front to back, up to and including the first
+    // opaque one (GBufferParams::maxLayers), A being each one's alpha: a deep G-buffer of
+    // those rows. `transparentSamples` counts the samples with A < 1.
+    bool renderDeep(DeepGBuffer& dst, OIIO::ROI roi = {}, int nthreads = 0,
+                    long long* transparentSamples = nullptr) const;
 
 private:
     const Scene& m_scene;

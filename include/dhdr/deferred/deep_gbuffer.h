@@ -1,0 +1,59 @@
+// A deep G-buffer (docs/gbuffer.md, "Deep G-buffers"): per pixel, every surface along the
+// primary ray up to the first opaque one, front to back, each sample with the contract's
+// channels. In files it is a deep scanline OpenEXR; in memory, samples packed pixel after
+// pixel as float.
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace dhdr {
+
+namespace gbuffer {
+// The back of a sample's depth range; equal to Z for the point samples of a surface.
+inline constexpr const char* kDepthBack = "ZBack";
+// The channels of a deep G-buffer sample in the order held in memory: the flat contract's
+// with ZBack after Z. A is the sample's alpha (its coverage of the pixel).
+std::vector<std::string> deepChannelNames();
+// Their file types: the flat contract's, ZBack float.
+std::vector<OIIO::TypeDesc> deepChannelFormats();
+} // namespace gbuffer
+
+struct DeepGBuffer {
+    // Size, data window and header attributes (camera, name tables) of the frame, with
+    // deepChannelNames() as its channels; not itself deep.
+    OIIO::ImageSpec spec;
+    // Index of each pixel's first sample, pixel by pixel in scanline order, and one past
+    // the last at the end: width × height + 1 entries.
+    std::vector<std::uint32_t> first;
+    // spec.nchannels floats per sample.
+    std::vector<float> values;
+
+    int samples(int x, int y) const {
+        const size_t p = pixel(x, y);
+        return int(first[p + 1] - first[p]);
+    }
+    const float* sample(int x, int y, int k) const {
+        return &values[(size_t(first[pixel(x, y)]) + size_t(k)) * size_t(spec.nchannels)];
+    }
+    size_t totalSamples() const { return first.empty() ? 0 : size_t(first.back()); }
+    size_t pixel(int x, int y) const {
+        return size_t(y - spec.y) * size_t(spec.width) + size_t(x - spec.x);
+    }
+};
+
+// Reads a deep G-buffer from part `subimage` of a deep scanline or tiled EXR. Samples are
+// sorted front to back by Z (stably: equal depths keep the file's order); a sample with
+// ZBack > Z is a volume, not a surface, and is an error, as is a missing contract channel
+// (emission and ids are optional: zero). Non-finite values other than Z are replaced by 0 and
+// counted in `replaced`. False with `error` saying why (without the path).
+bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, std::string& error,
+                     long long* replaced = nullptr);
+
+// The samples of rows [ybegin, yend) of `g` as OIIO DeepData in the deep contract's file types
+// (deepChannelFormats()), ready for ImageOutput::write_deep_scanlines.
+void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out);
+
+} // namespace dhdr

@@ -1,0 +1,149 @@
+#include <OpenImageIO/deepdata.h>
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
+#include <cmath>
+#include <dhdr/deferred/deep_gbuffer.h>
+#include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/gbuffer_render.h>
+#include <memory>
+#include <numeric>
+
+namespace dhdr {
+
+namespace gbuffer {
+
+std::vector<std::string> deepChannelNames() {
+    std::vector<std::string> names = channelNames();
+    names.insert(names.begin() + 2, kDepthBack);
+    return names;
+}
+
+std::vector<OIIO::TypeDesc> deepChannelFormats() {
+    std::vector<OIIO::TypeDesc> formats = gbufferChannelFormats();
+    formats.insert(formats.begin() + 2, OIIO::TypeDesc::FLOAT);
+    return formats;
+}
+
+} // namespace gbuffer
+
+bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, std::string& error,
+                     long long* replaced) {
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    if (!in) {
+        error = OIIO::geterror();
+        return false;
+    }
+    if (!in->seek_subimage(subimage, 0)) {
+        error = "no part " + std::to_string(subimage);
+        return false;
+    }
+    const OIIO::ImageSpec file = in->spec();
+    if (!file.deep) {
+        error = "not a deep image";
+        return false;
+    }
+    gbuffer::Layout layout;
+    std::string missing;
+    if (!gbuffer::findLayout(file, layout, missing)) {
+        error = "no channel '" + missing + "' — is this a G-buffer?";
+        return false;
+    }
+    const std::vector<std::string> names = gbuffer::deepChannelNames();
+    const int nch = int(names.size());
+    // Where each channel held in memory comes from in the file (−1: not there).
+    std::vector<int> source(size_t(nch), -1);
+    for (int c = 0; c < nch; ++c)
+        source[size_t(c)] = file.channelindex(names[size_t(c)]);
+    OIIO::DeepData deep;
+    if (!in->read_native_deep_image(subimage, 0, deep)) {
+        error = in->geterror();
+        if (error.empty()) error = "cannot read its deep pixels";
+        return false;
+    }
+    out.spec = file;
+    out.spec.deep = false;
+    out.spec.nchannels = nch;
+    out.spec.channelnames = names;
+    out.spec.set_format(OIIO::TypeDesc::FLOAT);
+    out.spec.channelformats.clear();
+    out.spec.alpha_channel = 0;
+    out.spec.z_channel = 1;
+    const size_t npix = size_t(file.width) * size_t(file.height);
+    out.first.assign(npix + 1, 0);
+    for (size_t p = 0; p < npix; ++p)
+        out.first[p + 1] = out.first[p] + std::uint32_t(deep.samples(int64_t(p)));
+    out.values.assign(size_t(out.first.back()) * size_t(nch), 0.0f);
+    const int zFile = source[1], zBackFile = source[2];
+    std::vector<int> order;
+    long long fixed = 0;
+    for (size_t p = 0; p < npix; ++p) {
+        const int n = deep.samples(int64_t(p));
+        order.resize(size_t(n));
+        std::iota(order.begin(), order.end(), 0);
+        for (int s = 0; s < n; ++s) {
+            const float z = deep.deep_value(int64_t(p), zFile, s);
+            const float zBack = zBackFile >= 0 ? deep.deep_value(int64_t(p), zBackFile, s) : z;
+            if (!std::isfinite(z)) {
+                error = "pixel (" + std::to_string(file.x + int(p % size_t(file.width))) + ", " +
+                        std::to_string(file.y + int(p / size_t(file.width))) +
+                        ") has a sample without a finite Z";
+                return false;
+            }
+            if (zBack > z) {
+                error = "pixel (" + std::to_string(file.x + int(p % size_t(file.width))) + ", " +
+                        std::to_string(file.y + int(p / size_t(file.width))) +
+                        ") has a volume sample (ZBack > Z); dhdr lights surfaces, whose samples "
+                        "are points (ZBack = Z)";
+                return false;
+            }
+        }
+        std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+            return deep.deep_value(int64_t(p), zFile, a) < deep.deep_value(int64_t(p), zFile, b);
+        });
+        for (int k = 0; k < n; ++k) {
+            float* v = &out.values[(size_t(out.first[p]) + size_t(k)) * size_t(nch)];
+            for (int c = 0; c < nch; ++c) {
+                const int from = source[size_t(c)];
+                if (from < 0) {
+                    v[c] = c == 2 ? v[1] : 0.0f; // ZBack defaults to Z
+                    continue;
+                }
+                const OIIO::TypeDesc t = deep.channeltype(from);
+                v[c] = t == OIIO::TypeDesc::UINT
+                           ? float(deep.deep_value_uint(int64_t(p), from, order[size_t(k)]))
+                           : deep.deep_value(int64_t(p), from, order[size_t(k)]);
+                if (!std::isfinite(v[c])) {
+                    v[c] = 0.0f;
+                    ++fixed;
+                }
+            }
+        }
+    }
+    if (replaced) *replaced += fixed;
+    return true;
+}
+
+void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out) {
+    const OIIO::ImageSpec& spec = g.spec;
+    const int nch = spec.nchannels;
+    const std::vector<OIIO::TypeDesc> formats = gbuffer::deepChannelFormats();
+    const size_t firstPixel = size_t(ybegin - spec.y) * size_t(spec.width);
+    const size_t npix = size_t(yend - ybegin) * size_t(spec.width);
+    out.init(int64_t(npix), nch, formats, spec.channelnames);
+    std::vector<unsigned> counts(npix);
+    for (size_t p = 0; p < npix; ++p)
+        counts[p] = g.first[firstPixel + p + 1] - g.first[firstPixel + p];
+    out.set_all_samples(counts);
+    for (size_t p = 0; p < npix; ++p)
+        for (unsigned s = 0; s < counts[p]; ++s) {
+            const float* v = &g.values[(size_t(g.first[firstPixel + p]) + s) * size_t(nch)];
+            for (int c = 0; c < nch; ++c) {
+                if (formats[size_t(c)] == OIIO::TypeDesc::UINT)
+                    out.set_deep_value(int64_t(p), c, int(s), std::uint32_t(std::max(v[c], 0.0f)));
+                else
+                    out.set_deep_value(int64_t(p), c, int(s), v[c]);
+            }
+        }
+}
+
+} // namespace dhdr
