@@ -3,9 +3,9 @@
 #include "../common/tool.h"
 #include "scene_info.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <algorithm>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
@@ -194,8 +194,9 @@ int run(int argc, char** argv) {
         if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
             spec.attribute(gbuffer::kSceneFingerprint, sha);
         constexpr int kStrip = 64;
-        const bool blends = std::any_of(scene.materials.begin(), scene.materials.end(),
-                                        [](const Material& m) { return m.alphaMode == AlphaMode::Blend; });
+        const bool blends =
+            std::any_of(scene.materials.begin(), scene.materials.end(),
+                        [](const Material& m) { return m.alphaMode == AlphaMode::Blend; });
         if (deep || (!flat && blends)) {
             // Deep: the strips are traced first, to know whether any pixel holds a partly
             // transparent surface; without one (and without --deep) the flat file is written.
@@ -218,7 +219,8 @@ int run(int argc, char** argv) {
                 }
             }
             const double layersMs =
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0).count();
+                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0)
+                    .count();
             if (deep || transparent > 0) {
                 OIIO::ImageSpec deepSpec = strips.front().spec;
                 deepSpec.y = 0;
@@ -237,10 +239,13 @@ int run(int argc, char** argv) {
                 }
                 if (!file.commit()) return false;
                 const auto t2 = std::chrono::steady_clock::now();
-                tool.info("deep: " + std::to_string(samples) + " samples, " +
-                          std::to_string(transparent) + " partly transparent; trace " +
-                          std::to_string(int(layersMs + 0.5)) + " ms, write " +
-                          std::to_string(int(std::chrono::duration<double, std::milli>(t2 - s0).count() - layersMs + 0.5)) + " ms");
+                tool.info(
+                    "deep: " + std::to_string(samples) + " samples, " +
+                    std::to_string(transparent) + " partly transparent; trace " +
+                    std::to_string(int(layersMs + 0.5)) + " ms, write " +
+                    std::to_string(int(std::chrono::duration<double, std::milli>(t2 - s0).count() -
+                                       layersMs + 0.5)) +
+                    " ms");
                 if (samples == 0)
                     tool.warn(outPath + ": no surface in view: every pixel is background");
                 return writeLightsOut(frame, scene, scenePath);

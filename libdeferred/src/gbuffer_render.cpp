@@ -118,7 +118,8 @@ int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int
         tnear = std::nextafter(float(hit.t), INFINITY);
         if (again) continue;
         SurfaceCoverage c;
-        if (hit.mesh != kGroundPlaneHit) c = surfaceCoverage(scene, hit.mesh, hit.triangle, hit.u, hit.v);
+        if (hit.mesh != kGroundPlaneHit)
+            c = surfaceCoverage(scene, hit.mesh, hit.triangle, hit.u, hit.v);
         if (!c.present) continue;
         last = hit;
         const bool opaque = c.alpha >= 1.0f || firstOnly;
@@ -293,7 +294,8 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
             std::vector<float>& rowValues = values[size_t(y - roi.ybegin)];
             for (int x = r.xbegin; x < r.xend; ++x) {
                 const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
-                const int n = traceLayers(m_scene, *m_caster, ray, m_params.maxLayers, layers.data());
+                const int n =
+                    traceLayers(m_scene, *m_caster, ray, m_params.maxLayers, layers.data());
                 rowCounts.push_back(std::uint32_t(n));
                 for (int k = 0; k < n; ++k) {
                     rowValues.resize(rowValues.size() + nch);

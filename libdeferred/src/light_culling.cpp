@@ -119,21 +119,25 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
                 const int y0 = std::max(ty * tileSize, rowBegin);
                 const int y1 = std::min({height, ty * tileSize + tileSize, rowEnd});
                 float zmin = INFINITY, zmax = -INFINITY;
+                // Every sample of a deep G-buffer's pixels bounds the tile, as the surface of
+                // a flat one does.
                 for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x) {
-                        const float z = depth.at(x, y);
-                        if (!std::isfinite(z)) continue;
-                        zmin = std::min(zmin, z);
-                        zmax = std::max(zmax, z);
-                    }
+                    for (int x = x0; x < x1; ++x)
+                        for (int k = 0, n = depth.count(x, y); k < n; ++k) {
+                            const float z = depth.at(x, y, k);
+                            if (!std::isfinite(z)) continue;
+                            zmin = std::min(zmin, z);
+                            zmax = std::max(zmax, z);
+                        }
                 if (zmin > zmax) continue; // background only
                 t.zmin = zmin;
                 t.zmax = zmax;
                 for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x) {
-                        const float z = depth.at(x, y);
-                        if (std::isfinite(z)) t.pixelMask |= 1u << sliceIndex(z, zmin, zmax);
-                    }
+                    for (int x = x0; x < x1; ++x)
+                        for (int k = 0, n = depth.count(x, y); k < n; ++k) {
+                            const float z = depth.at(x, y, k);
+                            if (std::isfinite(z)) t.pixelMask |= 1u << sliceIndex(z, zmin, zmax);
+                        }
                 const double nx[2] = {2.0 * x0 / width - 1.0, 2.0 * x1 / width - 1.0};
                 const double ny[2] = {1.0 - 2.0 * y1 / height, 1.0 - 2.0 * y0 / height};
                 const double nz[2] = {double(zmin), double(zmax)};

@@ -83,15 +83,26 @@ LightingStats& LightingStats::operator+=(const LightingStats& o) {
     return *this;
 }
 
-bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const LightingInputs& inputs,
-                  const LightingParams& params, OIIO::ROI roi, int nthreads, LightingStats* stats) {
+namespace {
+
+// A G-buffer opened for shading: flat (a strip of a frame, or all of it) or deep.
+struct Source {
+    const OIIO::ImageSpec& spec; // its header and channels; size and place of its pixels
+    OIIO::ROI roi;               // the pixels it holds
+    const gbuffer::Layout& layout;
+    const gbuffer::CameraInfo& camera;
+    GBufferView view;
+    DepthView depth;
+};
+
+bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs& inputs,
+                 const LightingParams& params, OIIO::ROI roi, int nthreads, LightingStats* stats,
+                 std::vector<float>* sampleRGBA) {
     const std::vector<Light>& lights = inputs.lights;
-    const OIIO::ImageSpec& in = gbuf.spec();
-    GBufferPixels g;
-    if (!openGBuffer(gbuf, g, dst)) return false;
-    const gbuffer::Layout& layout = g.layout;
-    const gbuffer::CameraInfo& camera = g.camera;
-    const OIIO::ImageBuf* src = g.pixels;
+    const OIIO::ImageSpec& in = source.spec;
+    const gbuffer::Layout& layout = source.layout;
+    const gbuffer::CameraInfo& camera = source.camera;
+    const GBufferView& view = source.view;
     std::vector<int> passIndex;
     for (const std::string& name : params.passThrough) {
         const int c = in.channelindex(name);
@@ -112,7 +123,7 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                      "positive");
         return false;
     }
-    roi = roi.defined() ? OIIO::roi_intersection(roi, gbuf.roi()) : gbuf.roi();
+    roi = roi.defined() ? OIIO::roi_intersection(roi, source.roi) : source.roi;
     if (roi.npixels() == 0) {
         dst.errorfmt("the region to shade is empty");
         return false;
@@ -150,22 +161,19 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
     }
 
     // The frame the tiles are laid over; the G-buffer may be a strip of its rows.
-    const OIIO::ROI frame = params.frame.defined() ? params.frame : gbuf.roi();
+    const OIIO::ROI frame = params.frame.defined() ? params.frame : source.roi;
     if (in.x != frame.xbegin || in.width != frame.width() || in.y < frame.ybegin ||
         in.y + in.height > frame.yend) {
         dst.errorfmt("the G-buffer is not a strip of whole rows of the frame");
         return false;
     }
     const int frameWidth = frame.width(), frameHeight = frame.height();
-    const size_t nch = size_t(src->nchannels());
-    const DepthView depth{static_cast<const float*>(src->localpixels()) + layout.depth, nch,
-                          nch * size_t(in.width), in.y - frame.ybegin};
+    const DepthView& depth = source.depth;
     TileLightLists tiles;
     if (!params.bruteForce)
         tiles.build(lights, camera, depth, frameWidth, frameHeight, params.tileSize, nthreads,
                     roi.ybegin - frame.ybegin, roi.yend - frame.ybegin);
     const LightReach reach(lights);
-    const GBufferView view(*src, layout, camera);
     const Visibility* shadowRays = params.shadows ? inputs.visibility : nullptr;
     const bool rayTracedAO = !ao && inputs.visibility && params.aoSamples > 0;
     const bool aoActive = ao || rayTracedAO;
@@ -205,17 +213,97 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
             out[c] += behind[c] * (1.0f - a);
         out[3] = 1.0f;
     };
+    // One surface sample lit: RGBA, premultiplied by the sample's alpha in a deep G-buffer (a
+    // flat pixel keeps its RGB and its coverage as A); `aoOut` receives its occlusion.
+    auto shadeSample = [&](int x, int y, int k, long long& localEvaluations,
+                           long long& localReaching, long long& localShadow, long long& localAO,
+                           float* aoOut) {
+        const ShadingPoint sp = view.at(x, y, k);
+        const float* g = view.channels(x, y, k);
+        // Each sample its own sequences; sample 0's are a flat pixel's.
+        const std::int64_t purpose = 4 * std::int64_t(k);
+        float occlusion = 1.0f;
+        if (ao)
+            occlusion = std::clamp(ao->getchannel(x, y, 0, 0), 0.0f, 1.0f);
+        else if (rayTracedAO)
+            occlusion =
+                rayTracedOcclusion(sp.P, sp.N, sampleSeed(x, y, -1, 2 + purpose), params.aoSamples,
+                                   params.aoDistance, *inputs.visibility, &localAO);
+        // Lo = Le + Σ V_i L_i, in the order of the lights; with AO, the ambient terms are
+        // summed apart and occluded at the end. The same sums without visibility give a
+        // shadow catcher its alpha.
+        Terms lit{sp.emission}, open{sp.emission};
+        auto addLight = [&](std::uint32_t i) {
+            const Light& light = lights[i];
+            if (light.type == LightType::Environment) {
+                const IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
+                // The visible share of the environment, from rays drawn by its luminance,
+                // scales the prefiltered result.
+                float v = 1.0f;
+                if (shadowRays && params.environmentSamples > 0)
+                    v = lightVisibility(light, sp.P, sp.N, sampleSeed(x, y, i, 1 + purpose),
+                                        params.environmentSamples, *shadowRays, &localShadow);
+                lit.addEnvironment(e, v, aoActive);
+                open.addEnvironment(e, 1.0f, aoActive);
+                return;
+            }
+            const glm::vec3 c = shadeLight(light, sp.surface, sp.P, sp.N, sp.V);
+            float v = 1.0f;
+            if (light.type != LightType::Ambient && shadowRays && c != glm::vec3(0.0f))
+                v = lightVisibility(light, sp.P, sp.N, sampleSeed(x, y, i, 1 + purpose),
+                                    params.shadowSamples, *shadowRays, &localShadow);
+            const bool occludable = light.type == LightType::Ambient && aoActive;
+            lit.add(c, v, occludable);
+            open.add(c, 1.0f, occludable);
+        };
+        if (params.bruteForce) {
+            // The reference: every light's full evaluation, which is exactly zero where it
+            // does not reach.
+            for (std::uint32_t i = 0; i < lights.size(); ++i) {
+                localReaching += reach.reaches(i, sp.P);
+                addLight(i);
+            }
+            localEvaluations += (long long)lights.size();
+        } else {
+            const int px = x - frame.xbegin, py = y - frame.ybegin;
+            const std::uint32_t slice = tiles.sliceBit(px, py, sp.depth);
+            for (const TileLightLists::Entry& e : tiles.at(px, py)) {
+                if (!(e.depthMask & slice)) continue;
+                ++localEvaluations;
+                // Out of range, the window is exactly zero: skip before reading more.
+                if (!reach.reaches(e.light, sp.P)) continue;
+                ++localReaching;
+                addLight(e.light);
+            }
+        }
+        const float so = aoActive ? specularOcclusion(std::max(glm::dot(sp.N, sp.V), 0.0f),
+                                                      occlusion, sp.surface.roughness)
+                                  : 1.0f;
+        const glm::vec3 Lo = lit.total(aoActive, occlusion, so);
+        if (aoOut) *aoOut = occlusion;
+        if (catcherId > 0 && layout.objectId >= 0 && g[layout.objectId] == catcherId) {
+            // A shadow catcher (Blender's convention): no colour of its own, and the share of
+            // light that shadows and AO take away as alpha.
+            const float unshadowed = luminance(open.total(aoActive, 1.0f, 1.0f));
+            return glm::vec4(0.0f, 0.0f, 0.0f,
+                             unshadowed > 0.0f
+                                 ? std::clamp(1.0f - luminance(Lo) / unshadowed, 0.0f, 1.0f)
+                                 : 0.0f);
+        }
+        return view.deep() ? glm::vec4(Lo * sp.coverage, sp.coverage) : glm::vec4(Lo, sp.coverage);
+    };
     std::atomic<long long> evaluations{0}, reaching{0}, covered{0}, shadowCount{0}, aoCount{0};
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         long long localEvaluations = 0, localReaching = 0, localCovered = 0, localShadow = 0,
                   localAO = 0;
         for (int y = r.ybegin; y < r.yend; ++y)
             for (int x = r.xbegin; x < r.xend; ++x) {
-                const float* g = view.channels(x, y);
                 float* out = static_cast<float*>(dst.pixeladdr(x, y));
+                const int samples = view.samples(x, y);
                 for (size_t k = 0; k < passIndex.size(); ++k)
-                    out[4 + extra + k] = g[passIndex[k]];
-                if (view.samples(x, y) == 0) {
+                    out[4 + extra + k] =
+                        samples > 0 || !view.deep() ? view.channels(x, y)[passIndex[k]] : 0.0f;
+                if (samples == 0) {
                     std::copy(params.background, params.background + 4, out);
                     if (sky && params.environmentBackground) {
                         const glm::vec3 L = skyRadiance(x - frame.xbegin, y - frame.ybegin);
@@ -228,85 +316,36 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
                     if (plate) overPlate(out, x, y);
                     continue;
                 }
-                const ShadingPoint sp = view.at(x, y);
-                float occlusion = 1.0f;
-                if (ao)
-                    occlusion = std::clamp(ao->getchannel(x, y, 0, 0), 0.0f, 1.0f);
-                else if (rayTracedAO)
-                    occlusion =
-                        rayTracedOcclusion(sp.P, sp.N, sampleSeed(x, y, -1, 2), params.aoSamples,
-                                           params.aoDistance, *inputs.visibility, &localAO);
-                // Lo = Le + Σ V_i L_i, in the order of the lights; with AO, the ambient
-                // terms are summed apart and occluded at the end.
-                // Lo = Le + Σ V_i L_i, in the order of the lights; with AO, the ambient terms
-                // are summed apart and occluded at the end. The same sums without visibility
-                // give a shadow catcher its alpha.
-                Terms lit{sp.emission}, open{sp.emission};
-                auto addLight = [&](std::uint32_t i) {
-                    const Light& light = lights[i];
-                    if (light.type == LightType::Environment) {
-                        const IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
-                        // The visible share of the environment, from rays drawn by its
-                        // luminance, scales the prefiltered result.
-                        float v = 1.0f;
-                        if (shadowRays && params.environmentSamples > 0)
-                            v = lightVisibility(light, sp.P, sp.N, sampleSeed(x, y, i, 1),
-                                                params.environmentSamples, *shadowRays,
-                                                &localShadow);
-                        lit.addEnvironment(e, v, aoActive);
-                        open.addEnvironment(e, 1.0f, aoActive);
-                        return;
+                // The samples front to back, each lit like an opaque surface and composited
+                // premultiplied "over" the ones before it (a flat pixel: its one sample as is).
+                glm::vec4 sum(0.0f);
+                for (int k = 0; k < samples; ++k) {
+                    const glm::vec4 c =
+                        shadeSample(x, y, k, localEvaluations, localReaching, localShadow, localAO,
+                                    k == 0 && extra ? out + 4 : nullptr);
+                    if (sampleRGBA)
+                        std::copy(&c[0], &c[0] + 4, &(*sampleRGBA)[4 * view.sampleIndex(x, y, k)]);
+                    if (!view.deep()) {
+                        sum = c;
+                        break;
                     }
-                    const glm::vec3 c = shadeLight(light, sp.surface, sp.P, sp.N, sp.V);
-                    float v = 1.0f;
-                    if (light.type != LightType::Ambient && shadowRays && c != glm::vec3(0.0f))
-                        v = lightVisibility(light, sp.P, sp.N, sampleSeed(x, y, i, 1),
-                                            params.shadowSamples, *shadowRays, &localShadow);
-                    const bool occludable = light.type == LightType::Ambient && aoActive;
-                    lit.add(c, v, occludable);
-                    open.add(c, 1.0f, occludable);
-                };
-                if (params.bruteForce) {
-                    // The reference: every light's full evaluation, which is exactly zero
-                    // where it does not reach.
-                    for (std::uint32_t i = 0; i < lights.size(); ++i) {
-                        localReaching += reach.reaches(i, sp.P);
-                        addLight(i);
-                    }
-                    localEvaluations += (long long)lights.size();
-                } else {
-                    const int px = x - frame.xbegin, py = y - frame.ybegin;
-                    const std::uint32_t slice = tiles.sliceBit(px, py, sp.depth);
-                    for (const TileLightLists::Entry& e : tiles.at(px, py)) {
-                        if (!(e.depthMask & slice)) continue;
-                        ++localEvaluations;
-                        // Out of range, the window is exactly zero: skip before reading more.
-                        if (!reach.reaches(e.light, sp.P)) continue;
-                        ++localReaching;
-                        addLight(e.light);
-                    }
+                    sum += (1.0f - sum.a) * c;
                 }
-                const float so = aoActive ? specularOcclusion(std::max(glm::dot(sp.N, sp.V), 0.0f),
-                                                              occlusion, sp.surface.roughness)
-                                          : 1.0f;
-                const glm::vec3 Lo = lit.total(aoActive, occlusion, so);
                 ++localCovered;
-                if (catcherId > 0 && layout.objectId >= 0 && g[layout.objectId] == catcherId) {
-                    // A shadow catcher (Blender's convention): no colour of its own, and the
-                    // share of light that shadows and AO take away as alpha.
-                    const float unshadowed = luminance(open.total(aoActive, 1.0f, 1.0f));
-                    out[0] = out[1] = out[2] = 0.0f;
-                    out[3] = unshadowed > 0.0f
-                                 ? std::clamp(1.0f - luminance(Lo) / unshadowed, 0.0f, 1.0f)
-                                 : 0.0f;
-                } else {
-                    out[0] = Lo.r;
-                    out[1] = Lo.g;
-                    out[2] = Lo.b;
-                    out[3] = sp.coverage;
+                out[0] = sum.r;
+                out[1] = sum.g;
+                out[2] = sum.b;
+                out[3] = sum.a;
+                if (view.deep() && sum.a < 1.0f && (sky && params.environmentBackground)) {
+                    const glm::vec3 L = skyRadiance(x - frame.xbegin, y - frame.ybegin);
+                    for (int c = 0; c < 3; ++c)
+                        out[c] += (1.0f - sum.a) * L[c];
+                    out[3] = 1.0f;
+                } else if (view.deep() && sum.a < 1.0f) {
+                    for (int c = 0; c < 4; ++c)
+                        out[c] += (1.0f - sum.a) * params.background[c];
                 }
                 if (plate) overPlate(out, x, y);
-                if (extra) out[4] = occlusion;
             }
         evaluations += localEvaluations;
         reaching += localReaching;
@@ -323,6 +362,65 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
         stats->aoRays = aoCount;
     }
     return true;
+}
+
+} // namespace
+
+bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const LightingInputs& inputs,
+                  const LightingParams& params, OIIO::ROI roi, int nthreads, LightingStats* stats) {
+    GBufferPixels g;
+    if (!openGBuffer(gbuf, g, dst)) return false;
+    const OIIO::ImageSpec& in = gbuf.spec();
+    const OIIO::ROI frame = params.frame.defined() ? params.frame : gbuf.roi();
+    const size_t nch = size_t(g.pixels->nchannels());
+    const Source source{
+        in,
+        gbuf.roi(),
+        g.layout,
+        g.camera,
+        GBufferView(*g.pixels, g.layout, g.camera),
+        DepthView{static_cast<const float*>(g.pixels->localpixels()) + g.layout.depth, nch,
+                  nch * size_t(in.width), in.y - frame.ybegin}};
+    return shadeSource(dst, source, inputs, params, roi, nthreads, stats, nullptr);
+}
+
+bool shadeGBuffer(OIIO::ImageBuf& dst, const DeepGBuffer& gbuf, const LightingInputs& inputs,
+                  const LightingParams& params, OIIO::ROI roi, int nthreads, LightingStats* stats,
+                  std::vector<float>* sampleRGBA) {
+    const OIIO::ImageSpec& in = gbuf.spec;
+    gbuffer::Layout layout;
+    gbuffer::CameraInfo camera;
+    std::string message;
+    if (!gbuffer::findLayout(in, layout, message)) {
+        dst.errorfmt("no channel '{}' — is this a G-buffer?", message);
+        return false;
+    }
+    if (!gbuffer::readCamera(in, camera, message)) {
+        dst.errorfmt("{}", message);
+        return false;
+    }
+    if (gbuf.first.size() != size_t(in.width) * size_t(in.height) + 1 ||
+        gbuf.values.size() != gbuf.totalSamples() * size_t(in.nchannels)) {
+        dst.errorfmt("the deep G-buffer's sample tables do not match its size");
+        return false;
+    }
+    if (inputs.ambientOcclusion) {
+        dst.errorfmt("an AO image has one value a pixel; a deep G-buffer needs ray-traced AO");
+        return false;
+    }
+    if (params.frame.defined() && params.frame != OIIO::get_roi(in)) {
+        dst.errorfmt("a deep G-buffer is shaded as a whole frame");
+        return false;
+    }
+    if (sampleRGBA) sampleRGBA->assign(4 * gbuf.totalSamples(), 0.0f);
+    const Source source{in,
+                        OIIO::get_roi(in),
+                        layout,
+                        camera,
+                        GBufferView(gbuf, layout, camera),
+                        DepthView{gbuf.values.data() + layout.depth, size_t(in.nchannels),
+                                  size_t(in.width), 0, gbuf.first.data()}};
+    return shadeSource(dst, source, inputs, params, roi, nthreads, stats, sampleRGBA);
 }
 
 } // namespace dhdr

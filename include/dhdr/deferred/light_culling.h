@@ -20,12 +20,25 @@ LightBound lightBound(const Light& light);
 
 // Planar depth of a frame, or of a strip of its rows starting at `firstRow`, read in place
 // (e.g. the Z channel of an interleaved G-buffer). Background pixels hold +∞ (or NaN).
+// A deep G-buffer's depths: with `first` set, pixel p = (y − firstRow) · rowStride + x has
+// the samples first[p] … first[p + 1] − 1, sample s's depth at data[s · pixelStride].
 struct DepthView {
     const float* data = nullptr;
     size_t pixelStride = 1; // in floats
-    size_t rowStride = 0;   // in floats
+    size_t rowStride = 0;   // in floats; in pixels when `first` is set
     int firstRow = 0;       // the frame row that data's first row is
-    float at(int x, int y) const {
+    const std::uint32_t* first = nullptr;
+
+    int count(int x, int y) const {
+        if (!first) return 1;
+        const size_t p = size_t(y - firstRow) * rowStride + size_t(x);
+        return int(first[p + 1] - first[p]);
+    }
+    float at(int x, int y, int k = 0) const {
+        if (first) {
+            const size_t p = size_t(y - firstRow) * rowStride + size_t(x);
+            return data[(size_t(first[p]) + size_t(k)) * pixelStride];
+        }
         return data[size_t(y - firstRow) * rowStride + size_t(x) * pixelStride];
     }
 };

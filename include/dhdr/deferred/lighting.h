@@ -9,6 +9,8 @@
 
 namespace dhdr {
 
+struct DeepGBuffer;
+
 // What lights the G-buffer, besides its own emission.
 struct LightingInputs {
     const std::vector<Light>& lights;
@@ -91,5 +93,16 @@ struct LightingStats {
 bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuffer, const LightingInputs& inputs,
                   const LightingParams& params = {}, OIIO::ROI roi = {}, int nthreads = 0,
                   LightingStats* stats = nullptr);
+
+// A deep G-buffer (deep_gbuffer.h), all of its frame: every sample is lit as an opaque surface
+// would be (the same tile lists, bounded by all samples' depths; shadow and AO rays from each;
+// its own sample sequences, sample 0's those of a flat pixel) and the samples are composited
+// front to back, premultiplied "over", into the flat RGBA of `dst`; what is left uncovered
+// shows the background (params.background or the environment) and the plate. With
+// `sampleRGBA`, each sample's own premultiplied RGBA (4 floats a sample, in the order of
+// gbuffer.values) for a deep output. An AO image (one value a pixel) is an error here.
+bool shadeGBuffer(OIIO::ImageBuf& dst, const DeepGBuffer& gbuffer, const LightingInputs& inputs,
+                  const LightingParams& params = {}, OIIO::ROI roi = {}, int nthreads = 0,
+                  LightingStats* stats = nullptr, std::vector<float>* sampleRGBA = nullptr);
 
 } // namespace dhdr

@@ -1,9 +1,10 @@
 // The surface samples of a G-buffer, as the lighting pass reads them: a small view that
-// hands back the samples of a pixel (one for a flat G-buffer; deep G-buffers will hold more).
+// hands back the samples of a pixel (one for a flat G-buffer, front to back for a deep one).
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
 #include <dhdr/deferred/brdf.h>
+#include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 
 namespace dhdr {
@@ -30,18 +31,35 @@ struct GBufferPixels {
 // Fills `out` from `gbuffer`; false with the error on `errors` (a missing channel, no camera).
 bool openGBuffer(const OIIO::ImageBuf& gbuffer, GBufferPixels& out, OIIO::ImageBuf& errors);
 
-// Reads shading points out of a float G-buffer held in memory (e.g. one strip of a frame).
+// Reads shading points out of a G-buffer held in memory as float: a flat one (e.g. one strip
+// of a frame), or a deep one with several samples a pixel.
 class GBufferView {
 public:
     GBufferView(const OIIO::ImageBuf& gbuffer, const gbuffer::Layout& layout,
                 const gbuffer::CameraInfo& camera)
-        : m_buf(gbuffer), m_layout(layout), m_camera(camera) {}
+        : m_data(static_cast<const float*>(gbuffer.localpixels())),
+          m_nch(size_t(gbuffer.nchannels())), m_x0(gbuffer.spec().x), m_y0(gbuffer.spec().y),
+          m_width(gbuffer.spec().width), m_layout(layout), m_camera(camera) {}
+    GBufferView(const DeepGBuffer& gbuffer, const gbuffer::Layout& layout,
+                const gbuffer::CameraInfo& camera)
+        : m_data(gbuffer.values.data()), m_nch(size_t(gbuffer.spec.nchannels)),
+          m_x0(gbuffer.spec.x), m_y0(gbuffer.spec.y), m_width(gbuffer.spec.width),
+          m_first(gbuffer.first.data()), m_layout(layout), m_camera(camera) {}
 
-    // Surface samples of pixel (x, y) in image coordinates: 0 on the background.
-    int samples(int x, int y) const { return channels(x, y)[m_layout.coverage] > 0.0f ? 1 : 0; }
+    bool deep() const { return m_first != nullptr; }
 
-    ShadingPoint at(int x, int y, int /*sample*/ = 0) const {
-        const float* g = channels(x, y);
+    // Surface samples of pixel (x, y) in image coordinates, front to back: 0 on the
+    // background.
+    int samples(int x, int y) const {
+        if (m_first) {
+            const size_t p = pixel(x, y);
+            return int(m_first[p + 1] - m_first[p]);
+        }
+        return channels(x, y)[m_layout.coverage] > 0.0f ? 1 : 0;
+    }
+
+    ShadingPoint at(int x, int y, int sample = 0) const {
+        const float* g = channels(x, y, sample);
         ShadingPoint s;
         s.P = glm::vec3(g[m_layout.position], g[m_layout.position + 1], g[m_layout.position + 2]);
         s.N = glm::normalize(
@@ -59,13 +77,25 @@ public:
         return s;
     }
 
-    // All channels of pixel (x, y), for passing channels through.
-    const float* channels(int x, int y) const {
-        return static_cast<const float*>(m_buf.pixeladdr(x, y));
+    // All channels of a sample of pixel (x, y) (of the pixel, flat), for passing through.
+    const float* channels(int x, int y, int sample = 0) const {
+        if (m_first) return m_data + (size_t(m_first[pixel(x, y)]) + size_t(sample)) * m_nch;
+        return m_data + pixel(x, y) * m_nch;
+    }
+    // The index of a sample among all of a deep G-buffer's (for per-sample outputs).
+    size_t sampleIndex(int x, int y, int sample) const {
+        return size_t(m_first[pixel(x, y)]) + size_t(sample);
     }
 
 private:
-    const OIIO::ImageBuf& m_buf; // float pixels in memory
+    size_t pixel(int x, int y) const {
+        return size_t(y - m_y0) * size_t(m_width) + size_t(x - m_x0);
+    }
+
+    const float* m_data;
+    size_t m_nch;
+    int m_x0, m_y0, m_width;
+    const std::uint32_t* m_first = nullptr; // deep: each pixel's first sample
     const gbuffer::Layout& m_layout;
     const gbuffer::CameraInfo& m_camera;
 };
