@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <dhdr/deferred/ambient_occlusion.h>
+#include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/lighting.h>
@@ -83,6 +84,10 @@ int run(int argc, char** argv) {
               1024);
     cl.flag("--aovs", aovs, "also write the G-buffer's Z and N.X N.Y N.Z channels, and AO");
     cl.option("--type", dataType, "half|float", "pixel type of the output EXR (default half)");
+    std::string deepOut;
+    cl.option("--deep-out", deepOut, "FILE",
+              "with a deep G-buffer, also write each lit sample as a deep RGBA EXR "
+              "(premultiplied, front to back, Z = ZBack) for deep compositing");
     cl.epilog("Examples:\n"
               "  dhdr-light frame.gbuf.exr --lights testdata/cornell_box.lights.json "
               "-o frame.hdr.exr\n"
@@ -225,7 +230,127 @@ int run(int argc, char** argv) {
                      [](const Light& l) { return l.type == LightType::Environment; }))
         tool.warn("--background env: no environment light; the background stays transparent");
 
-    return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
+    const app::FramePattern deepOutput(deepOut);
+    int currentFrame = 0;
+    auto checkScene = [&](const std::string& path, const OIIO::ImageSpec& gspec) {
+        if (!caster) return;
+        const std::string recorded = gspec.get_string_attribute(gbuffer::kSceneFingerprint);
+        if (recorded.empty())
+            tool.info(path + ": the G-buffer does not record its scene; trusting --scene");
+        else if (recorded != sceneSHA)
+            tool.warn(path + ": rendered from another scene file than " + scenePath +
+                      " (its SHA-1 differs): shadows may not match the pixels");
+    };
+    auto since = [](auto t) {
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t)
+            .count();
+    };
+    // A deep G-buffer: read whole (its size is its samples'), every sample lit, composited.
+    auto lightDeep = [&](const std::string& path, int part, const std::string& out,
+                         const std::vector<std::string>& in) {
+        if (aoMode == "ssao") {
+            tool.fail(path + ": --ao ssao works on flat G-buffers; a deep one needs --ao rt");
+            return false;
+        }
+        const auto start = std::chrono::steady_clock::now();
+        DeepGBuffer gbuf;
+        std::string error;
+        long long replaced = 0;
+        if (!readDeepGBuffer(path, part, gbuf, error, &replaced)) {
+            tool.fail(path + ": " + error);
+            return false;
+        }
+        NonFiniteCount counted;
+        counted.nan = replaced;
+        tool.reportNonFinite(path, counted, false);
+        const OIIO::ImageSpec& gspec = gbuf.spec;
+        if (gbuffer::CameraInfo camera; !gbuffer::readCamera(gspec, camera, error)) {
+            tool.fail(path + ": " + error);
+            return false;
+        }
+        if (inputs.plate &&
+            (plate.spec().width != gspec.width || plate.spec().height != gspec.height)) {
+            tool.fail(plateArg + ": the plate is " + std::to_string(plate.spec().width) + "x" +
+                      std::to_string(plate.spec().height) + ", the frame " +
+                      std::to_string(gspec.width) + "x" + std::to_string(gspec.height));
+            return false;
+        }
+        if (inputs.plate) plate.set_origin(gspec.x, gspec.y);
+        checkScene(path, gspec);
+        const double readMs = since(start);
+        auto t = std::chrono::steady_clock::now();
+        OIIO::ImageBuf hdr;
+        LightingStats stats;
+        std::vector<float> sampleRGBA;
+        if (!shadeGBuffer(hdr, gbuf, inputs, params, {}, tool.threads(), &stats,
+                          deepOut.empty() ? nullptr : &sampleRGBA)) {
+            tool.fail(path + ": " + hdr.geterror());
+            return false;
+        }
+        const double shadeMs = since(t);
+        t = std::chrono::steady_clock::now();
+        std::string lightFiles;
+        for (size_t i = 1; i < in.size(); ++i)
+            lightFiles += (i > 1 ? ", " : "") + in[i];
+        OIIO::ImageSpec spec = hdr.spec();
+        spec.attribute("dhdr:lights", lightFiles);
+        spec.erase_attribute("dhdr:materialNames");
+        spec.erase_attribute("dhdr:objectNames");
+        if (!deepOut.empty()) {
+            // The lit samples: RGBA premultiplied, with the G-buffer's depths, in its order.
+            DeepGBuffer lit;
+            lit.spec = spec;
+            lit.spec.nchannels = 6;
+            lit.spec.channelnames = {"R", "G", "B", "A", "Z", "ZBack"};
+            lit.spec.alpha_channel = 3;
+            lit.spec.z_channel = 4;
+            lit.first = gbuf.first;
+            lit.values.resize(gbuf.totalSamples() * 6);
+            for (size_t k = 0; k < gbuf.totalSamples(); ++k) {
+                for (int c = 0; c < 4; ++c)
+                    lit.values[6 * k + size_t(c)] = sampleRGBA[4 * k + size_t(c)];
+                lit.values[6 * k + 4] = gbuf.values[k * size_t(gspec.nchannels) + 1];
+                lit.values[6 * k + 5] = gbuf.values[k * size_t(gspec.nchannels) + 2];
+            }
+            const std::vector<OIIO::TypeDesc> formats = {
+                dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT,
+                dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT,
+                dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT,
+                dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT,
+                OIIO::TypeDesc::FLOAT,
+                OIIO::TypeDesc::FLOAT};
+            OIIO::ImageSpec deepSpec = lit.spec;
+            deepSpec.channelformats = formats;
+            OIIO::DeepData data;
+            toDeepData(lit, gspec.y, gspec.y + gspec.height, data, formats);
+            const std::string deepPath = deepOutput.path(currentFrame);
+            app::AtomicOutput deepFile(tool, deepPath);
+            if (!deepFile.openDeep(deepSpec) ||
+                !deepFile.writeDeepRows(gspec.y, gspec.y + gspec.height, data) ||
+                !deepFile.commit())
+                return false;
+        }
+        app::AtomicOutput file(tool, out);
+        if (!file.open(spec, {dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT}) ||
+            !file.writeRows(gspec.y, gspec.y + gspec.height,
+                            static_cast<const float*>(hdr.localpixels())) ||
+            !file.commit())
+            return false;
+        const double writeMs = since(t);
+        if (stats.coveredPixels == 0)
+            tool.warn(path + ": no surface in view: A is 0 everywhere (an empty frame)");
+        auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
+        char line[200];
+        std::snprintf(line, sizeof line,
+                      "deep: %zu samples over %lld covered pixels; %lld shadow rays, %lld AO rays",
+                      gbuf.totalSamples(), stats.coveredPixels, stats.shadowRays, stats.aoRays);
+        tool.info(line);
+        tool.info("total " + ms(since(start)) + ": read " + ms(readMs) + ", shade " + ms(shadeMs) +
+                  ", write " + ms(writeMs));
+        return true;
+    };
+    return app::runFrames(tool, plan, [&](int frameNumber, const auto& in, const auto& out) {
+        currentFrame = frameNumber;
         const std::string& path = in[0];
         if (animatedLights && !readLights({in.begin() + 1, in.end()}, lights)) return false;
         const auto start = std::chrono::steady_clock::now();
@@ -239,6 +364,15 @@ int run(int argc, char** argv) {
             tool.fail(
                 path + ": " +
                 (error.find("G-buffer") != std::string::npos ? error : "cannot read: " + error));
+            return false;
+        }
+        bool deepInput = false;
+        if (auto probe = OIIO::ImageInput::open(path); probe && probe->seek_subimage(part, 0))
+            deepInput = probe->spec().deep;
+        if (deepInput) return lightDeep(path, part, out, in);
+        if (!deepOut.empty()) {
+            tool.fail(path + ": --deep-out needs a deep G-buffer (dhdr-gbuffer --deep); this one "
+                             "is flat");
             return false;
         }
         app::StripReader reader;
@@ -265,14 +399,7 @@ int run(int argc, char** argv) {
             return false;
         }
         if (inputs.plate) plate.set_origin(gspec.x, gspec.y);
-        if (caster) {
-            const std::string recorded = gspec.get_string_attribute(gbuffer::kSceneFingerprint);
-            if (recorded.empty())
-                tool.info(path + ": the G-buffer does not record its scene; trusting --scene");
-            else if (recorded != sceneSHA)
-                tool.warn(path + ": rendered from another scene file than " + scenePath +
-                          " (its SHA-1 differs): shadows may not match the pixels");
-        }
+        checkScene(path, gspec);
         // Strip by strip, whole rows of tiles at a time: memory stays at one strip of the
         // G-buffer and one of the output whatever the frame's size, and each pixel's result
         // is the same as from the whole frame (tiles are laid over the frame).
@@ -288,10 +415,6 @@ int run(int argc, char** argv) {
         LightingStats stats;
         NonFiniteCount replaced;
         double readMs = 0.0, shadeMs = 0.0, writeMs = 0.0;
-        auto since = [](auto t) {
-            return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t)
-                .count();
-        };
         app::Progress progress(tool, "dhdr-light: " + path);
         // The next strip is read on another thread while this one is shaded and written:
         // decoding the G-buffer is most of the work.

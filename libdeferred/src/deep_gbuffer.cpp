@@ -123,10 +123,11 @@ bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, st
     return true;
 }
 
-void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out) {
+void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out,
+                std::vector<OIIO::TypeDesc> formats) {
     const OIIO::ImageSpec& spec = g.spec;
     const int nch = spec.nchannels;
-    const std::vector<OIIO::TypeDesc> formats = gbuffer::deepChannelFormats();
+    if (formats.empty()) formats = gbuffer::deepChannelFormats();
     const size_t firstPixel = size_t(ybegin - spec.y) * size_t(spec.width);
     const size_t npix = size_t(yend - ybegin) * size_t(spec.width);
     out.init(int64_t(npix), nch, formats, spec.channelnames);

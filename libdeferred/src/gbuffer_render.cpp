@@ -112,10 +112,13 @@ int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int
         const RayHit hit = caster.intersect(ray, tnear);
         if (!hit.hit) break;
         // The surface just recorded, hit again at (nearly) its depth: a triangle reported
-        // twice, or its neighbour across a shared edge. Move on past it.
+        // twice, or its neighbour across a shared edge. Move on past it. Embree compares t
+        // with tnear after rounding, so it may report a hit a little before tnear: the next
+        // search starts a relative 2⁻¹⁶ beyond, far above that rounding (coplanar surfaces
+        // closer than that are one layer).
         const bool again = last.hit && hit.mesh == last.mesh &&
-                           std::abs(hit.t - last.t) <= 1e-6 * std::max(last.t, 1e-3);
-        tnear = std::nextafter(float(hit.t), INFINITY);
+                           std::abs(hit.t - last.t) <= 0x1p-16 * std::max(last.t, 1e-3);
+        tnear = std::max(tnear, hit.t) * (1.0 + 0x1p-16) + 1e-9;
         if (again) continue;
         SurfaceCoverage c;
         if (hit.mesh != kGroundPlaneHit)

@@ -52,8 +52,10 @@ struct DeepGBuffer {
 bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, std::string& error,
                      long long* replaced = nullptr);
 
-// The samples of rows [ybegin, yend) of `g` as OIIO DeepData in the deep contract's file types
-// (deepChannelFormats()), ready for ImageOutput::write_deep_scanlines.
-void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out);
+// The samples of rows [ybegin, yend) of `g` as OIIO DeepData, ready for
+// ImageOutput::write_deep_scanlines: in `formats` (one type a channel; empty: the deep
+// G-buffer contract's, deepChannelFormats()).
+void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out,
+                std::vector<OIIO::TypeDesc> formats = {});
 
 } // namespace dhdr
