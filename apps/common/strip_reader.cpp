@@ -3,17 +3,67 @@
 #include "banded_read.h"
 #include "native_pixels.h"
 
+#include <OpenImageIO/deepdata.h>
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstring>
 #include <mutex>
 #include <thread>
 
 namespace dhdr::app {
 
+namespace {
+
+// A deep part read whole, flat: each pixel is its front sample (the smallest Z), or zero with
+// Z = +∞ where it has none (a G-buffer's background).
+bool readFrontSamples(OIIO::ImageInput& in, int subimage, int chbegin, int chend,
+                      OIIO::ImageBuf& out, std::string& error) {
+    const OIIO::ImageSpec file = in.spec();
+    OIIO::DeepData deep;
+    if (!in.read_native_deep_image(subimage, 0, deep)) {
+        error = in.geterror();
+        if (error.empty()) error = "cannot read its deep pixels";
+        return false;
+    }
+    OIIO::ImageSpec spec = floatChannelSpec(file, chbegin, chend);
+    spec.deep = false;
+    out.reset(spec, OIIO::InitializePixels::No);
+    const int z = file.channelindex("Z");
+    const size_t nch = size_t(chend - chbegin);
+    auto* px = static_cast<float*>(out.localpixels());
+    for (int64_t p = 0, n = int64_t(file.width) * file.height; p < n; ++p) {
+        float* o = px + size_t(p) * nch;
+        int front = -1;
+        for (int k = 0; k < deep.samples(p); ++k)
+            if (front < 0 || (z >= 0 && deep.deep_value(p, z, k) < deep.deep_value(p, z, front)))
+                front = k;
+        for (int c = chbegin; c < chend; ++c) {
+            float v = c == z ? INFINITY : 0.0f;
+            if (front >= 0)
+                v = deep.channeltype(c) == OIIO::TypeDesc::UINT
+                        ? float(deep.deep_value_uint(p, c, front))
+                        : deep.deep_value(p, c, front);
+            o[c - chbegin] = v;
+        }
+    }
+    return true;
+}
+
+} // namespace
+
 bool StripReader::open(const std::string& path, int subimage, int chbegin, int chend, int nthreads,
                        std::string& error) {
     m_whole.reset();
+    if (auto probe = OIIO::ImageInput::open(path);
+        probe && probe->seek_subimage(subimage, 0) && probe->spec().deep) {
+        const OIIO::ImageSpec& file = probe->spec();
+        m_chbegin = std::clamp(chbegin, 0, file.nchannels);
+        m_chend = std::clamp(chend, m_chbegin, file.nchannels);
+        if (!readFrontSamples(*probe, subimage, m_chbegin, m_chend, m_whole, error)) return false;
+        m_spec = m_whole.spec();
+        return true;
+    }
     m_in = openFlatPart(path, subimage, error);
     if (!m_in) return false;
     const OIIO::ImageSpec file = m_in->spec();

@@ -13,8 +13,9 @@ namespace dhdr::app {
 class StripReader {
 public:
     // Opens channels [chbegin, chend) of part `subimage` of `path`. False with `error` when
-    // the file cannot be read, is deep, or is larger than this machine's memory could hold
-    // (for files read whole, below).
+    // the file cannot be read or is larger than this machine's memory could hold (for files
+    // read whole, below). A deep part is read whole, each pixel its front sample (a deep
+    // G-buffer's nearest surface).
     bool open(const std::string& path, int subimage, int chbegin, int chend, int nthreads,
               std::string& error);
     // The file's spec for the channels read, as float pixels (metadata kept).
