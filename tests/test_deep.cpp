@@ -256,8 +256,8 @@ TEST(DeepGBuffer, MaskCardShowsAndCastsItsHoles) {
     const glm::dvec3 light(0.0, 0.0, 2.0);
     int dark = 0, lit = 0;
     for (int i = 0; i < 1600; ++i) {
-        const glm::dvec3 P(-0.9 + 1.8 * ((i % 40) + 0.5) / 40.0, -0.9 + 1.8 * ((i / 40) + 0.5) / 40.0,
-                           1e-4);
+        const glm::dvec3 P(-0.9 + 1.8 * ((i % 40) + 0.5) / 40.0,
+                           -0.9 + 1.8 * ((i / 40) + 0.5) / 40.0, 1e-4);
         // The segment's point on the card's plane.
         const double t = (0.5 - P.z) / (light.z - P.z);
         const glm::dvec3 c = P + t * (light - P);
@@ -282,9 +282,9 @@ TEST(DeepGBuffer, CulledEqualsBruteForcePerSample) {
     const Scene scene = paneScene(true, true);
     std::vector<Light> lights;
     for (int i = 0; i < 40; ++i) {
-        Light l = pointLight({-1.0f + 0.05f * float(i), 0.4f * std::sin(float(i)),
-                              0.2f + 0.03f * float(i % 17)},
-                             0.2f);
+        Light l = pointLight(
+            {-1.0f + 0.05f * float(i), 0.4f * std::sin(float(i)), 0.2f + 0.03f * float(i % 17)},
+            0.2f);
         l.range = 0.5f;
         lights.push_back(l);
     }
@@ -318,9 +318,7 @@ TEST(DeepGBuffer, DoesNotDependOnTheThreadCount) {
     ImageBuf a, b;
     ASSERT_TRUE(shadeGBuffer(a, one, {lights, &caster}, p, {}, 1));
     ASSERT_TRUE(shadeGBuffer(b, one, {lights, &caster}, p, {}, 2));
-    EXPECT_EQ(std::memcmp(a.localpixels(), b.localpixels(),
-                          a.spec().image_bytes()),
-              0);
+    EXPECT_EQ(std::memcmp(a.localpixels(), b.localpixels(), a.spec().image_bytes()), 0);
 }
 
 TEST(DeepGBuffer, FileReadBackWithOpenEXRsDeepReader) {

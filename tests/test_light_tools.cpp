@@ -2,7 +2,9 @@
 // errors of its options.
 #include "tool_test.h"
 
+#include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imagebufalgo.h>
+#include <OpenImageIO/imageio.h>
 
 using namespace dhdr::test;
 
@@ -281,4 +283,105 @@ TEST_F(LightTools, GroundPlaneCatchesShadowsAndPlatesComposite) {
                              " --plate env -o " + path("bad.exr"));
     EXPECT_EQ(noEnv.status, 1);
     EXPECT_FALSE(fs::exists(path("bad.exr")));
+}
+
+namespace {
+
+const std::string kGlass = kTestdata + "/cornell_glass.gltf";
+
+bool isDeep(const std::string& file) {
+    auto in = OIIO::ImageInput::open(file);
+    return in && in->spec().deep;
+}
+
+} // namespace
+
+TEST_F(LightTools, GBufferIsDeepWhereSurfacesAreTransparent) {
+    // A scene with glass: deep by default; --flat: today's first-hit file; an opaque scene:
+    // flat unless --deep; --deep and --flat together: a usage error.
+    ASSERT_EQ(run("dhdr-gbuffer " + kGlass + " --size 64x64 -o " + path("glass.exr")).status, 0);
+    EXPECT_TRUE(isDeep(path("glass.exr")));
+    ASSERT_EQ(
+        run("dhdr-gbuffer " + kGlass + " --size 64x64 --flat -o " + path("glassflat.exr")).status,
+        0);
+    EXPECT_FALSE(isDeep(path("glassflat.exr")));
+    EXPECT_FALSE(isDeep(path("g.exr")));
+    ASSERT_EQ(
+        run("dhdr-gbuffer " + kCornell + " --size 64x64 --deep -o " + path("opaque.exr")).status,
+        0);
+    EXPECT_TRUE(isDeep(path("opaque.exr")));
+    const Result both = run("dhdr-gbuffer " + kGlass + " --deep --flat -o " + path("both.exr"));
+    EXPECT_EQ(both.status, 2);
+    EXPECT_FALSE(fs::exists(path("both.exr")));
+    // Every pixel of the opaque scene's deep file has one sample; the glass scene's pane
+    // pixels two.
+    OIIO::ImageBuf opaque(path("opaque.exr")), glass(path("glass.exr"));
+    ASSERT_TRUE(opaque.read(0, 0, true) && glass.read(0, 0, true));
+    int maxOpaque = 0, maxGlass = 0;
+    for (int64_t p = 0; p < 64 * 64; ++p) {
+        maxOpaque = std::max(maxOpaque, opaque.deepdata()->samples(p));
+        maxGlass = std::max(maxGlass, glass.deepdata()->samples(p));
+    }
+    EXPECT_EQ(maxOpaque, 1);
+    EXPECT_EQ(maxGlass, 2);
+    // --max-layers 1 keeps only the opaque surface of each pixel.
+    ASSERT_EQ(
+        run("dhdr-gbuffer " + kGlass + " --size 64x64 --deep --max-layers 1 -o " + path("one.exr"))
+            .status,
+        0);
+    OIIO::ImageBuf one(path("one.exr"));
+    ASSERT_TRUE(one.read(0, 0, true));
+    const int a = one.spec().channelindex("A");
+    for (int64_t p = 0; p < 64 * 64; ++p) {
+        ASSERT_LE(one.deepdata()->samples(p), 1);
+        if (one.deepdata()->samples(p) == 1) {
+            EXPECT_EQ(one.deepdata()->deep_value(p, a, 0), 1.0f);
+        }
+    }
+}
+
+TEST_F(LightTools, DeepLightingFlattensToTheFlatOutput) {
+    // dhdr-light on the deep G-buffer: its flat output equals OpenImageIO's flatten of its
+    // --deep-out file (tidy: sorted, premultiplied), and the pane tints what is behind it.
+    ASSERT_EQ(run("dhdr-gbuffer " + kGlass + " --size 80x80 -o " + path("dg.exr")).status, 0);
+    const Result r =
+        run("dhdr-light " + path("dg.exr") + " --scene " + kGlass + " --lights " + kLights +
+            " --type float --deep-out " + path("ddeep.exr") + " -o " + path("dflat.exr") + " -v");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("deep:"), std::string::npos) << r.err;
+    ASSERT_TRUE(isDeep(path("ddeep.exr")));
+    OIIO::ImageBuf deep(path("ddeep.exr"));
+    ASSERT_TRUE(deep.read(0, 0, true));
+    const OIIO::ImageBuf flattened = OIIO::ImageBufAlgo::flatten(deep);
+    ASSERT_FALSE(flattened.has_error()) << flattened.geterror();
+    const ImageBuf flat = read("dflat.exr");
+    ASSERT_TRUE(allFinite(flat));
+    int compared = 0;
+    for (int y = 0; y < 80; ++y)
+        for (int x = 0; x < 80; ++x)
+            for (int c = 0; c < 4; ++c) {
+                const float a = flattened.getchannel(
+                    x, y, 0, flattened.spec().channelindex(std::string(1, "RGBA"[c])));
+                const float b = flat.getchannel(x, y, 0, c);
+                EXPECT_NEAR(a, b, 1e-5f + 1e-5f * std::abs(b)) << x << "," << y << " " << c;
+                ++compared;
+            }
+    EXPECT_EQ(compared, 80 * 80 * 4);
+    // --deep-out needs a deep G-buffer; SSAO a flat one.
+    const Result flatIn = run("dhdr-light " + path("g.exr") + " --lights " + kLights +
+                              " --deep-out " + path("x_deep.exr") + " -o " + path("x.exr"));
+    EXPECT_EQ(flatIn.status, 1);
+    EXPECT_NE(flatIn.err.find("deep"), std::string::npos) << flatIn.err;
+    const Result ssao = run("dhdr-light " + path("dg.exr") + " --lights " + kLights +
+                            " --ao ssao -o " + path("x.exr"));
+    EXPECT_EQ(ssao.status, 1);
+    EXPECT_NE(ssao.err.find("--ao rt"), std::string::npos) << ssao.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+    EXPECT_FALSE(fs::exists(path("x_deep.exr")));
+    EXPECT_TRUE(noTemporaries());
+    // dhdr-aa takes the deep G-buffer's front samples for its edges.
+    const Result aa = run("dhdr-aa " + path("dflat.exr") + " --gbuffer " + path("dg.exr") + " -o " +
+                          path("daa.exr"));
+    EXPECT_EQ(aa.status, 0) << aa.err;
+    EXPECT_TRUE(allFinite(read("daa.exr")));
 }
