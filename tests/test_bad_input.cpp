@@ -166,12 +166,13 @@ TEST_F(BadInput, DeepInputIsRefused) {
         }
     ASSERT_TRUE(deep.write(path("deep.exr")));
     const std::string out = path("deep_out.exr");
-    for (const std::string& c :
-         {"dhdr-tonemap " + path("deep.exr") + " -o " + out,
-          "dhdr-bloom " + path("deep.exr") + " -o " + out,
-          "dhdr-aa " + path("deep.exr") + " -o " + out,
-          "dhdr-aa " + path("h.exr") + " --gbuffer " + path("deep.exr") + " -o " + out})
+    for (const std::string& c : {"dhdr-tonemap " + path("deep.exr") + " -o " + out,
+                                 "dhdr-bloom " + path("deep.exr") + " -o " + out,
+                                 "dhdr-aa " + path("deep.exr") + " -o " + out})
         expectFailure(run(c), 1, "deep.exr: cannot read: is a deep image", out);
+    // A deep G-buffer is read for its front samples, and checked like a flat one.
+    expectFailure(run("dhdr-aa " + path("h.exr") + " --gbuffer " + path("deep.exr") + " -o " + out),
+                  1, "deep.exr: is 8x8", out);
     expectFailure(run("dhdr-light " + path("deep.exr") + " --lights " + kLights + " -o " + out), 1,
                   "deep.exr", out);
 }

@@ -11,6 +11,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
+#include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
@@ -19,6 +20,7 @@
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
 #include <filesystem>
+#include <fstream>
 #include <gtest/gtest.h>
 
 using namespace dhdr;
@@ -432,4 +434,40 @@ TEST(DeepGBuffer, SamplesInAnyOrderAreSortedAndVolumesRejected) {
     EXPECT_NE(error.find("ZBack > Z"), std::string::npos) << error;
     for (const std::string& p : {ordered, reversed, volume})
         std::filesystem::remove(p);
+}
+
+TEST(GBufferContract, DocsListTheTable) {
+    // docs/gbuffer.md's channel table holds exactly the rows of gbuffer::kContract: names,
+    // file type, what a reader needs and the meaning.
+    std::ifstream in(std::string(DHDR_TESTDATA) + "/../docs/gbuffer.md");
+    ASSERT_TRUE(in) << "docs/gbuffer.md";
+    std::vector<std::string> rows;
+    bool table = false;
+    for (std::string line; std::getline(in, line);) {
+        if (line.rfind("| channels | file type | reader | meaning |", 0) == 0)
+            table = true;
+        else if (table && line.rfind("| `", 0) == 0)
+            rows.push_back(line);
+        else if (table && !rows.empty() && line.rfind("|", 0) != 0)
+            break;
+    }
+    std::vector<std::string> expected;
+    for (const gbuffer::ContractChannel& c : gbuffer::kContract) {
+        std::string names;
+        for (int i = 0; i < c.components; ++i)
+            names += (i ? " " : "") + std::string(c.names[i]);
+        const char* type = c.type == gbuffer::FileType::Float  ? "float"
+                           : c.type == gbuffer::FileType::Uint ? "uint"
+                                                               : "half";
+        const char* need = c.need == gbuffer::Need::Required   ? "required"
+                           : c.need == gbuffer::Need::Optional ? "optional"
+                                                               : "deep only";
+        expected.push_back("| `" + names + "` | " + type + " | " + need + " | " + c.meaning + " |");
+    }
+    EXPECT_EQ(rows, expected);
+    // And the writers follow it: the flat names are the table's without ZBack, in its order.
+    std::vector<std::string> deep = gbuffer::deepChannelNames(), flat = gbuffer::channelNames();
+    deep.erase(std::find(deep.begin(), deep.end(), std::string(gbuffer::kDepthBack)));
+    EXPECT_EQ(deep, flat);
+    EXPECT_EQ(gbuffer::deepChannelFormats().size(), gbuffer::deepChannelNames().size());
 }

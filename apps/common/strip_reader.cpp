@@ -53,9 +53,9 @@ bool readFrontSamples(OIIO::ImageInput& in, int subimage, int chbegin, int chend
 } // namespace
 
 bool StripReader::open(const std::string& path, int subimage, int chbegin, int chend, int nthreads,
-                       std::string& error) {
+                       std::string& error, bool frontSamples) {
     m_whole.reset();
-    if (auto probe = OIIO::ImageInput::open(path);
+    if (auto probe = frontSamples ? OIIO::ImageInput::open(path) : nullptr;
         probe && probe->seek_subimage(subimage, 0) && probe->spec().deep) {
         const OIIO::ImageSpec& file = probe->spec();
         m_chbegin = std::clamp(chbegin, 0, file.nchannels);

@@ -13,11 +13,12 @@ namespace dhdr::app {
 class StripReader {
 public:
     // Opens channels [chbegin, chend) of part `subimage` of `path`. False with `error` when
-    // the file cannot be read or is larger than this machine's memory could hold (for files
-    // read whole, below). A deep part is read whole, each pixel its front sample (a deep
-    // G-buffer's nearest surface).
+    // the file cannot be read, is deep, or is larger than this machine's memory could hold
+    // (for files read whole, below). With `frontSamples`, a deep part is read whole instead,
+    // each pixel its front sample: a deep G-buffer's nearest surfaces (never a deep picture,
+    // which must be composited).
     bool open(const std::string& path, int subimage, int chbegin, int chend, int nthreads,
-              std::string& error);
+              std::string& error, bool frontSamples = false);
     // The file's spec for the channels read, as float pixels (metadata kept).
     const OIIO::ImageSpec& spec() const { return m_spec; }
     // Rows [ybegin, yend) (clamped to the image) as float pixels into `strip`, whose origin

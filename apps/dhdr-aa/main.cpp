@@ -130,7 +130,8 @@ int run(int argc, char** argv) {
                     chend = std::max(chend, c + 1);
                 }
             if (chend <= chbegin) chbegin = 0, chend = probe->spec().nchannels;
-            if (!gbuffer.open(geometryPath, part, chbegin, chend, tool.threads(), error)) {
+            // A deep G-buffer: the edges of its front surfaces.
+            if (!gbuffer.open(geometryPath, part, chbegin, chend, tool.threads(), error, true)) {
                 tool.fail(geometryPath + ": cannot read: " + error);
                 return false;
             }

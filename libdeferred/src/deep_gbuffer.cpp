@@ -12,15 +12,13 @@ namespace dhdr {
 
 namespace gbuffer {
 
-std::vector<std::string> deepChannelNames() {
-    std::vector<std::string> names = channelNames();
-    names.insert(names.begin() + 2, kDepthBack);
-    return names;
-}
-
 std::vector<OIIO::TypeDesc> deepChannelFormats() {
-    std::vector<OIIO::TypeDesc> formats = gbufferChannelFormats();
-    formats.insert(formats.begin() + 2, OIIO::TypeDesc::FLOAT);
+    std::vector<OIIO::TypeDesc> formats;
+    for (const ContractChannel& c : kContract)
+        for (int i = 0; i < c.components; ++i)
+            formats.push_back(c.type == FileType::Float  ? OIIO::TypeDesc::FLOAT
+                              : c.type == FileType::Uint ? OIIO::TypeDesc::UINT
+                                                         : OIIO::TypeDesc::HALF);
     return formats;
 }
 

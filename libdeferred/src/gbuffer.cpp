@@ -7,21 +7,25 @@
 
 namespace dhdr::gbuffer {
 
-std::vector<std::string> channelNames() {
-    std::vector<std::string> names = {kCoverage, kDepth};
-    for (const char* c : kPosition)
-        names.push_back(c);
-    for (const char* c : kNormal)
-        names.push_back(c);
-    for (const char* c : kAlbedo)
-        names.push_back(c);
-    names.push_back(kRoughness);
-    names.push_back(kMetallic);
-    for (const char* c : kEmission)
-        names.push_back(c);
-    names.push_back(kObjectId);
-    names.push_back(kMaterialId);
+namespace {
+
+std::vector<std::string> namesOf(bool deep) {
+    std::vector<std::string> names;
+    for (const ContractChannel& c : kContract)
+        if (deep || c.need != Need::DeepOnly)
+            for (int i = 0; i < c.components; ++i)
+                names.push_back(c.names[i]);
     return names;
+}
+
+} // namespace
+
+std::vector<std::string> channelNames() {
+    return namesOf(false);
+}
+
+std::vector<std::string> deepChannelNames() {
+    return namesOf(true);
 }
 
 namespace {
@@ -45,22 +49,14 @@ bool findGroup(const OIIO::ImageSpec& spec, const char* const* names, int count,
 
 bool findLayout(const OIIO::ImageSpec& spec, Layout& layout, std::string& missing) {
     layout = Layout{};
-    const char* const coverage[] = {kCoverage};
-    const char* const depth[] = {kDepth};
-    const char* const roughness[] = {kRoughness};
-    const char* const metallic[] = {kMetallic};
-    if (!findGroup(spec, coverage, 1, layout.coverage, missing) ||
-        !findGroup(spec, depth, 1, layout.depth, missing) ||
-        !findGroup(spec, kPosition, 3, layout.position, missing) ||
-        !findGroup(spec, kNormal, 3, layout.normal, missing) ||
-        !findGroup(spec, kAlbedo, 3, layout.albedo, missing) ||
-        !findGroup(spec, roughness, 1, layout.roughness, missing) ||
-        !findGroup(spec, metallic, 1, layout.metallic, missing))
-        return false;
-    std::string ignored;
-    findGroup(spec, kEmission, 3, layout.emission, ignored);
-    layout.objectId = spec.channelindex(kObjectId);
-    layout.materialId = spec.channelindex(kMaterialId);
+    for (const ContractChannel& c : kContract) {
+        if (c.need == Need::Required) {
+            if (!findGroup(spec, c.names, c.components, layout.*c.field, missing)) return false;
+        } else {
+            std::string ignored;
+            findGroup(spec, c.names, c.components, layout.*c.field, ignored);
+        }
+    }
     return true;
 }
 
@@ -79,26 +75,21 @@ int findGBufferPart(const std::string& path, std::string& error) {
             if (s == 0) firstMissing = missing;
             continue;
         }
-        for (int c = 0; c < spec.nchannels; ++c) {
-            const std::string& name = spec.channelnames[size_t(c)];
-            const OIIO::TypeDesc type = spec.channelformat(c);
-            const bool id = name == kObjectId || name == kMaterialId;
-            const bool contract = name == kCoverage || name == kDepth || name.rfind("P.", 0) == 0 ||
-                                  name.rfind("N.", 0) == 0 || name.rfind("albedo.", 0) == 0 ||
-                                  name == kRoughness || name == kMetallic ||
-                                  name.rfind("emission.", 0) == 0;
-            const bool real = type == OIIO::TypeDesc::HALF || type == OIIO::TypeDesc::FLOAT;
-            if (contract && !real) {
-                error = "channel '" + name + "' is stored as " + type.c_str() +
-                        "; the G-buffer contract stores it as half or float";
+        // Real-valued channels must be stored as half or float (a normal stored as uint
+        // would clamp); ids as uint, or half/float.
+        for (const ContractChannel& entry : kContract)
+            for (int i = 0; i < entry.components; ++i) {
+                const int c = spec.channelindex(entry.names[i]);
+                if (c < 0) continue;
+                const OIIO::TypeDesc type = spec.channelformat(c);
+                const bool real = type == OIIO::TypeDesc::HALF || type == OIIO::TypeDesc::FLOAT;
+                if (real || (entry.type == FileType::Uint && type == OIIO::TypeDesc::UINT))
+                    continue;
+                error = std::string("channel '") + entry.names[i] + "' is stored as " +
+                        type.c_str() + "; the G-buffer contract stores it as " +
+                        (entry.type == FileType::Uint ? "uint" : "half or float");
                 return -1;
             }
-            if (id && type != OIIO::TypeDesc::UINT && !real) {
-                error = "channel '" + name + "' is stored as " + type.c_str() +
-                        "; the G-buffer contract stores it as uint";
-                return -1;
-            }
-        }
         return s;
     }
     error = "no channel '" + firstMissing + "' — is this a G-buffer?";

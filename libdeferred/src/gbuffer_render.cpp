@@ -132,44 +132,49 @@ int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int
     return n;
 }
 
-// The contract's channels of a hit (deepChannelNames() with `deep`, channelNames() without).
-void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const Ray& ray,
-                const RayHit& hit, float alpha, bool deep, float* out) {
+// The contract's channels of a hit, where `layout` places them (a flat or a deep sample).
+void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuffer::Layout& layout,
+                const Ray& ray, const RayHit& hit, float alpha, float* out) {
     const SurfaceSample s = surfaceAt(scene, ray, hit);
     const Material& m = *s.material;
     const bool ground = hit.mesh == kGroundPlaneHit;
     const int object = ground ? scene.groundObject : scene.meshes[size_t(hit.mesh)].object;
     const int material = ground ? scene.groundMaterial : scene.meshes[size_t(hit.mesh)].material;
-    *out++ = alpha;
-    const float z = float(-(worldToCamera * glm::dvec4(s.position, 1.0)).z);
-    *out++ = z;
-    if (deep) *out++ = z; // ZBack: a point sample
-    for (int c = 0; c < 3; ++c)
-        *out++ = float(s.position[c]);
-    for (int c = 0; c < 3; ++c)
-        *out++ = float(s.normal[c]);
-    for (int c = 0; c < 3; ++c)
-        *out++ = s.albedo[c];
-    *out++ = m.roughness;
-    *out++ = m.metallic;
-    for (int c = 0; c < 3; ++c)
-        *out++ = s.emission[c];
-    *out++ = float(object + 1);
-    *out++ = float(material + 1);
+    out[layout.coverage] = alpha;
+    out[layout.depth] = float(-(worldToCamera * glm::dvec4(s.position, 1.0)).z);
+    if (layout.depthBack >= 0) out[layout.depthBack] = out[layout.depth]; // a point sample
+    for (int c = 0; c < 3; ++c) {
+        out[layout.position + c] = float(s.position[c]);
+        out[layout.normal + c] = float(s.normal[c]);
+        out[layout.albedo + c] = s.albedo[c];
+        out[layout.emission + c] = s.emission[c];
+    }
+    out[layout.roughness] = m.roughness;
+    out[layout.metallic] = m.metallic;
+    out[layout.objectId] = float(object + 1);
+    out[layout.materialId] = float(material + 1);
+}
+
+// Where the writers put each channel: the contract's table, flat or deep.
+gbuffer::Layout layoutOf(const std::vector<std::string>& names) {
+    OIIO::ImageSpec spec(1, 1, int(names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    gbuffer::Layout layout;
+    std::string missing;
+    gbuffer::findLayout(spec, layout, missing);
+    return layout;
 }
 
 } // namespace
 
 std::vector<OIIO::TypeDesc> gbufferChannelFormats() {
     std::vector<OIIO::TypeDesc> formats;
-    for (const std::string& name : gbuffer::channelNames()) {
-        if (name == gbuffer::kDepth || name.rfind("P.", 0) == 0)
-            formats.push_back(OIIO::TypeDesc::FLOAT);
-        else if (name.rfind("id.", 0) == 0)
-            formats.push_back(OIIO::TypeDesc::UINT);
-        else
-            formats.push_back(OIIO::TypeDesc::HALF);
-    }
+    for (const gbuffer::ContractChannel& c : gbuffer::kContract)
+        if (c.need != gbuffer::Need::DeepOnly)
+            for (int i = 0; i < c.components; ++i)
+                formats.push_back(c.type == gbuffer::FileType::Float  ? OIIO::TypeDesc::FLOAT
+                                  : c.type == gbuffer::FileType::Uint ? OIIO::TypeDesc::UINT
+                                                                      : OIIO::TypeDesc::HALF);
     return formats;
 }
 
@@ -246,6 +251,7 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
 
     const int nch = m_spec.nchannels;
     const glm::dmat4 worldToCamera = m_camera.worldToCamera();
+    const gbuffer::Layout layout = layoutOf(m_spec.channelnames);
     std::atomic<int> rowsDone{0};
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y) {
@@ -258,7 +264,7 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
                     px[1] = std::numeric_limits<float>::infinity();
                     continue;
                 }
-                fillSample(m_scene, worldToCamera, ray, front.hit, 1.0f, false, px);
+                fillSample(m_scene, worldToCamera, layout, ray, front.hit, 1.0f, px);
             }
             const int done = ++rowsDone;
             if (m_params.progress && (done % 64 == 0 || done == roi.height()))
@@ -284,6 +290,7 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
     dst.spec.height = roi.height();
     const size_t nch = names.size();
     const glm::dmat4 worldToCamera = m_camera.worldToCamera();
+    const gbuffer::Layout layout = layoutOf(names);
     // Each row's samples apart, joined in row order after: the same buffer for any threads.
     std::vector<std::vector<std::uint32_t>> counts(size_t(roi.height()));
     std::vector<std::vector<float>> values(size_t(roi.height()));
@@ -302,8 +309,8 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
                 rowCounts.push_back(std::uint32_t(n));
                 for (int k = 0; k < n; ++k) {
                     rowValues.resize(rowValues.size() + nch);
-                    fillSample(m_scene, worldToCamera, ray, layers[size_t(k)].hit,
-                               layers[size_t(k)].alpha, true, &rowValues[rowValues.size() - nch]);
+                    fillSample(m_scene, worldToCamera, layout, ray, layers[size_t(k)].hit,
+                               layers[size_t(k)].alpha, &rowValues[rowValues.size() - nch]);
                     local += layers[size_t(k)].alpha < 1.0f;
                 }
             }

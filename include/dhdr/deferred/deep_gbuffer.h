@@ -6,18 +6,14 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <cstdint>
+#include <dhdr/deferred/gbuffer.h>
 #include <string>
 #include <vector>
 
 namespace dhdr {
 
 namespace gbuffer {
-// The back of a sample's depth range; equal to Z for the point samples of a surface.
-inline constexpr const char* kDepthBack = "ZBack";
-// The channels of a deep G-buffer sample in the order held in memory: the flat contract's
-// with ZBack after Z. A is the sample's alpha (its coverage of the pixel).
-std::vector<std::string> deepChannelNames();
-// Their file types: the flat contract's, ZBack float.
+// The file types of a deep G-buffer's channels (deepChannelNames(), gbuffer.h).
 std::vector<OIIO::TypeDesc> deepChannelFormats();
 } // namespace gbuffer
 

@@ -37,12 +37,105 @@ inline constexpr const char* kShadowCatcher = "dhdr:shadowCatcher";
 // Index of each channel within a G-buffer's channel list (of its first component for the
 // 3-vectors, whose components must follow in X Y Z / R G B order).
 struct Layout {
-    int coverage = -1, depth = -1, position = -1, normal = -1, albedo = -1;
+    int coverage = -1, depth = -1, depthBack = -1, position = -1, normal = -1, albedo = -1;
     int roughness = -1, metallic = -1, emission = -1, objectId = -1, materialId = -1;
 };
 
-// All channels of the contract in writing order.
+// The back of a deep sample's depth range; equal to Z for the point samples of a surface.
+inline constexpr const char* kDepthBack = "ZBack";
+
+enum class FileType { Half, Float, Uint };
+enum class Need {
+    Required, // dhdr-light rejects a G-buffer without it
+    Optional, // used when present
+    DeepOnly  // in deep G-buffers only
+};
+
+// One entry of the contract: a scalar or a 3-vector, in the order dhdr-gbuffer writes them.
+// The writers (flat and deep), findLayout, the type checks of findGBufferPart and the table of
+// docs/gbuffer.md (checked by a test) all follow this table.
+struct ContractChannel {
+    const char* names[3];
+    int components;
+    FileType type;
+    Need need;
+    int Layout::*field; // where findLayout records the index of its first component
+    const char* meaning;
+};
+
+inline constexpr ContractChannel kContract[] = {
+    {{kCoverage},
+     1,
+     FileType::Half,
+     Need::Required,
+     &Layout::coverage,
+     "coverage: 1 where the primary ray hit a surface; a deep sample's alpha"},
+    {{kDepth},
+     1,
+     FileType::Float,
+     Need::Required,
+     &Layout::depth,
+     "camera-space planar depth along the view axis, in scene units (metres for glTF)"},
+    {{kDepthBack},
+     1,
+     FileType::Float,
+     Need::DeepOnly,
+     &Layout::depthBack,
+     "deep samples: the back of the sample, equal to Z (a point on a surface)"},
+    {{kPosition[0], kPosition[1], kPosition[2]},
+     3,
+     FileType::Float,
+     Need::Required,
+     &Layout::position,
+     "world-space hit position"},
+    {{kNormal[0], kNormal[1], kNormal[2]},
+     3,
+     FileType::Half,
+     Need::Required,
+     &Layout::normal,
+     "world-space shading normal, unit length, flipped to face the camera"},
+    {{kAlbedo[0], kAlbedo[1], kAlbedo[2]},
+     3,
+     FileType::Half,
+     Need::Required,
+     &Layout::albedo,
+     "linear base colour: material factor × base-colour texture"},
+    {{kRoughness},
+     1,
+     FileType::Half,
+     Need::Required,
+     &Layout::roughness,
+     "glTF metallic-roughness roughness"},
+    {{kMetallic},
+     1,
+     FileType::Half,
+     Need::Required,
+     &Layout::metallic,
+     "glTF metallic-roughness metallic"},
+    {{kEmission[0], kEmission[1], kEmission[2]},
+     3,
+     FileType::Half,
+     Need::Optional,
+     &Layout::emission,
+     "linear emitted radiance (emissive factor × strength)"},
+    {{kObjectId},
+     1,
+     FileType::Uint,
+     Need::Optional,
+     &Layout::objectId,
+     "index into dhdr:objectNames: the integer itself (1, 2, …)"},
+    {{kMaterialId},
+     1,
+     FileType::Uint,
+     Need::Optional,
+     &Layout::materialId,
+     "index into dhdr:materialNames: the integer itself (1, 2, …)"},
+};
+
+// All channels of the flat contract in writing order (kContract without the deep-only ones).
 std::vector<std::string> channelNames();
+// A deep G-buffer sample's channels: all of kContract, in its order.
+std::vector<std::string> deepChannelNames();
 
 // Finds the channels that dhdr-light shades with (A, Z, P, N, albedo, roughness, metallic;
 // emission and ids are optional). On a missing channel returns false and names it in
