@@ -28,9 +28,13 @@ step "$tools/dhdr-tonemap" "$out/cornell.bloom.exr" -o "$out/cornell.png" -v
 # HDR sky, composited over it (docs/ibl.md).
 bash "$here/scripts/ibl_demo.sh" "$tools" "$out"
 
+# Glass and cut-outs: a deep G-buffer lit sample by sample (docs/gbuffer.md).
+bash "$here/scripts/glass_demo.sh" "$tools" "$out"
+
 echo
 echo "Outputs:"
 for f in cornell.gbuf.exr cornell.lights.json cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png \
-  sky.exr sky.ibl.exr spheres.gbuf.exr spheres.hdr.exr spheres.png; do
+  sky.exr sky.ibl.exr spheres.gbuf.exr spheres.hdr.exr spheres.png \
+  glass.gbuf.exr glass.hdr.exr glass.deep.exr glass.png; do
   echo "  $out/$f"
 done

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Writes testdata/cornell_glass.gltf (and card_holes.png): the Cornell box of
-make_cornell_box.py with a glass pane (alphaMode BLEND, alpha 0.4) in front of the tall block
-and a card with square holes (alphaMode MASK, a checker texture whose dark squares have
-alpha 0) in front of the short block, for deep G-buffers (docs/gbuffer.md).
+make_cornell_box.py with a glass pane (alphaMode BLEND, alpha 0.4) standing beside the tall
+block and a card with square holes (alphaMode MASK, a checker texture whose dark squares have
+alpha 0) behind it, for deep G-buffers (docs/gbuffer.md).
 """
 import base64
 import json
@@ -12,10 +12,13 @@ import subprocess
 
 import make_cornell_box as cb
 
+# The pane stands on the floor between the blocks, lit from the front by the ceiling light;
+# the card hangs behind it, in front of the back wall, so that some pixels see glass, card and
+# wall, and the card's shadow with its holes falls on the wall.
 PANE = {"name": "glass_pane", "material": "glass",
-        "quad": [(0.52, 0.0, 0.15), (0.28, 0.0, 0.15), (0.28, 0.40, 0.15), (0.52, 0.40, 0.15)]}
+        "quad": [(0.33, 0.0, 0.32), (0.09, 0.0, 0.32), (0.09, 0.34, 0.32), (0.33, 0.34, 0.32)]}
 CARD = {"name": "cut_card", "material": "card",
-        "quad": [(0.24, 0.17, 0.10), (0.06, 0.17, 0.10), (0.06, 0.35, 0.10), (0.24, 0.35, 0.10)]}
+        "quad": [(0.26, 0.12, 0.46), (0.04, 0.12, 0.46), (0.04, 0.34, 0.46), (0.26, 0.34, 0.46)]}
 
 
 def main():
