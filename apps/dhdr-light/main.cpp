@@ -488,9 +488,9 @@ int run(int argc, char** argv) {
         const double pixels = double(std::max<long long>(stats.coveredPixels, 1));
         char line[200];
         std::snprintf(line, sizeof line,
-                      "%zu lights; per covered pixel %.2f considered, %.2f within range%s; "
-                      "%lld tile-list entries",
-                      lights.size(), double(stats.lightEvaluations) / pixels,
+                      "%zu lights; %lld covered pixels; per covered pixel %.2f considered, %.2f "
+                      "within range%s; %lld tile-list entries",
+                      lights.size(), stats.coveredPixels, double(stats.lightEvaluations) / pixels,
                       double(stats.lightsReaching) / pixels, bruteForce ? " (brute force)" : "",
                       stats.tileListEntries);
         tool.info(line);

@@ -1,7 +1,9 @@
+#include <Imath/half.h>
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
@@ -71,45 +73,74 @@ bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, st
     for (size_t p = 0; p < npix; ++p)
         out.first[p + 1] = out.first[p] + std::uint32_t(deep.samples(int64_t(p)));
     out.values.assign(size_t(out.first.back()) * size_t(nch), 0.0f);
+    // Each sample's channels lie together in the DeepData, at fixed offsets from its first
+    // byte: read them in place rather than one deep_value call (and type switch) each.
+    const size_t sampleBytes = deep.samplesize();
+    std::vector<std::ptrdiff_t> offset(size_t(file.nchannels), 0);
+    for (size_t p = 0; p < npix; ++p) {
+        if (deep.samples(int64_t(p)) == 0) continue;
+        const char* base = static_cast<const char*>(deep.data_ptr(int64_t(p), 0, 0));
+        for (int c = 0; c < file.nchannels; ++c)
+            offset[size_t(c)] = static_cast<const char*>(deep.data_ptr(int64_t(p), c, 0)) - base;
+        break;
+    }
+    auto value = [&](const char* sample, int c) {
+        const char* at = sample + offset[size_t(c)];
+        const OIIO::TypeDesc t = deep.channeltype(c);
+        if (t == OIIO::TypeDesc::FLOAT) {
+            float v;
+            std::memcpy(&v, at, sizeof v);
+            return v;
+        }
+        if (t == OIIO::TypeDesc::HALF) {
+            Imath::half h;
+            std::memcpy(&h, at, sizeof h);
+            return float(h);
+        }
+        if (t == OIIO::TypeDesc::UINT) {
+            std::uint32_t u;
+            std::memcpy(&u, at, sizeof u);
+            return float(u);
+        }
+        return 0.0f;
+    };
     const int zFile = source[1], zBackFile = source[2];
     std::vector<int> order;
     long long fixed = 0;
     for (size_t p = 0; p < npix; ++p) {
         const int n = deep.samples(int64_t(p));
+        if (n == 0) continue;
+        const char* first = static_cast<const char*>(deep.data_ptr(int64_t(p), 0, 0));
+        auto sample = [&](int s) { return first + size_t(s) * sampleBytes; };
+        auto where = [&] {
+            return "pixel (" + std::to_string(file.x + int(p % size_t(file.width))) + ", " +
+                   std::to_string(file.y + int(p / size_t(file.width))) + ")";
+        };
         order.resize(size_t(n));
         std::iota(order.begin(), order.end(), 0);
         for (int s = 0; s < n; ++s) {
-            const float z = deep.deep_value(int64_t(p), zFile, s);
-            const float zBack = zBackFile >= 0 ? deep.deep_value(int64_t(p), zBackFile, s) : z;
+            const float z = value(sample(s), zFile);
+            const float zBack = zBackFile >= 0 ? value(sample(s), zBackFile) : z;
             if (!std::isfinite(z)) {
-                error = "pixel (" + std::to_string(file.x + int(p % size_t(file.width))) + ", " +
-                        std::to_string(file.y + int(p / size_t(file.width))) +
-                        ") has a sample without a finite Z";
+                error = where() + " has a sample without a finite Z";
                 return false;
             }
             if (zBack > z) {
-                error = "pixel (" + std::to_string(file.x + int(p % size_t(file.width))) + ", " +
-                        std::to_string(file.y + int(p / size_t(file.width))) +
-                        ") has a volume sample (ZBack > Z); dhdr lights surfaces, whose samples "
-                        "are points (ZBack = Z)";
+                error = where() + " has a volume sample (ZBack > Z); dhdr lights surfaces, whose "
+                                  "samples are points (ZBack = Z)";
                 return false;
             }
         }
-        std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-            return deep.deep_value(int64_t(p), zFile, a) < deep.deep_value(int64_t(p), zFile, b);
-        });
+        if (n > 1)
+            std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+                return value(sample(a), zFile) < value(sample(b), zFile);
+            });
         for (int k = 0; k < n; ++k) {
             float* v = &out.values[(size_t(out.first[p]) + size_t(k)) * size_t(nch)];
+            const char* from = sample(order[size_t(k)]);
             for (int c = 0; c < nch; ++c) {
-                const int from = source[size_t(c)];
-                if (from < 0) {
-                    v[c] = c == 2 ? v[1] : 0.0f; // ZBack defaults to Z
-                    continue;
-                }
-                const OIIO::TypeDesc t = deep.channeltype(from);
-                v[c] = t == OIIO::TypeDesc::UINT
-                           ? float(deep.deep_value_uint(int64_t(p), from, order[size_t(k)]))
-                           : deep.deep_value(int64_t(p), from, order[size_t(k)]);
+                const int f = source[size_t(c)];
+                v[c] = f >= 0 ? value(from, f) : (c == 2 ? v[1] : 0.0f); // ZBack defaults to Z
                 if (!std::isfinite(v[c])) {
                     v[c] = 0.0f;
                     ++fixed;
