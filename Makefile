@@ -42,6 +42,7 @@ bench: build
 	@python3 bench/pipeline.py --bin $(BUILD)/apps
 	@python3 bench/shadows.py --bin $(BUILD)/apps
 	@python3 bench/ibl.py --bin $(BUILD)/apps
+	@python3 bench/deep.py --bin $(BUILD)/apps
 	@$(BUILD)/dhdr-bench-occlusion testdata/cornell_box.gltf
 
 format:
