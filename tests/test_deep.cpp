@@ -471,3 +471,41 @@ TEST(GBufferContract, DocsListTheTable) {
     EXPECT_EQ(deep, flat);
     EXPECT_EQ(gbuffer::deepChannelFormats().size(), gbuffer::deepChannelNames().size());
 }
+
+TEST(DeepGBuffer, MaterialsReadTheirAlphaModes) {
+    // glTF: alphaMode and alphaCutoff as the file says; OBJ/MTL: d, or 1 − Tr, below 1 blends.
+    Scene gltf;
+    std::string error;
+    ASSERT_TRUE(loadScene(std::string(DHDR_TESTDATA) + "/cornell_glass.gltf", gltf, error))
+        << error;
+    auto find = [](const Scene& s, const std::string& name) -> const Material* {
+        for (const Material& m : s.materials)
+            if (m.name == name) return &m;
+        return nullptr;
+    };
+    ASSERT_TRUE(find(gltf, "glass") && find(gltf, "card") && find(gltf, "white"));
+    EXPECT_EQ(find(gltf, "glass")->alphaMode, AlphaMode::Blend);
+    EXPECT_FLOAT_EQ(find(gltf, "glass")->alpha, 0.4f);
+    EXPECT_EQ(find(gltf, "card")->alphaMode, AlphaMode::Mask);
+    EXPECT_FLOAT_EQ(find(gltf, "card")->alphaCutoff, 0.5f);
+    EXPECT_EQ(find(gltf, "white")->alphaMode, AlphaMode::Opaque);
+
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / "dhdr_obj_alpha";
+    std::filesystem::create_directories(dir);
+    std::ofstream(dir / "a.mtl") << "newmtl solid\nKd 0.8 0.8 0.8\n\n"
+                                 << "newmtl smoke\nKd 0.5 0.5 0.5\nd 0.3\n\n"
+                                 << "newmtl tinted\nKd 0.2 0.4 0.8\nTr 0.25\n";
+    std::ofstream(dir / "a.obj") << "mtllib a.mtl\n"
+                                 << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                                 << "usemtl solid\nf 1 2 3\nusemtl smoke\nf 1 3 4\n"
+                                 << "usemtl tinted\nf 2 3 4\n";
+    Scene obj;
+    ASSERT_TRUE(loadScene((dir / "a.obj").string(), obj, error)) << error;
+    ASSERT_TRUE(find(obj, "solid") && find(obj, "smoke") && find(obj, "tinted"));
+    EXPECT_EQ(find(obj, "solid")->alphaMode, AlphaMode::Opaque);
+    EXPECT_EQ(find(obj, "smoke")->alphaMode, AlphaMode::Blend);
+    EXPECT_FLOAT_EQ(find(obj, "smoke")->alpha, 0.3f);
+    EXPECT_EQ(find(obj, "tinted")->alphaMode, AlphaMode::Blend);
+    EXPECT_FLOAT_EQ(find(obj, "tinted")->alpha, 0.75f);
+    std::filesystem::remove_all(dir);
+}
