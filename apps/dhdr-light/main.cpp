@@ -11,6 +11,7 @@
 #include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
 #include <dhdr/tonemap/sanitize.h>
@@ -82,9 +83,14 @@ int run(int argc, char** argv) {
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
     cl.option("--tile", tileSize, "N", "tile size of the light lists in pixels (default 16)", 1,
               1024);
-    cl.flag("--aovs", aovs, "also write the G-buffer's Z and N.X N.Y N.Z channels, and AO");
+    cl.flag("--aovs", aovs,
+            "also write the G-buffer's Z and N.X N.Y N.Z channels, AO, and the probes' "
+            "indirect.R/G/B");
     cl.option("--type", dataType, "half|float", "pixel type of the output EXR (default half)");
-    std::string deepOut;
+    std::string deepOut, probesPath;
+    cl.option("--probes", probesPath, "FILE",
+              "light probes baked by dhdr-probes for this scene: indirect diffuse light "
+              "(docs/gi.md)");
     cl.option("--deep-out", deepOut, "FILE",
               "with a deep G-buffer, also write each lit sample as a deep RGBA EXR "
               "(premultiplied, front to back, Z = ZBack) for deep compositing");
@@ -141,6 +147,7 @@ int run(int argc, char** argv) {
     params.aoSamples = aoMode == "rt" ? aoSamples : 0;
     params.aoDistance = float(aoDistance);
     params.writeAO = aovs && aoMode != "off";
+    params.writeIndirect = aovs && !probesPath.empty();
     SsaoParams ssao;
     ssao.radius = float(aoDistance);
     ssao.samples = std::min(aoSamples, 256);
@@ -214,6 +221,18 @@ int run(int argc, char** argv) {
     std::vector<Light> lights = sceneLights;
     if (!animatedLights && !readLights(lightsPaths, lights)) return app::kExitFailure;
     LightingInputs inputs{lights, caster.get()};
+    ProbeVolume probes;
+    if (!probesPath.empty()) {
+        std::string error;
+        const auto t = std::chrono::steady_clock::now();
+        if (!readProbes(probesPath, probes, error)) return tool.fail(probesPath + ": " + error);
+        inputs.probes = &probes;
+        tool.info(probesPath + ": " + std::to_string(probes.probeCount()) + " probes read in " +
+                  std::to_string(int(std::chrono::duration<double, std::milli>(
+                                         std::chrono::steady_clock::now() - t)
+                                         .count())) +
+                  " ms");
+    }
     OIIO::ImageBuf plate;
     if (!plateArg.empty() && plateArg != "env") {
         plate.reset(plateArg);

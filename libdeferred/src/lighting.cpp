@@ -9,6 +9,7 @@
 #include <dhdr/deferred/light_culling.h>
 #include <dhdr/deferred/light_eval.h>
 #include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/shading_point.h>
 #include <dhdr/deferred/shadows.h>
@@ -136,7 +137,11 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         return false;
     }
 
-    const int extra = params.writeAO ? 1 : 0;
+    // AOVs after RGBA: AO, then the probes' indirect light, then the channels passed through.
+    const ProbeVolume* probes = inputs.probes;
+    const bool writeIndirect = params.writeIndirect && probes;
+    const int indirectAt = params.writeAO ? 1 : 0;
+    const int extra = indirectAt + (writeIndirect ? 3 : 0);
     OIIO::ImageSpec spec = in;
     spec.x = roi.xbegin;
     spec.y = roi.ybegin;
@@ -145,6 +150,9 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     spec.nchannels = 4 + extra + int(passIndex.size());
     spec.channelnames = {"R", "G", "B", "A"};
     if (params.writeAO) spec.channelnames.push_back("AO");
+    if (writeIndirect)
+        spec.channelnames.insert(spec.channelnames.end(),
+                                 {"indirect.R", "indirect.G", "indirect.B"});
     for (const std::string& name : params.passThrough)
         spec.channelnames.push_back(name);
     spec.alpha_channel = 3;
@@ -214,10 +222,11 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         out[3] = 1.0f;
     };
     // One surface sample lit: RGBA, premultiplied by the sample's alpha in a deep G-buffer (a
-    // flat pixel keeps its RGB and its coverage as A); `aoOut` receives its occlusion.
+    // flat pixel keeps its RGB and its coverage as A); `aovs` receives its AO and indirect
+    // light.
     auto shadeSample = [&](int x, int y, int k, long long& localEvaluations,
                            long long& localReaching, long long& localShadow, long long& localAO,
-                           float* aoOut) {
+                           float* aovs) {
         const ShadingPoint sp = view.at(x, y, k);
         const float* g = view.channels(x, y, k);
         // Each sample its own sequences; sample 0's are a flat pixel's.
@@ -236,7 +245,10 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         auto addLight = [&](std::uint32_t i) {
             const Light& light = lights[i];
             if (light.type == LightType::Environment) {
-                const IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
+                IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
+                // With probes, the environment's diffuse light comes through them (their rays
+                // see the sky where nothing blocks it); its specular light stays the IBL's.
+                if (probes) e.diffuse = glm::vec3(0.0f);
                 // The visible share of the environment, from rays drawn by its luminance,
                 // scales the prefiltered result.
                 float v = 1.0f;
@@ -279,15 +291,27 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         const float so = aoActive ? specularOcclusion(std::max(glm::dot(sp.N, sp.V), 0.0f),
                                                       occlusion, sp.surface.roughness)
                                   : 1.0f;
-        const glm::vec3 Lo = lit.total(aoActive, occlusion, so);
-        if (aoOut) *aoOut = occlusion;
+        const glm::vec3 direct = lit.total(aoActive, occlusion, so);
+        // Indirect diffuse light from the probes (diffuse share of the BRDF as for
+        // environments: albedo (1 − metallic) E / π), occluded by AO like the ambient terms.
+        glm::vec3 indirect(0.0f);
+        if (probes)
+            indirect = sp.surface.baseColor * (1.0f - sp.surface.metallic) / kPi *
+                       probes->irradianceAt(sp.P, sp.N, sp.V) * (aoActive ? occlusion : 1.0f);
+        const glm::vec3 Lo = direct + indirect;
+        if (aovs) {
+            if (params.writeAO) aovs[0] = occlusion;
+            if (writeIndirect)
+                for (int c = 0; c < 3; ++c)
+                    aovs[indirectAt + c] = indirect[c];
+        }
         if (catcherId > 0 && layout.objectId >= 0 && g[layout.objectId] == catcherId) {
             // A shadow catcher (Blender's convention): no colour of its own, and the share of
             // light that shadows and AO take away as alpha.
             const float unshadowed = luminance(open.total(aoActive, 1.0f, 1.0f));
             return glm::vec4(0.0f, 0.0f, 0.0f,
                              unshadowed > 0.0f
-                                 ? std::clamp(1.0f - luminance(Lo) / unshadowed, 0.0f, 1.0f)
+                                 ? std::clamp(1.0f - luminance(direct) / unshadowed, 0.0f, 1.0f)
                                  : 0.0f);
         }
         return view.deep() ? glm::vec4(Lo * sp.coverage, sp.coverage) : glm::vec4(Lo, sp.coverage);
@@ -312,7 +336,8 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                         out[2] = L.b;
                         out[3] = 1.0f;
                     }
-                    if (extra) out[4] = 1.0f;
+                    if (params.writeAO) out[4] = 1.0f;
+                    if (writeIndirect) std::fill(out + 4 + indirectAt, out + 7 + indirectAt, 0.0f);
                     if (plate) overPlate(out, x, y);
                     continue;
                 }

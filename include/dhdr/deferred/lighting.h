@@ -10,6 +10,7 @@
 namespace dhdr {
 
 struct DeepGBuffer;
+struct ProbeVolume;
 
 // What lights the G-buffer, besides its own emission.
 struct LightingInputs {
@@ -23,6 +24,10 @@ struct LightingInputs {
     // A photograph (RGB, the frame's pixels) the result is composited over ("over": RGB +
     // plate × (1 − A), A = 1): objects and their caught shadows onto the real place.
     const OIIO::ImageBuf* plate = nullptr;
+    // Light probes (probes.h): indirect diffuse light, albedo (1 − metallic) E / π with E
+    // interpolated from the probes around each point, times AO when AO is on. Environments'
+    // diffuse light then comes through the probes; their specular light stays the IBL's.
+    const ProbeVolume* probes = nullptr;
 };
 
 struct LightingParams {
@@ -58,6 +63,8 @@ struct LightingParams {
     float aoDistance = 1.0f;
     // Write an "AO" channel after A (1 where AO is off).
     bool writeAO = false;
+    // Also write the probes' indirect light as indirect.R, indirect.G, indirect.B (after AO).
+    bool writeIndirect = false;
 };
 
 struct LightingStats {

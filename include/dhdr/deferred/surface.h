@@ -10,8 +10,8 @@ namespace dhdr {
 
 struct SurfaceSample {
     glm::dvec3 position;
-    glm::dvec3 normal;    // shading normal, facing the ray's origin (mapped by a normal map)
-    glm::dvec3 geometric; // the interpolated normal before the normal map, facing the same way
+    glm::dvec3 normal;     // shading normal, facing the ray's origin (mapped by a normal map)
+    glm::dvec3 geometric;  // the interpolated normal before the normal map, facing the same way
     bool backFace = false; // the ray came from behind the file's normals (inside a closed mesh)
     glm::vec3 albedo;
     glm::vec3 emission;

@@ -1,0 +1,91 @@
+// Light probes for diffuse global illumination (docs/gi.md), after Majercik et al. 2019,
+// "Dynamic Diffuse Global Illumination with Ray-Traced Irradiance Fields" (DDGI), baked once
+// for a static scene: a grid of probes, each moved out of walls or switched off, each holding
+// an octahedral map of the irradiance arriving at it and one of the distance to the nearest
+// surface (mean and mean of squares), from which shading interpolates the 8 probes around a
+// point weighted so that light does not leak through walls.
+#pragma once
+
+#include <dhdr/deferred/lights.h>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace dhdr {
+
+class RayCaster;
+struct Scene;
+
+struct ProbeBakeParams {
+    double spacing = 0.25;       // metres (scene units) between probes, > 0; unused with counts
+    glm::ivec3 counts{0};        // probes along X, Y, Z (each 1–256); 0: from `spacing`
+    int rays = 256;              // rays per probe, 16–65536: a spherical Fibonacci set
+    int bounces = 3;             // light bounces, 1–16
+    int shadowSamples = 4;       // shadow rays per area light at a ray's hit, 1–256
+    float backfaceLimit = 0.25f; // a probe seeing more back faces than this share is inside
+    float minDistance = 0.1f;    // … or nearer a surface than this × spacing: moved or off
+    // Called with the share of the work done, in [0, 1], from the calling thread, after the
+    // rays and after each bounce.
+    std::function<void(float)> progress;
+};
+
+enum class ProbeState : int {
+    Active = 0,    // at its grid point
+    Relocated = 1, // moved within half a cell into free space
+    Off = 2        // inside geometry with no free space near: not used
+};
+
+struct ProbeVolume {
+    // Texels of the octahedral maps, without their one-texel borders (DDGI's sizes).
+    static constexpr int kIrradianceTexels = 6;
+    static constexpr int kDistanceTexels = 14;
+
+    glm::dvec3 origin{0.0};  // grid point (0, 0, 0)
+    glm::dvec3 spacing{1.0}; // between grid points, per axis
+    glm::ivec3 counts{0};
+    int rays = 0, bounces = 0;
+    std::vector<glm::vec3> positions; // per probe (x fastest, then y, then z), relocated
+    std::vector<ProbeState> states;
+    // Per probe, its bordered maps in scanline order: irradiance E(n) in W/m² per unit of
+    // the lights' radiance ((6 + 2)² texels), and the distance moments ((14 + 2)² texels).
+    std::vector<glm::vec3> irradiance;
+    std::vector<glm::vec2> distance;
+
+    int probeCount() const { return counts.x * counts.y * counts.z; }
+    int index(glm::ivec3 g) const { return (g.z * counts.y + g.y) * counts.x + g.x; }
+    glm::dvec3 gridPoint(glm::ivec3 g) const { return origin + glm::dvec3(g) * spacing; }
+
+    // Bilinear lookups in probe p's maps for a direction (seamless through the borders).
+    glm::vec3 irradianceAt(int p, const glm::vec3& n) const;
+    glm::vec2 distanceAt(int p, const glm::vec3& d) const;
+
+    // Irradiance arriving at P (normal N, unit V towards the eye) from the 8 probes around it:
+    // trilinear weights × back-face wrap × Chebyshev visibility from the distance moments, at
+    // P moved by the normal and view biases (DDGI §5.2). Zero outside the grid's reach.
+    glm::vec3 irradianceAt(const glm::vec3& P, const glm::vec3& N, const glm::vec3& V) const;
+    // The biases, as fractions of the smallest spacing.
+    float normalBias = 0.1f, viewBias = 0.1f;
+};
+
+// Direction i of a spherical Fibonacci set of n (Keinert et al. 2015): close to uniform,
+// deterministic.
+glm::vec3 sphericalFibonacci(int i, int n);
+
+// Bakes a probe volume over the scene's bounds: placement (grid, relocation, switching off),
+// then `bounces` rounds of rays from every probe. A ray's hit is lit by `lights` (punctual and
+// area lights with shadow rays through `caster`; environments and ambient lights are not
+// direct light here), plus its emission when no light stands for it (`emissiveAreLights`
+// false), plus the previous round's probe irradiance × albedo (1 − metallic) / π; a miss sees
+// the environment lights' radiance. The result does not depend on `nthreads`. False with
+// `error` on bad parameters or an empty scene.
+bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<Light>& lights,
+                bool emissiveAreLights, const ProbeBakeParams& params, ProbeVolume& volume,
+                std::string& error, int nthreads = 0);
+
+// One EXR with two parts, "irradiance" (RGB) and "distance" (mean, mean²): each an atlas of
+// the probes' bordered maps, probe p in column p % cols, row p / cols; the grid, the states
+// and the bake's parameters in the header (docs/gi.md).
+bool writeProbes(const std::string& path, const ProbeVolume& volume, std::string& error);
+bool readProbes(const std::string& path, ProbeVolume& volume, std::string& error);
+
+} // namespace dhdr

@@ -1,0 +1,102 @@
+// Looking up a probe volume: the octahedral maps and the interpolation between probes.
+#include <algorithm>
+#include <cmath>
+#include <dhdr/deferred/octahedral.h>
+#include <dhdr/deferred/probes.h>
+
+namespace dhdr {
+
+namespace {
+
+// Bilinear in a bordered (n + 2)² map at direction d: the interior spans texels 1 … n, texel
+// centres at half-integers, and the border makes the taps next to an edge land on the texel
+// across it.
+template <class T>
+T octLookup(const T* map, int n, const glm::vec3& d) {
+    const glm::vec2 e = octEncode(d);
+    // Interior texel k covers [k, k + 1) in texel units, offset by the border.
+    const float fx = (e.x * 0.5f + 0.5f) * float(n) + 0.5f, fy = (e.y * 0.5f + 0.5f) * float(n) + 0.5f;
+    const int x0 = std::clamp(int(std::floor(fx)), 0, n), y0 = std::clamp(int(std::floor(fy)), 0, n);
+    const float ax = std::clamp(fx - float(x0), 0.0f, 1.0f), ay = std::clamp(fy - float(y0), 0.0f, 1.0f);
+    const int w = n + 2;
+    auto at = [&](int x, int y) { return map[y * w + x]; };
+    return (at(x0, y0) * (1.0f - ax) + at(x0 + 1, y0) * ax) * (1.0f - ay) +
+           (at(x0, y0 + 1) * (1.0f - ax) + at(x0 + 1, y0 + 1) * ax) * ay;
+}
+
+} // namespace
+
+glm::vec3 sphericalFibonacci(int i, int n) {
+    // Keinert et al. 2015, "Spherical Fibonacci Mapping", eq. 2: φ = 2π i / Φ, cos θ = 1 − (2i + 1)/n.
+    const double golden = (1.0 + std::sqrt(5.0)) / 2.0;
+    const double phi = 2.0 * 3.14159265358979323846 * (double(i) / golden - std::floor(double(i) / golden));
+    const double cosTheta = 1.0 - (2.0 * i + 1.0) / n;
+    const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
+    return glm::vec3(glm::dvec3(std::cos(phi) * sinTheta, std::sin(phi) * sinTheta, cosTheta));
+}
+
+glm::vec3 ProbeVolume::irradianceAt(int p, const glm::vec3& n) const {
+    const int w = kIrradianceTexels + 2;
+    return octLookup(&irradiance[size_t(p) * size_t(w * w)], kIrradianceTexels, n);
+}
+
+glm::vec2 ProbeVolume::distanceAt(int p, const glm::vec3& d) const {
+    const int w = kDistanceTexels + 2;
+    return octLookup(&distance[size_t(p) * size_t(w * w)], kDistanceTexels, d);
+}
+
+glm::vec3 ProbeVolume::irradianceAt(const glm::vec3& P, const glm::vec3& N,
+                                    const glm::vec3& V) const {
+    if (positions.empty()) return glm::vec3(0.0f);
+    const float minSpacing = float(std::min({spacing.x, spacing.y, spacing.z}));
+    // DDGI §5.2: the point is moved off the surface along the normal and towards the eye, so
+    // that the visibility test does not self-shadow on the surface it shades.
+    const glm::vec3 biased = P + (N * normalBias + V * viewBias) * minSpacing;
+    const glm::dvec3 local = (glm::dvec3(biased) - origin) / spacing;
+    glm::ivec3 base;
+    glm::vec3 alpha;
+    for (int a = 0; a < 3; ++a) {
+        const int cells = std::max(counts[a] - 1, 0);
+        base[a] = std::clamp(int(std::floor(local[a])), 0, std::max(cells - 1, 0));
+        alpha[a] = cells == 0 ? 0.0f : std::clamp(float(local[a] - base[a]), 0.0f, 1.0f);
+    }
+    glm::dvec3 sum(0.0);
+    double total = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::ivec3 offset(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+        const glm::ivec3 g = glm::min(base + offset, counts - 1);
+        const int p = index(g);
+        if (states[size_t(p)] == ProbeState::Off) continue;
+        const glm::vec3 probe = positions[size_t(p)];
+        // Trilinear weight of the grid point.
+        float trilinear = 1.0f;
+        for (int a = 0; a < 3; ++a)
+            trilinear *= offset[a] ? alpha[a] : 1.0f - alpha[a];
+        // Back-face wrap: a probe behind the surface counts less, smoothly (DDGI eq. 9).
+        const glm::vec3 toProbe = glm::normalize(probe - P);
+        const float wrap = (glm::dot(toProbe, N) + 1.0f) * 0.5f;
+        float weight = wrap * wrap + 0.2f;
+        // Chebyshev's bound on the chance that the probe sees the point (DDGI eq. 10): the
+        // probe's mean and variance of distance in the point's direction against its
+        // distance; cubed to sharpen, as RTXGI does.
+        const glm::vec3 fromProbe = biased - probe;
+        const float r = glm::length(fromProbe);
+        if (r > 0.0f) {
+            const glm::vec2 m = distanceAt(p, fromProbe / r);
+            const float variance = std::abs(m.y - m.x * m.x);
+            if (r > m.x) {
+                const float d = r - m.x;
+                const float chebyshev = variance / (variance + d * d);
+                weight *= chebyshev * chebyshev * chebyshev;
+            }
+        }
+        // A floor keeps a point seen by no probe from dividing by zero without letting
+        // a hidden probe's light through.
+        weight = std::max(weight, 1e-6f) * trilinear;
+        sum += glm::dvec3(irradianceAt(p, N)) * double(weight);
+        total += weight;
+    }
+    return total > 0.0 ? glm::vec3(sum / total) : glm::vec3(0.0f);
+}
+
+} // namespace dhdr
