@@ -44,9 +44,10 @@ int run(int argc, char** argv) {
     cl.option("--emissive-lights", emissive, "on|off",
               "emissive meshes as area lights, as dhdr-light --scene has them (default on); off: "
               "their emission is seen by the probes' rays instead");
-    cl.epilog("Example:\n  dhdr-probes testdata/cornell_box.gltf --spacing 0.1 -o cornell.probes.exr\n"
-              "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --probes "
-              "cornell.probes.exr -o frame.hdr.exr");
+    cl.epilog(
+        "Example:\n  dhdr-probes testdata/cornell_box.gltf --spacing 0.1 -o cornell.probes.exr\n"
+        "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --probes "
+        "cornell.probes.exr -o frame.hdr.exr");
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-probes", cl);
     if (cl.inputs().size() != 1 || cl.output().empty()) {

@@ -17,8 +17,6 @@ namespace dhdr {
 namespace {
 
 constexpr double kPiD = 3.14159265358979323846;
-// Sharpness of the distance maps' cosine lobe (DDGI's "depth sharpness").
-constexpr double kDistanceSharpness = 50.0;
 // Rays of the placement test.
 constexpr int kPlacementRays = 128;
 
@@ -66,8 +64,8 @@ void fillBorders(glm::vec2* map, int n) {
 
 // The direction at the centre of interior texel (i, j) of an n × n octahedral map.
 glm::vec3 texelDirection(int i, int j, int n) {
-    return octDecode({(float(i) + 0.5f) / float(n) * 2.0f - 1.0f,
-                      (float(j) + 0.5f) / float(n) * 2.0f - 1.0f});
+    return octDecode(
+        {(float(i) + 0.5f) / float(n) * 2.0f - 1.0f, (float(j) + 0.5f) / float(n) * 2.0f - 1.0f});
 }
 
 } // namespace
@@ -124,20 +122,23 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     std::stable_sort(moves.begin(), moves.end(), [](const glm::dvec3& a, const glm::dvec3& b) {
         return glm::dot(a, a) < glm::dot(b, b);
     });
-    OIIO::parallel_for(0, n, [&](int64_t p) {
-        const glm::ivec3 g(int(p % v.counts.x), int(p / v.counts.x % v.counts.y),
-                           int(p / (v.counts.x * v.counts.y)));
-        const glm::dvec3 home = v.gridPoint(g);
-        v.positions[size_t(p)] = glm::vec3(home);
-        if (freeSpace(caster, home, nearest, params.backfaceLimit, scene)) return;
-        v.states[size_t(p)] = ProbeState::Off;
-        for (const glm::dvec3& m : moves)
-            if (freeSpace(caster, home + m, nearest, params.backfaceLimit, scene)) {
-                v.positions[size_t(p)] = glm::vec3(home + m);
-                v.states[size_t(p)] = ProbeState::Relocated;
-                return;
-            }
-    }, OIIO::paropt(nthreads));
+    OIIO::parallel_for(
+        0, n,
+        [&](int64_t p) {
+            const glm::ivec3 g(int(p % v.counts.x), int(p / v.counts.x % v.counts.y),
+                               int(p / (v.counts.x * v.counts.y)));
+            const glm::dvec3 home = v.gridPoint(g);
+            v.positions[size_t(p)] = glm::vec3(home);
+            if (freeSpace(caster, home, nearest, params.backfaceLimit, scene)) return;
+            v.states[size_t(p)] = ProbeState::Off;
+            for (const glm::dvec3& m : moves)
+                if (freeSpace(caster, home + m, nearest, params.backfaceLimit, scene)) {
+                    v.positions[size_t(p)] = glm::vec3(home + m);
+                    v.states[size_t(p)] = ProbeState::Relocated;
+                    return;
+                }
+        },
+        OIIO::paropt(nthreads));
 
     // Each probe's rays, traced once: what they hit, and the light there that no bounce
     // changes (direct light with shadows, and emission no light stands for).
@@ -147,54 +148,58 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     for (int i = 0; i < R; ++i)
         directions[size_t(i)] = sphericalFibonacci(i, R);
     std::vector<RayResult> results(size_t(n) * size_t(R));
-    OIIO::parallel_for(0, n, [&](int64_t p) {
-        if (v.states[size_t(p)] == ProbeState::Off) return;
-        for (int i = 0; i < R; ++i) {
-            RayResult& r = results[size_t(p) * size_t(R) + size_t(i)];
-            Ray ray;
-            ray.origin = glm::dvec3(v.positions[size_t(p)]);
-            ray.direction = glm::dvec3(directions[size_t(i)]);
-            const RayHit hit = caster.intersect(ray);
-            if (!hit.hit) {
-                r.distance = maxDistance;
-                for (const Light& l : lights)
-                    if (l.type == LightType::Environment && l.ibl)
-                        r.fixed += l.ibl->levels[0].radiance(intoEnvironment(l, directions[size_t(i)])) *
-                                   l.color * l.intensity;
-                continue;
-            }
-            const SurfaceSample s = surfaceAt(scene, ray, hit);
-            r.hit = true;
-            r.backFace = s.backFace;
-            r.distance = std::min(float(hit.t), maxDistance);
-            // DDGI: a back face is inside geometry: no light, and a short distance so that
-            // Chebyshev's test keeps the probe from what lies behind it.
-            if (r.backFace) {
-                r.distance *= 0.2f;
-                continue;
-            }
-            r.position = glm::vec3(s.position);
-            r.normal = glm::vec3(s.normal);
-            PbrSurface surface;
-            surface.baseColor = s.albedo;
-            surface.roughness = s.material->roughness;
-            surface.metallic = s.material->metallic;
-            r.diffuse = s.albedo * (1.0f - std::clamp(surface.metallic, 0.0f, 1.0f));
-            if (!emissiveAreLights) r.fixed += s.emission;
-            const glm::vec3 V = -directions[size_t(i)];
-            for (size_t l = 0; l < lights.size(); ++l) {
-                const Light& light = lights[l];
-                if (light.type == LightType::Environment || light.type == LightType::Ambient)
+    OIIO::parallel_for(
+        0, n,
+        [&](int64_t p) {
+            if (v.states[size_t(p)] == ProbeState::Off) return;
+            for (int i = 0; i < R; ++i) {
+                RayResult& r = results[size_t(p) * size_t(R) + size_t(i)];
+                Ray ray;
+                ray.origin = glm::dvec3(v.positions[size_t(p)]);
+                ray.direction = glm::dvec3(directions[size_t(i)]);
+                const RayHit hit = caster.intersect(ray);
+                if (!hit.hit) {
+                    r.distance = maxDistance;
+                    for (const Light& l : lights)
+                        if (l.type == LightType::Environment && l.ibl)
+                            r.fixed += l.ibl->levels[0].radiance(
+                                           intoEnvironment(l, directions[size_t(i)])) *
+                                       l.color * l.intensity;
                     continue;
-                const glm::vec3 c = shadeLight(light, surface, r.position, r.normal, V);
-                if (c == glm::vec3(0.0f)) continue;
-                const float vis = lightVisibility(light, r.position, r.normal,
-                                                  sampleSeed(p, i, std::int64_t(l), 5),
-                                                  params.shadowSamples, caster, nullptr);
-                r.fixed += c * vis;
+                }
+                const SurfaceSample s = surfaceAt(scene, ray, hit);
+                r.hit = true;
+                r.backFace = s.backFace;
+                r.distance = std::min(float(hit.t), maxDistance);
+                // DDGI: a back face is inside geometry: no light, and a short distance so that
+                // Chebyshev's test keeps the probe from what lies behind it.
+                if (r.backFace) {
+                    r.distance *= 0.2f;
+                    continue;
+                }
+                r.position = glm::vec3(s.position);
+                r.normal = glm::vec3(s.normal);
+                PbrSurface surface;
+                surface.baseColor = s.albedo;
+                surface.roughness = s.material->roughness;
+                surface.metallic = s.material->metallic;
+                r.diffuse = s.albedo * (1.0f - std::clamp(surface.metallic, 0.0f, 1.0f));
+                if (!emissiveAreLights) r.fixed += s.emission;
+                const glm::vec3 V = -directions[size_t(i)];
+                for (size_t l = 0; l < lights.size(); ++l) {
+                    const Light& light = lights[l];
+                    if (light.type == LightType::Environment || light.type == LightType::Ambient)
+                        continue;
+                    const glm::vec3 c = shadeLight(light, surface, r.position, r.normal, V);
+                    if (c == glm::vec3(0.0f)) continue;
+                    const float vis = lightVisibility(light, r.position, r.normal,
+                                                      sampleSeed(p, i, std::int64_t(l), 5),
+                                                      params.shadowSamples, caster, nullptr);
+                    r.fixed += c * vis;
+                }
             }
-        }
-    }, OIIO::paropt(nthreads));
+        },
+        OIIO::paropt(nthreads));
     if (params.progress) params.progress(0.5f);
 
     // Bounces: each round's rays carry the fixed light plus the last round's irradiance at
@@ -205,62 +210,72 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     std::vector<glm::vec3> radiance(results.size());
     for (int bounce = 0; bounce < params.bounces; ++bounce) {
         const ProbeVolume previous = v; // the last round's irradiance (zero at first)
-        OIIO::parallel_for(0, n, [&](int64_t p) {
-            for (int i = 0; i < R; ++i) {
-                const RayResult& r = results[size_t(p) * size_t(R) + size_t(i)];
-                glm::vec3 L = r.fixed;
-                if (r.hit && !r.backFace && bounce > 0)
-                    L += r.diffuse / float(kPiD) *
-                         previous.irradianceAt(r.position, r.normal, -directions[size_t(i)]);
-                radiance[size_t(p) * size_t(R) + size_t(i)] = L;
-            }
-        }, OIIO::paropt(nthreads));
-        OIIO::parallel_for(0, n, [&](int64_t p) {
-            glm::vec3* irr = &v.irradiance[size_t(p) * size_t(wi * wi)];
-            glm::vec2* dist = &v.distance[size_t(p) * size_t(wd * wd)];
-            const RayResult* rr = &results[size_t(p) * size_t(R)];
-            const glm::vec3* L = &radiance[size_t(p) * size_t(R)];
-            if (v.states[size_t(p)] == ProbeState::Off) return;
-            // E(n) = π Σ L cos⁺ / Σ cos⁺: the cosine-weighted mean radiance times π, exact for
-            // a uniform surround (DDGI's normalisation); sums in double in ray order.
-            const int ni = ProbeVolume::kIrradianceTexels;
-            for (int y = 0; y < ni; ++y)
-                for (int x = 0; x < ni; ++x) {
-                    const glm::vec3 t = texelDirection(x, y, ni);
-                    glm::dvec3 sum(0.0);
-                    double weight = 0.0;
-                    for (int i = 0; i < R; ++i) {
-                        const double c = std::max(0.0, double(glm::dot(t, directions[size_t(i)])));
-                        sum += glm::dvec3(L[i]) * c;
-                        weight += c;
-                    }
-                    irr[(y + 1) * wi + x + 1] = weight > 0.0 ? glm::vec3(kPiD * sum / weight) : glm::vec3(0.0f);
+        OIIO::parallel_for(
+            0, n,
+            [&](int64_t p) {
+                for (int i = 0; i < R; ++i) {
+                    const RayResult& r = results[size_t(p) * size_t(R) + size_t(i)];
+                    glm::vec3 L = r.fixed;
+                    if (r.hit && !r.backFace && bounce > 0)
+                        L += r.diffuse / float(kPiD) *
+                             previous.irradianceAt(r.position, r.normal, -directions[size_t(i)]);
+                    radiance[size_t(p) * size_t(R) + size_t(i)] = L;
                 }
-            fillBorders(irr, ni);
-            if (bounce > 0) return; // distances do not change between bounces
-            // Mean distance and mean squared distance under a sharp cosine lobe: the mean of
-            // squares, not the square of the mean (the variance is their difference).
-            const int nd = ProbeVolume::kDistanceTexels;
-            for (int y = 0; y < nd; ++y)
-                for (int x = 0; x < nd; ++x) {
-                    const glm::vec3 t = texelDirection(x, y, nd);
-                    double sum = 0.0, sum2 = 0.0, weight = 0.0;
-                    for (int i = 0; i < R; ++i) {
-                        const double c = std::max(0.0, double(glm::dot(t, directions[size_t(i)])));
-                        if (c <= 0.0) continue;
-                        const double w = std::pow(c, kDistanceSharpness);
-                        const double d = rr[i].distance;
-                        sum += w * d;
-                        sum2 += w * d * d;
-                        weight += w;
+            },
+            OIIO::paropt(nthreads));
+        OIIO::parallel_for(
+            0, n,
+            [&](int64_t p) {
+                glm::vec3* irr = &v.irradiance[size_t(p) * size_t(wi * wi)];
+                glm::vec2* dist = &v.distance[size_t(p) * size_t(wd * wd)];
+                const RayResult* rr = &results[size_t(p) * size_t(R)];
+                const glm::vec3* L = &radiance[size_t(p) * size_t(R)];
+                if (v.states[size_t(p)] == ProbeState::Off) return;
+                // E(n) = π Σ L cos⁺ / Σ cos⁺: the cosine-weighted mean radiance times π, exact for
+                // a uniform surround (DDGI's normalisation); sums in double in ray order.
+                const int ni = ProbeVolume::kIrradianceTexels;
+                for (int y = 0; y < ni; ++y)
+                    for (int x = 0; x < ni; ++x) {
+                        const glm::vec3 t = texelDirection(x, y, ni);
+                        glm::dvec3 sum(0.0);
+                        double weight = 0.0;
+                        for (int i = 0; i < R; ++i) {
+                            const double c =
+                                std::max(0.0, double(glm::dot(t, directions[size_t(i)])));
+                            sum += glm::dvec3(L[i]) * c;
+                            weight += c;
+                        }
+                        irr[(y + 1) * wi + x + 1] =
+                            weight > 0.0 ? glm::vec3(kPiD * sum / weight) : glm::vec3(0.0f);
                     }
-                    dist[(y + 1) * wd + x + 1] =
-                        weight > 0.0 ? glm::vec2(float(sum / weight), float(sum2 / weight))
-                                     : glm::vec2(maxDistance, maxDistance * maxDistance);
-                }
-            fillBorders(dist, nd);
-        }, OIIO::paropt(nthreads));
-        if (params.progress) params.progress(0.5f + 0.5f * float(bounce + 1) / float(params.bounces));
+                fillBorders(irr, ni);
+                if (bounce > 0) return; // distances do not change between bounces
+                // Mean distance and mean squared distance under a sharp cosine lobe: the mean of
+                // squares, not the square of the mean (the variance is their difference).
+                const int nd = ProbeVolume::kDistanceTexels;
+                for (int y = 0; y < nd; ++y)
+                    for (int x = 0; x < nd; ++x) {
+                        const glm::vec3 t = texelDirection(x, y, nd);
+                        double sum = 0.0, sum2 = 0.0, weight = 0.0;
+                        for (int i = 0; i < R; ++i) {
+                            const double c =
+                                std::max(0.0, double(glm::dot(t, directions[size_t(i)])));
+                            if (c <= 0.0) continue;
+                            const double w = std::pow(c, kProbeDistanceSharpness);
+                            const double d = rr[i].distance;
+                            sum += w * d;
+                            sum2 += w * d * d;
+                            weight += w;
+                        }
+                        dist[(y + 1) * wd + x + 1] =
+                            weight > 0.0 ? glm::vec2(float(sum / weight), float(sum2 / weight))
+                                         : glm::vec2(maxDistance, maxDistance * maxDistance);
+                    }
+                fillBorders(dist, nd);
+            },
+            OIIO::paropt(nthreads));
+        if (params.progress)
+            params.progress(0.5f + 0.5f * float(bounce + 1) / float(params.bounces));
     }
     return true;
 }

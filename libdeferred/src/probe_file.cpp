@@ -171,14 +171,16 @@ bool readProbes(const std::string& path, ProbeVolume& v, std::string& error) {
         const int cx = p % cols, cy = p / cols;
         for (int y = 0; y < wi; ++y)
             for (int x = 0; x < wi; ++x) {
-                const float* q = &a[3 * (size_t(cy * wi + y) * size_t(irr.width) + size_t(cx * wi + x))];
+                const float* q =
+                    &a[3 * (size_t(cy * wi + y) * size_t(irr.width) + size_t(cx * wi + x))];
                 glm::vec3& e = v.irradiance[size_t(p) * size_t(wi * wi) + size_t(y * wi + x)];
                 e = glm::vec3(q[0], q[1], q[2]);
                 bad += !std::isfinite(e.r + e.g + e.b);
             }
         for (int y = 0; y < wd; ++y)
             for (int x = 0; x < wd; ++x) {
-                const float* q = &b[2 * (size_t(cy * wd + y) * size_t(dist.width) + size_t(cx * wd + x))];
+                const float* q =
+                    &b[2 * (size_t(cy * wd + y) * size_t(dist.width) + size_t(cx * wd + x))];
                 glm::vec2& d = v.distance[size_t(p) * size_t(wd * wd) + size_t(y * wd + x)];
                 d = glm::vec2(q[0], q[1]);
                 bad += !std::isfinite(d.x + d.y);

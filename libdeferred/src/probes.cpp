@@ -15,9 +15,12 @@ template <class T>
 T octLookup(const T* map, int n, const glm::vec3& d) {
     const glm::vec2 e = octEncode(d);
     // Interior texel k covers [k, k + 1) in texel units, offset by the border.
-    const float fx = (e.x * 0.5f + 0.5f) * float(n) + 0.5f, fy = (e.y * 0.5f + 0.5f) * float(n) + 0.5f;
-    const int x0 = std::clamp(int(std::floor(fx)), 0, n), y0 = std::clamp(int(std::floor(fy)), 0, n);
-    const float ax = std::clamp(fx - float(x0), 0.0f, 1.0f), ay = std::clamp(fy - float(y0), 0.0f, 1.0f);
+    const float fx = (e.x * 0.5f + 0.5f) * float(n) + 0.5f,
+                fy = (e.y * 0.5f + 0.5f) * float(n) + 0.5f;
+    const int x0 = std::clamp(int(std::floor(fx)), 0, n),
+              y0 = std::clamp(int(std::floor(fy)), 0, n);
+    const float ax = std::clamp(fx - float(x0), 0.0f, 1.0f),
+                ay = std::clamp(fy - float(y0), 0.0f, 1.0f);
     const int w = n + 2;
     auto at = [&](int x, int y) { return map[y * w + x]; };
     return (at(x0, y0) * (1.0f - ax) + at(x0 + 1, y0) * ax) * (1.0f - ay) +
@@ -27,9 +30,11 @@ T octLookup(const T* map, int n, const glm::vec3& d) {
 } // namespace
 
 glm::vec3 sphericalFibonacci(int i, int n) {
-    // Keinert et al. 2015, "Spherical Fibonacci Mapping", eq. 2: φ = 2π i / Φ, cos θ = 1 − (2i + 1)/n.
+    // Keinert et al. 2015, "Spherical Fibonacci Mapping", eq. 2: φ = 2π i / Φ, cos θ = 1 − (2i +
+    // 1)/n.
     const double golden = (1.0 + std::sqrt(5.0)) / 2.0;
-    const double phi = 2.0 * 3.14159265358979323846 * (double(i) / golden - std::floor(double(i) / golden));
+    const double phi =
+        2.0 * 3.14159265358979323846 * (double(i) / golden - std::floor(double(i) / golden));
     const double cosTheta = 1.0 - (2.0 * i + 1.0) / n;
     const double sinTheta = std::sqrt(std::max(0.0, 1.0 - cosTheta * cosTheta));
     return glm::vec3(glm::dvec3(std::cos(phi) * sinTheta, std::sin(phi) * sinTheta, cosTheta));

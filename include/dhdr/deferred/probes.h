@@ -67,6 +67,9 @@ struct ProbeVolume {
     float normalBias = 0.1f, viewBias = 0.1f;
 };
 
+// Sharpness of the cosine lobe the distance maps average under, max(0, n·ω)^50 (DDGI's).
+inline constexpr double kProbeDistanceSharpness = 50.0;
+
 // Direction i of a spherical Fibonacci set of n (Keinert et al. 2015): close to uniform,
 // deterministic.
 glm::vec3 sphericalFibonacci(int i, int n);

@@ -1,0 +1,302 @@
+// Light probes against independent answers: the octahedral map and its borders, the distance
+// moments against a brute-force mean of squares, a furnace, two rooms that must not leak into
+// each other, one bounce between plates against a Monte Carlo path tracer in double, and the
+// bake's independence of the thread count.
+#include <cmath>
+#include <dhdr/deferred/light_eval.h>
+#include <dhdr/deferred/octahedral.h>
+#include <dhdr/deferred/probes.h>
+#include <dhdr/deferred/ray_caster.h>
+#include <dhdr/deferred/sampling.h>
+#include <dhdr/deferred/scene.h>
+#include <filesystem>
+#include <gtest/gtest.h>
+
+using namespace dhdr;
+
+namespace {
+
+// A quad a b c d, its normal by the right-hand rule.
+void addQuad(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d, int material) {
+    Mesh m;
+    m.positions = {a, b, c, d};
+    const glm::vec3 n = glm::normalize(glm::cross(b - a, c - a));
+    m.normals = {n, n, n, n};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    m.material = material;
+    scene.meshes.push_back(m);
+}
+
+// An axis-aligned box of quads whose normals point inwards (a room) or outwards (a block).
+void addBox(Scene& scene, glm::vec3 lo, glm::vec3 hi, int material, bool inwards) {
+    const glm::vec3 p[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z},
+                            {lo.x, hi.y, lo.z}, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z},
+                            {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}};
+    const int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 4, 7, 3},
+                             {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}};
+    for (const auto& f : faces) {
+        if (inwards)
+            addQuad(scene, p[f[3]], p[f[2]], p[f[1]], p[f[0]], material);
+        else
+            addQuad(scene, p[f[0]], p[f[1]], p[f[2]], p[f[3]], material);
+    }
+}
+
+Material lambert(const char* name, glm::vec3 albedo, glm::vec3 emission = glm::vec3(0.0f)) {
+    Material m;
+    m.name = name;
+    m.baseColor = albedo;
+    m.roughness = 1.0f;
+    m.metallic = 0.0f;
+    m.emission = emission;
+    return m;
+}
+
+Light pointLight(glm::vec3 p, float intensity) {
+    Light l;
+    l.type = LightType::Point;
+    l.position = p;
+    l.intensity = intensity;
+    l.range = INFINITY;
+    return l;
+}
+
+ProbeVolume bake(const Scene& scene, const std::vector<Light>& lights, ProbeBakeParams p,
+                 int nthreads = 0) {
+    const RayCaster caster(scene);
+    EXPECT_TRUE(caster.ok());
+    ProbeVolume v;
+    std::string error;
+    EXPECT_TRUE(bakeProbes(scene, caster, lights, false, p, v, error, nthreads)) << error;
+    return v;
+}
+
+} // namespace
+
+TEST(Octahedral, RoundTripAndSeamlessBorders) {
+    for (int i = 0; i < 2000; ++i) {
+        const glm::vec3 d = sphericalFibonacci(i, 2000);
+        const glm::vec3 back = octDecode(octEncode(d));
+        ASSERT_NEAR(glm::length(back - d), 0.0f, 2e-6f) << i;
+    }
+    // A map holding a smooth function of direction, f(d) = 4 + d.x + 2 d.y + 3 d.z, with its
+    // borders filled by the rule: bilinear lookups anywhere, the folds included, stay within
+    // the interpolation error of a 6 × 6 map of f, and no seam opens where the lower half
+    // folds over (a wrong border would put f of the opposite side there).
+    ProbeVolume v;
+    v.counts = glm::ivec3(1);
+    const int n = ProbeVolume::kIrradianceTexels, w = n + 2;
+    v.irradiance.assign(size_t(w * w), glm::vec3(0.0f));
+    auto f = [](const glm::vec3& d) { return 4.0f + d.x + 2.0f * d.y + 3.0f * d.z; };
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const glm::vec3 d = octDecode({(x + 0.5f) / n * 2.0f - 1.0f, (y + 0.5f) / n * 2.0f - 1.0f});
+            v.irradiance[size_t((y + 1) * w + x + 1)] = glm::vec3(f(d));
+        }
+    for (int y = 0; y < w; ++y)
+        for (int x = 0; x < w; ++x)
+            if (x == 0 || y == 0 || x == w - 1 || y == w - 1) {
+                const glm::ivec2 s = octBorderSource(x, y, n);
+                ASSERT_TRUE(s.x >= 1 && s.x <= n && s.y >= 1 && s.y <= n);
+                v.irradiance[size_t(y * w + x)] = v.irradiance[size_t(s.y * w + s.x)];
+            }
+    double worst = 0.0, worstFold = 0.0;
+    for (int i = 0; i < 4000; ++i) {
+        const glm::vec3 d = sphericalFibonacci(i, 4000);
+        const double err = std::abs(double(v.irradianceAt(0, d).x) - f(d));
+        worst = std::max(worst, err);
+        if (std::abs(d.z) < 0.1) worstFold = std::max(worstFold, err);
+    }
+    EXPECT_LT(worst, 0.75);     // a coarse map of a function spanning 4 ± 3.7
+    EXPECT_LT(worstFold, 0.75); // and no worse along the fold
+    // Directions just either side of the equator's fold, at the same point: nearly equal.
+    for (int i = 0; i < 64; ++i) {
+        const float phi = 2.0f * kPi * (i + 0.5f) / 64.0f;
+        const glm::vec3 up = glm::normalize(glm::vec3(std::cos(phi), std::sin(phi), 1e-3f));
+        const glm::vec3 down = glm::normalize(glm::vec3(std::cos(phi), std::sin(phi), -1e-3f));
+        EXPECT_NEAR(v.irradianceAt(0, up).x, v.irradianceAt(0, down).x, 0.05f) << phi;
+    }
+}
+
+TEST(Probes, SecondMomentIsTheMeanOfSquares) {
+    // One probe off-centre in a closed room: its distance map holds, per texel, the mean and
+    // the mean of squares of the ray distances under the lobe max(0, n·ω)^50, recomputed here
+    // from rays cast independently; the mean of squares exceeds the square of the mean.
+    Scene scene;
+    scene.materials.push_back(lambert("grey", glm::vec3(0.5f)));
+    addBox(scene, {0, 0, 0}, {2, 1, 1.5f}, 0, true);
+    ProbeBakeParams p;
+    p.counts = glm::ivec3(1);
+    p.rays = 512;
+    p.bounces = 1;
+    const ProbeVolume v = bake(scene, {}, p);
+    ASSERT_EQ(v.probeCount(), 1);
+    const RayCaster caster(scene);
+    const int nd = ProbeVolume::kDistanceTexels, wd = nd + 2;
+    int strict = 0;
+    for (int y = 0; y < nd; y += 3)
+        for (int x = 0; x < nd; x += 3) {
+            const glm::vec3 t =
+                octDecode({(x + 0.5f) / nd * 2.0f - 1.0f, (y + 0.5f) / nd * 2.0f - 1.0f});
+            double s = 0.0, s2 = 0.0, sw = 0.0;
+            for (int i = 0; i < p.rays; ++i) {
+                const glm::vec3 d = sphericalFibonacci(i, p.rays);
+                const double c = std::max(0.0, double(glm::dot(t, d)));
+                if (c <= 0.0) continue;
+                Ray ray;
+                ray.origin = glm::dvec3(v.positions[0]);
+                ray.direction = glm::dvec3(d);
+                const RayHit hit = caster.intersect(ray);
+                ASSERT_TRUE(hit.hit);
+                const double w = std::pow(c, kProbeDistanceSharpness);
+                s += w * hit.t;
+                s2 += w * hit.t * hit.t;
+                sw += w;
+            }
+            const glm::vec2 m = v.distance[size_t((y + 1) * wd + x + 1)];
+            EXPECT_NEAR(m.x, s / sw, 1e-4 * s / sw);
+            EXPECT_NEAR(m.y, s2 / sw, 1e-4 * s2 / sw);
+            EXPECT_GE(m.y, m.x * m.x * (1.0f - 1e-6f));
+            strict += m.y > m.x * m.x * 1.001f;
+        }
+    EXPECT_GT(strict, 3); // the variance is not zero where distances vary under the lobe
+}
+
+TEST(Probes, FurnaceIsPiTimesTheRadiance) {
+    // Inside a closed box whose walls emit L and reflect nothing, the irradiance at any probe,
+    // in any direction, is π L.
+    Scene scene;
+    const glm::vec3 L(0.7f, 1.1f, 2.3f);
+    scene.materials.push_back(lambert("glow", glm::vec3(0.0f), L));
+    addBox(scene, {0, 0, 0}, {1, 1, 1}, 0, true);
+    ProbeBakeParams p;
+    p.counts = glm::ivec3(3);
+    p.bounces = 2;
+    const ProbeVolume v = bake(scene, {}, p);
+    for (int probe = 0; probe < v.probeCount(); ++probe) {
+        ASSERT_NE(v.states[size_t(probe)], ProbeState::Off);
+        for (int i = 0; i < 20; ++i) {
+            const glm::vec3 E = v.irradianceAt(probe, sphericalFibonacci(i, 20));
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(E[c], kPi * L[c], 0.01f * kPi * L[c]) << probe << " " << i;
+        }
+    }
+    // And through the interpolation at points on the walls.
+    const glm::vec3 E = v.irradianceAt(glm::vec3(0.5f, 0.0f, 0.4f), {0, 1, 0}, {0, 1, 0});
+    EXPECT_NEAR(E.g, kPi * L.g, 0.01f * kPi * L.g);
+}
+
+TEST(Probes, NoLightLeaksThroughAClosedWall) {
+    // Two rooms split by a closed wall whose slab holds a column of grid points: a light in
+    // room A only. Room B's indirect light is below 1 % of room A's, and the probes inside the
+    // wall are moved out of it or switched off.
+    Scene scene;
+    scene.materials.push_back(lambert("white", glm::vec3(0.8f)));
+    addBox(scene, {0, 0, 0}, {2, 1, 1}, 0, true);         // the two rooms' shell
+    addBox(scene, {0.86f, 0, 0}, {0.89f, 1, 1}, 0, false); // the wall between them
+    const std::vector<Light> lights = {pointLight({0.4f, 0.6f, 0.5f}, 2.0f)};
+    ProbeBakeParams p;
+    p.spacing = 0.25;
+    const ProbeVolume v = bake(scene, lights, p);
+    int inWall = 0;
+    for (int probe = 0; probe < v.probeCount(); ++probe) {
+        const glm::ivec3 g(probe % v.counts.x, probe / v.counts.x % v.counts.y,
+                           probe / (v.counts.x * v.counts.y));
+        const glm::dvec3 home = v.gridPoint(g);
+        if (home.x > 0.86 && home.x < 0.89) {
+            ++inWall;
+            EXPECT_NE(v.states[size_t(probe)], ProbeState::Active);
+            if (v.states[size_t(probe)] == ProbeState::Relocated) {
+                const float x = v.positions[size_t(probe)].x;
+                EXPECT_TRUE(x < 0.86f || x > 0.89f) << x;
+            }
+        }
+    }
+    EXPECT_GT(inWall, 0) << "the test must put grid points inside the wall";
+    // Irradiance on the floors of both rooms, normal up.
+    double a = 0.0, b = 0.0;
+    for (int i = 0; i < 20; ++i)
+        for (int k = 0; k < 10; ++k) {
+            const float z = 0.05f + 0.9f * (k + 0.5f) / 10.0f;
+            const float xa = 0.05f + 0.75f * (i + 0.5f) / 20.0f, xb = 0.95f + 1.0f * (i + 0.5f) / 20.0f;
+            a += v.irradianceAt(glm::vec3(xa, 0.0f, z), {0, 1, 0}, {0, 1, 0}).g;
+            b += v.irradianceAt(glm::vec3(xb, 0.0f, z), {0, 1, 0}, {0, 1, 0}).g;
+        }
+    EXPECT_GT(a, 0.0);
+    EXPECT_LT(b, 0.01 * a) << "room A " << a << ", room B " << b;
+}
+
+TEST(Probes, OneBounceBetweenPlatesMatchesAPathTracer) {
+    // A floor and a ceiling plate 1 m apart, a point light between them. The irradiance that
+    // reaches the middle of the floor after one bounce off the ceiling, from the probes,
+    // against a Monte Carlo path tracer on Embree with double accumulators: within 10 %.
+    Scene scene;
+    scene.materials.push_back(lambert("floor", glm::vec3(0.8f)));
+    scene.materials.push_back(lambert("ceiling", glm::vec3(0.6f, 0.5f, 0.4f)));
+    addQuad(scene, {-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, 0);  // up
+    addQuad(scene, {-3, 1, -3}, {3, 1, -3}, {3, 1, 3}, {-3, 1, 3}, 1);  // down
+    const Light light = pointLight({0.3f, 0.4f, -0.2f}, 1.5f);
+    ProbeBakeParams p;
+    p.spacing = 0.25;
+    p.bounces = 1;
+    p.rays = 1024;
+    const ProbeVolume v = bake(scene, {light}, p);
+    const RayCaster caster(scene);
+    PbrSurface ceiling;
+    ceiling.baseColor = scene.materials[1].baseColor;
+    ceiling.roughness = 1.0f;
+    ceiling.metallic = 0.0f;
+    for (const glm::vec3 x : {glm::vec3(0.0f, 0.0f, 0.0f), glm::vec3(-0.8f, 0.0f, 0.6f)}) {
+        // E = π E[L] over cosine-weighted directions; L the ceiling's reflected direct light.
+        glm::dvec3 sum(0.0);
+        const int N = 200000;
+        for (int i = 0; i < N; ++i) {
+            const glm::vec3 local = cosineHemisphere(hammersley(std::uint32_t(i), std::uint32_t(N), 11));
+            const glm::vec3 d(local.x, local.z, local.y); // about +Y
+            Ray ray;
+            ray.origin = glm::dvec3(x) + glm::dvec3(0, 1e-4, 0);
+            ray.direction = glm::dvec3(d);
+            const RayHit hit = caster.intersect(ray);
+            if (!hit.hit || hit.mesh != 1) continue;
+            const glm::vec3 y = glm::vec3(ray.origin + hit.t * ray.direction);
+            const glm::vec3 n(0, -1, 0);
+            const glm::vec3 toLight = light.position - y;
+            if (caster.transmittance(y + n * 1e-4f, glm::normalize(toLight),
+                                     glm::length(toLight) * 0.999f) == 0.0f)
+                continue;
+            sum += glm::dvec3(shadeLight(light, ceiling, y, n, -d));
+        }
+        const glm::dvec3 reference = 3.14159265358979323846 * sum / double(N);
+        const glm::vec3 probes = v.irradianceAt(x, {0, 1, 0}, {0, 1, 0});
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(probes[c], reference[c], 0.1 * reference[c])
+                << "at " << x.x << "," << x.z << " channel " << c;
+    }
+}
+
+TEST(Probes, BakeDoesNotDependOnTheThreadCount) {
+    Scene scene;
+    scene.materials.push_back(lambert("white", glm::vec3(0.8f)));
+    addBox(scene, {0, 0, 0}, {1, 1, 1}, 0, true);
+    addBox(scene, {0.3f, 0, 0.3f}, {0.6f, 0.4f, 0.6f}, 0, false);
+    const std::vector<Light> lights = {pointLight({0.5f, 0.8f, 0.5f}, 1.0f)};
+    ProbeBakeParams p;
+    p.spacing = 0.2;
+    p.bounces = 2;
+    const ProbeVolume one = bake(scene, lights, p, 1), two = bake(scene, lights, p, 2);
+    EXPECT_EQ(one.positions, two.positions);
+    EXPECT_EQ(one.irradiance, two.irradiance);
+    EXPECT_EQ(one.distance, two.distance);
+    // Written and read back, the same volume.
+    const std::string path = (std::filesystem::temp_directory_path() / "dhdr_probes.exr").string();
+    std::string error;
+    ASSERT_TRUE(writeProbes(path, one, error)) << error;
+    ProbeVolume back;
+    ASSERT_TRUE(readProbes(path, back, error)) << error;
+    EXPECT_EQ(back.counts, one.counts);
+    EXPECT_EQ(back.positions, one.positions);
+    EXPECT_EQ(back.states, one.states);
+    EXPECT_EQ(back.irradiance, one.irradiance);
+    EXPECT_EQ(back.distance, one.distance);
+    std::filesystem::remove(path);
+}
