@@ -385,3 +385,56 @@ TEST_F(LightTools, DeepLightingFlattensToTheFlatOutput) {
     EXPECT_EQ(aa.status, 0) << aa.err;
     EXPECT_TRUE(allFinite(read("daa.exr")));
 }
+
+TEST_F(LightTools, ProbesAddIndirectLightAndTheirAOV) {
+    // dhdr-probes bakes the Cornell box; dhdr-light --probes lights what faces away from every
+    // light (the bounce off the walls), --aovs writes that light as indirect.R/G/B, and the
+    // output is the same for any thread count.
+    const Result bake =
+        run("dhdr-probes " + kCornell + " --spacing 0.15 -o " + path("cb.probes.exr") + " -v");
+    ASSERT_EQ(bake.status, 0) << bake.err;
+    EXPECT_NE(bake.err.find("relocated"), std::string::npos) << bake.err;
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --type float -o " +
+                  path("nogi.exr"))
+                  .status,
+              0);
+    const Result lit =
+        run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --probes " +
+            path("cb.probes.exr") + " --aovs --type float -o " + path("gi.exr") + " --threads 1");
+    ASSERT_EQ(lit.status, 0) << lit.err;
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --probes " +
+                  path("cb.probes.exr") + " --aovs --type float -o " + path("gi2.exr") +
+                  " --threads 2")
+                  .status,
+              0);
+    const ImageBuf gi = read("gi.exr"), nogi = read("nogi.exr");
+    EXPECT_TRUE(samePixels(gi, read("gi2.exr")));
+    const int ir = gi.spec().channelindex("indirect.R");
+    ASSERT_GE(ir, 0);
+    int brighter = 0, covered = 0;
+    for (int y = 0; y < 96; ++y)
+        for (int x = 0; x < 96; ++x) {
+            if (nogi.getchannel(x, y, 0, 3) <= 0.0f) continue;
+            ++covered;
+            float sum = 0.0f;
+            for (int c = 0; c < 3; ++c) {
+                const float indirect = gi.getchannel(x, y, 0, ir + c);
+                EXPECT_GE(indirect, 0.0f);
+                // The lit image is the unlit one plus the indirect light.
+                EXPECT_NEAR(gi.getchannel(x, y, 0, c), nogi.getchannel(x, y, 0, c) + indirect,
+                            1e-4f + 1e-4f * std::abs(nogi.getchannel(x, y, 0, c)));
+                sum += indirect;
+            }
+            brighter += sum > 0.0f;
+        }
+    EXPECT_GT(brighter, covered * 9 / 10);
+    // A file that is not a probe volume is an error naming it.
+    const Result bad = run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --probes " +
+                           path("g.exr") + " -o " + path("x.exr"));
+    EXPECT_EQ(bad.status, 1);
+    EXPECT_NE(bad.err.find("not a probe volume"), std::string::npos) << bad.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+    const Result usage = run("dhdr-probes " + kCornell + " --grid 0,2,2 -o " + path("x.exr"));
+    EXPECT_EQ(usage.status, 2);
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+}

@@ -90,7 +90,8 @@ TEST(Octahedral, RoundTripAndSeamlessBorders) {
     auto f = [](const glm::vec3& d) { return 4.0f + d.x + 2.0f * d.y + 3.0f * d.z; };
     for (int y = 0; y < n; ++y)
         for (int x = 0; x < n; ++x) {
-            const glm::vec3 d = octDecode({(x + 0.5f) / n * 2.0f - 1.0f, (y + 0.5f) / n * 2.0f - 1.0f});
+            const glm::vec3 d =
+                octDecode({(x + 0.5f) / n * 2.0f - 1.0f, (y + 0.5f) / n * 2.0f - 1.0f});
             v.irradiance[size_t((y + 1) * w + x + 1)] = glm::vec3(f(d));
         }
     for (int y = 0; y < w; ++y)
@@ -192,7 +193,7 @@ TEST(Probes, NoLightLeaksThroughAClosedWall) {
     // wall are moved out of it or switched off.
     Scene scene;
     scene.materials.push_back(lambert("white", glm::vec3(0.8f)));
-    addBox(scene, {0, 0, 0}, {2, 1, 1}, 0, true);         // the two rooms' shell
+    addBox(scene, {0, 0, 0}, {2, 1, 1}, 0, true);          // the two rooms' shell
     addBox(scene, {0.86f, 0, 0}, {0.89f, 1, 1}, 0, false); // the wall between them
     const std::vector<Light> lights = {pointLight({0.4f, 0.6f, 0.5f}, 2.0f)};
     ProbeBakeParams p;
@@ -218,7 +219,8 @@ TEST(Probes, NoLightLeaksThroughAClosedWall) {
     for (int i = 0; i < 20; ++i)
         for (int k = 0; k < 10; ++k) {
             const float z = 0.05f + 0.9f * (k + 0.5f) / 10.0f;
-            const float xa = 0.05f + 0.75f * (i + 0.5f) / 20.0f, xb = 0.95f + 1.0f * (i + 0.5f) / 20.0f;
+            const float xa = 0.05f + 0.75f * (i + 0.5f) / 20.0f,
+                        xb = 0.95f + 1.0f * (i + 0.5f) / 20.0f;
             a += v.irradianceAt(glm::vec3(xa, 0.0f, z), {0, 1, 0}, {0, 1, 0}).g;
             b += v.irradianceAt(glm::vec3(xb, 0.0f, z), {0, 1, 0}, {0, 1, 0}).g;
         }
@@ -233,8 +235,8 @@ TEST(Probes, OneBounceBetweenPlatesMatchesAPathTracer) {
     Scene scene;
     scene.materials.push_back(lambert("floor", glm::vec3(0.8f)));
     scene.materials.push_back(lambert("ceiling", glm::vec3(0.6f, 0.5f, 0.4f)));
-    addQuad(scene, {-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, 0);  // up
-    addQuad(scene, {-3, 1, -3}, {3, 1, -3}, {3, 1, 3}, {-3, 1, 3}, 1);  // down
+    addQuad(scene, {-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, {3, 0, -3}, 0); // up
+    addQuad(scene, {-3, 1, -3}, {3, 1, -3}, {3, 1, 3}, {-3, 1, 3}, 1); // down
     const Light light = pointLight({0.3f, 0.4f, -0.2f}, 1.5f);
     ProbeBakeParams p;
     p.spacing = 0.25;
@@ -251,7 +253,8 @@ TEST(Probes, OneBounceBetweenPlatesMatchesAPathTracer) {
         glm::dvec3 sum(0.0);
         const int N = 200000;
         for (int i = 0; i < N; ++i) {
-            const glm::vec3 local = cosineHemisphere(hammersley(std::uint32_t(i), std::uint32_t(N), 11));
+            const glm::vec3 local =
+                cosineHemisphere(hammersley(std::uint32_t(i), std::uint32_t(N), 11));
             const glm::vec3 d(local.x, local.z, local.y); // about +Y
             Ray ray;
             ray.origin = glm::dvec3(x) + glm::dvec3(0, 1e-4, 0);
