@@ -31,10 +31,13 @@ bash "$here/scripts/ibl_demo.sh" "$tools" "$out"
 # Glass and cut-outs: a deep G-buffer lit sample by sample (docs/gbuffer.md).
 bash "$here/scripts/glass_demo.sh" "$tools" "$out"
 
+# Global illumination from light probes, without and with (docs/gi.md).
+bash "$here/scripts/gi_demo.sh" "$tools" "$out"
+
 echo
 echo "Outputs:"
 for f in cornell.gbuf.exr cornell.lights.json cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png \
   sky.exr sky.ibl.exr spheres.gbuf.exr spheres.hdr.exr spheres.png \
-  glass.gbuf.exr glass.hdr.exr glass.deep.exr glass.png; do
+  glass.gbuf.exr glass.hdr.exr glass.deep.exr glass.png cornell.probes.exr gi.png; do
   echo "  $out/$f"
 done
