@@ -467,3 +467,97 @@ TEST_F(Tools, PipelineEndToEnd) {
     ASSERT_EQ(run("dhdr-tonemap " + path("h.exr") + " --bits 16 -o " + path("deep.png")).status, 0);
     EXPECT_EQ(read("deep.png").nativespec().format, OIIO::TypeDesc::UINT16);
 }
+
+TEST_F(Tools, OpNoneIsTheConfigsViewAlone) {
+    // A v2 config whose view tone-maps (a compressing matrix and a 2.2 power before a 2.4
+    // display encoding): --op none hands the scene-linear pixels to it unclipped, and the PNG
+    // equals oiiotool --ociodisplay's within 1 LSB, highlights above 1 included.
+    const std::string cfg = path("film.ocio");
+    std::ofstream(cfg) << R"(ocio_profile_version: 2
+roles:
+  scene_linear: linear
+  default: linear
+file_rules:
+  - !<Rule> {name: Default, colorspace: default}
+displays:
+  Screen:
+    - !<View> {name: Film, view_transform: film, display_colorspace: gamma24}
+view_transforms:
+  - !<ViewTransform>
+    name: film
+    from_scene_reference: !<GroupTransform>
+      children:
+        - !<MatrixTransform> {matrix: [0.2, 0, 0, 0, 0, 0.2, 0, 0, 0, 0, 0.2, 0, 0, 0, 0, 1]}
+        - !<ExponentTransform> {value: [2.2, 2.2, 2.2, 1], direction: inverse}
+display_colorspaces:
+  - !<ColorSpace>
+    name: gamma24
+    from_display_reference: !<ExponentTransform> {value: [2.4, 2.4, 2.4, 1], direction: inverse}
+colorspaces:
+  - !<ColorSpace>
+    name: linear
+)";
+    // A ramp from 0 to 4.5 in scene-linear, some of it far above 1.
+    OIIO::ImageSpec spec(256, 8, 3, OIIO::TypeDesc::FLOAT);
+    ImageBuf ramp(spec);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 256; ++x) {
+            const float v = 4.5f * float(x) / 255.0f;
+            const float c[3] = {v, 0.5f * v, 0.25f * v * float(y) / 7.0f};
+            ramp.setpixel(x, y, c);
+        }
+    ASSERT_TRUE(ramp.write(path("ramp.exr")));
+    const Result r =
+        run("dhdr-tonemap " + path("ramp.exr") + " --ocio-config " + cfg +
+            " --display Screen --view Film --op none --no-dither -o " + path("none.png"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string oiio = "oiiotool " + path("ramp.exr") + " --colorconfig " + cfg +
+                             " --ociodisplay:from=linear Screen Film -d uint8 -o " +
+                             path("oiio.png") + " >/dev/null 2>&1";
+    ASSERT_EQ(std::system(oiio.c_str()), 0);
+    const ImageBuf a = read("none.png"), b = read("oiio.png");
+    ASSERT_EQ(a.spec().width, 256);
+    float worst = 0.0f;
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 256; ++x)
+            for (int c = 0; c < 3; ++c)
+                worst =
+                    std::max(worst, std::abs(a.getchannel(x, y, 0, c) - b.getchannel(x, y, 0, c)));
+    EXPECT_LE(worst, 1.0f / 255.0f + 1e-6f);
+    // The ramp's top reaches the view's shoulder above 1 (not clipped before the view).
+    EXPECT_LT(a.getchannel(200, 0, 0, 0), a.getchannel(255, 0, 0, 0));
+    // --op exposure, which clips at 1 first, does differ there.
+    ASSERT_EQ(run("dhdr-tonemap " + path("ramp.exr") + " --ocio-config " + cfg +
+                  " --display Screen --view Film --op exposure --no-dither -o " + path("clip.png"))
+                  .status,
+              0);
+    EXPECT_GT(std::abs(read("clip.png").getchannel(255, 0, 0, 0) - b.getchannel(255, 0, 0, 0)),
+              0.1f);
+}
+
+TEST_F(Tools, OpNoneWithTheBuiltinStandardViewIsThePlainSrgbEncoding) {
+    OIIO::ImageSpec spec(64, 1, 3, OIIO::TypeDesc::FLOAT);
+    ImageBuf ramp(spec);
+    for (int x = 0; x < 64; ++x) {
+        const float v = float(x) / 63.0f;
+        const float c[3] = {v, v * v, 0.5f};
+        ramp.setpixel(x, 0, c);
+    }
+    ASSERT_TRUE(ramp.write(path("ramp2.exr")));
+    ASSERT_EQ(
+        run("dhdr-tonemap " + path("ramp2.exr") + " --op none --no-dither -o " + path("srgb.png"))
+            .status,
+        0);
+    const ImageBuf a = read("srgb.png");
+    auto encode = [](double v) {
+        return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055;
+    };
+    for (int x = 0; x < 64; ++x)
+        for (int c = 0; c < 3; ++c) {
+            float in[3];
+            ramp.getpixel(x, 0, in);
+            EXPECT_NEAR(a.getchannel(x, 0, 0, c), std::round(encode(in[c]) * 255.0) / 255.0,
+                        1.0 / 255.0 + 1e-6)
+                << x << " " << c;
+        }
+}

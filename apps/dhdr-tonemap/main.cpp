@@ -222,8 +222,10 @@ int run(int argc, char** argv) {
     DisplaySettings display;
     bool noDither = false, adapt = false;
     cl.option("--op", opName, "NAME",
-              "reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure or "
-              "aces (the ACES 1.0 SDR output transform, as the view)");
+              "reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure, "
+              "aces (the ACES 1.0 SDR output transform, as the view) or none (scene-linear "
+              "x 2^exposure, unclipped, to the display/view: a config's own view such as "
+              "Filmic or AgX tone-maps)");
     cl.option("--key", key, "A", "key α: the metered luminance maps to this (default 0.18)",
               {0.0, 100.0, true});
     cl.option("--exposure", exposure, "STOPS", "extra exposure in stops (default 0)",
@@ -268,7 +270,7 @@ int run(int argc, char** argv) {
     ToneMapParams& params = job.params;
     if (!parseToneOperator(opName, params.op))
         return usage("--op must be reinhard, reinhard-local, drago, hable, pbr-neutral, agx, "
-                     "exposure or aces");
+                     "exposure, aces or none");
     if (params.op == ToneOperator::Aces && display.view.empty()) display.view = "ACES";
     params.key = key;
     params.exposure = exposure;

@@ -24,6 +24,7 @@ constexpr Named kOperators[] = {
     {ToneOperator::Exposure, "exposure"},
     {ToneOperator::Aces, "aces"},
     {ToneOperator::Agx, "agx"},
+    {ToneOperator::None, "none"},
 };
 
 using detail::mapColour;
@@ -55,6 +56,12 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
     if (params.op == ToneOperator::Exposure) {
         return mapColour(dst, src, roi, nthreads, [&](const float* p, int, int) {
             return glm::clamp(glm::vec3(p[0], p[1], p[2]) * float(gain), 0.0f, 1.0f);
+        });
+    }
+    if (params.op == ToneOperator::None) {
+        // Scene-linear handed on as it is (but for the exposure): a config's own view tone-maps.
+        return mapColour(dst, src, roi, nthreads, [&](const float* p, int, int) {
+            return glm::vec3(p[0], p[1], p[2]) * float(gain);
         });
     }
     LuminanceStats measured;
@@ -134,6 +141,7 @@ bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams
             return glm::vec3(p[0], p[1], p[2]) * float(scale);
         });
     case ToneOperator::Exposure:
+    case ToneOperator::None:
         break;
     }
     return true;

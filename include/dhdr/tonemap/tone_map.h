@@ -16,16 +16,18 @@ enum class ToneOperator {
     Agx,           // AgX, polynomial form
     Exposure,      // linear: × 2^exposure, clipped
     Aces,          // metered exposure only; the ACES output transform is the display's view
+    None,          // × 2^exposure only, unclipped: the display's view does the tone mapping
 };
 
-// "reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "agx", "exposure", "aces".
+// "reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "agx", "exposure", "aces",
+// "none".
 bool parseToneOperator(const std::string& name, ToneOperator& op);
 const char* toneOperatorName(ToneOperator op);
 
 struct ToneMapParams {
     ToneOperator op = ToneOperator::Reinhard;
-    // Every operator but `exposure` first scales the image by 2^exposure · key / L̄w, so the
-    // metered luminance L̄w lands on the key.
+    // Every operator but `exposure` and `none` first scales the image by 2^exposure · key / L̄w,
+    // so the metered luminance L̄w lands on the key.
     double key = 0.18;
     double exposure = 0.0; // stops
     // Reinhard's white point (reinhard.h): ≤ 0 the largest, +∞ none.
