@@ -8,6 +8,7 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev python3-imath  # python3-imath: ImathTargets.cmake names its library
   libopencolorio-dev libembree-dev libglm-dev libassimp-dev
   nlohmann-json3-dev libgtest-dev python3
+  python3-murmurhash  # an independent MurmurHash3_x86_32 for the Cryptomatte tests
 )
 
 missing=()

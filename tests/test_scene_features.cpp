@@ -4,8 +4,12 @@
 #include "scene_writer.h"
 #include "tool_test.h"
 
+#include <cmath>
+#include <cstring>
+#include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/scene.h>
 #include <glm/glm.hpp>
+#include <map>
 
 using namespace dhdr::test;
 using OIIO::ImageSpec;
@@ -257,4 +261,133 @@ TEST_F(SceneFeatures, WindowsTexturePathsAreFound) {
     ASSERT_EQ(p[0], 1.0f);
     EXPECT_NEAR(p[a], 1.0f, 1e-3);
     EXPECT_NEAR(p[a + 1], 0.0f, 1e-3);
+}
+
+namespace {
+
+// MurmurHash3_x86_32 (seed 0) of each name from Debian's python3-murmurhash, an implementation
+// apart from OpenEXR's that dhdr uses.
+std::vector<std::uint32_t> pythonMurmur(const std::vector<std::string>& names,
+                                        const std::string& scratch) {
+    {
+        std::ofstream list(scratch + "/names.json");
+        list << nlohmann::json(names).dump();
+    }
+    const std::string cmd =
+        "/usr/bin/python3 -c \"import json,sys; from murmurhash import mrmr; "
+        "print(' '.join(str(mrmr.hash(n) & 0xffffffff) for n in json.load(open('" +
+        scratch + "/names.json'))))\" > " + scratch + "/hashes.txt";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::ifstream in(scratch + "/hashes.txt");
+    std::vector<std::uint32_t> out;
+    for (unsigned long h; in >> h;)
+        out.push_back(std::uint32_t(h));
+    EXPECT_EQ(out.size(), names.size());
+    return out;
+}
+
+std::uint32_t floatBits(float f) {
+    std::uint32_t h;
+    std::memcpy(&h, &f, sizeof h);
+    return h;
+}
+
+} // namespace
+
+TEST_F(SceneFeatures, CryptomatteIdsAreMurmurHashesAsTheSpecSays) {
+    // The spec's example and a few thousand names against an independent MurmurHash3, with the
+    // exponent rule applied here: bit 23 flipped where the exponent would be 0 or 255.
+    EXPECT_EQ(floatBits(dhdr::gbuffer::cryptomatteId("torus")), 0xf19c73fdu);
+    std::vector<std::string> names = {"torus", "tall_block", "dhdr:ground plane", "ünïcødé"};
+    for (int i = 0; i < 3000; ++i)
+        names.push_back("object_" + std::to_string(i));
+    const std::vector<std::uint32_t> hashes = pythonMurmur(names, dir.string());
+    ASSERT_EQ(hashes.size(), names.size());
+    int flipped = 0;
+    for (size_t i = 0; i < names.size(); ++i) {
+        std::uint32_t h = 0;
+        const float id = dhdr::gbuffer::cryptomatteId(names[i], &h);
+        ASSERT_EQ(h, hashes[i]) << names[i];
+        std::uint32_t expected = hashes[i];
+        const std::uint32_t exponent = (expected >> 23) & 255u;
+        if (exponent == 0 || exponent == 255) {
+            expected ^= 1u << 23;
+            ++flipped;
+        }
+        ASSERT_EQ(floatBits(id), expected) << names[i];
+        ASSERT_TRUE(std::isfinite(id) && std::fpclassify(id) != FP_SUBNORMAL) << names[i];
+    }
+    EXPECT_GT(flipped, 0) << "the names must include some whose exponent needs the flip";
+}
+
+TEST_F(SceneFeatures, GBufferCarriesCryptomatteLayersAndManifests) {
+    const std::string g = path("crypto.exr");
+    ASSERT_EQ(run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 64x64 -o " + g).status,
+              0);
+    ImageBuf img(g);
+    ASSERT_TRUE(img.read(0, 0, true, OIIO::TypeDesc::FLOAT));
+    const OIIO::ImageSpec& spec = img.spec();
+    // The layers' metadata, keyed by the first 7 hex digits of the layer name's hash.
+    const std::vector<std::uint32_t> layerHashes =
+        pythonMurmur({"CryptoObject", "CryptoMaterial"}, dir.string());
+    ASSERT_EQ(layerHashes.size(), 2u);
+    std::map<std::string, std::uint32_t> objectHash;
+    std::vector<std::string> objectNames;
+    for (int k = 0; k < 2; ++k) {
+        char key[16];
+        std::snprintf(key, sizeof key, "%08x", layerHashes[size_t(k)]);
+        const std::string prefix = "cryptomatte/" + std::string(key, 7) + "/";
+        EXPECT_EQ(spec.get_string_attribute(prefix + "name"),
+                  k == 0 ? "CryptoObject" : "CryptoMaterial");
+        EXPECT_EQ(spec.get_string_attribute(prefix + "hash"), "MurmurHash3_32");
+        EXPECT_EQ(spec.get_string_attribute(prefix + "conversion"), "uint32_to_float32");
+        const nlohmann::json manifest =
+            nlohmann::json::parse(spec.get_string_attribute(prefix + "manifest"));
+        ASSERT_TRUE(manifest.is_object());
+        std::vector<std::string> names;
+        for (const auto& [name, hex] : manifest.items())
+            names.push_back(name);
+        const std::vector<std::uint32_t> hashes = pythonMurmur(names, dir.string());
+        for (size_t i = 0; i < names.size(); ++i) {
+            char hex[16];
+            std::snprintf(hex, sizeof hex, "%08x", hashes[i]);
+            EXPECT_EQ(manifest[names[i]].get<std::string>(), hex) << names[i];
+            if (k == 0) objectHash[names[i]] = hashes[i];
+        }
+        if (k == 0) objectNames = names;
+    }
+    ASSERT_TRUE(objectHash.count("tall_block"));
+    // Pixels: rank 0 is the object the id channel names, with coverage 1; coverages sum to at
+    // most 1; a matte by name equals that object's pixels.
+    const int r = spec.channelindex("CryptoObject00.r"), idc = spec.channelindex("id.object");
+    ASSERT_GE(r, 0);
+    ASSERT_EQ(spec.channelformat(r), OIIO::TypeDesc::FLOAT);
+    const OIIO::ParamValue* table = spec.find_attribute("dhdr:objectNames");
+    ASSERT_TRUE(table);
+    const auto* tableNames = static_cast<const char* const*>(table->data());
+    std::uint32_t tall = objectHash["tall_block"];
+    if (((tall >> 23) & 255u) == 0 || ((tall >> 23) & 255u) == 255) tall ^= 1u << 23;
+    int matte = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const float id = img.getchannel(x, y, 0, r), cov0 = img.getchannel(x, y, 0, r + 1);
+            const float cov1 = img.getchannel(x, y, 0, r + 3);
+            EXPECT_LE(cov0 + cov1, 1.0f);
+            // OpenImageIO reads a uint channel as float scaled from [0, 2³² − 1] to [0, 1].
+            const int object =
+                int(std::lround(double(img.getchannel(x, y, 0, idc)) * 4294967295.0));
+            if (object == 0) {
+                EXPECT_EQ(cov0, 0.0f);
+                continue;
+            }
+            EXPECT_EQ(cov0, 1.0f);
+            const std::string name = tableNames[object];
+            std::uint32_t h = objectHash[name];
+            if (((h >> 23) & 255u) == 0 || ((h >> 23) & 255u) == 255) h ^= 1u << 23;
+            EXPECT_EQ(floatBits(id), h) << name;
+            const bool inMatte = floatBits(id) == tall && cov0 > 0.0f;
+            EXPECT_EQ(inMatte, name == "tall_block");
+            matte += inMatte;
+        }
+    EXPECT_GT(matte, 100);
 }

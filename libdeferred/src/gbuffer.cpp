@@ -1,5 +1,7 @@
+#include <ImfIDManifest.h>
 #include <OpenImageIO/imageio.h>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <dhdr/deferred/gbuffer.h>
 #include <memory>
@@ -19,6 +21,44 @@ std::vector<std::string> namesOf(bool deep) {
 }
 
 } // namespace
+
+float cryptomatteId(const std::string& name, std::uint32_t* hash) {
+    // OpenEXR's MurmurHash3_x86_32 with seed 0, the hash Cryptomatte names.
+    std::uint32_t h = Imf::IDManifest::MurmurHash32(name);
+    if (hash) *hash = h;
+    const std::uint32_t exponent = (h >> 23) & 255u;
+    if (exponent == 0 || exponent == 255) h ^= 1u << 23;
+    float f;
+    std::memcpy(&f, &h, sizeof f);
+    return f;
+}
+
+void writeCryptomatteHeader(OIIO::ImageSpec& spec, const std::string& layer,
+                            const std::vector<std::string>& names) {
+    std::uint32_t layerHash = 0;
+    cryptomatteId(layer, &layerHash);
+    char key[16];
+    std::snprintf(key, sizeof key, "%08x", layerHash);
+    const std::string prefix = "cryptomatte/" + std::string(key, 7) + "/";
+    std::string manifest = "{";
+    for (size_t i = 0; i < names.size(); ++i) {
+        std::uint32_t h = 0;
+        cryptomatteId(names[i], &h);
+        char hex[16];
+        std::snprintf(hex, sizeof hex, "%08x", h);
+        std::string quoted;
+        for (const char c : names[i]) {
+            if (c == '"' || c == '\\') quoted += '\\';
+            quoted += c;
+        }
+        manifest += (i ? ",\"" : "\"") + quoted + "\":\"" + hex + "\"";
+    }
+    manifest += "}";
+    spec.attribute(prefix + "name", layer);
+    spec.attribute(prefix + "hash", "MurmurHash3_32");
+    spec.attribute(prefix + "conversion", "uint32_to_float32");
+    spec.attribute(prefix + "manifest", manifest);
+}
 
 std::vector<std::string> channelNames() {
     return namesOf(false);

@@ -11,6 +11,11 @@
 
 namespace dhdr {
 
+// The Cryptomatte ids of the scene's objects and materials, by index.
+struct CryptoIds {
+    std::vector<float> objects, materials;
+};
+
 namespace {
 
 void setNameTable(OIIO::ImageSpec& spec, const char* name, const std::vector<std::string>& names) {
@@ -64,7 +69,8 @@ int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int
 
 // The contract's channels of a hit, where `layout` places them (a flat or a deep sample).
 void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuffer::Layout& layout,
-                const Ray& ray, const RayHit& hit, float alpha, float* out) {
+                const CryptoIds& crypto, const Ray& ray, const RayHit& hit, float alpha,
+                float* out) {
     const SurfaceSample s = surfaceAt(scene, ray, hit);
     const Material& m = *s.material;
     const bool ground = hit.mesh == kGroundPlaneHit;
@@ -83,6 +89,14 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
     out[layout.metallic] = m.metallic;
     out[layout.objectId] = float(object + 1);
     out[layout.materialId] = float(material + 1);
+    // Cryptomatte: rank 0 is this surface, covering what its alpha covers; rank 1 is empty
+    // (one surface a sample).
+    const float ranks[2][4] = {{crypto.objects[size_t(object)], alpha, 0.0f, 0.0f},
+                               {crypto.materials[size_t(material)], alpha, 0.0f, 0.0f}};
+    for (int c = 0; c < 4; ++c) {
+        out[layout.cryptoObject + c] = ranks[0][c];
+        out[layout.cryptoMaterial + c] = ranks[1][c];
+    }
 }
 
 // Where the writers put each channel: the contract's table, flat or deep.
@@ -136,6 +150,14 @@ GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
         materialNames.push_back(m.name);
     setNameTable(m_spec, "dhdr:objectNames", scene.objectNames);
     setNameTable(m_spec, "dhdr:materialNames", materialNames);
+    auto crypto = std::make_shared<CryptoIds>();
+    for (const std::string& name : scene.objectNames)
+        crypto->objects.push_back(gbuffer::cryptomatteId(name));
+    for (const std::string& name : materialNames)
+        crypto->materials.push_back(gbuffer::cryptomatteId(name));
+    m_crypto = crypto;
+    gbuffer::writeCryptomatteHeader(m_spec, "CryptoObject", scene.objectNames);
+    gbuffer::writeCryptomatteHeader(m_spec, "CryptoMaterial", materialNames);
     if (scene.hasGroundPlane) {
         m_spec.attribute(gbuffer::kGroundPlaneY, scene.groundPlaneY);
         m_spec.attribute(gbuffer::kShadowCatcher, scene.groundObject + 1);
@@ -194,7 +216,7 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
                     px[1] = std::numeric_limits<float>::infinity();
                     continue;
                 }
-                fillSample(m_scene, worldToCamera, layout, ray, front.hit, 1.0f, px);
+                fillSample(m_scene, worldToCamera, layout, *m_crypto, ray, front.hit, 1.0f, px);
             }
             const int done = ++rowsDone;
             if (m_params.progress && (done % 64 == 0 || done == roi.height()))
@@ -239,8 +261,9 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
                 rowCounts.push_back(std::uint32_t(n));
                 for (int k = 0; k < n; ++k) {
                     rowValues.resize(rowValues.size() + nch);
-                    fillSample(m_scene, worldToCamera, layout, ray, layers[size_t(k)].hit,
-                               layers[size_t(k)].alpha, &rowValues[rowValues.size() - nch]);
+                    fillSample(m_scene, worldToCamera, layout, *m_crypto, ray,
+                               layers[size_t(k)].hit, layers[size_t(k)].alpha,
+                               &rowValues[rowValues.size() - nch]);
                     local += layers[size_t(k)].alpha < 1.0f;
                 }
             }

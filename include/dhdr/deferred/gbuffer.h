@@ -3,6 +3,7 @@
 #pragma once
 
 #include <OpenImageIO/oiioversion.h>
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <string>
 #include <vector>
@@ -39,7 +40,15 @@ inline constexpr const char* kShadowCatcher = "dhdr:shadowCatcher";
 struct Layout {
     int coverage = -1, depth = -1, depthBack = -1, position = -1, normal = -1, albedo = -1;
     int roughness = -1, metallic = -1, emission = -1, objectId = -1, materialId = -1;
+    int cryptoObject = -1, cryptoMaterial = -1;
 };
+
+// Cryptomatte (spec 1.2): one layer of two ranks (id, coverage, id, coverage) for objects and
+// one for materials. Ids are MurmurHash3_x86_32 of the UTF-8 name as float (cryptomatteId).
+inline constexpr const char* kCryptoObject[4] = {"CryptoObject00.r", "CryptoObject00.g",
+                                                 "CryptoObject00.b", "CryptoObject00.a"};
+inline constexpr const char* kCryptoMaterial[4] = {"CryptoMaterial00.r", "CryptoMaterial00.g",
+                                                   "CryptoMaterial00.b", "CryptoMaterial00.a"};
 
 // The back of a deep sample's depth range; equal to Z for the point samples of a surface.
 inline constexpr const char* kDepthBack = "ZBack";
@@ -51,11 +60,12 @@ enum class Need {
     DeepOnly  // in deep G-buffers only
 };
 
-// One entry of the contract: a scalar or a 3-vector, in the order dhdr-gbuffer writes them.
+// One entry of the contract: a scalar, a 3-vector or a Cryptomatte layer, in the order
+// dhdr-gbuffer writes them.
 // The writers (flat and deep), findLayout, the type checks of findGBufferPart and the table of
 // docs/gbuffer.md (checked by a test) all follow this table.
 struct ContractChannel {
-    const char* names[3];
+    const char* names[4];
     int components;
     FileType type;
     Need need;
@@ -130,7 +140,29 @@ inline constexpr ContractChannel kContract[] = {
      Need::Optional,
      &Layout::materialId,
      "index into dhdr:materialNames: the integer itself (1, 2, …)"},
+    {{kCryptoObject[0], kCryptoObject[1], kCryptoObject[2], kCryptoObject[3]},
+     4,
+     FileType::Float,
+     Need::Optional,
+     &Layout::cryptoObject,
+     "Cryptomatte of the objects: rank 0 id and coverage, rank 1 id and coverage"},
+    {{kCryptoMaterial[0], kCryptoMaterial[1], kCryptoMaterial[2], kCryptoMaterial[3]},
+     4,
+     FileType::Float,
+     Need::Optional,
+     &Layout::cryptoMaterial,
+     "Cryptomatte of the materials: rank 0 id and coverage, rank 1 id and coverage"},
 };
+
+// A name's Cryptomatte id: MurmurHash3_x86_32 (seed 0) of its UTF-8 bytes, as the float with
+// those bits, bit 23 flipped when the exponent would be 0 or 255 (no denormals, infinities or
+// NaNs); `hash` receives the hash itself (for the manifest).
+float cryptomatteId(const std::string& name, std::uint32_t* hash = nullptr);
+// The Cryptomatte header of a layer (`cryptomatte/<key>/name`, `hash`, `conversion`,
+// `manifest`: a JSON object of name → 8 hex digits), key = the first 7 hex digits of the
+// layer name's hash.
+void writeCryptomatteHeader(OIIO::ImageSpec& spec, const std::string& layer,
+                            const std::vector<std::string>& names);
 
 // All channels of the flat contract in writing order (kContract without the deep-only ones).
 std::vector<std::string> channelNames();

@@ -10,6 +10,7 @@
 namespace dhdr {
 
 struct Camera;
+struct CryptoIds;
 struct DeepGBuffer;
 class RayCaster;
 struct Scene;
@@ -61,6 +62,7 @@ private:
     GBufferParams m_params;
     OIIO::ImageSpec m_spec;
     std::unique_ptr<RayCaster> m_caster;
+    std::shared_ptr<const CryptoIds> m_crypto; // the Cryptomatte ids of names
 };
 
 // The whole frame in one call.
