@@ -1,0 +1,43 @@
+// Uses dhdr as an installed library: one lighting call and one tone-mapping call.
+#include <cmath>
+#include <cstdio>
+#include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/scene.h>
+#include <dhdr/tonemap/tone_map.h>
+
+int main() {
+    // A white square facing a camera, lit by a point light in front of it.
+    dhdr::Scene scene;
+    dhdr::Material white;
+    white.name = "white";
+    white.metallic = 0.0f;
+    scene.materials.push_back(white);
+    scene.objectNames = {"square"};
+    dhdr::Mesh m;
+    m.positions = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+    m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    m.triangles = {{0, 1, 2}, {0, 2, 3}};
+    scene.meshes.push_back(m);
+    const dhdr::Camera camera = dhdr::Camera::lookAt({0, 0, 3}, {0, 0, 0}, {0, 1, 0}, 0.5);
+    dhdr::GBufferParams gp;
+    gp.width = 32;
+    gp.height = 32;
+    OIIO::ImageBuf gbuffer, hdr, ldr;
+    if (!dhdr::renderGBuffer(gbuffer, scene, camera, gp)) return 1;
+    dhdr::Light light;
+    light.type = dhdr::LightType::Point;
+    light.position = {0.0f, 0.0f, 1.0f};
+    light.intensity = 1.0f;
+    const std::vector<dhdr::Light> lights = {light};
+    if (!dhdr::shadeGBuffer(hdr, gbuffer, {lights})) {
+        std::fprintf(stderr, "%s\n", hdr.geterror().c_str());
+        return 1;
+    }
+    if (!dhdr::toneMap(ldr, hdr)) return 1;
+    float centre[4];
+    ldr.getpixel(16, 16, centre);
+    std::printf("dhdr %s: centre %.4f %.4f %.4f\n", DHDR_FOUND_VERSION, centre[0], centre[1],
+                centre[2]);
+    return centre[0] > 0.0f && centre[0] <= 1.0f && std::isfinite(centre[0]) ? 0 : 1;
+}
