@@ -438,3 +438,92 @@ TEST_F(LightTools, ProbesAddIndirectLightAndTheirAOV) {
     EXPECT_EQ(usage.status, 2);
     EXPECT_FALSE(fs::exists(path("x.exr")));
 }
+
+namespace {
+
+// dhdr's own G-buffer rewritten as Blender writes its passes: ViewLayer.* names, a Z-up world,
+// depth 1e10 on the background, alpha 1 everywhere, no camera matrices; the base colour,
+// roughness and metallic as the AOVs a user adds (or the albedo as DiffCol without them).
+void writeBlenderPasses(const ImageBuf& g, const std::string& out, bool aovs) {
+    const OIIO::ImageSpec& gs = g.spec();
+    std::vector<std::string> names = {
+        "ViewLayer.Combined.R", "ViewLayer.Combined.G", "ViewLayer.Combined.B",
+        "ViewLayer.Combined.A", "ViewLayer.Depth.Z",    "ViewLayer.Position.X",
+        "ViewLayer.Position.Y", "ViewLayer.Position.Z", "ViewLayer.Normal.X",
+        "ViewLayer.Normal.Y",   "ViewLayer.Normal.Z",   "ViewLayer.Emit.R",
+        "ViewLayer.Emit.G",     "ViewLayer.Emit.B"};
+    const std::vector<std::string> colour =
+        aovs ? std::vector<std::string>{"ViewLayer.BaseColor.R", "ViewLayer.BaseColor.G",
+                                        "ViewLayer.BaseColor.B", "ViewLayer.Roughness.X",
+                                        "ViewLayer.Metallic.X"}
+             : std::vector<std::string>{"ViewLayer.DiffCol.R", "ViewLayer.DiffCol.G",
+                                        "ViewLayer.DiffCol.B"};
+    names.insert(names.end(), colour.begin(), colour.end());
+    OIIO::ImageSpec spec(gs.width, gs.height, int(names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    ImageBuf b(spec);
+    auto at = [&](int x, int y, const char* name) {
+        return g.getchannel(x, y, 0, gs.channelindex(name));
+    };
+    for (int y = 0; y < gs.height; ++y)
+        for (int x = 0; x < gs.width; ++x) {
+            const bool covered = at(x, y, "A") > 0.0f;
+            std::vector<float> v = {0.1f, 0.1f, 0.1f, 1.0f, covered ? at(x, y, "Z") : 1e10f,
+                                    // Z-up: (x, y, z) of glTF is (x, −z, y) in Blender.
+                                    at(x, y, "P.X"), -at(x, y, "P.Z"), at(x, y, "P.Y"),
+                                    at(x, y, "N.X"), -at(x, y, "N.Z"), at(x, y, "N.Y"),
+                                    at(x, y, "emission.R"), at(x, y, "emission.G"),
+                                    at(x, y, "emission.B"), at(x, y, "albedo.R"),
+                                    at(x, y, "albedo.G"), at(x, y, "albedo.B")};
+            if (aovs) {
+                v.push_back(at(x, y, "roughness"));
+                v.push_back(at(x, y, "metallic"));
+            }
+            b.setpixel(x, y, v.data());
+        }
+    ASSERT_TRUE(b.write(out));
+}
+
+} // namespace
+
+TEST_F(LightTools, BlenderPassesRelightAsDhdrsOwnGBuffer) {
+    ImageBuf g = read("g.exr");
+    writeBlenderPasses(g, path("blender.exr"), true);
+    writeBlenderPasses(g, path("blender_noaov.exr"), false);
+    std::ofstream(path("point.lights.json"))
+        << R"({"lights": [{"type": "point", "position": [0.3, 0.4, 0.25], "intensity": 0.3}]})";
+    const std::string lights = " --lights " + path("point.lights.json") + " --type float";
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + lights + " -o " + path("own.exr")).status, 0);
+    const Result r =
+        run("dhdr-light " + path("blender.exr") + lights + " --channels blender --camera-from " +
+            kCornell + " -o " + path("relit.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf own = read("own.exr"), relit = read("relit.exr");
+    const auto cmp = OIIO::ImageBufAlgo::compare(own, relit, 1e-4f, 1e-4f);
+    EXPECT_EQ(cmp.nfail, 0u) << "max error " << cmp.maxerror << " at " << cmp.maxx << ","
+                             << cmp.maxy;
+    // --radiometric: Blender's watts → candela conversion undone, 1/683 of the light.
+    ASSERT_EQ(run("dhdr-light " + path("blender.exr") + lights +
+                  " --channels blender --camera-from " + kCornell + " --radiometric -o " +
+                  path("radiometric.exr"))
+                  .status,
+              0);
+    const ImageBuf rad = read("radiometric.exr");
+    for (int y = 0; y < 96; y += 5)
+        for (int x = 0; x < 96; x += 5)
+            EXPECT_NEAR(rad.getchannel(x, y, 0, 0), relit.getchannel(x, y, 0, 0) / 683.0f,
+                        1e-6f + 1e-4f * relit.getchannel(x, y, 0, 0) / 683.0f);
+    // Without the AOVs: DiffCol as the albedo, with warnings that say what stands in.
+    const Result fallback =
+        run("dhdr-light " + path("blender_noaov.exr") + lights +
+            " --channels blender --camera-from " + kCornell + " -o " + path("fallback.exr"));
+    EXPECT_EQ(fallback.status, 0) << fallback.err;
+    EXPECT_NE(fallback.err.find("DiffCol"), std::string::npos) << fallback.err;
+    EXPECT_NE(fallback.err.find("Roughness"), std::string::npos) << fallback.err;
+    // Without a camera: an error that says how to give one.
+    const Result noCamera = run("dhdr-light " + path("blender.exr") + lights +
+                                " --channels blender -o " + path("x.exr"));
+    EXPECT_EQ(noCamera.status, 1);
+    EXPECT_NE(noCamera.err.find("--camera-from"), std::string::npos) << noCamera.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
+}

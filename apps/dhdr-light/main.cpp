@@ -10,6 +10,7 @@
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/gbuffer_import.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/ray_caster.h>
@@ -18,6 +19,7 @@
 #include <filesystem>
 #include <future>
 #include <memory>
+#include <optional>
 #include <thread>
 
 using namespace dhdr;
@@ -87,7 +89,19 @@ int run(int argc, char** argv) {
             "also write the G-buffer's Z and N.X N.Y N.Z channels, AO, and the probes' "
             "indirect.R/G/B");
     cl.option("--type", dataType, "half|float", "pixel type of the output EXR (default half)");
-    std::string deepOut, probesPath;
+    std::string deepOut, probesPath, channelsArg, cameraFrom;
+    bool radiometric = false;
+    cl.option("--channels", channelsArg, "MAP|blender",
+              "read another renderer's passes through a channel map (JSON, docs/interop.md); "
+              "blender: Cycles' Depth, Position, Normal and the BaseColor, Roughness, Metallic "
+              "AOVs");
+    cl.option("--camera-from", cameraFrom, "SCENE[:CAMERA]",
+              "with --channels, the camera of the scene file the passes were rendered from "
+              "(default its first camera)");
+    cl.flag("--radiometric", radiometric,
+            "divide photometric light units (point and spot candela, directional lux) by 683 "
+            "lm/W, so that lights exported by Blender light as they do in Cycles; emission "
+            "and environments are unchanged");
     cl.option("--probes", probesPath, "FILE",
               "light probes baked by dhdr-probes for this scene: indirect diffuse light "
               "(docs/gi.md)");
@@ -220,7 +234,44 @@ int run(int argc, char** argv) {
                     [](const app::FramePattern& p) { return p.isSequence(); });
     std::vector<Light> lights = sceneLights;
     if (!animatedLights && !readLights(lightsPaths, lights)) return app::kExitFailure;
+    if (radiometric)
+        for (Light& l : lights)
+            if (l.type == LightType::Point || l.type == LightType::Spot ||
+                l.type == LightType::Directional)
+                l.intensity /= 683.0f;
+    if (animatedLights && radiometric)
+        return usage("--radiometric works with lights files that hold every frame's lights");
     LightingInputs inputs{lights, caster.get()};
+    // Another renderer's passes: the channel map, and the camera they were rendered with.
+    ChannelMap channelMap;
+    if (!channelsArg.empty()) {
+        std::string error;
+        if (channelsArg == "blender")
+            channelMap = blenderChannelMap();
+        else if (!readChannelMap(channelsArg, channelMap, error))
+            return tool.fail(channelsArg + ": " + error);
+    } else if (!cameraFrom.empty()) {
+        return usage("--camera-from goes with --channels");
+    }
+    std::optional<Camera> foreignCamera;
+    if (!cameraFrom.empty()) {
+        std::string file = cameraFrom, name;
+        if (const size_t colon = cameraFrom.rfind(':');
+            colon != std::string::npos && !std::filesystem::exists(cameraFrom)) {
+            file = cameraFrom.substr(0, colon);
+            name = cameraFrom.substr(colon + 1);
+        }
+        Scene cameras;
+        std::string error;
+        if (!loadScene(file, cameras, error)) return tool.fail(error);
+        for (const SceneCamera& c : cameras.cameras)
+            if (name.empty() || c.name == name) {
+                foreignCamera = c.camera;
+                break;
+            }
+        if (!foreignCamera)
+            return tool.fail(file + ": no camera" + (name.empty() ? "" : " named '" + name + "'"));
+    }
     ProbeVolume probes;
     if (!probesPath.empty()) {
         std::string error;
@@ -368,6 +419,58 @@ int run(int argc, char** argv) {
                   ", write " + ms(writeMs));
         return true;
     };
+    // Another renderer's passes: read whole, mapped to the contract, lit as a whole frame.
+    auto lightForeign = [&](const std::string& path, const std::string& out,
+                            const std::vector<std::string>& in) {
+        const auto start = std::chrono::steady_clock::now();
+        OIIO::ImageBuf src(path);
+        if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
+            tool.fail(path + ": cannot read: " + src.geterror());
+            return false;
+        }
+        OIIO::ImageBuf gbuf;
+        std::vector<std::string> warnings;
+        std::string error;
+        if (!importGBuffer(src, channelMap, gbuf, warnings, error)) {
+            tool.fail(path + ": " + error);
+            return false;
+        }
+        for (const std::string& w : warnings)
+            tool.warn(path + ": " + w);
+        OIIO::ImageSpec& spec = gbuf.specmod();
+        gbuffer::CameraInfo camera;
+        if (foreignCamera) {
+            camera.worldToCamera = foreignCamera->worldToCamera();
+            camera.worldToNDC = foreignCamera->worldToNDC(double(spec.width) / spec.height);
+            gbuffer::writeCamera(spec, camera);
+        } else if (!gbuffer::readCamera(spec, camera, error)) {
+            tool.fail(path + ": " + error + "; give the camera with --camera-from SCENE[:NAME]");
+            return false;
+        }
+        OIIO::ImageBuf hdr;
+        LightingStats stats;
+        if (!shadeGBuffer(hdr, gbuf, inputs, params, {}, tool.threads(), &stats)) {
+            tool.fail(path + ": " + hdr.geterror());
+            return false;
+        }
+        std::string lightFiles;
+        for (size_t i = 1; i < in.size(); ++i)
+            lightFiles += (i > 1 ? ", " : "") + in[i];
+        OIIO::ImageSpec outSpec = hdr.spec();
+        outSpec.attribute("dhdr:lights", lightFiles);
+        outSpec.attribute("dhdr:channelMap", channelMap.name);
+        app::AtomicOutput file(tool, out);
+        if (!file.open(outSpec,
+                       {dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT}) ||
+            !file.writeRows(outSpec.y, outSpec.y + outSpec.height,
+                            static_cast<const float*>(hdr.localpixels())) ||
+            !file.commit())
+            return false;
+        tool.info(path + ": read through the channel map " + channelMap.name + "; " +
+                  std::to_string(stats.coveredPixels) + " covered pixels, " +
+                  std::to_string(int(since(start))) + " ms");
+        return true;
+    };
     return app::runFrames(tool, plan, [&](int frameNumber, const auto& in, const auto& out) {
         currentFrame = frameNumber;
         const std::string& path = in[0];
@@ -377,6 +480,7 @@ int run(int argc, char** argv) {
             tool.fail(path + ": no such file");
             return false;
         }
+        if (!channelsArg.empty()) return lightForeign(path, out, in);
         std::string error;
         const int part = gbuffer::findGBufferPart(path, error);
         if (part < 0) {
