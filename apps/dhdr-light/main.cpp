@@ -311,6 +311,27 @@ int run(int argc, char** argv) {
             tool.warn(path + ": rendered from another scene file than " + scenePath +
                       " (its SHA-1 differs): shadows may not match the pixels");
     };
+    // What every G-buffer needs before shading, flat, deep or mapped: a camera, a plate of
+    // its size placed on its pixels, and a word when --scene is another file.
+    auto prepareFrame = [&](const std::string& path, const OIIO::ImageSpec& gspec) {
+        std::string error;
+        if (gbuffer::CameraInfo camera; !gbuffer::readCamera(gspec, camera, error)) {
+            tool.fail(
+                path + ": " + error +
+                (channelsArg.empty() ? "" : "; give the camera with --camera-from SCENE[:NAME]"));
+            return false;
+        }
+        if (inputs.plate &&
+            (plate.spec().width != gspec.width || plate.spec().height != gspec.height)) {
+            tool.fail(plateArg + ": the plate is " + std::to_string(plate.spec().width) + "x" +
+                      std::to_string(plate.spec().height) + ", the frame " +
+                      std::to_string(gspec.width) + "x" + std::to_string(gspec.height));
+            return false;
+        }
+        if (inputs.plate) plate.set_origin(gspec.x, gspec.y);
+        checkScene(path, gspec);
+        return true;
+    };
     auto since = [](auto t) {
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t)
             .count();
@@ -334,19 +355,7 @@ int run(int argc, char** argv) {
         counted.nan = replaced;
         tool.reportNonFinite(path, counted, false);
         const OIIO::ImageSpec& gspec = gbuf.spec;
-        if (gbuffer::CameraInfo camera; !gbuffer::readCamera(gspec, camera, error)) {
-            tool.fail(path + ": " + error);
-            return false;
-        }
-        if (inputs.plate &&
-            (plate.spec().width != gspec.width || plate.spec().height != gspec.height)) {
-            tool.fail(plateArg + ": the plate is " + std::to_string(plate.spec().width) + "x" +
-                      std::to_string(plate.spec().height) + ", the frame " +
-                      std::to_string(gspec.width) + "x" + std::to_string(gspec.height));
-            return false;
-        }
-        if (inputs.plate) plate.set_origin(gspec.x, gspec.y);
-        checkScene(path, gspec);
+        if (!prepareFrame(path, gspec)) return false;
         const double readMs = since(start);
         auto t = std::chrono::steady_clock::now();
         OIIO::ImageBuf hdr;
@@ -438,15 +447,13 @@ int run(int argc, char** argv) {
         for (const std::string& w : warnings)
             tool.warn(path + ": " + w);
         OIIO::ImageSpec& spec = gbuf.specmod();
-        gbuffer::CameraInfo camera;
         if (foreignCamera) {
+            gbuffer::CameraInfo camera;
             camera.worldToCamera = foreignCamera->worldToCamera();
             camera.worldToNDC = foreignCamera->worldToNDC(double(spec.width) / spec.height);
             gbuffer::writeCamera(spec, camera);
-        } else if (!gbuffer::readCamera(spec, camera, error)) {
-            tool.fail(path + ": " + error + "; give the camera with --camera-from SCENE[:NAME]");
-            return false;
         }
+        if (!prepareFrame(path, spec)) return false;
         OIIO::ImageBuf hdr;
         LightingStats stats;
         if (!shadeGBuffer(hdr, gbuf, inputs, params, {}, tool.threads(), &stats)) {
@@ -510,19 +517,7 @@ int run(int argc, char** argv) {
             tool.fail(path + ": no channel '" + missing + "' — is this a G-buffer?");
             return false;
         }
-        if (gbuffer::CameraInfo camera; !gbuffer::readCamera(gspec, camera, error)) {
-            tool.fail(path + ": " + error);
-            return false;
-        }
-        if (inputs.plate &&
-            (plate.spec().width != gspec.width || plate.spec().height != gspec.height)) {
-            tool.fail(plateArg + ": the plate is " + std::to_string(plate.spec().width) + "x" +
-                      std::to_string(plate.spec().height) + ", the frame " +
-                      std::to_string(gspec.width) + "x" + std::to_string(gspec.height));
-            return false;
-        }
-        if (inputs.plate) plate.set_origin(gspec.x, gspec.y);
-        checkScene(path, gspec);
+        if (!prepareFrame(path, gspec)) return false;
         // Strip by strip, whole rows of tiles at a time: memory stays at one strip of the
         // G-buffer and one of the output whatever the frame's size, and each pixel's result
         // is the same as from the whole frame (tiles are laid over the frame).

@@ -42,10 +42,9 @@ bool readChannelMap(const std::string& path, ChannelMap& map, std::string& error
         map = ChannelMap{};
         map.name = path;
         const std::pair<const char*, ChannelSource*> fields[] = {
-            {"depth", &map.depth},         {"position", &map.position},
-            {"normal", &map.normal},       {"albedo", &map.albedo},
-            {"roughness", &map.roughness}, {"metallic", &map.metallic},
-            {"emission", &map.emission},   {"coverage", &map.coverage}};
+            {"depth", &map.depth},       {"position", &map.position},   {"normal", &map.normal},
+            {"albedo", &map.albedo},     {"roughness", &map.roughness}, {"metallic", &map.metallic},
+            {"emission", &map.emission}, {"coverage", &map.coverage}};
         for (const auto& [key, source] : fields) {
             if (!doc.contains(key)) continue;
             const nlohmann::json& f = doc.at(key);
@@ -54,8 +53,10 @@ bool readChannelMap(const std::string& path, ChannelMap& map, std::string& error
                 if (k != "channels" && k != "fallback" && k != "scale" && k != "axes" &&
                     k != "value" && k != "required")
                     throw std::runtime_error(std::string(key) + ": unknown key '" + k + "'");
-            if (f.contains("channels")) source->channels = f.at("channels").get<std::vector<std::string>>();
-            if (f.contains("fallback")) source->fallback = f.at("fallback").get<std::vector<std::string>>();
+            if (f.contains("channels"))
+                source->channels = f.at("channels").get<std::vector<std::string>>();
+            if (f.contains("fallback"))
+                source->fallback = f.at("fallback").get<std::vector<std::string>>();
             source->scale = f.value("scale", 1.0f);
             source->value = f.value("value", 0.0f);
             source->required = f.value("required", false);
@@ -75,7 +76,8 @@ bool readChannelMap(const std::string& path, ChannelMap& map, std::string& error
                 throw std::runtime_error(std::string(key) + ": scale and value must be finite");
         }
         map.backgroundDepth = doc.value("backgroundDepth", 1e9f);
-        if (!(map.backgroundDepth > 0.0f)) throw std::runtime_error("backgroundDepth must be positive");
+        if (!(map.backgroundDepth > 0.0f))
+            throw std::runtime_error("backgroundDepth must be positive");
         for (const auto& [k, v] : doc.items())
             if (k != "backgroundDepth" && k != "$comment" &&
                 std::none_of(std::begin(fields), std::end(fields),
@@ -98,7 +100,8 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
             index.clear();
             for (const std::string& name : *list)
                 index.push_back(in.channelindex(name));
-            if (!list->empty() && std::all_of(index.begin(), index.end(), [](int c) { return c >= 0; })) {
+            if (!list->empty() &&
+                std::all_of(index.begin(), index.end(), [](int c) { return c >= 0; })) {
                 if (list == &s.fallback)
                     warnings.push_back(std::string(what) + ": no " + s.channels.front() +
                                        ", using " + s.fallback.front() + " instead");
@@ -108,8 +111,8 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
         index.clear();
         if (s.required) {
             error = std::string("no channel '") +
-                    (s.channels.empty() ? std::string(what) : s.channels.front()) +
-                    "' for the " + what + " (channel map " + map.name + ")";
+                    (s.channels.empty() ? std::string(what) : s.channels.front()) + "' for the " +
+                    what + " (channel map " + map.name + ")";
             return false;
         }
         if (!s.channels.empty())
@@ -146,7 +149,8 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
     OIIO::ImageBufAlgo::parallel_image(src.roi(), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y)
             for (int x = r.xbegin; x < r.xend; ++x) {
-                const float* p = pixels + (size_t(y - in.y) * size_t(in.width) + size_t(x - in.x)) * nch;
+                const float* p =
+                    pixels + (size_t(y - in.y) * size_t(in.width) + size_t(x - in.x)) * nch;
                 float* o = static_cast<float*>(dst.pixeladdr(x, y));
                 auto get = [&](const std::vector<int>& idx, const ChannelSource& s, int k) {
                     return idx.empty() ? s.value : p[idx[size_t(k)]] * s.scale;
@@ -166,7 +170,8 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
                     o[L.depth] = INFINITY;
                     continue;
                 }
-                o[L.coverage] = coverage.empty() ? 1.0f : std::min(get(coverage, map.coverage, 0), 1.0f);
+                o[L.coverage] =
+                    coverage.empty() ? 1.0f : std::min(get(coverage, map.coverage, 0), 1.0f);
                 o[L.depth] = z;
                 const glm::vec3 P = vec(position, map.position), N = vec(normal, map.normal);
                 const glm::vec3 A = vec(albedo, map.albedo), E = vec(emission, map.emission);

@@ -12,11 +12,12 @@ namespace dhdr {
 // Where one contract quantity comes from.
 struct ChannelSource {
     std::vector<std::string> channels; // 1 or 3 source channel names, in order; empty: none
-    std::vector<std::string> fallback; // channels to use when `channels` are missing (with a warning)
-    float scale = 1.0f;                // multiplies the values
-    bool zUp = false;                  // a Z-up vector or point: (x, y, z) → (x, z, −y)
-    float value = 0.0f;                // the constant used when neither is present
-    bool required = false;             // an error when neither is present
+    std::vector<std::string>
+        fallback;          // channels to use when `channels` are missing (with a warning)
+    float scale = 1.0f;    // multiplies the values
+    bool zUp = false;      // a Z-up vector or point: (x, y, z) → (x, z, −y)
+    float value = 0.0f;    // the constant used when neither is present
+    bool required = false; // an error when neither is present
 };
 
 struct ChannelMap {
