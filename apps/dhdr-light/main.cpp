@@ -2,12 +2,12 @@
 #include "../common/frames.h"
 #include "../common/strip_reader.h"
 #include "../common/tool.h"
+#include "whole_frame.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <dhdr/deferred/ambient_occlusion.h>
-#include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_import.h>
@@ -301,7 +301,6 @@ int run(int argc, char** argv) {
         tool.warn("--background env: no environment light; the background stays transparent");
 
     const app::FramePattern deepOutput(deepOut);
-    int currentFrame = 0;
     auto checkScene = [&](const std::string& path, const OIIO::ImageSpec& gspec) {
         if (!caster) return;
         const std::string recorded = gspec.get_string_attribute(gbuffer::kSceneFingerprint);
@@ -336,150 +335,16 @@ int run(int argc, char** argv) {
         return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t)
             .count();
     };
-    // A deep G-buffer: read whole (its size is its samples'), every sample lit, composited.
-    auto lightDeep = [&](const std::string& path, int part, const std::string& out,
-                         const std::vector<std::string>& in) {
-        if (aoMode == "ssao") {
-            tool.fail(path + ": --ao ssao works on flat G-buffers; a deep one needs --ao rt");
-            return false;
-        }
-        const auto start = std::chrono::steady_clock::now();
-        DeepGBuffer gbuf;
-        std::string error;
-        long long replaced = 0;
-        if (!readDeepGBuffer(path, part, gbuf, error, &replaced)) {
-            tool.fail(path + ": " + error);
-            return false;
-        }
-        NonFiniteCount counted;
-        counted.nan = replaced;
-        tool.reportNonFinite(path, counted, false);
-        const OIIO::ImageSpec& gspec = gbuf.spec;
-        if (!prepareFrame(path, gspec)) return false;
-        const double readMs = since(start);
-        auto t = std::chrono::steady_clock::now();
-        OIIO::ImageBuf hdr;
-        LightingStats stats;
-        std::vector<float> sampleRGBA;
-        if (!shadeGBuffer(hdr, gbuf, inputs, params, {}, tool.threads(), &stats,
-                          deepOut.empty() ? nullptr : &sampleRGBA)) {
-            tool.fail(path + ": " + hdr.geterror());
-            return false;
-        }
-        const double shadeMs = since(t);
-        t = std::chrono::steady_clock::now();
-        std::string lightFiles;
+    const app::WholeFrameRun whole{
+        tool, inputs, params, dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT,
+        prepareFrame};
+    auto lightFilesOf = [](const std::vector<std::string>& in) {
+        std::string files;
         for (size_t i = 1; i < in.size(); ++i)
-            lightFiles += (i > 1 ? ", " : "") + in[i];
-        OIIO::ImageSpec spec = hdr.spec();
-        spec.attribute("dhdr:lights", lightFiles);
-        spec.erase_attribute("dhdr:materialNames");
-        spec.erase_attribute("dhdr:objectNames");
-        if (!deepOut.empty()) {
-            // The lit samples: RGBA premultiplied, with the G-buffer's depths, in its order.
-            DeepGBuffer lit;
-            lit.spec = spec;
-            lit.spec.nchannels = 6;
-            lit.spec.channelnames = {"R", "G", "B", "A", "Z", "ZBack"};
-            lit.spec.alpha_channel = 3;
-            lit.spec.z_channel = 4;
-            lit.first = gbuf.first;
-            lit.values.resize(gbuf.totalSamples() * 6);
-            for (size_t k = 0; k < gbuf.totalSamples(); ++k) {
-                for (int c = 0; c < 4; ++c)
-                    lit.values[6 * k + size_t(c)] = sampleRGBA[4 * k + size_t(c)];
-                lit.values[6 * k + 4] = gbuf.values[k * size_t(gspec.nchannels) + 1];
-                lit.values[6 * k + 5] = gbuf.values[k * size_t(gspec.nchannels) + 2];
-            }
-            const std::vector<OIIO::TypeDesc> formats = {
-                dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT,
-                dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT,
-                dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT,
-                dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT,
-                OIIO::TypeDesc::FLOAT,
-                OIIO::TypeDesc::FLOAT};
-            OIIO::ImageSpec deepSpec = lit.spec;
-            deepSpec.channelformats = formats;
-            OIIO::DeepData data;
-            toDeepData(lit, gspec.y, gspec.y + gspec.height, data, formats);
-            const std::string deepPath = deepOutput.path(currentFrame);
-            app::AtomicOutput deepFile(tool, deepPath);
-            if (!deepFile.openDeep(deepSpec) ||
-                !deepFile.writeDeepRows(gspec.y, gspec.y + gspec.height, data) ||
-                !deepFile.commit())
-                return false;
-        }
-        app::AtomicOutput file(tool, out);
-        if (!file.open(spec, {dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT}) ||
-            !file.writeRows(gspec.y, gspec.y + gspec.height,
-                            static_cast<const float*>(hdr.localpixels())) ||
-            !file.commit())
-            return false;
-        const double writeMs = since(t);
-        if (stats.coveredPixels == 0)
-            tool.warn(path + ": no surface in view: A is 0 everywhere (an empty frame)");
-        auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
-        char line[200];
-        std::snprintf(line, sizeof line,
-                      "deep: %zu samples over %lld covered pixels; %lld shadow rays, %lld AO rays",
-                      gbuf.totalSamples(), stats.coveredPixels, stats.shadowRays, stats.aoRays);
-        tool.info(line);
-        tool.info("total " + ms(since(start)) + ": read " + ms(readMs) + ", shade " + ms(shadeMs) +
-                  ", write " + ms(writeMs));
-        return true;
-    };
-    // Another renderer's passes: read whole, mapped to the contract, lit as a whole frame.
-    auto lightForeign = [&](const std::string& path, const std::string& out,
-                            const std::vector<std::string>& in) {
-        const auto start = std::chrono::steady_clock::now();
-        OIIO::ImageBuf src(path);
-        if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
-            tool.fail(path + ": cannot read: " + src.geterror());
-            return false;
-        }
-        OIIO::ImageBuf gbuf;
-        std::vector<std::string> warnings;
-        std::string error;
-        if (!importGBuffer(src, channelMap, gbuf, warnings, error)) {
-            tool.fail(path + ": " + error);
-            return false;
-        }
-        for (const std::string& w : warnings)
-            tool.warn(path + ": " + w);
-        OIIO::ImageSpec& spec = gbuf.specmod();
-        if (foreignCamera) {
-            gbuffer::CameraInfo camera;
-            camera.worldToCamera = foreignCamera->worldToCamera();
-            camera.worldToNDC = foreignCamera->worldToNDC(double(spec.width) / spec.height);
-            gbuffer::writeCamera(spec, camera);
-        }
-        if (!prepareFrame(path, spec)) return false;
-        OIIO::ImageBuf hdr;
-        LightingStats stats;
-        if (!shadeGBuffer(hdr, gbuf, inputs, params, {}, tool.threads(), &stats)) {
-            tool.fail(path + ": " + hdr.geterror());
-            return false;
-        }
-        std::string lightFiles;
-        for (size_t i = 1; i < in.size(); ++i)
-            lightFiles += (i > 1 ? ", " : "") + in[i];
-        OIIO::ImageSpec outSpec = hdr.spec();
-        outSpec.attribute("dhdr:lights", lightFiles);
-        outSpec.attribute("dhdr:channelMap", channelMap.name);
-        app::AtomicOutput file(tool, out);
-        if (!file.open(outSpec,
-                       {dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT}) ||
-            !file.writeRows(outSpec.y, outSpec.y + outSpec.height,
-                            static_cast<const float*>(hdr.localpixels())) ||
-            !file.commit())
-            return false;
-        tool.info(path + ": read through the channel map " + channelMap.name + "; " +
-                  std::to_string(stats.coveredPixels) + " covered pixels, " +
-                  std::to_string(int(since(start))) + " ms");
-        return true;
+            files += (i > 1 ? ", " : "") + in[i];
+        return files;
     };
     return app::runFrames(tool, plan, [&](int frameNumber, const auto& in, const auto& out) {
-        currentFrame = frameNumber;
         const std::string& path = in[0];
         if (animatedLights && !readLights({in.begin() + 1, in.end()}, lights)) return false;
         const auto start = std::chrono::steady_clock::now();
@@ -487,7 +352,9 @@ int run(int argc, char** argv) {
             tool.fail(path + ": no such file");
             return false;
         }
-        if (!channelsArg.empty()) return lightForeign(path, out, in);
+        if (!channelsArg.empty())
+            return app::lightMappedPasses(whole, channelMap, foreignCamera, path, out,
+                                          lightFilesOf(in));
         std::string error;
         const int part = gbuffer::findGBufferPart(path, error);
         if (part < 0) {
@@ -499,7 +366,14 @@ int run(int argc, char** argv) {
         bool deepInput = false;
         if (auto probe = OIIO::ImageInput::open(path); probe && probe->seek_subimage(part, 0))
             deepInput = probe->spec().deep;
-        if (deepInput) return lightDeep(path, part, out, in);
+        if (deepInput) {
+            if (aoMode == "ssao") {
+                tool.fail(path + ": --ao ssao works on flat G-buffers; a deep one needs --ao rt");
+                return false;
+            }
+            return app::lightDeepGBuffer(whole, path, part, out, lightFilesOf(in),
+                                         deepOut.empty() ? "" : deepOutput.path(frameNumber));
+        }
         if (!deepOut.empty()) {
             tool.fail(path + ": --deep-out needs a deep G-buffer (dhdr-gbuffer --deep); this one "
                              "is flat");

@@ -1,0 +1,39 @@
+// dhdr-light's G-buffers that are lit as a whole frame rather than strip by strip: deep
+// G-buffers (read whole: their size is their samples') and other renderers' passes read
+// through a channel map.
+#pragma once
+
+#include "../common/tool.h"
+
+#include <dhdr/deferred/camera.h>
+#include <dhdr/deferred/gbuffer_import.h>
+#include <dhdr/deferred/lighting.h>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace dhdr::app {
+
+// What these paths need of the run: its tool, lights and parameters, the output's pixel type,
+// and the checks every G-buffer passes before shading (camera, plate, scene).
+struct WholeFrameRun {
+    const Tool& tool;
+    const LightingInputs& inputs;
+    const LightingParams& params;
+    OIIO::TypeDesc outputType;
+    std::function<bool(const std::string& path, const OIIO::ImageSpec& gbuffer)> prepareFrame;
+};
+
+// A deep G-buffer: every sample lit and composited into `out`; with `deepOut`, the lit samples
+// as a deep RGBA EXR too. `lightFiles` is recorded in the output's header.
+bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int part,
+                      const std::string& out, const std::string& lightFiles,
+                      const std::string& deepOut);
+
+// Another renderer's passes at `path`, mapped to the contract by `map`; the camera from
+// `camera`, else from the file's own matrices.
+bool lightMappedPasses(const WholeFrameRun& run, const ChannelMap& map,
+                       const std::optional<Camera>& camera, const std::string& path,
+                       const std::string& out, const std::string& lightFiles);
+
+} // namespace dhdr::app
