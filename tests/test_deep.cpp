@@ -103,6 +103,19 @@ ImageBuf flatOf(const Scene& scene, const Camera& camera, int w, int h) {
     return g;
 }
 
+// A deep G-buffer written as dhdr-gbuffer writes it (the contract's file types, deep scanlines).
+bool writeDeep(const std::string& path, const DeepGBuffer& deep) {
+    auto out = OIIO::ImageOutput::create(path);
+    OIIO::ImageSpec spec = deep.spec;
+    spec.deep = true;
+    spec.channelformats = gbuffer::deepChannelFormats();
+    OIIO::DeepData data;
+    toDeepData(deep, deep.spec.y, deep.spec.y + deep.spec.height, data);
+    return out && out->open(path, spec) &&
+           out->write_deep_scanlines(deep.spec.y, deep.spec.y + deep.spec.height, 0, data) &&
+           out->close();
+}
+
 // Does the segment p → q cross the square |x|, |y| ≤ h of the plane z = z0 (by a margin)?
 int crossesSquare(glm::dvec3 p, glm::dvec3 q, double z0, double h, double margin) {
     if ((p.z - z0) * (q.z - z0) >= 0.0) return 0;
@@ -329,17 +342,7 @@ TEST(DeepGBuffer, FileReadBackWithOpenEXRsDeepReader) {
     const DeepGBuffer deep = deepOf(paneScene(true, true), kFront, 32, 24);
     const std::string path =
         (std::filesystem::temp_directory_path() / "dhdr_deep_readback.exr").string();
-    {
-        auto out = OIIO::ImageOutput::create(path);
-        OIIO::ImageSpec spec = deep.spec;
-        spec.deep = true;
-        spec.channelformats = gbuffer::deepChannelFormats();
-        ASSERT_TRUE(out->open(path, spec));
-        OIIO::DeepData data;
-        toDeepData(deep, 0, deep.spec.height, data);
-        ASSERT_TRUE(out->write_deep_scanlines(0, deep.spec.height, 0, data));
-        ASSERT_TRUE(out->close());
-    }
+    ASSERT_TRUE(writeDeep(path, deep));
     Imf::DeepScanLineInputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
     const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
@@ -403,15 +406,7 @@ TEST(DeepGBuffer, SamplesInAnyOrderAreSortedAndVolumesRejected) {
                 if (volume) shuffled.values[k * nch + 2] += 0.1f;
             }
         }
-        auto out = OIIO::ImageOutput::create(path);
-        OIIO::ImageSpec spec = deep.spec;
-        spec.deep = true;
-        spec.channelformats = gbuffer::deepChannelFormats();
-        ASSERT_TRUE(out->open(path, spec));
-        OIIO::DeepData data;
-        toDeepData(shuffled, 0, deep.spec.height, data);
-        ASSERT_TRUE(out->write_deep_scanlines(0, deep.spec.height, 0, data));
-        ASSERT_TRUE(out->close());
+        ASSERT_TRUE(writeDeep(path, shuffled));
     };
     const std::string ordered = dir + "/dhdr_deep_ordered.exr",
                       reversed = dir + "/dhdr_deep_reversed.exr",

@@ -326,6 +326,10 @@ bool AtomicOutput::open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>&
     }
     const int z = spec.channelindex("Z");
     m_native = native ? std::make_unique<NativeWriter>(spec, z) : nullptr;
+    return openTemporary(spec);
+}
+
+bool AtomicOutput::openTemporary(const OIIO::ImageSpec& spec) {
     TemporaryRegistry::instance().add(m_temporary);
     if (!m_out->open(m_temporary, spec)) {
         m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
@@ -348,13 +352,7 @@ bool AtomicOutput::openDeep(OIIO::ImageSpec spec) {
     spec.tile_width = spec.tile_height = spec.tile_depth = 0;
     spec.deep = true;
     spec.erase_attribute("oiio:subimages");
-    TemporaryRegistry::instance().add(m_temporary);
-    if (!m_out->open(m_temporary, spec)) {
-        m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
-        m_out.reset();
-        return false;
-    }
-    return true;
+    return openTemporary(spec);
 }
 
 bool AtomicOutput::writeDeepRows(int ybegin, int yend, const OIIO::DeepData& samples) {

@@ -114,6 +114,9 @@ public:
     bool commit();
 
 private:
+    // Registers the temporary (removed on any exit) and opens it for `spec`.
+    bool openTemporary(const OIIO::ImageSpec& spec);
+
     const Tool& m_tool;
     std::string m_path, m_temporary;
     std::unique_ptr<OIIO::ImageOutput> m_out;

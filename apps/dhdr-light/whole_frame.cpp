@@ -47,8 +47,8 @@ bool writeLitSamples(const WholeFrameRun& run, const DeepGBuffer& gbuf,
         lit.values[6 * k + 4] = gbuf.values[k * size_t(gspec.nchannels) + 1];
         lit.values[6 * k + 5] = gbuf.values[k * size_t(gspec.nchannels) + 2];
     }
-    const std::vector<OIIO::TypeDesc> formats = {run.outputType, run.outputType,
-                                                 run.outputType, run.outputType,
+    const std::vector<OIIO::TypeDesc> formats = {run.outputType,        run.outputType,
+                                                 run.outputType,        run.outputType,
                                                  OIIO::TypeDesc::FLOAT, OIIO::TypeDesc::FLOAT};
     OIIO::ImageSpec deepSpec = lit.spec;
     deepSpec.channelformats = formats;

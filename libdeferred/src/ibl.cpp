@@ -206,10 +206,10 @@ int pickAlias(const EnvironmentSampler::Bucket* buckets, int n, float u, float& 
 } // namespace
 
 void EnvironmentSampler::build(const EnvironmentImage& full) {
-    image = full;
-    while (image.width > 512)
-        image = image.downsampled();
-    const EnvironmentImage& env = image;
+    // At most 512 wide: the texels' radiance is copied into the tables, the image not kept.
+    EnvironmentImage env = full;
+    while (env.width > 512)
+        env = env.downsampled();
     width = env.width;
     height = env.height;
     const double pi = 3.14159265358979323846;

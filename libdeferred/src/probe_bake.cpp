@@ -44,16 +44,9 @@ bool freeSpace(const RayCaster& caster, const glm::dvec3& p, double nearest, flo
     return back <= int(backfaceLimit * kPlacementRays);
 }
 
-void fillBorders(glm::vec3* map, int n) {
-    for (int y = 0; y < n + 2; ++y)
-        for (int x = 0; x < n + 2; ++x)
-            if (x == 0 || y == 0 || x == n + 1 || y == n + 1) {
-                const glm::ivec2 s = octBorderSource(x, y, n);
-                map[y * (n + 2) + x] = map[s.y * (n + 2) + s.x];
-            }
-}
-
-void fillBorders(glm::vec2* map, int n) {
+// The one-texel border of an n × n octahedral map (irradiance or distance moments).
+template <class T>
+void fillBorders(T* map, int n) {
     for (int y = 0; y < n + 2; ++y)
         for (int x = 0; x < n + 2; ++x)
             if (x == 0 || y == 0 || x == n + 1 || y == n + 1) {

@@ -47,7 +47,6 @@ struct EnvironmentSampler {
     std::vector<Texel> texels;        // width × height
     std::vector<float> rowCos;        // cos θ at the rows' edges, height + 1
     std::vector<glm::vec2> columnPhi; // cos φ and sin φ at the columns' left edges
-    EnvironmentImage image;           // the environment it samples, at most 512 wide
 
     void build(const EnvironmentImage& env);
     bool empty() const { return !(total > 0.0); }
