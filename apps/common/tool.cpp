@@ -139,14 +139,13 @@ void Tool::info(const std::string& message) const {
     if (verbose()) std::fprintf(stderr, "%s: %s\n", m_name.c_str(), message.c_str());
 }
 
-int Tool::start(const std::vector<std::string>& inputs) const {
+int Tool::start(const std::vector<std::string>& inputs, const std::string& out) const {
     const int threads = m_cl.threads() > 0 ? m_cl.threads()
                                            : int(std::max(1u, std::thread::hardware_concurrency()));
     OIIO::attribute("threads", threads);
     // OpenEXR's own pool (compression and decompression of line blocks) is separate, and
     // left at its default it does not run in parallel.
     OIIO::attribute("exr_threads", threads);
-    const std::string& out = m_cl.output();
     if (out.empty()) {
         std::fprintf(stderr, "%s: usage error: no output file (-o FILE)\nTry '%s --help'.\n",
                      m_name.c_str(), m_name.c_str());

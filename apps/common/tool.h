@@ -36,7 +36,9 @@ public:
 
     // Applies --threads to OpenImageIO's pool and checks the output: given, not one of the
     // inputs, in a folder that exists. Returns -1 to go on, else the exit status.
-    int start(const std::vector<std::string>& inputs) const;
+    int start(const std::vector<std::string>& inputs) const { return start(inputs, m_cl.output()); }
+    // The same for a tool whose output is not -o (dhdr-tonemap --meter-only's statistics).
+    int start(const std::vector<std::string>& inputs, const std::string& out) const;
 
     // Reads the colour of `path` found by name (layers.h): layer or part `layer` (--layer),
     // or the one the conventions name. Channels 0–2 (3) of `image` are then R, G, B (A); with

@@ -1,6 +1,7 @@
 // dhdr-tonemap: linear HDR in, a display image out; one frame or a sequence (docs/tools.md).
 #include "../common/frames.h"
 #include "../common/tool.h"
+#include "sequence_stats.h"
 
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/parallel.h>
@@ -104,21 +105,25 @@ OIIO::ImageSpec displaySpec(const OIIO::ImageSpec& hdr, OIIO::TypeDesc type) {
     return spec;
 }
 
-// Meters `in` (or uses `given`), tone-maps it and writes `out`; `used` receives the metering.
+// Meters `in` (or uses `given`; or meters it and maps it with the log-average `adapted`),
+// tone-maps it and writes `out`; `used` receives the metering.
 bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
-              const std::string& out, const LuminanceStats* given, LuminanceStats& used,
-              int nthreads) {
+              const std::string& out, const LuminanceStats* given, const double* adapted,
+              LuminanceStats& used, int nthreads) {
     OIIO::ImageBuf& hdr = threadFrame();
     if (!readSceneLinear(tool, job, in, hdr, true, nthreads)) return false;
     ToneMapParams params = job.params;
-    if (given)
+    if (given) {
         used = *given;
-    else
+    } else {
         meter(used, hdr, params.metering, {}, nthreads);
+        if (adapted) used.logAverage = *adapted;
+    }
     params.stats = &used;
     char line[320];
     std::snprintf(line, sizeof line, "%s: %s luminance %.6g (largest %.6g)", in.c_str(),
-                  given ? "adapted" : job.metering.c_str(), used.logAverage, used.maxLuminance);
+                  given || adapted ? "adapted" : job.metering.c_str(), used.logAverage,
+                  used.maxLuminance);
     tool.info(line);
     // In place: the frame is not needed in scene-linear after this.
     if (!toneMap(hdr, hdr, params, {}, nthreads)) {
@@ -176,14 +181,71 @@ bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
     return written && file.commit();
 }
 
-// A string as a JSON string literal.
-std::string jsonString(const std::string& text) {
-    std::string out = "\"";
-    for (const char c : text) {
-        if (c == '"' || c == '\\') out += '\\';
-        out += c;
+// Everything that decides a frame's metered luminance, so that statistics metered one way
+// are not combined with, or applied to, frames metered another.
+std::string meteringDescription(const FrameJob& job) {
+    const MeteringParams& m = job.params.metering;
+    char text[200];
+    std::snprintf(text, sizeof text, "%s%s%s, weights %s, delta %.17g, layer '%s'",
+                  job.metering.c_str(), m.mode == MeteringMode::Histogram ? " " : "",
+                  m.mode == MeteringMode::Histogram ? job.percentiles.c_str() : "",
+                  job.weights.c_str(), m.luminance.delta, job.layer.c_str());
+    return text;
+}
+
+// --scan: the metering of every chunk of a sequence, combined in frame order, through the
+// adaptation scan, to one statistics file that --adapt-from maps with.
+int scanStatistics(const app::Tool& tool, const std::vector<std::string>& files, double fps,
+                   const std::string& out) {
+    app::SequenceStats all;
+    std::vector<std::string> from; // the file each frame came from
+    for (const std::string& path : files) {
+        app::SequenceStats chunk;
+        if (std::string error; !app::readSequenceStats(path, chunk, error)) return tool.fail(error);
+        if (from.empty())
+            all.metering = chunk.metering;
+        else if (chunk.metering != all.metering)
+            return tool.fail(path + ": metered with " + chunk.metering + ", but " + files[0] +
+                             " with " + all.metering + "; meter every chunk the same way");
+        for (const app::FrameLuminance& f : chunk.frames) {
+            all.frames.push_back(f);
+            from.push_back(path);
+        }
     }
-    return out + "\"";
+    if (all.frames.empty()) return tool.fail("the statistics files hold no frames");
+    std::vector<size_t> order(all.frames.size());
+    for (size_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return all.frames[a].frame < all.frames[b].frame; });
+    std::vector<app::FrameLuminance> sorted;
+    for (size_t k = 0; k < order.size(); ++k) {
+        if (k > 0 && all.frames[order[k]].frame == all.frames[order[k - 1]].frame)
+            return tool.fail("frame " + std::to_string(all.frames[order[k]].frame) +
+                             " is in both " + from[order[k - 1]] + " and " + from[order[k]]);
+        sorted.push_back(all.frames[order[k]]);
+    }
+    all.frames = sorted;
+    const int gaps =
+        all.frames.back().frame - all.frames.front().frame + 1 - int(all.frames.size());
+    if (gaps > 0)
+        tool.warn(std::to_string(gaps) +
+                  " frames of the range are missing from the statistics; adaptation steps "
+                  "over them as if they were not there");
+    std::vector<double> measured;
+    for (const app::FrameLuminance& f : all.frames)
+        measured.push_back(f.logAverage);
+    AdaptationParams ap;
+    ap.fps = fps;
+    const std::vector<double> adapted = adaptLuminance(measured, ap);
+    for (size_t i = 0; i < all.frames.size(); ++i)
+        all.frames[i].adapted = adapted[i];
+    all.fps = fps;
+    all.adapt = true;
+    tool.info("scanned " + std::to_string(all.frames.size()) + " frames, " +
+              std::to_string(all.frames.front().frame) + " to " +
+              std::to_string(all.frames.back().frame));
+    return tool.writeText(app::toJson(all), out) ? app::kExitSuccess : app::kExitFailure;
 }
 
 // "frames done, rate, time left" on a terminal.
@@ -218,9 +280,9 @@ int run(int argc, char** argv) {
     job.weights = "seed";
     job.metering = "log-average";
     job.percentiles = "5,95";
-    std::string opName = "reinhard", statsOut;
+    std::string opName = "reinhard", statsOut, adaptFrom;
     DisplaySettings display;
-    bool noDither = false, adapt = false;
+    bool noDither = false, adapt = false, meterOnly = false, scan = false;
     cl.option("--op", opName, "NAME",
               "reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure, "
               "aces (the ACES 1.0 SDR output transform, as the view) or none (scene-linear "
@@ -260,11 +322,39 @@ int run(int argc, char** argv) {
               {0.0, 1000.0, true});
     cl.option("--stats-out", statsOut, "FILE.json",
               "write each frame's metered and adapted luminance");
+    cl.flag("--meter-only", meterOnly,
+            "meter the frames and write --stats-out, no images (the first step of adaptation "
+            "split into jobs: docs/farm.md)");
+    cl.flag("--scan", scan,
+            "the inputs are --meter-only statistics files: combine them in frame order, run "
+            "the adaptation (--fps) and write --stats-out");
+    cl.option("--adapt-from", adaptFrom, "FILE.json",
+              "map each frame with the adapted luminance a --scan (or --adapt --stats-out) "
+              "wrote for it: the same pictures as one --adapt run over the whole sequence");
     cl.epilog("Examples:\n  dhdr-tonemap frame.hdr.exr -o frame.png -v\n"
               "  dhdr-tonemap frame.hdr.exr --op hable --exposure 0.5 -o frame.jpg\n"
-              "  dhdr-tonemap shot.####.exr --frames 1-100 --adapt -o shot.####.png");
+              "  dhdr-tonemap shot.####.exr --frames 1-100 --adapt -o shot.####.png\n"
+              "Adaptation in separate processes (what dhdr-farm runs):\n"
+              "  dhdr-tonemap shot.####.exr --frames 1-50 --meter-only --stats-out m1.json\n"
+              "  dhdr-tonemap shot.####.exr --frames 51-100 --meter-only --stats-out m2.json\n"
+              "  dhdr-tonemap --scan m1.json m2.json --stats-out adapted.json\n"
+              "  dhdr-tonemap shot.####.exr --frames 1-50 --adapt-from adapted.json -o "
+              "shot.####.png");
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-tonemap", cl);
+    const int modes = int(adapt) + int(meterOnly) + int(scan) + int(!adaptFrom.empty());
+    if (modes > 1) return usage("give at most one of --adapt, --meter-only, --scan, --adapt-from");
+    if ((meterOnly || scan) && statsOut.empty())
+        return usage(std::string(meterOnly ? "--meter-only" : "--scan") +
+                     " writes its statistics to --stats-out FILE.json");
+    if ((meterOnly || scan) && !cl.output().empty())
+        return usage(std::string(meterOnly ? "--meter-only" : "--scan") +
+                     " writes no image; give --stats-out FILE.json instead of -o");
+    if (scan) {
+        if (cl.inputs().empty()) return usage("--scan needs the statistics files to combine");
+        if (const int status = tool.start(cl.inputs(), statsOut); status >= 0) return status;
+        return scanStatistics(tool, cl.inputs(), fps, statsOut);
+    }
     if (cl.inputs().size() != 1) return usage("give one HDR image or frame pattern");
 
     ToneMapParams& params = job.params;
@@ -309,17 +399,20 @@ int run(int argc, char** argv) {
 
     const std::string& frames = cl.frames();
     const app::FramePattern input(cl.inputs()[0]), output(cl.output());
-    if (input.isSequence() != output.isSequence())
+    if (!meterOnly && input.isSequence() != output.isSequence())
         return usage("give a frame pattern for both the input and the output, or for neither");
-    if (!input.isSequence() && (adapt || !frames.empty()))
-        return usage("--adapt and --frames need a frame pattern (shot.####.exr)");
-    if (const int status = tool.start(cl.inputs()); status >= 0) return status;
+    if (!input.isSequence() && (adapt || meterOnly || !adaptFrom.empty() || !frames.empty()))
+        return usage("--adapt, --meter-only, --adapt-from and --frames need a frame pattern "
+                     "(shot.####.exr)");
+    if (const int status = tool.start(cl.inputs(), meterOnly ? statsOut : cl.output()); status >= 0)
+        return status;
     if (std::string error; !job.display.init(display, error)) return tool.fail(error);
     tool.info("display " + job.display.describe());
 
     if (!input.isSequence()) {
         LuminanceStats used;
-        return mapFrame(tool, job, input.path(0), output.path(0), nullptr, used, tool.threads())
+        return mapFrame(tool, job, input.path(0), output.path(0), nullptr, nullptr, used,
+                        tool.threads())
                    ? app::kExitSuccess
                    : app::kExitFailure;
     }
@@ -349,9 +442,35 @@ int run(int argc, char** argv) {
                       (adapt ? "; adaptation steps over them as if they were not there" : ""));
     }
     for (int f : numbers)
-        if (input.path(f) == output.path(f))
+        if (!meterOnly && input.path(f) == output.path(f))
             return usage(output.path(f) + " is also an input; refusing to overwrite it");
     const size_t n = numbers.size();
+    const std::string metering = meteringDescription(job);
+
+    // --adapt-from: every frame's adapted luminance, found before anything is written.
+    std::vector<double> given(n), givenMeasured(n);
+    if (!adaptFrom.empty()) {
+        app::SequenceStats file;
+        if (std::string error; !app::readSequenceStats(adaptFrom, file, error))
+            return tool.fail(error);
+        if (!file.adapt)
+            return tool.fail(adaptFrom + ": holds no adapted luminance (write it with --scan "
+                                         "or --adapt --stats-out)");
+        if (file.metering != metering)
+            return tool.fail(adaptFrom + ": metered with " + file.metering +
+                             ", but this run "
+                             "meters with " +
+                             metering);
+        for (size_t i = 0; i < n; ++i) {
+            const auto row =
+                std::find_if(file.frames.begin(), file.frames.end(),
+                             [&](const app::FrameLuminance& f) { return f.frame == numbers[i]; });
+            if (row == file.frames.end())
+                return tool.fail(adaptFrom + ": has no frame " + std::to_string(numbers[i]));
+            given[i] = row->adapted;
+            givenMeasured[i] = row->logAverage;
+        }
+    }
     const int workers = tool.threads() > 0 ? tool.threads() : 0;
     const auto start = std::chrono::steady_clock::now();
 
@@ -361,7 +480,7 @@ int run(int argc, char** argv) {
     // The metering pass reads every frame, and the mapping pass reads it again: keeping frames
     // between the passes (as half floats) was measured no faster and took 1.7 GB for 100
     // frames of 1080p.
-    if (adapt) {
+    if (adapt || meterOnly) {
         OIIO::parallel_for(
             int64_t(0), int64_t(n),
             [&](int64_t i) {
@@ -377,6 +496,17 @@ int run(int argc, char** argv) {
         if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return app::kExitFailure;
         for (size_t i = 0; i < n; ++i)
             measured[i] = metered[i].logAverage;
+        if (meterOnly) {
+            app::SequenceStats stats;
+            stats.fps = fps;
+            stats.metering = metering;
+            for (size_t i = 0; i < n; ++i)
+                stats.frames.push_back(
+                    {numbers[i], input.path(numbers[i]), measured[i], measured[i]});
+            tool.info("metered " + std::to_string(n) + " frames");
+            return tool.writeText(app::toJson(stats), statsOut) ? app::kExitSuccess
+                                                                : app::kExitFailure;
+        }
         AdaptationParams ap;
         ap.fps = fps;
         const std::vector<double> adapted = adaptLuminance(measured, ap);
@@ -392,7 +522,8 @@ int run(int argc, char** argv) {
             [&](int64_t i) {
                 const int f = numbers[size_t(i)];
                 if (!mapFrame(tool, job, input.path(f), output.path(f),
-                              adapt ? &metered[size_t(i)] : nullptr, used[size_t(i)], 1))
+                              adapt ? &metered[size_t(i)] : nullptr,
+                              adaptFrom.empty() ? nullptr : &given[size_t(i)], used[size_t(i)], 1))
                     failed[size_t(i)] = 1;
                 progress.frameDone();
             },
@@ -410,21 +541,18 @@ int run(int argc, char** argv) {
                          " frames failed (see above)");
 
     if (!statsOut.empty()) {
-        std::string json = "{\n  \"fps\": " + std::to_string(fps) +
-                           ",\n  \"adapt\": " + (adapt ? "true" : "false") + ",\n  \"frames\": [\n";
-        for (size_t i = 0; i < n; ++i) {
-            // Without --adapt, each frame is mapped with its own metering.
-            char row[320];
-            std::snprintf(row, sizeof row,
-                          "    {\"frame\": %d, \"file\": %s, \"logAverage\": %.9g, "
-                          "\"adapted\": %.9g}%s\n",
-                          numbers[i], jsonString(input.path(numbers[i])).c_str(),
-                          adapt ? measured[i] : used[i].logAverage, used[i].logAverage,
-                          i + 1 < n ? "," : "");
-            json += row;
-        }
-        json += "  ]\n}\n";
-        if (!tool.writeText(json, statsOut)) return app::kExitFailure;
+        app::SequenceStats stats;
+        stats.fps = fps;
+        stats.adapt = adapt || !adaptFrom.empty();
+        stats.metering = metering;
+        // Without adaptation, each frame is mapped with its own metering.
+        for (size_t i = 0; i < n; ++i)
+            stats.frames.push_back({numbers[i], input.path(numbers[i]),
+                                    adapt               ? measured[i]
+                                    : adaptFrom.empty() ? used[i].logAverage
+                                                        : givenMeasured[i],
+                                    used[i].logAverage});
+        if (!tool.writeText(app::toJson(stats), statsOut)) return app::kExitFailure;
     }
     return app::kExitSuccess;
 }
