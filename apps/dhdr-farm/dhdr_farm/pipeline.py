@@ -1,0 +1,127 @@
+"""The pipeline file (docs/farm.md, docs/farm.schema.json): the stages in order, each a dhdr
+tool with its inputs, output pattern and options. Every error names the file and the key."""
+
+import json
+import os
+import re
+
+from .frames import FramePattern
+
+TOOLS = ("dhdr-gbuffer", "dhdr-light", "dhdr-aa", "dhdr-bloom", "dhdr-tonemap")
+STAGE_KEYS = {"name", "tool", "inputs", "output", "options", "adapt", "fps"}
+TOP_KEYS = {"$schema", "name", "stages"}
+# Options the farm sets itself: in a stage's options they would contradict the plan.
+RESERVED = {"-o", "--output", "--frames", "--threads"}
+TONEMAP_RESERVED = {"--adapt", "--meter-only", "--scan", "--adapt-from", "--stats-out", "--fps"}
+
+
+class PipelineError(Exception):
+    pass
+
+
+class Stage:
+    def __init__(self, name, tool, inputs, output, options, adapt, fps):
+        self.name, self.tool, self.inputs, self.output = name, tool, inputs, output
+        self.options, self.adapt, self.fps = options, adapt, fps
+
+    def __repr__(self):
+        return "Stage(%s, %s)" % (self.name, self.tool)
+
+
+class Pipeline:
+    def __init__(self, path, name, stages):
+        self.path = os.path.abspath(path)
+        # Paths in the file are relative to its folder; every job runs there.
+        self.root = os.path.dirname(self.path)
+        self.name = name
+        self.stages = stages
+
+    def resolve(self, path):
+        return path if os.path.isabs(path) else os.path.join(self.root, path)
+
+
+def _strings(value):
+    return isinstance(value, list) and all(isinstance(v, str) for v in value)
+
+
+def load(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            doc = json.load(f)
+    except OSError as e:
+        raise PipelineError("%s: cannot be read (%s)" % (path, e.strerror))
+    except json.JSONDecodeError as e:
+        raise PipelineError("%s: not JSON (line %d: %s)" % (path, e.lineno, e.msg))
+    return parse(doc, path)
+
+
+def parse(doc, path="pipeline.json"):
+    def fail(message):
+        raise PipelineError("%s: %s" % (path, message))
+
+    if not isinstance(doc, dict):
+        fail("the pipeline is a JSON object with \"stages\"")
+    unknown = sorted(set(doc) - TOP_KEYS)
+    if unknown:
+        fail("unknown key %s (known: name, stages)" % ", ".join(map(repr, unknown)))
+    stem = os.path.basename(path)
+    stem = stem[: -len(".json")] if stem.endswith(".json") else stem
+    name = doc.get("name", stem)
+    if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z0-9_.-]+", name):
+        fail("\"name\" must be letters, digits, '_', '.' or '-' (it names the jobs)")
+    raw = doc.get("stages")
+    if not isinstance(raw, list) or not raw:
+        fail("\"stages\" must be a non-empty list")
+    stages, names = [], set()
+    for i, s in enumerate(raw):
+        where = "stages[%d]" % i
+
+        def bad(message, where=where):
+            fail("%s: %s" % (where, message))
+
+        if not isinstance(s, dict):
+            bad("a stage is an object with tool, inputs and output")
+        unknown = sorted(set(s) - STAGE_KEYS)
+        if unknown:
+            bad("unknown key %s (known: %s)" % (", ".join(map(repr, unknown)),
+                                               ", ".join(sorted(STAGE_KEYS))))
+        tool = s.get("tool")
+        if tool not in TOOLS:
+            bad("\"tool\" must be one of %s, not %r" % (", ".join(TOOLS), tool))
+        stage_name = s.get("name", tool[len("dhdr-"):])
+        if not isinstance(stage_name, str) or not re.fullmatch(r"[A-Za-z0-9_-]+", stage_name):
+            bad("\"name\" must be letters, digits, '_' or '-'")
+        if stage_name in names:
+            bad("two stages are called %r; give them different \"name\"s" % stage_name)
+        names.add(stage_name)
+        inputs = s.get("inputs")
+        if not _strings(inputs) or not inputs:
+            bad("\"inputs\" must be a non-empty list of paths (frame patterns like "
+                "out/light.####.exr where they change per frame)")
+        output = s.get("output")
+        if not isinstance(output, str) or not FramePattern(output).is_sequence:
+            bad("\"output\" must be a frame pattern (out/%s.####.exr), not %r"
+                % (stage_name, output))
+        options = s.get("options", [])
+        if not _strings(options):
+            bad("\"options\" must be a list of strings, one per word (\"--size\", \"640x360\")")
+        reserved = RESERVED | (TONEMAP_RESERVED if tool == "dhdr-tonemap" else set())
+        for o in options:
+            if o.split("=", 1)[0] in reserved:
+                bad("option %s is set by dhdr-farm (%s)" % (
+                    o, "use \"adapt\" and \"fps\"" if o.split("=", 1)[0] in TONEMAP_RESERVED
+                    else "-o is \"output\"; --frames and --threads come from the submission"))
+        adapt = s.get("adapt", False)
+        if not isinstance(adapt, bool):
+            bad("\"adapt\" must be true or false")
+        if adapt and tool != "dhdr-tonemap":
+            bad("\"adapt\" is for dhdr-tonemap stages")
+        if adapt and len(inputs) != 1:
+            bad("a dhdr-tonemap stage takes one input pattern")
+        fps = s.get("fps", 24.0)
+        if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not 0 < fps <= 1000:
+            bad("\"fps\" must be a number in (0, 1000]")
+        if "fps" in s and not adapt:
+            bad("\"fps\" goes with \"adapt\": true")
+        stages.append(Stage(stage_name, tool, inputs, output, options, adapt, float(fps)))
+    return Pipeline(path, name, stages)

@@ -1,0 +1,170 @@
+"""The plan of a submission: jobs (a job array per stage; metering, scan and mapping for a
+stage with adaptation), their tasks (one chunk of frames each), which of them still have
+work, and the dependencies between them. Both engines run the same plan."""
+
+import json
+import os
+
+from .frames import FramePattern, chunks, exists_complete
+
+
+class Task:
+    def __init__(self, index, first, last, outputs):
+        self.index, self.first, self.last = index, first, last
+        self.outputs = outputs  # absolute paths; the task is done when all exist
+        self.todo = not all(exists_complete(p) for p in outputs)
+
+    @property
+    def frames(self):
+        return "%d-%d" % (self.first, self.last)
+
+
+class Job:
+    """`kind` is 'array' (one task per chunk, task ids = chunk indices) or 'single' (task 0).
+    `after` holds (job, 'aftercorr' | 'afterok'): aftercorr lets task i start when task i of
+    the job before has finished; afterok waits for the whole job."""
+
+    def __init__(self, key, stage, kind, tasks, command, after):
+        self.key, self.stage, self.kind = key, stage, kind
+        self.tasks, self.command, self.after = tasks, command, after
+
+    @property
+    def todo(self):
+        return [t for t in self.tasks if t.todo]
+
+    def __repr__(self):
+        return "Job(%s, %d/%d to do)" % (self.key, len(self.todo), len(self.tasks))
+
+
+class Plan:
+    def __init__(self, pipeline, first, last, chunk, state, jobs):
+        self.pipeline, self.first, self.last, self.chunk = pipeline, first, last, chunk
+        self.state, self.jobs = state, jobs
+
+    def job(self, key):
+        return next(j for j in self.jobs if j.key == key)
+
+    @property
+    def submitted(self):
+        """The jobs with work, each with only the dependencies on jobs that also have work
+        (a job with nothing to do is not submitted, and its outputs are already there)."""
+        out = []
+        for j in self.jobs:
+            if j.todo:
+                out.append(j)
+        return out
+
+    def dependencies(self, job):
+        return [(d, kind) for d, kind in job.after if d.todo]
+
+
+def default_state(pipeline):
+    return os.path.join(pipeline.root, ".dhdr-farm", pipeline.name)
+
+
+def tool_path(bin_dir, tool):
+    return os.path.join(bin_dir, tool) if bin_dir else tool
+
+
+def _covers(path, frames):
+    """Whether the statistics file `path` holds adapted luminances of exactly `frames`."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            doc = json.load(f)
+        return doc.get("adapt") is True and [r["frame"] for r in doc["frames"]] == frames
+    except (OSError, ValueError, KeyError, TypeError):
+        return False
+
+
+def make_plan(pipeline, first, last, chunk, state=None, bin_dir=None):
+    """Jobs for frames [first, last] in chunks of `chunk` frames. A task has work when one of
+    its outputs is missing or a task it depends on has work (its inputs are being remade)."""
+    state = os.path.abspath(state or default_state(pipeline))
+    ranges = chunks(first, last, chunk)
+    jobs = []
+    upstream = None  # the job whose task i makes the inputs of the next stage's task i
+
+    def outputs_of(pattern, a, b):
+        p = FramePattern(pipeline.resolve(pattern))
+        return [p.path(f) for f in range(a, b + 1)]
+
+    def cascade(job, dep):
+        # aftercorr: task i is redone when task i before it is; afterok: when any is.
+        for t in job.tasks:
+            if dep.kind == "single" or job.kind == "single":
+                t.todo = t.todo or bool(dep.todo)
+            else:
+                t.todo = t.todo or dep.tasks[t.index].todo
+
+    for stage in pipeline.stages:
+        exe = tool_path(bin_dir, stage.tool)
+        if not stage.adapt:
+            def command(task, stage=stage, exe=exe):
+                return [exe] + stage.inputs + ["-o", stage.output, "--frames", task.frames] + \
+                    stage.options
+            tasks = [Task(i, a, b, outputs_of(stage.output, a, b)) for i, (a, b) in
+                     enumerate(ranges)]
+            job = Job(stage.name, stage, "array", tasks, command,
+                      [(upstream, "aftercorr")] if upstream else [])
+            if upstream:
+                cascade(job, upstream)
+            jobs.append(job)
+            upstream = job
+            continue
+
+        # Adaptation across the whole sequence: meter each chunk, scan all statistics in
+        # frame order, map each chunk with the scanned values.
+        stats = os.path.join(state, "stats")
+        meter_file = lambda a, b, stage=stage: os.path.join(stats, "%s.meter.%d-%d.json" % (
+            stage.name, a, b))
+        adapted = os.path.join(stats, "%s.adapted.json" % stage.name)
+
+        def meter_command(task, stage=stage, exe=exe):
+            return [exe] + stage.inputs + ["--frames", task.frames, "--meter-only",
+                                           "--stats-out", meter_file(task.first, task.last)] + \
+                stage.options
+        meter = Job(stage.name + "-meter", stage, "array",
+                    [Task(i, a, b, [meter_file(a, b)]) for i, (a, b) in enumerate(ranges)],
+                    meter_command, [(upstream, "aftercorr")] if upstream else [])
+        if upstream:
+            cascade(meter, upstream)
+
+        def scan_command(task, stage=stage, exe=exe):
+            return [exe, "--scan"] + [meter_file(a, b) for a, b in ranges] + [
+                "--fps", repr(stage.fps), "--stats-out", adapted]
+        scan_task = Task(0, first, last, [adapted])
+        scan_task.todo = scan_task.todo or not _covers(adapted, list(range(first, last + 1)))
+        scan = Job(stage.name + "-scan", stage, "single", [scan_task], scan_command,
+                   [(meter, "afterok")])
+        cascade(scan, meter)
+
+        def map_command(task, stage=stage, exe=exe):
+            return [exe] + stage.inputs + ["-o", stage.output, "--frames", task.frames,
+                                           "--adapt-from", adapted] + stage.options
+        mapping = Job(stage.name, stage, "array",
+                      [Task(i, a, b, outputs_of(stage.output, a, b)) for i, (a, b) in
+                       enumerate(ranges)], map_command, [(scan, "afterok")])
+        cascade(mapping, scan)
+        jobs += [meter, scan, mapping]
+        upstream = mapping
+    return Plan(pipeline, first, last, chunk, state, jobs)
+
+
+def check_inputs(plan):
+    """Plain inputs and patterned inputs no earlier stage makes must exist for every frame:
+    a missing scene is an error at submission, not a failed job an hour later."""
+    made = set()
+    missing = []
+    for stage in plan.pipeline.stages:
+        for text in stage.inputs:
+            p = FramePattern(plan.pipeline.resolve(text))
+            if p.is_sequence and p.text in made:
+                continue
+            frames = range(plan.first, plan.last + 1) if p.is_sequence else [None]
+            for f in frames:
+                path = p.path(f)
+                if not os.path.exists(path):
+                    missing.append("%s (stage %s)" % (path, stage.name))
+                    break
+        made.add(FramePattern(plan.pipeline.resolve(stage.output)).text)
+    return missing
