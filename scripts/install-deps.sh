@@ -9,6 +9,7 @@ packages=(
   libopencolorio-dev libembree-dev libglm-dev libassimp-dev
   nlohmann-json3-dev libgtest-dev python3
   python3-murmurhash  # an independent MurmurHash3_x86_32 for the Cryptomatte tests
+  slurm-wlm munge     # the farm tests start a single-node Slurm cluster (tests/farm)
 )
 
 missing=()

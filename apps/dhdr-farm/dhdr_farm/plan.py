@@ -150,13 +150,21 @@ def make_plan(pipeline, first, last, chunk, state=None, bin_dir=None):
     return Plan(pipeline, first, last, chunk, state, jobs)
 
 
+# Options of the tools whose value is a file they write.
+OUTPUT_OPTIONS = {"--lights-out", "--deep-out", "--stats-out"}
+
+
 def check_inputs(plan):
     """Plain inputs and patterned inputs no earlier stage makes must exist for every frame:
     a missing scene is an error at submission, not a failed job an hour later."""
     made = set()
     missing = []
     for stage in plan.pipeline.stages:
-        for text in stage.inputs:
+        # Option values with a frame pattern are per-frame inputs too (--lights
+        # lights.####.json), but for the options that name outputs.
+        patterned = [o for i, o in enumerate(stage.options) if FramePattern(o).is_sequence and
+                     not (i > 0 and stage.options[i - 1] in OUTPUT_OPTIONS)]
+        for text in stage.inputs + patterned:
             p = FramePattern(plan.pipeline.resolve(text))
             if p.is_sequence and p.text in made:
                 continue

@@ -49,6 +49,10 @@ def task_state(plan, job, task, job_id, squeue):
             job.kind == "single" and task.todo):
         return "done", ""
     files = paths(plan.state, job.key, task.index)
+    rc = None
+    if os.path.isfile(files["rc"]):
+        with open(files["rc"], encoding="utf-8") as f:
+            rc = f.read().strip()
     if job_id is not None and (job_id, task.index) in squeue:
         state, reason = squeue[(job_id, task.index)]
         if state in RUNNING_STATES:
@@ -56,12 +60,11 @@ def task_state(plan, job, task, job_id, squeue):
         if state in FAILED_STATES:
             if reason == "DependencyNeverSatisfied":
                 return "failed", "not run: a chunk it depends on failed"
-            return "failed", "%s; log %s" % (state.lower(), files["log"])
-        if state != "COMPLETED":
+            if rc is None or rc == "0":
+                return "failed", "%s; log %s" % (state.lower(), files["log"])
+        elif state != "COMPLETED":
             return "pending", reason if reason not in ("None", "(null)") else ""
-    if os.path.isfile(files["rc"]):
-        with open(files["rc"], encoding="utf-8") as f:
-            rc = f.read().strip()
+    if rc is not None:
         if rc != "0":
             return "failed", "exit status %s; log %s" % (rc, files["log"])
         return "failed", "exit status 0 but outputs missing; log %s" % files["log"]

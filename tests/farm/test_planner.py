@@ -1,0 +1,228 @@
+"""The planner without running anything: chunks, frame patterns as the tools read them, which
+tasks have work, the dependencies, and the sbatch command lines."""
+
+import json
+import os
+import sys
+import tempfile
+import unittest
+
+import farm_fixture as fx
+
+sys.path.insert(0, os.path.join(fx.SOURCE, "apps", "dhdr-farm"))
+
+from dhdr_farm import slurm  # noqa: E402
+from dhdr_farm.frames import FramePattern, chunks, parse_range  # noqa: E402
+from dhdr_farm.pipeline import PipelineError, parse  # noqa: E402
+from dhdr_farm.plan import check_inputs, make_plan  # noqa: E402
+
+
+class Frames(unittest.TestCase):
+    def test_chunks_cover_the_range_in_order(self):
+        self.assertEqual(chunks(1, 12, 4), [(1, 4), (5, 8), (9, 12)])
+        self.assertEqual(chunks(1, 10, 4), [(1, 4), (5, 8), (9, 10)])
+        self.assertEqual(chunks(-2, 1, 10), [(-2, 1)])
+        self.assertEqual(chunks(7, 7, 3), [(7, 7)])
+        with self.assertRaises(ValueError):
+            chunks(1, 2, 0)
+
+    def test_patterns_expand_as_the_tools_expand_them(self):
+        self.assertEqual(FramePattern("out/a.####.exr").path(7), "out/a.0007.exr")
+        self.assertEqual(FramePattern("out/a.%04d.exr").path(12), "out/a.0012.exr")
+        self.assertEqual(FramePattern("a.%d.exr").path(12), "a.12.exr")
+        self.assertEqual(FramePattern("a.##.exr").path(123), "a.123.exr")
+        self.assertEqual(FramePattern("a.####.exr").path(-5), "a.-005.exr")
+        # Hashes in a folder name are not a pattern; the file name's last run is.
+        self.assertFalse(FramePattern("take#1/a.exr").is_sequence)
+        self.assertEqual(FramePattern("take#1/a.#.#.exr").path(3), "take#1/a.#.3.exr")
+
+    def test_ranges(self):
+        self.assertEqual(parse_range("1-240"), (1, 240))
+        self.assertEqual(parse_range("7"), (7, 7))
+        self.assertEqual(parse_range("-5--1"), (-5, -1))
+        for bad in ("", "1-", "a-b", "5-1", "1-2000000"):
+            with self.assertRaises(ValueError, msg=bad):
+                parse_range(bad)
+
+
+class Pipelines(unittest.TestCase):
+    def error(self, doc):
+        with self.assertRaises(PipelineError) as e:
+            parse(doc, "p.json")
+        return str(e.exception)
+
+    def test_errors_name_the_stage_and_key(self):
+        light = {"tool": "dhdr-light", "inputs": ["g.####.exr"], "output": "h.####.exr"}
+        self.assertIn("unknown key 'stage'", self.error({"stage": []}))
+        self.assertIn("stages[0]: \"tool\" must be one of",
+                      self.error({"stages": [dict(light, tool="oiiotool")]}))
+        self.assertIn("stages[0]: \"output\" must be a frame pattern",
+                      self.error({"stages": [dict(light, output="h.exr")]}))
+        self.assertIn("option -o is set by dhdr-farm",
+                      self.error({"stages": [dict(light, options=["-o", "x"])]}))
+        self.assertIn("option --frames=1-3 is set by dhdr-farm",
+                      self.error({"stages": [dict(light, options=["--frames=1-3"])]}))
+        self.assertIn("\"adapt\" is for dhdr-tonemap",
+                      self.error({"stages": [dict(light, adapt=True)]}))
+        self.assertIn("two stages are called 'light'", self.error({"stages": [light, light]}))
+        tonemap = {"tool": "dhdr-tonemap", "inputs": ["h.####.exr"], "output": "p.####.png"}
+        self.assertIn("use \"adapt\"",
+                      self.error({"stages": [dict(tonemap, options=["--adapt"])]}))
+        self.assertIn("\"fps\" goes with", self.error({"stages": [dict(tonemap, fps=30)]}))
+
+    def test_the_shipped_example_is_valid(self):
+        path = os.path.join(fx.SOURCE, "docs", "examples", "cornell.farm.json")
+        with open(path) as f:
+            p = parse(json.load(f), path)
+        self.assertEqual([s.name for s in p.stages],
+                         ["gbuffer", "light", "aa", "bloom", "tonemap"])
+
+    def test_the_schema_knows_every_key(self):
+        from dhdr_farm.pipeline import STAGE_KEYS, TOP_KEYS
+        with open(os.path.join(fx.SOURCE, "docs", "farm.schema.json")) as f:
+            schema = json.load(f)
+        self.assertEqual(set(schema["properties"]), TOP_KEYS)
+        self.assertEqual(set(schema["$defs"]["stage"]["properties"]), STAGE_KEYS)
+
+
+class Plans(unittest.TestCase):
+    def setUp(self):
+        self.dir = tempfile.mkdtemp(prefix="dhdr-plan-")
+        doc = fx.pipeline("out")
+        doc["stages"][0]["inputs"] = ["scene.gltf"]
+        self.path = os.path.join(self.dir, "p.json")
+        with open(self.path, "w") as f:
+            json.dump(doc, f)
+        self.pipeline = parse(doc, self.path)
+
+    def plan(self, first=1, last=12, chunk=4):
+        return make_plan(self.pipeline, first, last, chunk, bin_dir="/opt/dhdr/bin")
+
+    def touch(self, *names):
+        for name in names:
+            path = os.path.join(self.dir, name)
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            open(path, "w").close()
+
+    def test_jobs_and_their_dependencies(self):
+        plan = self.plan()
+        self.assertEqual([j.key for j in plan.jobs], ["gbuffer", "light", "bloom",
+                                                      "tonemap-meter", "tonemap-scan",
+                                                      "tonemap"])
+        deps = {j.key: [(d.key, k) for d, k in j.after] for j in plan.jobs}
+        self.assertEqual(deps, {
+            "gbuffer": [], "light": [("gbuffer", "aftercorr")],
+            "bloom": [("light", "aftercorr")], "tonemap-meter": [("bloom", "aftercorr")],
+            "tonemap-scan": [("tonemap-meter", "afterok")],
+            "tonemap": [("tonemap-scan", "afterok")]})
+        self.assertEqual([(t.first, t.last) for t in plan.job("light").tasks],
+                         [(1, 4), (5, 8), (9, 12)])
+        self.assertEqual([len(t.outputs) for t in plan.job("light").tasks], [4, 4, 4])
+        self.assertEqual(plan.job("tonemap-scan").kind, "single")
+
+    def test_commands_are_the_tools_own_frames(self):
+        plan = self.plan()
+        light = plan.job("light")
+        self.assertEqual(light.command(light.tasks[1]), [
+            "/opt/dhdr/bin/dhdr-light", "out/gbuf.####.exr", "-o", "out/hdr.####.exr",
+            "--frames", "5-8", "--lights", "lights.####.json"])
+        meter = plan.job("tonemap-meter")
+        stats = os.path.join(self.dir, ".dhdr-farm", "out", "stats")
+        self.assertEqual(meter.command(meter.tasks[2]), [
+            "/opt/dhdr/bin/dhdr-tonemap", "out/bloom.####.exr", "--frames", "9-12",
+            "--meter-only", "--stats-out", os.path.join(stats, "tonemap.meter.9-12.json")])
+        scan = plan.job("tonemap-scan")
+        self.assertEqual(scan.command(scan.tasks[0]), [
+            "/opt/dhdr/bin/dhdr-tonemap", "--scan"] +
+            [os.path.join(stats, "tonemap.meter.%s.json" % r) for r in ("1-4", "5-8", "9-12")] +
+            ["--fps", "24.0", "--stats-out", os.path.join(stats, "tonemap.adapted.json")])
+        mapping = plan.job("tonemap")
+        self.assertEqual(mapping.command(mapping.tasks[0])[-2:],
+                         ["--adapt-from", os.path.join(stats, "tonemap.adapted.json")])
+
+    def test_complete_chunks_are_skipped_and_remade_inputs_redo_what_follows(self):
+        for f in range(1, 13):
+            self.touch("out/gbuf.%04d.exr" % f)
+        for f in range(5, 9):
+            self.touch("out/hdr.%04d.exr" % f, "out/bloom.%04d.exr" % f)
+        plan = self.plan()
+        self.assertEqual([t.index for t in plan.job("gbuffer").todo], [])
+        self.assertEqual([t.index for t in plan.job("light").todo], [0, 2])
+        self.assertEqual([t.index for t in plan.job("bloom").todo], [0, 2])
+        self.assertNotIn(plan.job("gbuffer"), plan.submitted)
+        # A job with nothing to do is no dependency.
+        self.assertEqual(plan.dependencies(plan.job("light")), [])
+        # One frame of the G-buffer missing: its chunk and chunk 1 of every stage after it.
+        os.remove(os.path.join(self.dir, "out/gbuf.0006.exr"))
+        plan = self.plan()
+        self.assertEqual([t.index for t in plan.job("gbuffer").todo], [1])
+        self.assertEqual([t.index for t in plan.job("light").todo], [0, 1, 2])
+        self.assertEqual([t.index for t in plan.job("bloom").todo], [0, 1, 2])
+
+    def test_adaptation_is_redone_when_any_metering_is(self):
+        for f in range(1, 13):
+            self.touch(*["out/%s.%04d.%s" % (s, f, e) for s, e in
+                         (("gbuf", "exr"), ("hdr", "exr"), ("bloom", "exr"), ("frame", "png"))])
+        stats = ".dhdr-farm/out/stats/"
+        self.touch(*[stats + "tonemap.meter.%s.json" % r for r in ("1-4", "5-8", "9-12")])
+        with open(os.path.join(self.dir, stats, "tonemap.adapted.json"), "w") as f:
+            json.dump({"adapt": True, "frames": [{"frame": i} for i in range(1, 13)]}, f)
+        self.assertEqual(self.plan().submitted, [])
+        # Statistics of other frames (the range grew): scanned again, every chunk mapped again.
+        plan = self.plan(1, 16)
+        self.assertEqual(len(plan.job("tonemap-scan").todo), 1)
+        self.assertEqual([t.index for t in plan.job("tonemap").todo], [0, 1, 2, 3])
+        self.assertEqual([t.index for t in plan.job("tonemap-meter").todo], [3])
+        # One picture missing: that chunk alone.
+        os.remove(os.path.join(self.dir, "out/frame.0010.png"))
+        plan = self.plan()
+        self.assertEqual([j.key for j in plan.submitted], ["tonemap"])
+        self.assertEqual([t.index for t in plan.job("tonemap").todo], [2])
+
+    def test_sbatch_command_lines(self):
+        self.touch(*["out/gbuf.%04d.exr" % f for f in range(1, 5)])
+        plan = self.plan()
+        light = plan.job("light")
+        argv = slurm.sbatch_argv(plan, light, "/s/light.sh", [("101", "aftercorr")],
+                                 partition="render", max_running=2, cpus=8)
+        logs = os.path.join(self.dir, ".dhdr-farm", "out", "logs")
+        self.assertEqual(argv, [
+            "sbatch", "--parsable", "--job-name=dhdr.out.light", "--chdir=" + self.dir,
+            "--requeue", "--kill-on-invalid-dep=yes", "--array=0-2%2",
+            "--output=" + os.path.join(logs, "light.%a.log"), "--partition=render",
+            "--cpus-per-task=8", "--dependency=aftercorr:101", "/s/light.sh"])
+        scan = plan.job("tonemap-scan")
+        argv = slurm.sbatch_argv(plan, scan, "/s/scan.sh", [("102", "afterok")])
+        self.assertNotIn("--array", " ".join(argv))
+        self.assertIn("--output=" + os.path.join(logs, "tonemap-scan.0.log"), argv)
+        self.assertIn("--dependency=afterok:102", argv)
+        self.assertEqual(slurm.array_spec([0, 1, 2, 5, 7, 8]), "0-2,5,7-8")
+        self.assertEqual(slurm.array_spec([3], 4), "3%4")
+
+    def test_submission_order_and_ids(self):
+        self.touch(*["out/gbuf.%04d.exr" % f for f in range(1, 13)])
+        plan = self.plan()
+        calls = []
+
+        def sbatch(argv):
+            calls.append(argv)
+            return str(200 + len(calls))
+        ids = slurm.submit(plan, {j.key: "/s/%s.sh" % j.key for j in plan.jobs}, sbatch=sbatch)
+        self.assertEqual(list(ids), ["light", "bloom", "tonemap-meter", "tonemap-scan",
+                                     "tonemap"])
+        deps = [[a for a in argv if a.startswith("--dependency")] for argv in calls]
+        self.assertEqual(deps, [[], ["--dependency=aftercorr:201"],
+                                ["--dependency=aftercorr:202"], ["--dependency=afterok:203"],
+                                ["--dependency=afterok:204"]])
+
+    def test_missing_inputs_are_found_before_submitting(self):
+        missing = check_inputs(self.plan(1, 2))
+        self.assertEqual(len(missing), 2, missing)
+        self.assertIn("scene.gltf (stage gbuffer)", missing[0])
+        self.assertIn("lights.0001.json (stage light)", missing[1])
+        self.touch("scene.gltf", "lights.0001.json", "lights.0002.json")
+        self.assertEqual(check_inputs(self.plan(1, 2)), [])
+
+
+if __name__ == "__main__":
+    unittest.main()
