@@ -264,6 +264,58 @@ TEST(Metering, HistogramWindowIgnoresOutliers) {
         1e-5);
 }
 
+TEST(Metering, StripsInPassesEqualTheWholeImage) {
+    // A frame of luminances over six decades, some pixels transparent, metered whole and as
+    // separate 7-row strips (what dhdr-tonemap streams): the same doubles in both modes.
+    ImageBuf frame(ImageSpec(37, 53, 4, TypeDesc::FLOAT));
+    uint32_t state = 12345;
+    auto next = [&] {
+        state = state * 1664525u + 1013904223u;
+        return float(state >> 8) / float(1u << 24);
+    };
+    for (int y = 0; y < 53; ++y)
+        for (int x = 0; x < 37; ++x) {
+            float* p = px(frame, x, y);
+            const float scale = std::pow(10.0f, 6.0f * next() - 3.0f);
+            for (int c = 0; c < 3; ++c)
+                p[c] = scale * next();
+            p[3] = next() < 0.1f ? 0.0f : 1.0f;
+        }
+    for (MeteringMode mode : {MeteringMode::LogAverage, MeteringMode::Histogram}) {
+        MeteringParams params;
+        params.mode = mode;
+        LuminanceStats whole;
+        ASSERT_TRUE(meter(whole, frame, params));
+        MeteringAccumulator strips(params);
+        int passes = 0;
+        do {
+            for (int y = 0; y < 53; y += 7) {
+                OIIO::ROI rows(0, 37, y, std::min(y + 7, 53), 0, 1, 0, 4);
+                ImageBuf strip = OIIO::ImageBufAlgo::cut(frame, rows);
+                strip.set_origin(0, y);
+                ASSERT_TRUE(strips.add(strip));
+            }
+            strips.endPass();
+            ++passes;
+        } while (strips.needsAnotherPass());
+        EXPECT_EQ(passes, mode == MeteringMode::Histogram ? 3 : 1);
+        const LuminanceStats s = strips.result();
+        EXPECT_EQ(s.logAverage, whole.logAverage);
+        EXPECT_EQ(s.maxLuminance, whole.maxLuminance);
+        EXPECT_EQ(s.minLuminance, whole.minLuminance);
+        EXPECT_EQ(s.pixels, whole.pixels);
+        EXPECT_EQ(s.transparentPixels, whole.transparentPixels);
+        EXPECT_GT(whole.transparentPixels, 0);
+    }
+    // The window matters here, so the comparison above covers the histogram passes.
+    MeteringParams histogram;
+    histogram.mode = MeteringMode::Histogram;
+    LuminanceStats a, b;
+    meter(a, frame, histogram);
+    meter(b, frame, MeteringParams{});
+    EXPECT_GT(std::abs(std::log(a.logAverage / b.logAverage)), 1e-3);
+}
+
 TEST(Quantize, DitherIsDeterministicAndUnbiased) {
     auto flat = [](float v) {
         ImageBuf img(ImageSpec(16, 16, 3, TypeDesc::FLOAT));

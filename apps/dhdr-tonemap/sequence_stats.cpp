@@ -63,8 +63,8 @@ bool readSequenceStats(const std::string& path, SequenceStats& stats, std::strin
     stats.metering = doc["metering"].get<std::string>();
     for (const nlohmann::json& f : doc["frames"]) {
         if (!f.is_object() || !f.contains("frame") || !f["frame"].is_number_integer() ||
-            !f.contains("logAverage") || !positive(f["logAverage"]) ||
-            !f.contains("adapted") || !positive(f["adapted"])) {
+            !f.contains("logAverage") || !positive(f["logAverage"]) || !f.contains("adapted") ||
+            !positive(f["adapted"])) {
             error = path + ": frame " + std::to_string(stats.frames.size()) +
                     " needs an integer frame and positive logAverage and adapted";
             return false;
