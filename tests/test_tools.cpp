@@ -422,6 +422,105 @@ TEST_F(Tools, SequenceAdaptationFollowsTheFormulaFrameByFrame) {
     EXPECT_EQ(r.status, 2);
 }
 
+TEST_F(Tools, StreamedFramesMapLikeWholeOnes) {
+    // --memory 0 streams the 96x72 frame in two strips (one pass per metering pass, one to
+    // map); the default holds it whole. Every operator, both meterings, every output type.
+    for (const char* op : {"reinhard", "drago", "hable", "agx", "aces", "exposure", "none"})
+        for (const char* metering : {"log-average", "histogram"})
+            for (const char* ext : {"png", "exr"}) {
+                const std::string options =
+                    std::string(" --op ") + op + " --metering " + metering + " --exposure 0.5 ";
+                const std::string whole = std::string("whole.") + ext;
+                const std::string streamed = std::string("streamed.") + ext;
+                ASSERT_EQ(
+                    run("dhdr-tonemap " + path("h.exr") + options + "-o " + path(whole)).status, 0);
+                const Result r = run("dhdr-tonemap -v " + path("h.exr") + options +
+                                     "--memory 0 -o " + path(streamed));
+                ASSERT_EQ(r.status, 0) << r.err;
+                EXPECT_TRUE(samePixels(whole, streamed)) << options << ext;
+            }
+    // 16 bits, and reinhard-local, which reads the frame whole whatever --memory says.
+    for (const char* options : {" --bits 16 ", " --op reinhard-local "}) {
+        ASSERT_EQ(run("dhdr-tonemap " + path("h.exr") + options + "-o " + path("w.png")).status, 0);
+        ASSERT_EQ(run("dhdr-tonemap " + path("h.exr") + options + "--memory 0 -o " + path("s.png"))
+                      .status,
+                  0);
+        EXPECT_TRUE(samePixels("w.png", "s.png")) << options;
+    }
+}
+
+TEST_F(Tools, AdaptationSplitIntoProcessesIsOneAdaptRun) {
+    // Six frames of the lit Cornell box, eight times brighter from frame 4 on.
+    fs::create_directories(dir / "split");
+    const ImageBuf lit = read("h.exr");
+    for (int f = 1; f <= 6; ++f) {
+        ImageBuf frame = OIIO::ImageBufAlgo::mul(lit, f < 4 ? 1.0f : 8.0f);
+        char name[64];
+        std::snprintf(name, sizeof name, "split/in.%04d.exr", f);
+        ASSERT_TRUE(frame.write(path(name)));
+    }
+    const std::string in = " " + path("split/in.####.exr") + " ";
+    Result r = run("dhdr-tonemap" + in + "--adapt --fps 30 --stats-out " +
+                   path("split/whole.json") + " -o " + path("split/whole.####.png"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    // Metering in two chunks, the scan given them out of order, mapping in two chunks (one
+    // streamed).
+    r = run("dhdr-tonemap" + in + "--frames 1-2 --meter-only --stats-out " + path("split/m1.json"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = run("dhdr-tonemap" + in + "--frames 3-6 --meter-only --stats-out " + path("split/m2.json"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = run("dhdr-tonemap --scan " + path("split/m2.json") + " " + path("split/m1.json") +
+            " --fps 30 --stats-out " + path("split/adapted.json"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = run("dhdr-tonemap" + in + "--frames 1-3 --adapt-from " + path("split/adapted.json") +
+            " -o " + path("split/part.####.png"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    r = run("dhdr-tonemap" + in + "--frames 4-6 --memory 0 --adapt-from " +
+            path("split/adapted.json") + " -o " + path("split/part.####.png"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    for (int f = 1; f <= 6; ++f) {
+        char whole[64], part[64];
+        std::snprintf(whole, sizeof whole, "split/whole.%04d.png", f);
+        std::snprintf(part, sizeof part, "split/part.%04d.png", f);
+        EXPECT_TRUE(samePixels(whole, part)) << f;
+    }
+    // The adaptation mattered: frame 4 mapped on its own metering differs.
+    ASSERT_EQ(
+        run("dhdr-tonemap " + path("split/in.0004.exr") + " -o " + path("split/own.png")).status,
+        0);
+    EXPECT_FALSE(samePixels("split/own.png", "split/whole.0004.png"));
+    // The scanned file holds the whole run's numbers, digit for digit.
+    const std::string whole = slurp(dir / "split/whole.json");
+    const std::string scanned = slurp(dir / "split/adapted.json");
+    EXPECT_EQ(whole.substr(whole.find("\"frames\"")), scanned.substr(scanned.find("\"frames\"")));
+
+    // Errors: a frame the file lacks, another metering, a frame in two chunks, wrong modes.
+    r = run("dhdr-tonemap" + in + "--frames 1-7 --adapt-from " + path("split/adapted.json") +
+            " -o " + path("split/bad.####.png"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("has no frame 7"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("split/bad.0001.png")));
+    r = run("dhdr-tonemap" + in + "--weights rec709 --adapt-from " + path("split/adapted.json") +
+            " -o " + path("split/bad.####.png"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("metered with"), std::string::npos) << r.err;
+    r = run("dhdr-tonemap --scan " + path("split/m1.json") + " " + path("split/m1.json") +
+            " --stats-out " + path("split/twice.json"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("frame 1 is in both"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("split/twice.json")));
+    r = run("dhdr-tonemap" + in + "--adapt-from " + path("split/m1.json") + " -o " +
+            path("split/bad.####.png"));
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("holds no adapted luminance"), std::string::npos) << r.err;
+    EXPECT_EQ(run("dhdr-tonemap" + in + "--meter-only -o " + path("split/x.####.png")).status, 2);
+    EXPECT_EQ(run("dhdr-tonemap --scan " + path("split/m1.json")).status, 2);
+    EXPECT_EQ(run("dhdr-tonemap" + in + "--adapt --adapt-from " + path("split/adapted.json") +
+                  " -o " + path("split/x.####.png"))
+                  .status,
+              2);
+}
+
 TEST_F(Tools, EveryToolTakesFramePatterns) {
     // Two G-buffer frames of the same scene, lit, anti-aliased and bloomed as sequences.
     Result r = run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 32x24 --frames 1-2 -o " +

@@ -1,6 +1,7 @@
 // dhdr-tonemap: linear HDR in, a display image out; one frame or a sequence (docs/tools.md).
 #include "../common/frames.h"
 #include "../common/tool.h"
+#include "frame.h"
 #include "sequence_stats.h"
 
 #include <OpenImageIO/imagebufalgo.h>
@@ -21,6 +22,7 @@
 #include <mutex>
 
 using namespace dhdr;
+using app::FrameJob;
 
 namespace {
 
@@ -28,224 +30,6 @@ int usage(const std::string& message) {
     std::fprintf(stderr, "dhdr-tonemap: usage error: %s\nTry 'dhdr-tonemap --help'.\n",
                  message.c_str());
     return app::kExitUsage;
-}
-
-// Everything the command line says about mapping one frame.
-struct FrameJob {
-    ToneMapParams params;
-    DisplayTransform display;
-    std::string white, weights, metering, percentiles, layer;
-    int bits = 8;
-    bool dither = true;
-};
-
-// Rows the display transform, quantization and encoding work on at a time.
-constexpr int kStripRows = 64;
-// libpng's PNG_FILTER_NONE.
-constexpr int kPngFilterNone = 0x08;
-
-std::string lowerExtension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    return ext;
-}
-
-// Reads the colour of `path` (its layer by name), replacing what a display cannot show (and
-// warning when `warn`).
-bool readFrame(const app::Tool& tool, const std::string& layer, const std::string& path,
-               OIIO::ImageBuf& hdr, bool warn, int nthreads) {
-    std::vector<OIIO::TypeDesc> formats;
-    if (!tool.readColour(path, layer, false, hdr, formats, nthreads)) return false;
-    if (warn && !app::hasSurface(hdr)) tool.warnNoSurface(path);
-    // A display shows no negative light: negative colour goes with NaN and Inf, in one
-    // warning; alpha keeps its negatives.
-    OIIO::ROI colour = hdr.roi(), alpha = hdr.roi();
-    colour.chend = 3;
-    alpha.chbegin = 3;
-    alpha.chend = std::min(hdr.nchannels(), 4);
-    NonFiniteCount replaced = replaceNonFinite(hdr, colour, nthreads, true);
-    if (alpha.chend > alpha.chbegin) {
-        const NonFiniteCount a = replaceNonFinite(hdr, alpha, nthreads, false);
-        replaced.nan += a.nan;
-        replaced.positiveInf += a.positiveInf;
-        replaced.negativeInf += a.negativeInf;
-    }
-    if (warn) tool.reportNonFinite(path, replaced, true);
-    return true;
-}
-
-// Reads a frame and brings it to scene-linear, where metering and operators work.
-bool readSceneLinear(const app::Tool& tool, const FrameJob& job, const std::string& path,
-                     OIIO::ImageBuf& hdr, bool warn, int nthreads) {
-    if (!readFrame(tool, job.layer, path, hdr, warn, nthreads)) return false;
-    if (const std::string from = job.display.inputColorSpace(hdr.spec()); warn && !from.empty())
-        tool.info(path + ": display-encoded (the file says sRGB): decoded from '" + from + "'");
-    return job.display.toSceneLinear(hdr, {}, nthreads);
-}
-
-// The frame a thread works on, kept from frame to frame of a sequence so that its pixels are
-// overwritten rather than allocated again (page faults were a tenth of a sequence's time).
-OIIO::ImageBuf& threadFrame() {
-    thread_local OIIO::ImageBuf frame;
-    return frame;
-}
-
-// The image a display is sent: at most R, G, B and alpha of `hdr`, in `type`, with `hdr`'s
-// metadata.
-OIIO::ImageSpec displaySpec(const OIIO::ImageSpec& hdr, OIIO::TypeDesc type) {
-    const int nch = std::min(hdr.nchannels, 4);
-    OIIO::ImageSpec spec = hdr;
-    spec.nchannels = nch;
-    spec.channelnames = {"R", "G", "B", "A"};
-    spec.channelnames.resize(size_t(nch));
-    spec.alpha_channel = nch == 4 ? 3 : -1;
-    spec.z_channel = -1;
-    spec.channelformats.clear();
-    spec.set_format(type);
-    return spec;
-}
-
-// Meters `in` (or uses `given`; or meters it and maps it with the log-average `adapted`),
-// tone-maps it and writes `out`; `used` receives the metering.
-bool mapFrame(const app::Tool& tool, const FrameJob& job, const std::string& in,
-              const std::string& out, const LuminanceStats* given, const double* adapted,
-              LuminanceStats& used, int nthreads) {
-    OIIO::ImageBuf& hdr = threadFrame();
-    if (!readSceneLinear(tool, job, in, hdr, true, nthreads)) return false;
-    ToneMapParams params = job.params;
-    if (given) {
-        used = *given;
-    } else {
-        meter(used, hdr, params.metering, {}, nthreads);
-        if (adapted) used.logAverage = *adapted;
-    }
-    params.stats = &used;
-    char line[320];
-    std::snprintf(line, sizeof line, "%s: %s luminance %.6g (largest %.6g)", in.c_str(),
-                  given || adapted ? "adapted" : job.metering.c_str(), used.logAverage,
-                  used.maxLuminance);
-    tool.info(line);
-    // In place: the frame is not needed in scene-linear after this.
-    if (!toneMap(hdr, hdr, params, {}, nthreads)) {
-        tool.fail(in + ": " + hdr.geterror());
-        return false;
-    }
-
-    // Every format gets the same display-referred values; only their quantization differs.
-    const std::string ext = lowerExtension(out);
-    const bool exr = ext == ".exr";
-    const bool sixteen = job.bits == 16;
-    const OIIO::TypeDesc type = exr       ? OIIO::TypeDesc::HALF
-                                : sixteen ? OIIO::TypeDesc::UINT16
-                                          : OIIO::TypeDesc::UINT8;
-    OIIO::ImageSpec spec = displaySpec(hdr.spec(), type);
-    // Strings, which every format keeps (PNG drops numeric attributes).
-    spec.attribute("dhdr:toneMap", toneOperatorName(params.op));
-    std::snprintf(line, sizeof line,
-                  "key %g, exposure %g, white %s, weights %s, delta %g, metering %s%s%s -> %.6g",
-                  params.key, params.exposure, job.white.c_str(), job.weights.c_str(),
-                  params.metering.luminance.delta, job.metering.c_str(),
-                  job.metering == "histogram" ? " " : "",
-                  job.metering == "histogram" ? job.percentiles.c_str() : "", used.logAverage);
-    spec.attribute("dhdr:toneMapParameters", line);
-    spec.attribute("dhdr:source", in);
-    spec.attribute("dhdr:display", job.display.describe());
-    // The input's "Linear" would make PNG declare a gamma of 1 to viewers.
-    spec.attribute("oiio:ColorSpace", job.display.outputColorSpace());
-    QuantizeParams quantizing;
-    quantizing.dither = type == OIIO::TypeDesc::UINT8 && job.dither;
-    if (quantizing.dither) {
-        spec.attribute("dhdr:dither", "ordered, 8x8 Bayer");
-        // Dithered pixels defeat PNG's row predictors: unfiltered rows compress as well or
-        // better and encode three times faster (docs/tonemap.md).
-        spec.attribute("png:filter", kPngFilterNone);
-    }
-
-    app::AtomicOutput file(tool, out);
-    if (!file.open(spec, {type})) return false;
-    // EXR gets floats that OpenImageIO converts to half; the others their integer pixels.
-    const OIIO::TypeDesc buffer = exr ? OIIO::TypeDesc::FLOAT : type;
-    const bool written =
-        file.writeStrips(buffer, kStripRows, nthreads != 1, [&](OIIO::ROI strip, void* pixels) {
-            job.display.toDisplay(hdr, strip, nthreads);
-            OIIO::ImageSpec rows(strip.width(), strip.height(), spec.nchannels, buffer);
-            rows.x = strip.xbegin;
-            rows.y = strip.ybegin;
-            OIIO::ImageBuf dst(rows, pixels);
-            const bool done =
-                exr ? OIIO::ImageBufAlgo::copy(dst, hdr, OIIO::TypeUnknown, strip, nthreads)
-                    : quantize(dst, hdr, quantizing, strip, nthreads);
-            if (!done) tool.fail(out + ": " + dst.geterror());
-            return done;
-        });
-    return written && file.commit();
-}
-
-// Everything that decides a frame's metered luminance, so that statistics metered one way
-// are not combined with, or applied to, frames metered another.
-std::string meteringDescription(const FrameJob& job) {
-    const MeteringParams& m = job.params.metering;
-    char text[200];
-    std::snprintf(text, sizeof text, "%s%s%s, weights %s, delta %.17g, layer '%s'",
-                  job.metering.c_str(), m.mode == MeteringMode::Histogram ? " " : "",
-                  m.mode == MeteringMode::Histogram ? job.percentiles.c_str() : "",
-                  job.weights.c_str(), m.luminance.delta, job.layer.c_str());
-    return text;
-}
-
-// --scan: the metering of every chunk of a sequence, combined in frame order, through the
-// adaptation scan, to one statistics file that --adapt-from maps with.
-int scanStatistics(const app::Tool& tool, const std::vector<std::string>& files, double fps,
-                   const std::string& out) {
-    app::SequenceStats all;
-    std::vector<std::string> from; // the file each frame came from
-    for (const std::string& path : files) {
-        app::SequenceStats chunk;
-        if (std::string error; !app::readSequenceStats(path, chunk, error)) return tool.fail(error);
-        if (from.empty())
-            all.metering = chunk.metering;
-        else if (chunk.metering != all.metering)
-            return tool.fail(path + ": metered with " + chunk.metering + ", but " + files[0] +
-                             " with " + all.metering + "; meter every chunk the same way");
-        for (const app::FrameLuminance& f : chunk.frames) {
-            all.frames.push_back(f);
-            from.push_back(path);
-        }
-    }
-    if (all.frames.empty()) return tool.fail("the statistics files hold no frames");
-    std::vector<size_t> order(all.frames.size());
-    for (size_t i = 0; i < order.size(); ++i)
-        order[i] = i;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](size_t a, size_t b) { return all.frames[a].frame < all.frames[b].frame; });
-    std::vector<app::FrameLuminance> sorted;
-    for (size_t k = 0; k < order.size(); ++k) {
-        if (k > 0 && all.frames[order[k]].frame == all.frames[order[k - 1]].frame)
-            return tool.fail("frame " + std::to_string(all.frames[order[k]].frame) +
-                             " is in both " + from[order[k - 1]] + " and " + from[order[k]]);
-        sorted.push_back(all.frames[order[k]]);
-    }
-    all.frames = sorted;
-    const int gaps =
-        all.frames.back().frame - all.frames.front().frame + 1 - int(all.frames.size());
-    if (gaps > 0)
-        tool.warn(std::to_string(gaps) +
-                  " frames of the range are missing from the statistics; adaptation steps "
-                  "over them as if they were not there");
-    std::vector<double> measured;
-    for (const app::FrameLuminance& f : all.frames)
-        measured.push_back(f.logAverage);
-    AdaptationParams ap;
-    ap.fps = fps;
-    const std::vector<double> adapted = adaptLuminance(measured, ap);
-    for (size_t i = 0; i < all.frames.size(); ++i)
-        all.frames[i].adapted = adapted[i];
-    all.fps = fps;
-    all.adapt = true;
-    tool.info("scanned " + std::to_string(all.frames.size()) + " frames, " +
-              std::to_string(all.frames.front().frame) + " to " +
-              std::to_string(all.frames.back().frame));
-    return tool.writeText(app::toJson(all), out) ? app::kExitSuccess : app::kExitFailure;
 }
 
 // "frames done, rate, time left" on a terminal.
@@ -274,7 +58,7 @@ int run(int argc, char** argv) {
                         "half floats. A frame pattern (shot.####.exr or shot.%04d.exr) in\nboth "
                         "input and output maps a sequence in one process; --adapt lets the "
                         "exposure follow\nthe eye's adaptation across it.");
-    double key = 0.18, exposure = 0.0, delta = 1e-4, fps = 24.0;
+    double key = 0.18, exposure = 0.0, delta = 1e-4, fps = 24.0, memoryMiB = 512.0;
     FrameJob job;
     job.white = "auto";
     job.weights = "seed";
@@ -322,6 +106,12 @@ int run(int argc, char** argv) {
               {0.0, 1000.0, true});
     cl.option("--stats-out", statsOut, "FILE.json",
               "write each frame's metered and adapted luminance");
+    cl.option("--memory", memoryMiB, "MiB",
+              "a frame whose float pixels need more than this is streamed: read strip by strip, "
+              "once per metering pass and once to map, instead of whole (default 512; 0 "
+              "streams every frame; the same pixels either way; reinhard-local always reads "
+              "the frame whole)",
+              {0.0, 1048576.0});
     cl.flag("--meter-only", meterOnly,
             "meter the frames and write --stats-out, no images (the first step of adaptation "
             "split into jobs: docs/farm.md)");
@@ -353,7 +143,7 @@ int run(int argc, char** argv) {
     if (scan) {
         if (cl.inputs().empty()) return usage("--scan needs the statistics files to combine");
         if (const int status = tool.start(cl.inputs(), statsOut); status >= 0) return status;
-        return scanStatistics(tool, cl.inputs(), fps, statsOut);
+        return app::scanStatistics(tool, cl.inputs(), fps, statsOut);
     }
     if (cl.inputs().size() != 1) return usage("give one HDR image or frame pattern");
 
@@ -392,10 +182,11 @@ int run(int argc, char** argv) {
     }
     if (job.bits != 8 && job.bits != 16)
         return usage("--bits: " + std::to_string(job.bits) + " is not 8 or 16");
-    if (const std::string ext = lowerExtension(cl.output());
+    if (const std::string ext = app::lowerExtension(cl.output());
         job.bits == 16 && (ext == ".jpg" || ext == ".jpeg"))
         return usage("--bits 16: JPEG holds 8 bits per channel; write PNG or TIFF for 16");
     job.dither = !noDither;
+    job.wholeFrameBytes = size_t(memoryMiB * 1048576.0);
 
     const std::string& frames = cl.frames();
     const app::FramePattern input(cl.inputs()[0]), output(cl.output());
@@ -411,8 +202,8 @@ int run(int argc, char** argv) {
 
     if (!input.isSequence()) {
         LuminanceStats used;
-        return mapFrame(tool, job, input.path(0), output.path(0), nullptr, nullptr, used,
-                        tool.threads())
+        return app::mapFrame(tool, job, input.path(0), output.path(0), nullptr, nullptr, used,
+                             tool.threads())
                    ? app::kExitSuccess
                    : app::kExitFailure;
     }
@@ -445,7 +236,7 @@ int run(int argc, char** argv) {
         if (!meterOnly && input.path(f) == output.path(f))
             return usage(output.path(f) + " is also an input; refusing to overwrite it");
     const size_t n = numbers.size();
-    const std::string metering = meteringDescription(job);
+    const std::string metering = app::meteringDescription(job);
 
     // --adapt-from: every frame's adapted luminance, found before anything is written.
     std::vector<double> given(n), givenMeasured(n);
@@ -484,12 +275,9 @@ int run(int argc, char** argv) {
         OIIO::parallel_for(
             int64_t(0), int64_t(n),
             [&](int64_t i) {
-                OIIO::ImageBuf& hdr = threadFrame();
-                if (!readSceneLinear(tool, job, input.path(numbers[size_t(i)]), hdr, false, 1)) {
+                if (!app::meterFrame(tool, job, input.path(numbers[size_t(i)]), metered[size_t(i)],
+                                     1))
                     failed[size_t(i)] = 1;
-                    return;
-                }
-                meter(metered[size_t(i)], hdr, params.metering, {}, 1);
             },
             perItem(workers));
         // Nothing is written when any frame cannot be read.
@@ -521,9 +309,10 @@ int run(int argc, char** argv) {
             int64_t(0), int64_t(n),
             [&](int64_t i) {
                 const int f = numbers[size_t(i)];
-                if (!mapFrame(tool, job, input.path(f), output.path(f),
-                              adapt ? &metered[size_t(i)] : nullptr,
-                              adaptFrom.empty() ? nullptr : &given[size_t(i)], used[size_t(i)], 1))
+                if (!app::mapFrame(tool, job, input.path(f), output.path(f),
+                                   adapt ? &metered[size_t(i)] : nullptr,
+                                   adaptFrom.empty() ? nullptr : &given[size_t(i)], used[size_t(i)],
+                                   1))
                     failed[size_t(i)] = 1;
                 progress.frameDone();
             },

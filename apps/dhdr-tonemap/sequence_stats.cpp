@@ -1,7 +1,11 @@
 #include "sequence_stats.h"
 
+#include "../common/tool.h"
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <dhdr/tonemap/adaptation.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -78,6 +82,59 @@ bool readSequenceStats(const std::string& path, SequenceStats& stats, std::strin
         stats.frames.push_back(row);
     }
     return true;
+}
+
+int scanStatistics(const Tool& tool, const std::vector<std::string>& files, double fps,
+                   const std::string& out) {
+    SequenceStats all;
+    std::vector<std::string> from; // the file each frame came from
+    for (const std::string& path : files) {
+        SequenceStats chunk;
+        if (std::string error; !readSequenceStats(path, chunk, error)) return tool.fail(error);
+        if (from.empty())
+            all.metering = chunk.metering;
+        else if (chunk.metering != all.metering)
+            return tool.fail(path + ": metered with " + chunk.metering + ", but " + files[0] +
+                             " with " + all.metering + "; meter every chunk the same way");
+        for (const FrameLuminance& f : chunk.frames) {
+            all.frames.push_back(f);
+            from.push_back(path);
+        }
+    }
+    if (all.frames.empty()) return tool.fail("the statistics files hold no frames");
+    std::vector<size_t> order(all.frames.size());
+    for (size_t i = 0; i < order.size(); ++i)
+        order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](size_t a, size_t b) { return all.frames[a].frame < all.frames[b].frame; });
+    std::vector<FrameLuminance> sorted;
+    for (size_t k = 0; k < order.size(); ++k) {
+        if (k > 0 && all.frames[order[k]].frame == all.frames[order[k - 1]].frame)
+            return tool.fail("frame " + std::to_string(all.frames[order[k]].frame) +
+                             " is in both " + from[order[k - 1]] + " and " + from[order[k]]);
+        sorted.push_back(all.frames[order[k]]);
+    }
+    all.frames = sorted;
+    const int gaps =
+        all.frames.back().frame - all.frames.front().frame + 1 - int(all.frames.size());
+    if (gaps > 0)
+        tool.warn(std::to_string(gaps) +
+                  " frames of the range are missing from the statistics; adaptation steps "
+                  "over them as if they were not there");
+    std::vector<double> measured;
+    for (const FrameLuminance& f : all.frames)
+        measured.push_back(f.logAverage);
+    AdaptationParams ap;
+    ap.fps = fps;
+    const std::vector<double> adapted = adaptLuminance(measured, ap);
+    for (size_t i = 0; i < all.frames.size(); ++i)
+        all.frames[i].adapted = adapted[i];
+    all.fps = fps;
+    all.adapt = true;
+    tool.info("scanned " + std::to_string(all.frames.size()) + " frames, " +
+              std::to_string(all.frames.front().frame) + " to " +
+              std::to_string(all.frames.back().frame));
+    return tool.writeText(toJson(all), out) ? kExitSuccess : kExitFailure;
 }
 
 } // namespace dhdr::app

@@ -30,4 +30,11 @@ struct SequenceStats {
 std::string toJson(const SequenceStats& stats);
 bool readSequenceStats(const std::string& path, SequenceStats& stats, std::string& error);
 
+class Tool;
+// --scan: the metering of every chunk of a sequence (--meter-only files), combined in frame
+// order, through the adaptation scan, to one statistics file that --adapt-from maps with.
+// Returns the exit status.
+int scanStatistics(const Tool& tool, const std::vector<std::string>& files, double fps,
+                   const std::string& out);
+
 } // namespace dhdr::app
