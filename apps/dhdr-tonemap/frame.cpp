@@ -21,7 +21,6 @@ constexpr int kStripRows = 64;
 // libpng's PNG_FILTER_NONE.
 constexpr int kPngFilterNone = 0x08;
 
-
 // Replaces what a display cannot show in `hdr` (the whole frame or a strip of it) and brings
 // it to scene-linear, where metering and operators work. A display shows no negative light:
 // negative colour goes with NaN and Inf, in one warning; alpha keeps its negatives.
@@ -149,8 +148,8 @@ std::string lowerExtension(const std::string& path) {
     return ext;
 }
 
-bool meterFrame(const Tool& tool, const FrameJob& job, const std::string& in,
-                LuminanceStats& stats, int nthreads) {
+bool meterFrame(const Tool& tool, const FrameJob& job, const std::string& in, LuminanceStats& stats,
+                int nthreads) {
     SceneLinearStrips strips(tool, job, in, nthreads);
     if (!strips.open()) return false;
     if (streamed(job, strips.spec()))
@@ -162,9 +161,9 @@ bool meterFrame(const Tool& tool, const FrameJob& job, const std::string& in,
 
 // Meters `in` (or uses `given`; or meters it and maps it with the log-average `adapted`),
 // tone-maps it and writes `out`; `used` receives the metering.
-bool mapFrame(const Tool& tool, const FrameJob& job, const std::string& in,
-              const std::string& out, const LuminanceStats* given, const double* adapted,
-              LuminanceStats& used, int nthreads) {
+bool mapFrame(const Tool& tool, const FrameJob& job, const std::string& in, const std::string& out,
+              const LuminanceStats* given, const double* adapted, LuminanceStats& used,
+              int nthreads) {
     SceneLinearStrips strips(tool, job, in, nthreads);
     if (!strips.open()) return false;
     const bool streaming = streamed(job, strips.spec());

@@ -32,13 +32,13 @@ std::string lowerExtension(const std::string& path);
 std::string meteringDescription(const FrameJob& job);
 
 // Meters `in` as mapFrame does (no warnings: mapFrame gives them).
-bool meterFrame(const Tool& tool, const FrameJob& job, const std::string& in,
-                LuminanceStats& stats, int nthreads);
+bool meterFrame(const Tool& tool, const FrameJob& job, const std::string& in, LuminanceStats& stats,
+                int nthreads);
 
 // Meters `in` (or uses `given`; or meters it and maps it with the log-average `adapted`),
 // tone-maps it and writes `out`; `used` receives the metering.
-bool mapFrame(const Tool& tool, const FrameJob& job, const std::string& in,
-              const std::string& out, const LuminanceStats* given, const double* adapted,
-              LuminanceStats& used, int nthreads);
+bool mapFrame(const Tool& tool, const FrameJob& job, const std::string& in, const std::string& out,
+              const LuminanceStats* given, const double* adapted, LuminanceStats& used,
+              int nthreads);
 
 } // namespace dhdr::app
