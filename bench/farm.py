@@ -9,7 +9,6 @@ started for the purpose (tests/farm/slurm_cluster.py; needs root). Wall seconds 
 import argparse
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import time

@@ -1,6 +1,7 @@
 """dhdr-farm submit | status | plan: the command line (docs/farm.md)."""
 
 import argparse
+import io
 import os
 import shutil
 import sys
@@ -139,12 +140,14 @@ def submit(args):
 
     if args.engine == "local":
         def progress(key, rc):
+            # Failures are errors: printed under -q too.
             job_key, task = key
             if rc is None:
-                say("%s chunk %d: not run, a chunk it depends on failed" % (job_key, task))
+                sys.stderr.write("dhdr-farm: %s chunk %d: not run, a chunk it depends on "
+                                 "failed\n" % (job_key, task))
             elif rc != 0:
-                say("%s chunk %d: failed with exit status %d (log %s)" % (
-                    job_key, task, rc, paths(plan.state, job_key, task)["log"]))
+                sys.stderr.write("dhdr-farm: %s chunk %d: failed with exit status %d (log %s)\n"
+                                 % (job_key, task, rc, paths(plan.state, job_key, task)["log"]))
         status_mod.write_record(plan.state, record)
         local.run(plan, scripts, args.max_running or 1, args.cpus or 0, report=progress)
     else:
@@ -158,8 +161,8 @@ def submit(args):
         slurm.wait(list(ids.values()))
     fresh = make_plan(plan.pipeline, first, last, plan.chunk, plan.state,
                       _tools_folder(args.bin))
-    complete, failed = status_mod.report(status_mod.collect(fresh, record["jobs"]),
-                                         sys.stdout if not args.quiet else open(os.devnull, "w"))
+    complete, _ = status_mod.report(status_mod.collect(fresh, record["jobs"]),
+                                    io.StringIO() if args.quiet else sys.stdout)
     return EXIT_OK if complete else EXIT_FAILURE
 
 

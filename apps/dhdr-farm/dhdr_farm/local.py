@@ -5,7 +5,6 @@ afterok waits for the whole job. A failed task's dependents never start."""
 
 import os
 import subprocess
-import sys
 import time
 
 from .script import paths

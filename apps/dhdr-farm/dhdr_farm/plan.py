@@ -46,15 +46,12 @@ class Plan:
 
     @property
     def submitted(self):
-        """The jobs with work, each with only the dependencies on jobs that also have work
-        (a job with nothing to do is not submitted, and its outputs are already there)."""
-        out = []
-        for j in self.jobs:
-            if j.todo:
-                out.append(j)
-        return out
+        """The jobs with work, in order (a job with nothing to do is not submitted: its
+        outputs are already there)."""
+        return [j for j in self.jobs if j.todo]
 
     def dependencies(self, job):
+        """What `job` waits for: only the jobs that are submitted too."""
         return [(d, kind) for d, kind in job.after if d.todo]
 
 

@@ -1,7 +1,6 @@
 """The Slurm engine: one sbatch per job with work (a job array per stage), dependencies by
 job id, and squeue for the state of each task. No daemon of ours: Slurm schedules."""
 
-import os
 import subprocess
 import time
 
