@@ -336,6 +336,73 @@ TEST(DeepGBuffer, DoesNotDependOnTheThreadCount) {
     EXPECT_EQ(std::memcmp(a.localpixels(), b.localpixels(), a.spec().image_bytes()), 0);
 }
 
+TEST(DeepGBuffer, BandsReadAndLitEqualTheWholeFrame) {
+    // What dhdr-light does to bound memory: the file read a band of rows at a time and each
+    // band lit with params.frame; pixels, per-sample colours and stats equal the whole frame's
+    // bit for bit (shadows, AO and many culled lights included).
+    const Scene scene = paneScene(true, true);
+    const RayCaster caster(scene);
+    std::vector<Light> lights = {pointLight({-0.4f, 0.3f, 1.5f}, 3.0f)};
+    for (int i = 0; i < 20; ++i) {
+        Light l = pointLight({-1.0f + 0.1f * float(i), 0.3f * std::sin(float(i)), 0.3f}, 0.2f);
+        l.range = 0.6f;
+        lights.push_back(l);
+    }
+    const DeepGBuffer deep = deepOf(scene, kFront, 40, 100);
+    const std::string path = (std::filesystem::temp_directory_path() / "dhdr_bands.exr").string();
+    ASSERT_TRUE(writeDeep(path, deep));
+    DeepGBuffer whole;
+    std::string error;
+    ASSERT_TRUE(readDeepGBuffer(path, 0, whole, error)) << error;
+    ASSERT_GT(whole.totalSamples(), size_t(40 * 100)); // the pane's pixels hold two samples
+    LightingParams p;
+    p.aoSamples = 4;
+    p.aoDistance = 0.5f;
+    ImageBuf reference;
+    std::vector<float> referenceSamples;
+    LightingStats referenceStats;
+    ASSERT_TRUE(shadeGBuffer(reference, whole, {lights, &caster}, p, {}, 0, &referenceStats,
+                             &referenceSamples));
+
+    DeepGBufferReader reader;
+    ASSERT_TRUE(reader.open(path, 0, error)) << error;
+    EXPECT_EQ(reader.spec().height, 100);
+    LightingParams banded = p;
+    banded.frame = OIIO::get_roi(reader.spec());
+    const int rows = 2 * p.tileSize; // 32: bands of 32, 32, 32 and 4 rows
+    std::vector<float> samples;
+    LightingStats stats;
+    size_t at = 0;
+    for (int y = 0; y < 100; y += rows) {
+        DeepGBuffer band;
+        ASSERT_TRUE(reader.read(y, y + rows, band, error)) << error;
+        ASSERT_EQ(band.spec.y, y);
+        ASSERT_EQ(band.spec.height, std::min(rows, 100 - y));
+        // The band's samples are the whole file's rows.
+        const size_t first = whole.first[whole.pixel(0, y)];
+        ASSERT_TRUE(
+            std::equal(band.values.begin(), band.values.end(),
+                       whole.values.begin() + std::ptrdiff_t(first * size_t(band.spec.nchannels))));
+        ImageBuf lit;
+        LightingStats bandStats;
+        ASSERT_TRUE(shadeGBuffer(lit, band, {lights, &caster}, banded, {}, 0, &bandStats, &samples))
+            << lit.geterror();
+        stats += bandStats;
+        for (int yy = lit.spec().y; yy < lit.spec().y + lit.spec().height; ++yy)
+            for (int x = 0; x < 40; ++x)
+                for (int c = 0; c < 4; ++c)
+                    ASSERT_EQ(px(lit, x, yy)[c], px(reference, x, yy)[c]) << x << "," << yy;
+        ASSERT_TRUE(std::equal(samples.begin(), samples.end(),
+                               referenceSamples.begin() + std::ptrdiff_t(at)));
+        at += samples.size();
+    }
+    EXPECT_EQ(at, referenceSamples.size());
+    EXPECT_EQ(stats.coveredPixels, referenceStats.coveredPixels);
+    EXPECT_EQ(stats.shadowRays, referenceStats.shadowRays);
+    EXPECT_EQ(stats.aoRays, referenceStats.aoRays);
+    std::filesystem::remove(path);
+}
+
 TEST(DeepGBuffer, FileReadBackWithOpenEXRsDeepReader) {
     // Written as dhdr-gbuffer writes it, read back by OpenEXR's own deep scanline reader:
     // the sample counts, Z = ZBack, front to back.

@@ -198,54 +198,62 @@ int run(int argc, char** argv) {
             std::any_of(scene.materials.begin(), scene.materials.end(),
                         [](const Material& m) { return m.alphaMode == AlphaMode::Blend; });
         if (deep || (!flat && blends)) {
-            // Deep: the strips are traced first, to know whether any pixel holds a partly
-            // transparent surface; without one (and without --deep) the flat file is written.
-            std::vector<DeepGBuffer> strips;
-            long long transparent = 0, samples = 0;
+            // Without --deep, a deep file is written only when some pixel holds a partly
+            // transparent surface: the layers are traced strip by strip until one is found
+            // (all of them when none is), keeping nothing, then traced again and written a strip
+            // at a time, so memory stays at one strip whatever the image size.
             const auto s0 = std::chrono::steady_clock::now();
-            {
+            bool writeDeep = deep;
+            DeepGBuffer strip;
+            if (!deep) {
+                app::Progress progress(tool, "dhdr-gbuffer: looking for transparent surfaces");
+                for (int y = 0; y < params.height && !writeDeep; y += kStrip) {
+                    const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
+                    long long t = 0;
+                    if (!renderer.renderDeep(strip, rows, tool.threads(), &t)) {
+                        tool.fail(scenePath + ": cannot render the layers");
+                        return false;
+                    }
+                    writeDeep = t > 0;
+                    progress.update(float(rows.yend) / float(params.height));
+                }
+            }
+            if (writeDeep) {
+                long long transparent = 0, samples = 0;
+                app::AtomicOutput file(tool, outPath);
                 app::Progress progress(tool, "dhdr-gbuffer: rendering layers");
                 for (int y = 0; y < params.height; y += kStrip) {
                     const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
                     long long t = 0;
-                    strips.emplace_back();
-                    if (!renderer.renderDeep(strips.back(), rows, tool.threads(), &t)) {
+                    if (!renderer.renderDeep(strip, rows, tool.threads(), &t)) {
                         tool.fail(scenePath + ": cannot render the layers");
                         return false;
                     }
                     transparent += t;
-                    samples += (long long)strips.back().totalSamples();
+                    samples += (long long)strip.totalSamples();
+                    if (y == 0) {
+                        OIIO::ImageSpec deepSpec = strip.spec;
+                        deepSpec.y = 0;
+                        deepSpec.height = params.height;
+                        deepSpec.channelformats = gbuffer::deepChannelFormats();
+                        deepSpec.attribute("dhdr:source", scenePath);
+                        if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
+                            deepSpec.attribute(gbuffer::kSceneFingerprint, sha);
+                        if (!file.openDeep(deepSpec)) return false;
+                    }
+                    OIIO::DeepData data;
+                    toDeepData(strip, rows.ybegin, rows.yend, data);
+                    if (!file.writeDeepRows(rows.ybegin, rows.yend, data)) return false;
                     progress.update(float(rows.yend) / float(params.height));
                 }
-            }
-            const double layersMs =
-                std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0)
-                    .count();
-            if (deep || transparent > 0) {
-                OIIO::ImageSpec deepSpec = strips.front().spec;
-                deepSpec.y = 0;
-                deepSpec.height = params.height;
-                deepSpec.channelformats = gbuffer::deepChannelFormats();
-                deepSpec.attribute("dhdr:source", scenePath);
-                if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
-                    deepSpec.attribute(gbuffer::kSceneFingerprint, sha);
-                app::AtomicOutput file(tool, outPath);
-                if (!file.openDeep(deepSpec)) return false;
-                for (const DeepGBuffer& strip : strips) {
-                    OIIO::DeepData data;
-                    toDeepData(strip, strip.spec.y, strip.spec.y + strip.spec.height, data);
-                    if (!file.writeDeepRows(strip.spec.y, strip.spec.y + strip.spec.height, data))
-                        return false;
-                }
                 if (!file.commit()) return false;
-                const auto t2 = std::chrono::steady_clock::now();
-                tool.info(
-                    "deep: " + std::to_string(samples) + " samples, " +
-                    std::to_string(transparent) + " partly transparent; trace " +
-                    std::to_string(int(layersMs + 0.5)) + " ms, write " +
-                    std::to_string(int(std::chrono::duration<double, std::milli>(t2 - s0).count() -
-                                       layersMs + 0.5)) +
-                    " ms");
+                tool.info("deep: " + std::to_string(samples) + " samples, " +
+                          std::to_string(transparent) + " partly transparent; " +
+                          std::to_string(int(std::chrono::duration<double, std::milli>(
+                                                 std::chrono::steady_clock::now() - s0)
+                                                 .count() +
+                                             0.5)) +
+                          " ms");
                 if (samples == 0)
                     tool.warn(outPath + ": no surface in view: every pixel is background");
                 return writeLightsOut(frame, scene, scenePath);

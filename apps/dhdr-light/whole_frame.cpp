@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/tonemap/sanitize.h>
+#include <optional>
 
 namespace dhdr::app {
 
@@ -28,17 +29,15 @@ bool writeLitFrame(const WholeFrameRun& run, OIIO::ImageSpec spec, const OIIO::I
            file.commit();
 }
 
-// The lit samples as a deep RGBA EXR: premultiplied, with the G-buffer's depths, in its order.
-bool writeLitSamples(const WholeFrameRun& run, const DeepGBuffer& gbuf,
-                     const std::vector<float>& sampleRGBA, const OIIO::ImageSpec& spec,
-                     const std::string& path) {
+// The lit samples of a band as deep RGBA rows: premultiplied, with the G-buffer's depths, in
+// its order.
+OIIO::DeepData litSamples(const DeepGBuffer& gbuf, const std::vector<float>& sampleRGBA,
+                          const std::vector<OIIO::TypeDesc>& formats) {
     const OIIO::ImageSpec& gspec = gbuf.spec;
     DeepGBuffer lit;
-    lit.spec = spec;
+    lit.spec = gspec;
     lit.spec.nchannels = 6;
     lit.spec.channelnames = {"R", "G", "B", "A", "Z", "ZBack"};
-    lit.spec.alpha_channel = 3;
-    lit.spec.z_channel = 4;
     lit.first = gbuf.first;
     lit.values.resize(gbuf.totalSamples() * 6);
     for (size_t k = 0; k < gbuf.totalSamples(); ++k) {
@@ -47,16 +46,9 @@ bool writeLitSamples(const WholeFrameRun& run, const DeepGBuffer& gbuf,
         lit.values[6 * k + 4] = gbuf.values[k * size_t(gspec.nchannels) + 1];
         lit.values[6 * k + 5] = gbuf.values[k * size_t(gspec.nchannels) + 2];
     }
-    const std::vector<OIIO::TypeDesc> formats = {run.outputType,        run.outputType,
-                                                 run.outputType,        run.outputType,
-                                                 OIIO::TypeDesc::FLOAT, OIIO::TypeDesc::FLOAT};
-    OIIO::ImageSpec deepSpec = lit.spec;
-    deepSpec.channelformats = formats;
     OIIO::DeepData data;
     toDeepData(lit, gspec.y, gspec.y + gspec.height, data, formats);
-    AtomicOutput file(run.tool, path);
-    return file.openDeep(deepSpec) && file.writeDeepRows(gspec.y, gspec.y + gspec.height, data) &&
-           file.commit();
+    return data;
 }
 
 } // namespace
@@ -66,42 +58,90 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
                       const std::string& deepOut) {
     const Tool& tool = run.tool;
     const auto start = std::chrono::steady_clock::now();
-    DeepGBuffer gbuf;
+    DeepGBufferReader reader;
     std::string error;
-    long long replaced = 0;
-    if (!readDeepGBuffer(path, part, gbuf, error, &replaced)) {
+    if (!reader.open(path, part, error)) {
         tool.fail(path + ": " + error);
         return false;
     }
-    NonFiniteCount counted;
-    counted.nan = replaced;
-    tool.reportNonFinite(path, counted, false);
-    if (!run.prepareFrame(path, gbuf.spec)) return false;
-    const double readMs = msSince(start);
-    auto t = std::chrono::steady_clock::now();
+    const OIIO::ImageSpec& frame = reader.spec();
+    if (!run.prepareFrame(path, frame)) return false;
+    // A band of whole rows of tiles at a time: memory follows a band's samples, and each
+    // pixel's result is the frame's (tiles are laid over the frame).
+    LightingParams params = run.params;
+    params.frame = OIIO::get_roi(frame);
+    const int rows = params.tileSize * std::max(1, 128 / params.tileSize);
+    AtomicOutput file(tool, out);
+    std::optional<AtomicOutput> deepFile;
+    if (!deepOut.empty()) deepFile.emplace(tool, deepOut);
+    const std::vector<OIIO::TypeDesc> deepFormats = {run.outputType,        run.outputType,
+                                                     run.outputType,        run.outputType,
+                                                     OIIO::TypeDesc::FLOAT, OIIO::TypeDesc::FLOAT};
+    DeepGBuffer band;
     OIIO::ImageBuf hdr;
     LightingStats stats;
     std::vector<float> sampleRGBA;
-    if (!shadeGBuffer(hdr, gbuf, run.inputs, run.params, {}, tool.threads(), &stats,
-                      deepOut.empty() ? nullptr : &sampleRGBA)) {
-        tool.fail(path + ": " + hdr.geterror());
-        return false;
+    long long replaced = 0;
+    size_t samples = 0;
+    double readMs = 0.0, shadeMs = 0.0, writeMs = 0.0;
+    Progress progress(tool, "dhdr-light: " + path);
+    for (int y = frame.y; y < frame.y + frame.height; y += rows) {
+        auto t = std::chrono::steady_clock::now();
+        if (!reader.read(y, y + rows, band, error, &replaced)) {
+            tool.fail(path + ": " + error);
+            return false;
+        }
+        samples += band.totalSamples();
+        readMs += msSince(t);
+        t = std::chrono::steady_clock::now();
+        LightingStats bandStats;
+        if (!shadeGBuffer(hdr, band, run.inputs, params, {}, tool.threads(), &bandStats,
+                          deepOut.empty() ? nullptr : &sampleRGBA)) {
+            tool.fail(path + ": " + hdr.geterror());
+            return false;
+        }
+        stats += bandStats;
+        shadeMs += msSince(t);
+        t = std::chrono::steady_clock::now();
+        if (y == frame.y) {
+            OIIO::ImageSpec spec = hdr.spec();
+            spec.y = frame.y;
+            spec.height = frame.height;
+            spec.attribute("dhdr:lights", lightFiles);
+            spec.erase_attribute("dhdr:materialNames");
+            spec.erase_attribute("dhdr:objectNames");
+            if (!file.open(spec, {run.outputType})) return false;
+            if (!deepOut.empty()) {
+                OIIO::ImageSpec deepSpec = spec;
+                deepSpec.nchannels = 6;
+                deepSpec.channelnames = {"R", "G", "B", "A", "Z", "ZBack"};
+                deepSpec.alpha_channel = 3;
+                deepSpec.z_channel = 4;
+                deepSpec.channelformats = deepFormats;
+                if (!deepFile->openDeep(deepSpec)) return false;
+            }
+        }
+        const OIIO::ImageSpec& lit = hdr.spec();
+        if (!file.writeRows(lit.y, lit.y + lit.height,
+                            static_cast<const float*>(hdr.localpixels())))
+            return false;
+        if (!deepOut.empty() && !deepFile->writeDeepRows(lit.y, lit.y + lit.height,
+                                                         litSamples(band, sampleRGBA, deepFormats)))
+            return false;
+        writeMs += msSince(t);
+        progress.update(float(y + rows - frame.y) / float(frame.height));
     }
-    const double shadeMs = msSince(t);
-    t = std::chrono::steady_clock::now();
-    OIIO::ImageSpec spec = hdr.spec();
-    spec.attribute("dhdr:lights", lightFiles);
-    spec.erase_attribute("dhdr:materialNames");
-    spec.erase_attribute("dhdr:objectNames");
-    if (!deepOut.empty() && !writeLitSamples(run, gbuf, sampleRGBA, spec, deepOut)) return false;
-    if (!writeLitFrame(run, spec, hdr, out)) return false;
-    const double writeMs = msSince(t);
+    if (deepFile && !deepFile->commit()) return false;
+    if (!file.commit()) return false;
+    NonFiniteCount counted;
+    counted.nan = replaced;
+    tool.reportNonFinite(path, counted, false);
     if (stats.coveredPixels == 0)
         tool.warn(path + ": no surface in view: A is 0 everywhere (an empty frame)");
     char line[200];
     std::snprintf(line, sizeof line,
                   "deep: %zu samples over %lld covered pixels; %lld shadow rays, %lld AO rays",
-                  gbuf.totalSamples(), stats.coveredPixels, stats.shadowRays, stats.aoRays);
+                  samples, stats.coveredPixels, stats.shadowRays, stats.aoRays);
     tool.info(line);
     tool.info("total " + ms(msSince(start)) + ": read " + ms(readMs) + ", shade " + ms(shadeMs) +
               ", write " + ms(writeMs));

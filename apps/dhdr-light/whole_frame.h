@@ -1,6 +1,6 @@
-// dhdr-light's G-buffers that are lit as a whole frame rather than strip by strip: deep
-// G-buffers (read whole: their size is their samples') and other renderers' passes read
-// through a channel map.
+// dhdr-light's G-buffers that are not flat G-buffers of the contract: deep G-buffers (read and
+// lit a band of rows at a time, as deep data) and other renderers' passes read whole through a
+// channel map.
 #pragma once
 
 #include "../common/tool.h"

@@ -26,18 +26,31 @@ std::vector<OIIO::TypeDesc> deepChannelFormats() {
 
 } // namespace gbuffer
 
-bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, std::string& error,
-                     long long* replaced) {
-    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
-    if (!in) {
+struct DeepGBufferReader::File {
+    std::unique_ptr<OIIO::ImageInput> in;
+    OIIO::ImageSpec spec; // as in the file
+    int subimage = 0;
+    std::vector<int> source; // where each channel held in memory comes from (−1: not there)
+    OIIO::DeepData whole;    // a tiled file, read once
+    bool haveWhole = false;
+};
+
+DeepGBufferReader::DeepGBufferReader() = default;
+DeepGBufferReader::~DeepGBufferReader() = default;
+
+bool DeepGBufferReader::open(const std::string& path, int subimage, std::string& error) {
+    m_file = std::make_unique<File>();
+    m_file->in = OIIO::ImageInput::open(path);
+    if (!m_file->in) {
         error = OIIO::geterror();
         return false;
     }
-    if (!in->seek_subimage(subimage, 0)) {
+    if (!m_file->in->seek_subimage(subimage, 0)) {
         error = "no part " + std::to_string(subimage);
         return false;
     }
-    const OIIO::ImageSpec file = in->spec();
+    const OIIO::ImageSpec& file = m_file->spec = m_file->in->spec();
+    m_file->subimage = subimage;
     if (!file.deep) {
         error = "not a deep image";
         return false;
@@ -49,44 +62,80 @@ bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, st
         return false;
     }
     const std::vector<std::string> names = gbuffer::deepChannelNames();
-    const int nch = int(names.size());
-    // Where each channel held in memory comes from in the file (−1: not there).
-    std::vector<int> source(size_t(nch), -1);
-    for (int c = 0; c < nch; ++c)
-        source[size_t(c)] = file.channelindex(names[size_t(c)]);
-    OIIO::DeepData deep;
-    if (!in->read_native_deep_image(subimage, 0, deep)) {
-        error = in->geterror();
+    m_file->source.assign(names.size(), -1);
+    for (size_t c = 0; c < names.size(); ++c)
+        m_file->source[c] = file.channelindex(names[c]);
+    m_spec = file;
+    m_spec.deep = false;
+    m_spec.nchannels = int(names.size());
+    m_spec.channelnames = names;
+    m_spec.set_format(OIIO::TypeDesc::FLOAT);
+    m_spec.channelformats.clear();
+    m_spec.alpha_channel = 0;
+    m_spec.z_channel = 1;
+    return true;
+}
+
+bool DeepGBufferReader::read(int ybegin, int yend, DeepGBuffer& out, std::string& error,
+                             long long* replaced) {
+    if (!m_file || !m_file->in) {
+        error = "not open";
+        return false;
+    }
+    const OIIO::ImageSpec& file = m_file->spec;
+    ybegin = std::max(ybegin, file.y);
+    yend = std::min(yend, file.y + file.height);
+    if (yend <= ybegin) {
+        error = "no rows to read";
+        return false;
+    }
+    const int nch = m_spec.nchannels;
+    const std::vector<int>& source = m_file->source;
+    OIIO::DeepData band;
+    const OIIO::DeepData* deep = &band;
+    // Pixels of the DeepData before the band's first (a tiled file's whole image).
+    size_t skip = 0;
+    if (file.tile_width > 0) {
+        if (!m_file->haveWhole) {
+            if (!m_file->in->read_native_deep_image(m_file->subimage, 0, m_file->whole)) {
+                error = m_file->in->geterror();
+                if (error.empty()) error = "cannot read its deep pixels";
+                return false;
+            }
+            m_file->haveWhole = true;
+        }
+        deep = &m_file->whole;
+        skip = size_t(ybegin - file.y) * size_t(file.width);
+    } else if (!m_file->in->read_native_deep_scanlines(m_file->subimage, 0, ybegin, yend, 0, 0,
+                                                       file.nchannels, band)) {
+        error = m_file->in->geterror();
         if (error.empty()) error = "cannot read its deep pixels";
         return false;
     }
-    out.spec = file;
-    out.spec.deep = false;
-    out.spec.nchannels = nch;
-    out.spec.channelnames = names;
-    out.spec.set_format(OIIO::TypeDesc::FLOAT);
-    out.spec.channelformats.clear();
-    out.spec.alpha_channel = 0;
-    out.spec.z_channel = 1;
-    const size_t npix = size_t(file.width) * size_t(file.height);
+    out.spec = m_spec;
+    out.spec.y = ybegin;
+    out.spec.height = yend - ybegin;
+    const size_t npix = size_t(file.width) * size_t(yend - ybegin);
+    auto samplesOf = [&](size_t p) { return deep->samples(int64_t(skip + p)); };
     out.first.assign(npix + 1, 0);
     for (size_t p = 0; p < npix; ++p)
-        out.first[p + 1] = out.first[p] + std::uint32_t(deep.samples(int64_t(p)));
+        out.first[p + 1] = out.first[p] + std::uint32_t(samplesOf(p));
     out.values.assign(size_t(out.first.back()) * size_t(nch), 0.0f);
     // Each sample's channels lie together in the DeepData, at fixed offsets from its first
     // byte: read them in place rather than one deep_value call (and type switch) each.
-    const size_t sampleBytes = deep.samplesize();
+    const size_t sampleBytes = deep->samplesize();
     std::vector<std::ptrdiff_t> offset(size_t(file.nchannels), 0);
     for (size_t p = 0; p < npix; ++p) {
-        if (deep.samples(int64_t(p)) == 0) continue;
-        const char* base = static_cast<const char*>(deep.data_ptr(int64_t(p), 0, 0));
+        if (samplesOf(p) == 0) continue;
+        const char* base = static_cast<const char*>(deep->data_ptr(int64_t(skip + p), 0, 0));
         for (int c = 0; c < file.nchannels; ++c)
-            offset[size_t(c)] = static_cast<const char*>(deep.data_ptr(int64_t(p), c, 0)) - base;
+            offset[size_t(c)] =
+                static_cast<const char*>(deep->data_ptr(int64_t(skip + p), c, 0)) - base;
         break;
     }
     auto value = [&](const char* sample, int c) {
         const char* at = sample + offset[size_t(c)];
-        const OIIO::TypeDesc t = deep.channeltype(c);
+        const OIIO::TypeDesc t = deep->channeltype(c);
         if (t == OIIO::TypeDesc::FLOAT) {
             float v;
             std::memcpy(&v, at, sizeof v);
@@ -108,13 +157,13 @@ bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, st
     std::vector<int> order;
     long long fixed = 0;
     for (size_t p = 0; p < npix; ++p) {
-        const int n = deep.samples(int64_t(p));
+        const int n = samplesOf(p);
         if (n == 0) continue;
-        const char* first = static_cast<const char*>(deep.data_ptr(int64_t(p), 0, 0));
+        const char* first = static_cast<const char*>(deep->data_ptr(int64_t(skip + p), 0, 0));
         auto sample = [&](int s) { return first + size_t(s) * sampleBytes; };
         auto where = [&] {
             return "pixel (" + std::to_string(file.x + int(p % size_t(file.width))) + ", " +
-                   std::to_string(file.y + int(p / size_t(file.width))) + ")";
+                   std::to_string(ybegin + int(p / size_t(file.width))) + ")";
         };
         order.resize(size_t(n));
         std::iota(order.begin(), order.end(), 0);
@@ -150,6 +199,14 @@ bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, st
     }
     if (replaced) *replaced += fixed;
     return true;
+}
+
+bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, std::string& error,
+                     long long* replaced) {
+    DeepGBufferReader reader;
+    if (!reader.open(path, subimage, error)) return false;
+    const OIIO::ImageSpec& spec = reader.spec();
+    return reader.read(spec.y, spec.y + spec.height, out, error, replaced);
 }
 
 void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out,

@@ -433,10 +433,8 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const DeepGBuffer& gbuf, const LightingIn
         dst.errorfmt("an AO image has one value a pixel; a deep G-buffer needs ray-traced AO");
         return false;
     }
-    if (params.frame.defined() && params.frame != OIIO::get_roi(in)) {
-        dst.errorfmt("a deep G-buffer is shaded as a whole frame");
-        return false;
-    }
+    // A band of the frame's rows is shaded as the flat strips are (params.frame).
+    const OIIO::ROI frame = params.frame.defined() ? params.frame : OIIO::get_roi(in);
     if (sampleRGBA) sampleRGBA->assign(4 * gbuf.totalSamples(), 0.0f);
     const Source source{in,
                         OIIO::get_roi(in),
@@ -444,7 +442,7 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const DeepGBuffer& gbuf, const LightingIn
                         camera,
                         GBufferView(gbuf, layout, camera),
                         DepthView{gbuf.values.data() + layout.depth, size_t(in.nchannels),
-                                  size_t(in.width), 0, gbuf.first.data()}};
+                                  size_t(in.width), in.y - frame.ybegin, gbuf.first.data()}};
     return shadeSource(dst, source, inputs, params, roi, nthreads, stats, sampleRGBA);
 }
 

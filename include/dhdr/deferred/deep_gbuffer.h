@@ -7,6 +7,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <cstdint>
 #include <dhdr/deferred/gbuffer.h>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -40,11 +41,31 @@ struct DeepGBuffer {
     }
 };
 
-// Reads a deep G-buffer from part `subimage` of a deep scanline or tiled EXR. Samples are
-// sorted front to back by Z (stably: equal depths keep the file's order); a sample with
-// ZBack > Z is a volume, not a surface, and is an error, as is a missing contract channel
-// (emission and ids are optional: zero). Non-finite values other than Z are replaced by 0 and
-// counted in `replaced`. False with `error` saying why (without the path).
+// A deep G-buffer read a band of rows at a time, so that memory follows the band's samples,
+// not the frame's. Samples are sorted front to back by Z (stably: equal depths keep the
+// file's order); a sample with ZBack > Z is a volume, not a surface, and is an error, as is a
+// missing contract channel (emission and ids are optional: zero). Non-finite values other
+// than Z are replaced by 0 and counted. Errors say why, without the path.
+class DeepGBufferReader {
+public:
+    DeepGBufferReader();
+    ~DeepGBufferReader();
+    // Part `subimage` of a deep scanline or tiled EXR (a tiled one is read whole on the first
+    // read and served from memory).
+    bool open(const std::string& path, int subimage, std::string& error);
+    // The frame as a DeepGBuffer's spec: the whole data window, deepChannelNames(), float.
+    const OIIO::ImageSpec& spec() const { return m_spec; }
+    // Rows [ybegin, yend) (within the frame) into `out`, whose spec is then spec() cut to them.
+    bool read(int ybegin, int yend, DeepGBuffer& out, std::string& error,
+              long long* replaced = nullptr);
+
+private:
+    struct File;
+    std::unique_ptr<File> m_file;
+    OIIO::ImageSpec m_spec;
+};
+
+// The whole of part `subimage` (DeepGBufferReader's rules).
 bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, std::string& error,
                      long long* replaced = nullptr);
 

@@ -101,7 +101,8 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuffer, const Ligh
                   const LightingParams& params = {}, OIIO::ROI roi = {}, int nthreads = 0,
                   LightingStats* stats = nullptr);
 
-// A deep G-buffer (deep_gbuffer.h), all of its frame: every sample is lit as an opaque surface
+// A deep G-buffer (deep_gbuffer.h), its whole frame or a band of its rows (params.frame, as for
+// flat strips; the same pixels either way): every sample is lit as an opaque surface
 // would be (the same tile lists, bounded by all samples' depths; shadow and AO rays from each;
 // its own sample sequences, sample 0's those of a flat pixel) and the samples are composited
 // front to back, premultiplied "over", into the flat RGBA of `dst`; what is left uncovered
