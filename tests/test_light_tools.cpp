@@ -347,7 +347,8 @@ TEST_F(LightTools, GBufferIsDeepWhereSurfacesAreTransparent) {
 TEST_F(LightTools, DeepLightingFlattensToTheFlatOutput) {
     // dhdr-light on the deep G-buffer: its flat output equals OpenImageIO's flatten of its
     // --deep-out file (tidy: sorted, premultiplied), and the pane tints what is behind it.
-    ASSERT_EQ(run("dhdr-gbuffer " + kGlass + " --size 80x80 -o " + path("dg.exr")).status, 0);
+    // 300 rows: dhdr-light reads, lights and writes the deep G-buffer in three bands.
+    ASSERT_EQ(run("dhdr-gbuffer " + kGlass + " --size 80x300 -o " + path("dg.exr")).status, 0);
     const Result r =
         run("dhdr-light " + path("dg.exr") + " --scene " + kGlass + " --lights " + kLights +
             " --type float --deep-out " + path("ddeep.exr") + " -o " + path("dflat.exr") + " -v");
@@ -361,7 +362,7 @@ TEST_F(LightTools, DeepLightingFlattensToTheFlatOutput) {
     const ImageBuf flat = read("dflat.exr");
     ASSERT_TRUE(allFinite(flat));
     int compared = 0;
-    for (int y = 0; y < 80; ++y)
+    for (int y = 0; y < 300; ++y)
         for (int x = 0; x < 80; ++x)
             for (int c = 0; c < 4; ++c) {
                 const float a = flattened.getchannel(
@@ -370,7 +371,7 @@ TEST_F(LightTools, DeepLightingFlattensToTheFlatOutput) {
                 EXPECT_NEAR(a, b, 1e-5f + 1e-5f * std::abs(b)) << x << "," << y << " " << c;
                 ++compared;
             }
-    EXPECT_EQ(compared, 80 * 80 * 4);
+    EXPECT_EQ(compared, 80 * 300 * 4);
     // --deep-out needs a deep G-buffer; SSAO a flat one.
     const Result flatIn = run("dhdr-light " + path("g.exr") + " --lights " + kLights +
                               " --deep-out " + path("x_deep.exr") + " -o " + path("x.exr"));
@@ -383,11 +384,21 @@ TEST_F(LightTools, DeepLightingFlattensToTheFlatOutput) {
     EXPECT_FALSE(fs::exists(path("x.exr")));
     EXPECT_FALSE(fs::exists(path("x_deep.exr")));
     EXPECT_TRUE(noTemporaries());
-    // dhdr-aa takes the deep G-buffer's front samples for its edges.
+    // dhdr-aa takes the deep G-buffer's front samples for its edges (read strip by strip):
+    // the edges of the --flat G-buffer, which holds each pixel's first surface.
     const Result aa = run("dhdr-aa " + path("dflat.exr") + " --gbuffer " + path("dg.exr") + " -o " +
                           path("daa.exr"));
     EXPECT_EQ(aa.status, 0) << aa.err;
     EXPECT_TRUE(allFinite(read("daa.exr")));
+    ASSERT_EQ(
+        run("dhdr-gbuffer " + kGlass + " --size 80x300 --flat -o " + path("dgflat.exr")).status, 0);
+    ASSERT_EQ(run("dhdr-aa " + path("dflat.exr") + " --gbuffer " + path("dgflat.exr") + " -o " +
+                  path("daa_flat.exr"))
+                  .status,
+              0);
+    const ImageBuf fromDeep = read("daa.exr"), fromFlat = read("daa_flat.exr");
+    EXPECT_EQ(OIIO::ImageBufAlgo::compare(fromDeep, fromFlat, 0.0f, 0.0f).nfail, 0u);
+    EXPECT_GT(OIIO::ImageBufAlgo::compare(fromDeep, read("dflat.exr"), 1e-4f, 1e-4f).nfail, 0u);
 }
 
 TEST_F(LightTools, ProbesAddIndirectLightAndTheirAOV) {

@@ -15,25 +15,12 @@ namespace dhdr::app {
 
 namespace {
 
-// A deep part read whole, flat: each pixel is its front sample (the smallest Z), or zero with
-// Z = +∞ where it has none (a G-buffer's background).
-bool readFrontSamples(OIIO::ImageInput& in, int subimage, int chbegin, int chend,
-                      OIIO::ImageBuf& out, std::string& error) {
-    const OIIO::ImageSpec file = in.spec();
-    OIIO::DeepData deep;
-    if (!in.read_native_deep_image(subimage, 0, deep)) {
-        error = in.geterror();
-        if (error.empty()) error = "cannot read its deep pixels";
-        return false;
-    }
-    OIIO::ImageSpec spec = floatChannelSpec(file, chbegin, chend);
-    spec.deep = false;
-    out.reset(spec, OIIO::InitializePixels::No);
-    const int z = file.channelindex("Z");
+// Deep pixels flat: each pixel of `deep` its front sample (the smallest Z), or zero with
+// Z = +∞ where it has none (a G-buffer's background); `out` holds channels [chbegin, chend).
+void flattenFrontSamples(const OIIO::DeepData& deep, int z, int chbegin, int chend, float* out) {
     const size_t nch = size_t(chend - chbegin);
-    auto* px = static_cast<float*>(out.localpixels());
-    for (int64_t p = 0, n = int64_t(file.width) * file.height; p < n; ++p) {
-        float* o = px + size_t(p) * nch;
+    for (int64_t p = 0, n = deep.pixels(); p < n; ++p) {
+        float* o = out + size_t(p) * nch;
         int front = -1;
         for (int k = 0; k < deep.samples(p); ++k)
             if (front < 0 || (z >= 0 && deep.deep_value(p, z, k) < deep.deep_value(p, z, front)))
@@ -47,7 +34,6 @@ bool readFrontSamples(OIIO::ImageInput& in, int subimage, int chbegin, int chend
             o[c - chbegin] = v;
         }
     }
-    return true;
 }
 
 } // namespace
@@ -55,13 +41,30 @@ bool readFrontSamples(OIIO::ImageInput& in, int subimage, int chbegin, int chend
 bool StripReader::open(const std::string& path, int subimage, int chbegin, int chend, int nthreads,
                        std::string& error, bool frontSamples) {
     m_whole.reset();
+    m_deep.reset();
     if (auto probe = frontSamples ? OIIO::ImageInput::open(path) : nullptr;
         probe && probe->seek_subimage(subimage, 0) && probe->spec().deep) {
         const OIIO::ImageSpec& file = probe->spec();
         m_chbegin = std::clamp(chbegin, 0, file.nchannels);
         m_chend = std::clamp(chend, m_chbegin, file.nchannels);
-        if (!readFrontSamples(*probe, subimage, m_chbegin, m_chend, m_whole, error)) return false;
-        m_spec = m_whole.spec();
+        m_subimage = subimage;
+        m_spec = floatChannelSpec(file, m_chbegin, m_chend);
+        m_spec.deep = false;
+        if (file.tile_width == 0) {
+            // Scanlines: each strip's rows are read and flattened when asked for.
+            m_deep = std::move(probe);
+            return true;
+        }
+        // Tiled: read whole once and served from memory.
+        OIIO::DeepData deep;
+        if (!probe->read_native_deep_image(subimage, 0, deep)) {
+            error = probe->geterror();
+            if (error.empty()) error = "cannot read its deep pixels";
+            return false;
+        }
+        m_whole.reset(m_spec, OIIO::InitializePixels::No);
+        flattenFrontSamples(deep, file.channelindex("Z"), m_chbegin, m_chend,
+                            static_cast<float*>(m_whole.localpixels()));
         return true;
     }
     m_in = openFlatPart(path, subimage, error);
@@ -109,6 +112,18 @@ bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string&
     if (m_whole.initialized()) {
         std::memcpy(out, m_whole.pixeladdr(rows.x, ybegin),
                     rowFloats * size_t(rows.height) * sizeof(float));
+        return true;
+    }
+    if (m_deep) {
+        const OIIO::ImageSpec& file = m_deep->spec();
+        OIIO::DeepData deep;
+        if (!m_deep->read_native_deep_scanlines(m_subimage, 0, ybegin, yend, 0, 0, file.nchannels,
+                                                deep)) {
+            error = m_deep->geterror();
+            if (error.empty()) error = "cannot read its deep pixels";
+            return false;
+        }
+        flattenFrontSamples(deep, file.channelindex("Z"), m_chbegin, m_chend, out);
         return true;
     }
     if (!m_native_spec) m_native_spec = std::make_unique<OIIO::ImageSpec>(m_in->spec());

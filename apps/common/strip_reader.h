@@ -14,9 +14,9 @@ class StripReader {
 public:
     // Opens channels [chbegin, chend) of part `subimage` of `path`. False with `error` when
     // the file cannot be read, is deep, or is larger than this machine's memory could hold
-    // (for files read whole, below). With `frontSamples`, a deep part is read whole instead,
-    // each pixel its front sample: a deep G-buffer's nearest surfaces (never a deep picture,
-    // which must be composited).
+    // (for files read whole, below). With `frontSamples`, a deep part is read too, each pixel
+    // its front sample: a deep G-buffer's nearest surfaces (never a deep picture, which must
+    // be composited); deep scanlines strip by strip, deep tiles whole.
     bool open(const std::string& path, int subimage, int chbegin, int chend, int nthreads,
               std::string& error, bool frontSamples = false);
     // The file's spec for the channels read, as float pixels (metadata kept).
@@ -36,6 +36,7 @@ private:
     // (OpenEXR decodes the chunks of one read call on one thread here).
     std::vector<std::unique_ptr<OIIO::ImageInput>> m_inputs;
     std::unique_ptr<OIIO::ImageInput> m_in;         // until the first read
+    std::unique_ptr<OIIO::ImageInput> m_deep;       // a deep scanline part, front samples
     std::unique_ptr<OIIO::ImageSpec> m_native_spec; // the part's spec as in the file
     OIIO::ImageSpec m_spec;
     OIIO::ImageBuf m_whole;
