@@ -13,6 +13,7 @@
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cmath>
+#include <dhdr/deferred/deep_exr.h>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
@@ -400,6 +401,65 @@ TEST(DeepGBuffer, BandsReadAndLitEqualTheWholeFrame) {
     EXPECT_EQ(stats.coveredPixels, referenceStats.coveredPixels);
     EXPECT_EQ(stats.shadowRays, referenceStats.shadowRays);
     EXPECT_EQ(stats.aoRays, referenceStats.aoRays);
+    std::filesystem::remove(path);
+}
+
+TEST(DeepExr, RowsWhoseOffsetsPassTwoToTheThirtyOneAreWrittenAndRead) {
+    // OpenImageIO 2.4.7 crashes writing or reading deep rows where y × width × channels passes
+    // 2^31 (a 16K deep G-buffer past row ~5,000). The same offsets with a small file: 128 rows
+    // of 4096 × 32 channels whose data window starts at row 20000 (20000 × 4096 × 32 > 2^31).
+    // Written and read back through deep_exr.h, the values are the ones written.
+    const int W = 4096, nch = 32, first = 20064, H = 20128;
+    OIIO::ImageSpec spec(W, 128, nch, OIIO::TypeDesc::FLOAT);
+    spec.y = 20000;
+    spec.deep = true;
+    spec.channelnames.clear();
+    for (int c = 0; c < nch; ++c)
+        spec.channelnames.push_back(c == 0 ? "Z" : "c" + std::to_string(c));
+    spec.attribute("dhdr:test", "large");
+    const std::string path =
+        (std::filesystem::temp_directory_path() / "dhdr_deep_large.exr").string();
+    auto value = [](int x, int y, int c) { return float(x) + 0.5f * float(y % 7) + float(c); };
+    {
+        DeepScanlineWriter writer;
+        std::string error;
+        ASSERT_TRUE(writer.open(path, spec, error)) << error;
+        for (int y = spec.y; y < H; y += 64) {
+            OIIO::DeepData rows;
+            rows.init(int64_t(W) * 64, nch, {OIIO::TypeDesc::FLOAT}, spec.channelnames);
+            if (y >= first) {
+                std::vector<unsigned> counts(size_t(W) * 64, 0);
+                for (size_t p = 0; p < counts.size(); p += 16)
+                    counts[p] = 1;
+                rows.set_all_samples(counts);
+                for (size_t p = 0; p < counts.size(); p += 16)
+                    for (int c = 0; c < nch; ++c)
+                        rows.set_deep_value(int64_t(p), c, 0, value(int(p % W), y + int(p / W), c));
+            }
+            ASSERT_TRUE(writer.write(y, y + 64, rows, error)) << error;
+        }
+        ASSERT_TRUE(writer.close(error)) << error;
+    }
+    auto in = OIIO::ImageInput::open(path);
+    ASSERT_TRUE(in);
+    const OIIO::ImageSpec read = in->spec();
+    EXPECT_EQ(read.get_string_attribute("dhdr:test"), "large");
+    DeepScanlineReader reader;
+    std::string error;
+    ASSERT_TRUE(reader.open(path, 0, read, error)) << error;
+    OIIO::DeepData rows;
+    ASSERT_TRUE(reader.read(first, H, rows, error)) << error;
+    const int z = read.channelindex("Z"), c5 = read.channelindex("c5");
+    long long checked = 0;
+    for (int64_t p = 0; p < rows.pixels(); ++p) {
+        ASSERT_EQ(rows.samples(p), p % 16 == 0 ? 1 : 0) << p;
+        if (p % 16 != 0) continue;
+        const int x = int(p % W), y = first + int(p / W);
+        ASSERT_EQ(rows.deep_value(p, z, 0), value(x, y, 0));
+        ASSERT_EQ(rows.deep_value(p, c5, 0), value(x, y, 5));
+        ++checked;
+    }
+    EXPECT_EQ(checked, W * 64 / 16);
     std::filesystem::remove(path);
 }
 

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <dhdr/deferred/deep_exr.h>
 #include <mutex>
 #include <thread>
 
@@ -51,9 +52,11 @@ bool StripReader::open(const std::string& path, int subimage, int chbegin, int c
         m_spec = floatChannelSpec(file, m_chbegin, m_chend);
         m_spec.deep = false;
         if (file.tile_width == 0) {
-            // Scanlines: each strip's rows are read and flattened when asked for.
-            m_deep = std::move(probe);
-            return true;
+            // Scanlines: each strip's rows are read (through OpenEXR itself, deep_exr.h) and
+            // flattened when asked for.
+            m_deep = std::make_unique<DeepScanlineReader>();
+            m_deepSpec = file;
+            return m_deep->open(path, subimage, file, error);
         }
         // Tiled: read whole once and served from memory.
         OIIO::DeepData deep;
@@ -115,15 +118,9 @@ bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string&
         return true;
     }
     if (m_deep) {
-        const OIIO::ImageSpec& file = m_deep->spec();
         OIIO::DeepData deep;
-        if (!m_deep->read_native_deep_scanlines(m_subimage, 0, ybegin, yend, 0, 0, file.nchannels,
-                                                deep)) {
-            error = m_deep->geterror();
-            if (error.empty()) error = "cannot read its deep pixels";
-            return false;
-        }
-        flattenFrontSamples(deep, file.channelindex("Z"), m_chbegin, m_chend, out);
+        if (!m_deep->read(ybegin, yend, deep, error)) return false;
+        flattenFrontSamples(deep, m_deepSpec.channelindex("Z"), m_chbegin, m_chend, out);
         return true;
     }
     if (!m_native_spec) m_native_spec = std::make_unique<OIIO::ImageSpec>(m_in->spec());

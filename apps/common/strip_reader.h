@@ -4,6 +4,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
+#include <dhdr/deferred/deep_exr.h>
 #include <memory>
 #include <string>
 #include <vector>
@@ -35,8 +36,9 @@ private:
     // One reader per worker: a strip's bands of rows are decoded on every core at once
     // (OpenEXR decodes the chunks of one read call on one thread here).
     std::vector<std::unique_ptr<OIIO::ImageInput>> m_inputs;
-    std::unique_ptr<OIIO::ImageInput> m_in;         // until the first read
-    std::unique_ptr<OIIO::ImageInput> m_deep;       // a deep scanline part, front samples
+    std::unique_ptr<OIIO::ImageInput> m_in;     // until the first read
+    std::unique_ptr<DeepScanlineReader> m_deep; // a deep scanline part, front samples
+    OIIO::ImageSpec m_deepSpec;
     std::unique_ptr<OIIO::ImageSpec> m_native_spec; // the part's spec as in the file
     OIIO::ImageSpec m_spec;
     OIIO::ImageBuf m_whole;

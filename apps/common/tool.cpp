@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
+#include <dhdr/deferred/deep_exr.h>
 #include <dhdr/tonemap/sanitize.h>
 #include <filesystem>
 #include <fstream>
@@ -291,6 +292,7 @@ AtomicOutput::AtomicOutput(const Tool& tool, std::string path)
 AtomicOutput::~AtomicOutput() {
     if (m_committed) return;
     if (m_out) m_out->close();
+    m_deep.reset();
     std::error_code ec;
     fs::remove(m_temporary, ec);
     TemporaryRegistry::instance().remove(m_temporary);
@@ -339,24 +341,28 @@ bool AtomicOutput::openTemporary(const OIIO::ImageSpec& spec) {
 }
 
 bool AtomicOutput::openDeep(OIIO::ImageSpec spec) {
-    m_out = OIIO::ImageOutput::create(m_path);
-    if (!m_out || !m_out->supports("deepdata")) {
+    std::string ext = fs::path(m_path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    if (ext != ".exr") {
         m_tool.fail(m_path + ": cannot write deep images in this format (use .exr)");
-        m_out.reset();
         return false;
     }
     spec.attribute("Software", m_tool.name() + " (dhdr " DHDR_VERSION ")");
-    // OpenImageIO 2.4 writes deep EXRs zip-compressed per scanline (ZIPS) whatever it is
-    // asked; OpenEXR 3.1 takes only NONE, RLE and ZIPS for deep parts.
     spec.tile_width = spec.tile_height = spec.tile_depth = 0;
     spec.deep = true;
-    spec.erase_attribute("oiio:subimages");
-    return openTemporary(spec);
+    TemporaryRegistry::instance().add(m_temporary);
+    m_deep = std::make_unique<DeepScanlineWriter>();
+    if (std::string error; !m_deep->open(m_temporary, spec, error)) {
+        m_tool.fail(m_path + ": cannot write: " + oneLine(error));
+        m_deep.reset();
+        return false;
+    }
+    return true;
 }
 
 bool AtomicOutput::writeDeepRows(int ybegin, int yend, const OIIO::DeepData& samples) {
-    if (!m_out->write_deep_scanlines(ybegin, yend, 0, samples)) {
-        m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
+    if (std::string error; !m_deep->write(ybegin, yend, samples, error)) {
+        m_tool.fail(m_path + ": cannot write: " + oneLine(error));
         return false;
     }
     return true;
@@ -424,7 +430,13 @@ bool AtomicOutput::writeStrips(OIIO::TypeDesc type, int rows, bool overlap, cons
 }
 
 bool AtomicOutput::commit() {
-    if (!m_out->close()) {
+    if (m_deep) {
+        if (std::string error; !m_deep->close(error)) {
+            m_tool.fail(m_path + ": cannot write: " + oneLine(error));
+            return false;
+        }
+        m_deep.reset();
+    } else if (!m_out->close()) {
         m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
         return false;
     }

@@ -8,6 +8,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <atomic>
+#include <dhdr/deferred/deep_exr.h>
 #include <dhdr/tonemap/sanitize.h>
 #include <functional>
 #include <memory>
@@ -99,7 +100,8 @@ public:
     // are printed, naming the output.
     bool open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats);
     // Opens the temporary file for a deep scanline image of `spec` (its channelformats the
-    // samples' types); rows are then given as DeepData.
+    // samples' types); rows are then given as DeepData. Written through OpenEXR itself
+    // (dhdr/deferred/deep_exr.h: OpenImageIO 2.4.7 overflows on large deep frames).
     bool openDeep(OIIO::ImageSpec spec);
     bool writeDeepRows(int ybegin, int yend, const OIIO::DeepData& samples);
     // Rows [ybegin, yend), contiguous float pixels of all channels. Thread-compatible: one
@@ -122,6 +124,7 @@ private:
     const Tool& m_tool;
     std::string m_path, m_temporary;
     std::unique_ptr<OIIO::ImageOutput> m_out;
+    std::unique_ptr<DeepScanlineWriter> m_deep;
     std::unique_ptr<NativeWriter> m_native; // null: OIIO converts (8/16-bit formats)
     std::vector<std::byte> m_buffer;
     long long m_clamped = 0, m_nonFinite = 0;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <dhdr/deferred/deep_exr.h>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
@@ -28,7 +29,8 @@ std::vector<OIIO::TypeDesc> deepChannelFormats() {
 
 struct DeepGBufferReader::File {
     std::unique_ptr<OIIO::ImageInput> in;
-    OIIO::ImageSpec spec; // as in the file
+    DeepScanlineReader scanlines; // OpenEXR's own reader (deep_exr.h)
+    OIIO::ImageSpec spec;         // as in the file
     int subimage = 0;
     std::vector<int> source; // where each channel held in memory comes from (−1: not there)
     OIIO::DeepData whole;    // a tiled file, read once
@@ -65,6 +67,7 @@ bool DeepGBufferReader::open(const std::string& path, int subimage, std::string&
     m_file->source.assign(names.size(), -1);
     for (size_t c = 0; c < names.size(); ++c)
         m_file->source[c] = file.channelindex(names[c]);
+    if (file.tile_width == 0 && !m_file->scanlines.open(path, subimage, file, error)) return false;
     m_spec = file;
     m_spec.deep = false;
     m_spec.nchannels = int(names.size());
@@ -106,10 +109,7 @@ bool DeepGBufferReader::read(int ybegin, int yend, DeepGBuffer& out, std::string
         }
         deep = &m_file->whole;
         skip = size_t(ybegin - file.y) * size_t(file.width);
-    } else if (!m_file->in->read_native_deep_scanlines(m_file->subimage, 0, ybegin, yend, 0, 0,
-                                                       file.nchannels, band)) {
-        error = m_file->in->geterror();
-        if (error.empty()) error = "cannot read its deep pixels";
+    } else if (!m_file->scanlines.read(ybegin, yend, band, error)) {
         return false;
     }
     out.spec = m_spec;

@@ -1,0 +1,217 @@
+#include <Imath/ImathBox.h>
+#include <Imath/ImathMatrix.h>
+#include <Imath/ImathVec.h>
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfDeepFrameBuffer.h>
+#include <OpenEXR/ImfDeepScanLineInputPart.h>
+#include <OpenEXR/ImfDeepScanLineOutputFile.h>
+#include <OpenEXR/ImfFloatAttribute.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfMatrixAttribute.h>
+#include <OpenEXR/ImfMultiPartInputFile.h>
+#include <OpenEXR/ImfPartType.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfStringVectorAttribute.h>
+#include <OpenEXR/ImfVecAttribute.h>
+#include <dhdr/deferred/deep_exr.h>
+#include <ctime>
+#include <stdexcept>
+#include <vector>
+
+namespace dhdr {
+
+namespace {
+
+Imf::PixelType pixelType(OIIO::TypeDesc t) {
+    if (t == OIIO::TypeDesc::HALF) return Imf::HALF;
+    if (t == OIIO::TypeDesc::UINT) return Imf::UINT;
+    return Imf::FLOAT;
+}
+
+// The frame buffer of rows [ybegin, yend) of `data`, whose pixels are those rows': OpenEXR
+// addresses pixels by their (x, y) in the data window, so the bases are offset back to (0, 0)
+// in 64-bit arithmetic (where OpenImageIO 2.4.7 overflows).
+// `counts` holds the rows' sample counts (null: the sample counts slice alone).
+Imf::DeepFrameBuffer frameBuffer(const OIIO::ImageSpec& spec, int ybegin, unsigned* counts,
+                                 const OIIO::DeepData* data, std::vector<void*>& pointers) {
+    const std::ptrdiff_t width = spec.width, nch = spec.nchannels;
+    const std::ptrdiff_t first = std::ptrdiff_t(ybegin) * width + spec.x;
+    Imf::DeepFrameBuffer fb;
+    fb.insertSampleCountSlice(Imf::Slice(Imf::UINT, reinterpret_cast<char*>(counts - first),
+                                         sizeof(unsigned), sizeof(unsigned) * size_t(width)));
+    if (!data) return fb;
+    const std::vector<std::string>& names = spec.channelnames;
+    data->get_pointers(pointers);
+    for (std::ptrdiff_t c = 0; c < nch; ++c)
+        fb.insert(names[size_t(c)],
+                  Imf::DeepSlice(pixelType(data->channeltype(int(c))),
+                                 reinterpret_cast<char*>(pointers.data() + c - first * nch),
+                                 sizeof(void*) * size_t(nch),
+                                 sizeof(void*) * size_t(nch) * size_t(width),
+                                 data->samplesize()));
+    return fb;
+}
+
+} // namespace
+
+struct DeepScanlineReader::Impl {
+    std::unique_ptr<Imf::MultiPartInputFile> file;
+    std::unique_ptr<Imf::DeepScanLineInputPart> part;
+    OIIO::ImageSpec spec;
+};
+
+DeepScanlineReader::DeepScanlineReader() = default;
+DeepScanlineReader::~DeepScanlineReader() = default;
+
+bool DeepScanlineReader::open(const std::string& path, int part, const OIIO::ImageSpec& spec,
+                              std::string& error) {
+    try {
+        m_impl = std::make_unique<Impl>();
+        m_impl->file = std::make_unique<Imf::MultiPartInputFile>(path.c_str());
+        m_impl->part = std::make_unique<Imf::DeepScanLineInputPart>(*m_impl->file, part);
+        m_impl->spec = spec;
+        return true;
+    } catch (const std::exception& e) {
+        error = e.what();
+        m_impl.reset();
+        return false;
+    }
+}
+
+bool DeepScanlineReader::read(int ybegin, int yend, OIIO::DeepData& out, std::string& error) {
+    if (!m_impl) {
+        error = "not open";
+        return false;
+    }
+    const OIIO::ImageSpec& spec = m_impl->spec;
+    try {
+        const size_t npix = size_t(spec.width) * size_t(yend - ybegin);
+        std::vector<OIIO::TypeDesc> types;
+        for (int c = 0; c < spec.nchannels; ++c)
+            types.push_back(spec.channelformat(c));
+        out.init(int64_t(npix), spec.nchannels, types, spec.channelnames);
+        // The counts first, then room for the samples, then the samples. OpenEXR forgets the
+        // counts when given a new frame buffer, so the slices are set once and their pointer
+        // table (the same size before and after) is filled in place.
+        std::vector<unsigned> counts(npix, 0);
+        std::vector<void*> pointers;
+        m_impl->part->setFrameBuffer(frameBuffer(spec, ybegin, counts.data(), &out, pointers));
+        m_impl->part->readPixelSampleCounts(ybegin, yend - 1);
+        out.set_all_samples(counts);
+        const void* const table = pointers.data();
+        out.get_pointers(pointers);
+        if (pointers.data() != table) throw std::runtime_error("deep pointer table moved");
+        m_impl->part->readPixels(ybegin, yend - 1);
+        return true;
+    } catch (const std::exception& e) {
+        error = e.what();
+        return false;
+    }
+}
+
+struct DeepScanlineWriter::Impl {
+    std::unique_ptr<Imf::DeepScanLineOutputFile> file;
+    OIIO::ImageSpec spec;
+    std::vector<void*> pointers;
+};
+
+DeepScanlineWriter::DeepScanlineWriter() = default;
+DeepScanlineWriter::~DeepScanlineWriter() = default;
+
+bool DeepScanlineWriter::open(const std::string& path, const OIIO::ImageSpec& spec,
+                              std::string& error) {
+    try {
+        const Imath::Box2i data(Imath::V2i(spec.x, spec.y),
+                                Imath::V2i(spec.x + spec.width - 1, spec.y + spec.height - 1));
+        const Imath::Box2i display(
+            Imath::V2i(spec.full_x, spec.full_y),
+            Imath::V2i(spec.full_x + spec.full_width - 1, spec.full_y + spec.full_height - 1));
+        Imf::Header header(display, data);
+        header.setType(Imf::DEEPSCANLINE);
+        header.compression() = Imf::ZIPS_COMPRESSION;
+        for (int c = 0; c < spec.nchannels; ++c)
+            header.channels().insert(spec.channelnames[size_t(c)],
+                                     Imf::Channel(pixelType(spec.channelformat(c))));
+        // OpenImageIO keeps a file's date in DateTime and writes it as OpenEXR's capDate.
+        std::string date = spec.get_string_attribute("DateTime");
+        if (date.empty()) {
+            const std::time_t now = std::time(nullptr);
+            char text[32];
+            std::strftime(text, sizeof text, "%Y:%m:%d %H:%M:%S", std::localtime(&now));
+            date = text;
+        }
+        header.insert("capDate", Imf::StringAttribute(date));
+        for (const OIIO::ParamValue& p : spec.extra_attribs) {
+            const std::string name = p.name().string();
+            if (name == "DateTime") continue;
+            const OIIO::TypeDesc t = p.type();
+            if (name.rfind("oiio:", 0) == 0 || name.rfind("openexr:", 0) == 0 ||
+                name == "compression")
+                continue;
+            if (t == OIIO::TypeString) {
+                header.insert(name, Imf::StringAttribute(p.get_string()));
+            } else if (t.basetype == OIIO::TypeDesc::STRING) {
+                std::vector<std::string> list;
+                for (size_t i = 0; i < size_t(p.nvalues()) * t.numelements(); ++i)
+                    list.emplace_back(static_cast<const OIIO::ustring*>(p.data())[i].string());
+                header.insert(name, Imf::StringVectorAttribute(list));
+            } else if (t == OIIO::TypeMatrix44) {
+                const float* m = static_cast<const float*>(p.data());
+                header.insert(name, Imf::M44fAttribute(Imath::M44f(
+                                        m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
+                                        m[9], m[10], m[11], m[12], m[13], m[14], m[15])));
+            } else if (t.basetype == OIIO::TypeDesc::FLOAT && t.basevalues() == 3) {
+                const float* v = static_cast<const float*>(p.data());
+                header.insert(name, Imf::V3fAttribute(Imath::V3f(v[0], v[1], v[2])));
+            } else if (t.basetype == OIIO::TypeDesc::FLOAT && t.basevalues() == 2) {
+                const float* v = static_cast<const float*>(p.data());
+                header.insert(name, Imf::V2fAttribute(Imath::V2f(v[0], v[1])));
+            } else if (t == OIIO::TypeFloat) {
+                header.insert(name, Imf::FloatAttribute(p.get_float()));
+            } else if (t == OIIO::TypeInt) {
+                header.insert(name, Imf::IntAttribute(p.get_int()));
+            }
+        }
+        m_impl = std::make_unique<Impl>();
+        m_impl->spec = spec;
+        m_impl->file = std::make_unique<Imf::DeepScanLineOutputFile>(path.c_str(), header);
+        return true;
+    } catch (const std::exception& e) {
+        error = e.what();
+        m_impl.reset();
+        return false;
+    }
+}
+
+bool DeepScanlineWriter::write(int ybegin, int yend, const OIIO::DeepData& samples,
+                               std::string& error) {
+    if (!m_impl) {
+        error = "not open";
+        return false;
+    }
+    try {
+        std::vector<unsigned> counts(samples.all_samples().begin(), samples.all_samples().end());
+        const Imf::DeepFrameBuffer fb =
+            frameBuffer(m_impl->spec, ybegin, counts.data(), &samples, m_impl->pointers);
+        m_impl->file->setFrameBuffer(fb);
+        m_impl->file->writePixels(yend - ybegin);
+        return true;
+    } catch (const std::exception& e) {
+        error = e.what();
+        return false;
+    }
+}
+
+bool DeepScanlineWriter::close(std::string& error) {
+    try {
+        if (m_impl) m_impl->file.reset();
+        m_impl.reset();
+        return true;
+    } catch (const std::exception& e) {
+        error = e.what();
+        return false;
+    }
+}
+
+} // namespace dhdr
