@@ -1,6 +1,7 @@
 #include "whole_frame.h"
 
 #include <OpenImageIO/deepdata.h>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <dhdr/deferred/deep_gbuffer.h>
@@ -66,11 +67,14 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
     }
     const OIIO::ImageSpec& frame = reader.spec();
     if (!run.prepareFrame(path, frame)) return false;
-    // A band of whole rows of tiles at a time: memory follows a band's samples, and each
+    // A band of whole rows of tiles at a time, about 256K pixels (a deep band's tables of
+    // samples and pointers cost ~400 bytes a pixel): memory follows a band's samples, and each
     // pixel's result is the frame's (tiles are laid over the frame).
     LightingParams params = run.params;
     params.frame = OIIO::get_roi(frame);
-    const int rows = params.tileSize * std::max(1, 128 / params.tileSize);
+    const int tile = params.tileSize;
+    const int rows =
+        tile * std::clamp(262144 / std::max(1, frame.width * tile), 1, std::max(1, 128 / tile));
     AtomicOutput file(tool, out);
     std::optional<AtomicOutput> deepFile;
     if (!deepOut.empty()) deepFile.emplace(tool, deepOut);

@@ -14,8 +14,8 @@
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfStringVectorAttribute.h>
 #include <OpenEXR/ImfVecAttribute.h>
-#include <dhdr/deferred/deep_exr.h>
 #include <ctime>
+#include <dhdr/deferred/deep_exr.h>
 #include <stdexcept>
 #include <vector>
 
@@ -32,24 +32,22 @@ Imf::PixelType pixelType(OIIO::TypeDesc t) {
 // The frame buffer of rows [ybegin, yend) of `data`, whose pixels are those rows': OpenEXR
 // addresses pixels by their (x, y) in the data window, so the bases are offset back to (0, 0)
 // in 64-bit arithmetic (where OpenImageIO 2.4.7 overflows).
-// `counts` holds the rows' sample counts (null: the sample counts slice alone).
+// `counts` holds the rows' sample counts, `pointers` each pixel's pointer to each channel of
+// its first sample (DeepData::get_pointers), `sampleBytes` the distance between samples.
 Imf::DeepFrameBuffer frameBuffer(const OIIO::ImageSpec& spec, int ybegin, unsigned* counts,
-                                 const OIIO::DeepData* data, std::vector<void*>& pointers) {
+                                 const std::vector<OIIO::TypeDesc>& types,
+                                 std::vector<void*>& pointers, size_t sampleBytes) {
     const std::ptrdiff_t width = spec.width, nch = spec.nchannels;
     const std::ptrdiff_t first = std::ptrdiff_t(ybegin) * width + spec.x;
     Imf::DeepFrameBuffer fb;
     fb.insertSampleCountSlice(Imf::Slice(Imf::UINT, reinterpret_cast<char*>(counts - first),
                                          sizeof(unsigned), sizeof(unsigned) * size_t(width)));
-    if (!data) return fb;
-    const std::vector<std::string>& names = spec.channelnames;
-    data->get_pointers(pointers);
     for (std::ptrdiff_t c = 0; c < nch; ++c)
-        fb.insert(names[size_t(c)],
-                  Imf::DeepSlice(pixelType(data->channeltype(int(c))),
+        fb.insert(spec.channelnames[size_t(c)],
+                  Imf::DeepSlice(pixelType(types[size_t(c)]),
                                  reinterpret_cast<char*>(pointers.data() + c - first * nch),
                                  sizeof(void*) * size_t(nch),
-                                 sizeof(void*) * size_t(nch) * size_t(width),
-                                 data->samplesize()));
+                                 sizeof(void*) * size_t(nch) * size_t(width), sampleBytes));
     return fb;
 }
 
@@ -93,15 +91,19 @@ bool DeepScanlineReader::read(int ybegin, int yend, OIIO::DeepData& out, std::st
         out.init(int64_t(npix), spec.nchannels, types, spec.channelnames);
         // The counts first, then room for the samples, then the samples. OpenEXR forgets the
         // counts when given a new frame buffer, so the slices are set once and their pointer
-        // table (the same size before and after) is filled in place.
+        // table (the same size before and after) is filled in place. The DeepData is not
+        // touched before set_all_samples: once allocated, OpenImageIO 2.4 grows it pixel by
+        // pixel, in time quadratic in the pixels.
         std::vector<unsigned> counts(npix, 0);
-        std::vector<void*> pointers;
-        m_impl->part->setFrameBuffer(frameBuffer(spec, ybegin, counts.data(), &out, pointers));
+        std::vector<void*> pointers(npix * size_t(spec.nchannels), nullptr);
+        m_impl->part->setFrameBuffer(
+            frameBuffer(spec, ybegin, counts.data(), types, pointers, out.samplesize()));
         m_impl->part->readPixelSampleCounts(ybegin, yend - 1);
         out.set_all_samples(counts);
         const void* const table = pointers.data();
         out.get_pointers(pointers);
-        if (pointers.data() != table) throw std::runtime_error("deep pointer table moved");
+        if (pointers.data() != table || pointers.size() != npix * size_t(spec.nchannels))
+            throw std::runtime_error("deep pointer table moved");
         m_impl->part->readPixels(ybegin, yend - 1);
         return true;
     } catch (const std::exception& e) {
@@ -159,8 +161,8 @@ bool DeepScanlineWriter::open(const std::string& path, const OIIO::ImageSpec& sp
             } else if (t == OIIO::TypeMatrix44) {
                 const float* m = static_cast<const float*>(p.data());
                 header.insert(name, Imf::M44fAttribute(Imath::M44f(
-                                        m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8],
-                                        m[9], m[10], m[11], m[12], m[13], m[14], m[15])));
+                                        m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9],
+                                        m[10], m[11], m[12], m[13], m[14], m[15])));
             } else if (t.basetype == OIIO::TypeDesc::FLOAT && t.basevalues() == 3) {
                 const float* v = static_cast<const float*>(p.data());
                 header.insert(name, Imf::V3fAttribute(Imath::V3f(v[0], v[1], v[2])));
@@ -192,8 +194,12 @@ bool DeepScanlineWriter::write(int ybegin, int yend, const OIIO::DeepData& sampl
     }
     try {
         std::vector<unsigned> counts(samples.all_samples().begin(), samples.all_samples().end());
-        const Imf::DeepFrameBuffer fb =
-            frameBuffer(m_impl->spec, ybegin, counts.data(), &samples, m_impl->pointers);
+        std::vector<OIIO::TypeDesc> types;
+        for (int c = 0; c < samples.channels(); ++c)
+            types.push_back(samples.channeltype(c));
+        samples.get_pointers(m_impl->pointers);
+        const Imf::DeepFrameBuffer fb = frameBuffer(m_impl->spec, ybegin, counts.data(), types,
+                                                    m_impl->pointers, samples.samplesize());
         m_impl->file->setFrameBuffer(fb);
         m_impl->file->writePixels(yend - ybegin);
         return true;
