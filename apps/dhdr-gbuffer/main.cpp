@@ -205,6 +205,11 @@ int run(int argc, char** argv) {
             const auto s0 = std::chrono::steady_clock::now();
             bool writeDeep = deep;
             DeepGBuffer strip;
+            // The strips the search traced, kept while they fit kKeptBytes, so that a frame
+            // of ordinary size is traced once.
+            constexpr size_t kKeptBytes = size_t(256) << 20;
+            std::vector<std::pair<DeepGBuffer, long long>> kept; // and its transparent samples
+            size_t keptBytes = 0;
             if (!deep) {
                 app::Progress progress(tool, "dhdr-gbuffer: looking for transparent surfaces");
                 for (int y = 0; y < params.height && !writeDeep; y += kStrip) {
@@ -215,17 +220,27 @@ int run(int argc, char** argv) {
                         return false;
                     }
                     writeDeep = t > 0;
+                    keptBytes += strip.values.size() * sizeof(float) +
+                                 strip.first.size() * sizeof(std::uint32_t);
+                    if (keptBytes <= kKeptBytes)
+                        kept.emplace_back(strip, t);
+                    else
+                        kept.clear();
                     progress.update(float(rows.yend) / float(params.height));
                 }
+                if (!writeDeep || keptBytes > kKeptBytes) kept.clear();
             }
             if (writeDeep) {
                 long long transparent = 0, samples = 0;
                 app::AtomicOutput file(tool, outPath);
                 app::Progress progress(tool, "dhdr-gbuffer: rendering layers");
-                for (int y = 0; y < params.height; y += kStrip) {
+                for (int y = 0, k = 0; y < params.height; y += kStrip, ++k) {
                     const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
                     long long t = 0;
-                    if (!renderer.renderDeep(strip, rows, tool.threads(), &t)) {
+                    if (size_t(k) < kept.size()) {
+                        strip = std::move(kept[size_t(k)].first);
+                        t = kept[size_t(k)].second;
+                    } else if (!renderer.renderDeep(strip, rows, tool.threads(), &t)) {
                         tool.fail(scenePath + ": cannot render the layers");
                         return false;
                     }
