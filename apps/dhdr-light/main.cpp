@@ -455,13 +455,7 @@ int run(int argc, char** argv) {
             shadeMs += since(t);
             t = std::chrono::steady_clock::now();
             if (y == gspec.y) {
-                OIIO::ImageSpec spec = hdr.spec();
-                spec.y = gspec.y;
-                spec.height = gspec.height;
-                spec.attribute("dhdr:lights", lightFiles);
-                spec.erase_attribute("dhdr:materialNames");
-                spec.erase_attribute("dhdr:objectNames");
-                if (!file.open(spec,
+                if (!file.open(app::litFrameSpec(hdr.spec(), gspec, lightFiles),
                                {dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT}))
                     return false;
             }

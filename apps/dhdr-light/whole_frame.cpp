@@ -54,6 +54,17 @@ OIIO::DeepData litSamples(const DeepGBuffer& gbuf, const std::vector<float>& sam
 
 } // namespace
 
+OIIO::ImageSpec litFrameSpec(const OIIO::ImageSpec& strip, const OIIO::ImageSpec& gbuffer,
+                             const std::string& lightFiles) {
+    OIIO::ImageSpec spec = strip;
+    spec.y = gbuffer.y;
+    spec.height = gbuffer.height;
+    spec.attribute("dhdr:lights", lightFiles);
+    spec.erase_attribute("dhdr:materialNames");
+    spec.erase_attribute("dhdr:objectNames");
+    return spec;
+}
+
 bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int part,
                       const std::string& out, const std::string& lightFiles,
                       const std::string& deepOut) {
@@ -108,12 +119,7 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
         shadeMs += msSince(t);
         t = std::chrono::steady_clock::now();
         if (y == frame.y) {
-            OIIO::ImageSpec spec = hdr.spec();
-            spec.y = frame.y;
-            spec.height = frame.height;
-            spec.attribute("dhdr:lights", lightFiles);
-            spec.erase_attribute("dhdr:materialNames");
-            spec.erase_attribute("dhdr:objectNames");
+            const OIIO::ImageSpec spec = litFrameSpec(hdr.spec(), frame, lightFiles);
             if (!file.open(spec, {run.outputType})) return false;
             if (!deepOut.empty()) {
                 OIIO::ImageSpec deepSpec = spec;

@@ -24,6 +24,11 @@ struct WholeFrameRun {
     std::function<bool(const std::string& path, const OIIO::ImageSpec& gbuffer)> prepareFrame;
 };
 
+// The header of dhdr-light's output, from the first lit strip's: the frame's rows (those of
+// `gbuffer`), the lights files named, the G-buffer's name tables left out.
+OIIO::ImageSpec litFrameSpec(const OIIO::ImageSpec& strip, const OIIO::ImageSpec& gbuffer,
+                             const std::string& lightFiles);
+
 // A deep G-buffer: every sample lit and composited into `out`; with `deepOut`, the lit samples
 // as a deep RGBA EXR too. `lightFiles` is recorded in the output's header.
 bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int part,
