@@ -8,10 +8,10 @@
 
 namespace dhdr {
 
-float rayTracedOcclusion(const glm::vec3& P, const glm::vec3& N, std::uint64_t seed, int samples,
-                         float distance, const Visibility& visibility, long long* rays) {
+float rayTracedOcclusion(const SurfacePoint& at, const glm::vec3& N, std::uint64_t seed,
+                         int samples, float distance, const Visibility& visibility,
+                         long long* rays) {
     if (samples <= 0) return 1.0f;
-    const glm::vec3 origin = offsetRayOrigin(P, N);
     glm::vec3 t, b;
     orthonormalBasis(N, t, b);
     constexpr int kBatch = 64;
@@ -26,7 +26,8 @@ float rayTracedOcclusion(const glm::vec3& P, const glm::vec3& N, std::uint64_t s
         for (int i = 0; i < n; ++i) {
             const glm::vec3 d =
                 cosineHemisphere(sequence(std::uint32_t(begin + i), std::uint32_t(samples)));
-            batch[i] = {origin, glm::normalize(t * d.x + b * d.y + N * d.z), distance};
+            const glm::vec3 w = glm::normalize(t * d.x + b * d.y + N * d.z);
+            batch[i] = {offsetRayOrigin(at, w), w, distance};
         }
         visibility.test(batch, size_t(n), transmittance);
         for (int i = 0; i < n; ++i)

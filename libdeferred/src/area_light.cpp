@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/area_light.h>
 #include <dhdr/deferred/light_eval.h>
@@ -78,6 +79,16 @@ glm::vec3 closestPointOnTriangle(const glm::vec3& p, const glm::vec3& a, const g
     return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
+// How far a point must stand off an emitter's plane to be lit by it: the error of the signed
+// distance computed in float from coordinates of magnitude `scale` (a subtraction and a dot
+// product, plus the point's own rounding), 8 ulps. A point in the plane sees the emitter edge
+// on, and gets nothing from it; rounding must not decide otherwise (the emitter's own pixels
+// would be lit by the whole of it).
+float planeTolerance(const glm::vec3& P, const glm::vec3& onPlane) {
+    const glm::vec3 a = glm::abs(P) + glm::abs(onPlane);
+    return 8.0f * 0x1p-24f * std::max({a.x, a.y, a.z});
+}
+
 // What the diffuse and specular lobes need of an area light seen from a point.
 struct AreaView {
     float irradiance = 0.0f; // per unit radiance
@@ -102,9 +113,9 @@ bool viewSphere(const Light& light, const glm::vec3& toCentre, const glm::vec3& 
 
 bool viewRectangle(const Light& light, const glm::vec3& P, const glm::vec3& toCentre,
                    const glm::vec3& Lc, const glm::vec3& N, const glm::vec3& R, AreaView& v) {
-    // One-sided: nothing reaches a point behind the emitting face.
+    // One-sided: nothing reaches a point behind the emitting face, nor one in its plane.
+    if (!(glm::dot(-toCentre, light.direction) > planeTolerance(P, light.position))) return false;
     const float facing = -glm::dot(Lc, light.direction);
-    if (facing <= 0.0f) return false;
     glm::vec3 corners[4];
     rectangleCorners(light, corners);
     for (glm::vec3& c : corners)
@@ -138,8 +149,13 @@ bool viewMesh(const Light& light, const glm::vec3& P, const glm::vec3& Lc, const
     for (size_t t = 0; t < m.triangles(); ++t) {
         glm::vec3 tri[3] = {m.vertices[3 * t] - P, m.vertices[3 * t + 1] - P,
                             m.vertices[3 * t + 2] - P};
-        v.irradiance += polygonIrradiance(N, tri, 3);
         const glm::vec3 n = glm::cross(tri[1] - tri[0], tri[2] - tri[0]); // 2 · area · normal
+        const float nl = glm::length(n);
+        // A triangle whose plane holds P is seen edge on (its own pixels among them).
+        if (!(nl > 0.0f) ||
+            !(std::abs(glm::dot(n, tri[0])) > nl * planeTolerance(P, m.vertices[3 * t])))
+            continue;
+        v.irradiance += polygonIrradiance(N, tri, 3);
         // Projected towards the light's centre, as a rectangle light's intensity is.
         projected += 0.5f * std::abs(glm::dot(n, Lc));
         const float towards = glm::dot(n, tri[0]);

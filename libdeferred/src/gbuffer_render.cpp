@@ -82,9 +82,11 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
     for (int c = 0; c < 3; ++c) {
         out[layout.position + c] = float(s.position[c]);
         out[layout.normal + c] = float(s.normal[c]);
+        out[layout.geometricNormal + c] = float(s.geometric[c]);
         out[layout.albedo + c] = s.albedo[c];
         out[layout.emission + c] = s.emission[c];
     }
+    out[layout.positionError] = float(s.positionError) * (1.0f + 0x1p-20f); // rounded up
     out[layout.roughness] = m.roughness;
     out[layout.metallic] = m.metallic;
     out[layout.objectId] = float(object + 1);

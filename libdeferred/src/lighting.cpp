@@ -235,9 +235,9 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         if (ao)
             occlusion = std::clamp(ao->getchannel(x, y, 0, 0), 0.0f, 1.0f);
         else if (rayTracedAO)
-            occlusion =
-                rayTracedOcclusion(sp.P, sp.N, sampleSeed(x, y, -1, 2 + purpose), params.aoSamples,
-                                   params.aoDistance, *inputs.visibility, &localAO);
+            occlusion = rayTracedOcclusion(sp.origin, sp.N, sampleSeed(x, y, -1, 2 + purpose),
+                                           params.aoSamples, params.aoDistance, *inputs.visibility,
+                                           &localAO);
         // Lo = Le + Σ V_i L_i, in the order of the lights; with AO, the ambient terms are
         // summed apart and occluded at the end. The same sums without visibility give a
         // shadow catcher its alpha.
@@ -253,7 +253,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                 // scales the prefiltered result.
                 float v = 1.0f;
                 if (shadowRays && params.environmentSamples > 0)
-                    v = lightVisibility(light, sp.P, sp.N, sampleSeed(x, y, i, 1 + purpose),
+                    v = lightVisibility(light, sp.origin, sp.N, sampleSeed(x, y, i, 1 + purpose),
                                         params.environmentSamples, *shadowRays, &localShadow);
                 lit.addEnvironment(e, v, aoActive);
                 open.addEnvironment(e, 1.0f, aoActive);
@@ -262,7 +262,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
             const glm::vec3 c = shadeLight(light, sp.surface, sp.P, sp.N, sp.V);
             float v = 1.0f;
             if (light.type != LightType::Ambient && shadowRays && c != glm::vec3(0.0f))
-                v = lightVisibility(light, sp.P, sp.N, sampleSeed(x, y, i, 1 + purpose),
+                v = lightVisibility(light, sp.origin, sp.N, sampleSeed(x, y, i, 1 + purpose),
                                     params.shadowSamples, *shadowRays, &localShadow);
             const bool occludable = light.type == LightType::Ambient && aoActive;
             lit.add(c, v, occludable);

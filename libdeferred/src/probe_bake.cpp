@@ -185,9 +185,11 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                         continue;
                     const glm::vec3 c = shadeLight(light, surface, r.position, r.normal, V);
                     if (c == glm::vec3(0.0f)) continue;
-                    const float vis = lightVisibility(light, r.position, r.normal,
-                                                      sampleSeed(p, i, std::int64_t(l), 5),
-                                                      params.shadowSamples, caster, nullptr);
+                    const SurfacePoint at{r.position, glm::vec3(s.geometric),
+                                          float(s.positionError)};
+                    const float vis =
+                        lightVisibility(light, at, r.normal, sampleSeed(p, i, std::int64_t(l), 5),
+                                        params.shadowSamples, caster, nullptr);
                     r.fixed += c * vis;
                 }
             }

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cstdlib>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
 #include <embree3/rtcore.h>
@@ -67,10 +68,38 @@ void occlusionFilter(const RTCFilterFunctionNArguments* args) {
 
 } // namespace
 
+bool embreeIsaSupported(const std::string& isa) {
+    __builtin_cpu_init();
+    if (isa == "sse2") return __builtin_cpu_supports("sse2");
+    if (isa == "sse4.2") return __builtin_cpu_supports("sse4.2");
+    if (isa == "avx") return __builtin_cpu_supports("avx");
+    if (isa == "avx2") return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    // Embree's AVX-512 kernels are its SKX target.
+    if (isa == "avx512")
+        return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+               __builtin_cpu_supports("avx512cd") && __builtin_cpu_supports("avx512bw") &&
+               __builtin_cpu_supports("avx512vl");
+    return false;
+}
+
+std::string embreeIsaRequested() {
+    const char* isa = std::getenv("DHDR_EMBREE_ISA");
+    return isa ? std::string(isa) : std::string();
+}
+
 RayCaster::RayCaster(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
     m_impl->source = &scene;
+    // Embree picks the widest kernel the CPU has unless DHDR_EMBREE_ISA names one, so that
+    // the tests can run under each (their float arithmetic differs in the last bits).
+    const std::string isa = embreeIsaRequested();
+    if (!isa.empty() && !embreeIsaSupported(isa)) {
+        m_error = "DHDR_EMBREE_ISA=" + isa +
+                  ": not an Embree kernel this CPU runs (sse2, sse4.2, avx, avx2, avx512)";
+        return;
+    }
+    const std::string config = isa.empty() ? std::string() : "isa=" + isa;
     // Embree's own threads only build the BVH; they do not change which surface a ray hits.
-    m_impl->device = rtcNewDevice(nullptr);
+    m_impl->device = rtcNewDevice(isa.empty() ? nullptr : config.c_str());
     if (!m_impl->device) {
         m_error = "cannot create an Embree device";
         return;

@@ -7,22 +7,21 @@ namespace dhdr {
 
 namespace {
 
-ShadowRay towards(const glm::vec3& origin, const LightLiSample& s) {
-    return {origin, s.wi, s.distance * (1.0f - kShadowRayShortening)};
+ShadowRay towards(const SurfacePoint& at, const LightLiSample& s) {
+    return {offsetRayOrigin(at, s.wi), s.wi, s.distance * (1.0f - kShadowRayShortening)};
 }
 
 } // namespace
 
-float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N,
+float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec3& N,
                       std::uint64_t seed, int samples, const Visibility& visibility,
                       long long* rays) {
     if (light.type == LightType::Ambient) return 1.0f;
-    const glm::vec3 origin = offsetRayOrigin(P, N);
     if (!light.isArea() && light.type != LightType::Environment) {
-        const LightLiSample s = sampleLi(light, origin, {0.0f, 0.0f});
+        const LightLiSample s = sampleLi(light, at.P, {0.0f, 0.0f});
         if (s.pdf == 0.0f) return 1.0f;
         if (rays) ++*rays;
-        return visibility.transmittance(towards(origin, s));
+        return visibility.transmittance(towards(at, s));
     }
     constexpr int kBatch = 64;
     // Per thread, so that the rays are not value-initialized again at every pixel.
@@ -38,11 +37,11 @@ float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N
         int n = 0;
         for (int i = begin; i < std::min(samples, begin + kBatch); ++i) {
             const LightLiSample s =
-                sampleLi(light, origin, sequence(std::uint32_t(i), std::uint32_t(samples)));
+                sampleLi(light, at.P, sequence(std::uint32_t(i), std::uint32_t(samples)));
             const float cosTheta = glm::dot(N, s.wi);
             if (s.pdf == 0.0f || !(cosTheta > 0.0f)) continue;
             weight[n] = (s.L.r + s.L.g + s.L.b) * cosTheta / s.pdf;
-            batch[n++] = towards(origin, s);
+            batch[n++] = towards(at, s);
         }
         visibility.test(batch, size_t(n), transmittance);
         if (rays) *rays += n;

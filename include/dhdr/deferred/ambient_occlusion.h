@@ -9,11 +9,13 @@
 namespace dhdr {
 
 // The share of `samples` cosine-weighted rays (a Hammersley set rotated by `seed`) from the
-// G-buffer point P with normal N that meet nothing within `distance` (scene units; +∞: any
-// distance). 1 on an open plane; it weighs directions as diffuse light does, so a floor beside
-// an infinite wall gets ½. `rays` (optional) counts the rays traced.
-float rayTracedOcclusion(const glm::vec3& P, const glm::vec3& N, std::uint64_t seed, int samples,
-                         float distance, const Visibility& visibility, long long* rays = nullptr);
+// surface point `at` about its shading normal N that meet nothing within `distance` (scene
+// units; +∞: any distance). 1 on an open plane; it weighs directions as diffuse light does, so
+// a floor beside an infinite wall gets ½. Each ray starts at offsetRayOrigin(at, direction).
+// `rays` (optional) counts the rays traced.
+float rayTracedOcclusion(const SurfacePoint& at, const glm::vec3& N, std::uint64_t seed,
+                         int samples, float distance, const Visibility& visibility,
+                         long long* rays = nullptr);
 
 // Screen-space ambient occlusion (Crytek's SSAO with a normal-oriented hemisphere, as the
 // seed on virtual-real fusion uses it).

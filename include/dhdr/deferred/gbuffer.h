@@ -19,6 +19,8 @@ inline constexpr const char* kCoverage = "A";
 inline constexpr const char* kDepth = "Z";
 inline constexpr const char* kPosition[3] = {"P.X", "P.Y", "P.Z"};
 inline constexpr const char* kNormal[3] = {"N.X", "N.Y", "N.Z"};
+inline constexpr const char* kGeometricNormal[3] = {"Ng.X", "Ng.Y", "Ng.Z"};
+inline constexpr const char* kPositionError = "Perr";
 inline constexpr const char* kAlbedo[3] = {"albedo.R", "albedo.G", "albedo.B"};
 inline constexpr const char* kRoughness = "roughness";
 inline constexpr const char* kMetallic = "metallic";
@@ -39,6 +41,7 @@ inline constexpr const char* kShadowCatcher = "dhdr:shadowCatcher";
 // 3-vectors, whose components must follow in X Y Z / R G B order).
 struct Layout {
     int coverage = -1, depth = -1, depthBack = -1, position = -1, normal = -1, albedo = -1;
+    int geometricNormal = -1, positionError = -1;
     int roughness = -1, metallic = -1, emission = -1, objectId = -1, materialId = -1;
     int cryptoObject = -1, cryptoMaterial = -1;
 };
@@ -104,6 +107,20 @@ inline constexpr ContractChannel kContract[] = {
      Need::Required,
      &Layout::normal,
      "world-space shading normal, unit length, flipped to face the camera"},
+    {{kGeometricNormal[0], kGeometricNormal[1], kGeometricNormal[2]},
+     3,
+     FileType::Float,
+     Need::Optional,
+     &Layout::geometricNormal,
+     "world-space normal of the surface's triangle, unit length, facing the camera: the side "
+     "secondary rays leave from"},
+    {{kPositionError},
+     1,
+     FileType::Float,
+     Need::Optional,
+     &Layout::positionError,
+     "bound on the absolute error of each coordinate of P, scene units: how far secondary rays "
+     "start off the surface"},
     {{kAlbedo[0], kAlbedo[1], kAlbedo[2]},
      3,
      FileType::Half,

@@ -22,6 +22,12 @@ struct RayHit {
 
 inline constexpr int kGroundPlaneHit = -2;
 
+// The Embree kernel that RayCasters use: the environment variable DHDR_EMBREE_ISA (sse2,
+// sse4.2, avx, avx2 or avx512), empty for Embree's own choice (the widest the CPU has).
+std::string embreeIsaRequested();
+// Whether this CPU runs Embree's kernel `isa` (one of the names above).
+bool embreeIsaSupported(const std::string& isa);
+
 class RayCaster : public Visibility {
 public:
     // Builds the acceleration structure; `scene` must outlive the caster.

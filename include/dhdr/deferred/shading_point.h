@@ -6,12 +6,16 @@
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/visibility.h>
 
 namespace dhdr {
 
 struct ShadingPoint {
     glm::vec3 P{0.0f}; // world space
     glm::vec3 N{0.0f}; // unit shading normal, facing the camera
+    // Where secondary rays leave from: P, the geometric normal (facing the camera) and P's
+    // error bound, from Ng and Perr, or N and fallbackPositionError where the file has none.
+    SurfacePoint origin;
     glm::vec3 V{0.0f}; // unit, towards the eye
     PbrSurface surface;
     glm::vec3 emission{0.0f};
@@ -65,6 +69,17 @@ public:
         s.N = glm::normalize(
             glm::vec3(g[m_layout.normal], g[m_layout.normal + 1], g[m_layout.normal + 2]));
         s.V = glm::vec3(m_camera.toEye(s.P));
+        s.origin.P = s.P;
+        s.origin.Ng = s.N;
+        if (m_layout.geometricNormal >= 0) {
+            const glm::vec3 Ng(g[m_layout.geometricNormal], g[m_layout.geometricNormal + 1],
+                               g[m_layout.geometricNormal + 2]);
+            const float len = glm::length(Ng);
+            if (len > 0.5f && len < 2.0f) s.origin.Ng = Ng / len;
+        }
+        s.origin.error = m_layout.positionError >= 0 ? g[m_layout.positionError] : -1.0f;
+        if (!(s.origin.error >= 0.0f && s.origin.error < INFINITY))
+            s.origin.error = fallbackPositionError(s.P, glm::vec3(m_camera.position));
         s.surface.baseColor =
             glm::vec3(g[m_layout.albedo], g[m_layout.albedo + 1], g[m_layout.albedo + 2]);
         s.surface.roughness = std::clamp(g[m_layout.roughness], 0.0f, 1.0f);

@@ -7,8 +7,8 @@
 
 namespace dhdr {
 
-// The visible share of `light` at the G-buffer point P with normal N (unit, facing the
-// camera), in [0, 1]:
+// The visible share of `light` at the surface point `at` with shading normal N (unit, facing
+// the camera), in [0, 1]:
 // - a delta light (point, spot, directional): 0 or 1 from one ray towards it;
 // - an environment light: `samples` directions drawn by its luminance (EnvironmentSampler),
 //   weighted and summed like an area light's;
@@ -18,9 +18,10 @@ namespace dhdr {
 //   none does.
 // Samples below the horizon weigh nothing and are not traced; with none above it the light's
 // unshadowed value stands (1).
-// Rays start at offsetRayOrigin(P, N) and stop kShadowRayShortening short of the light.
+// Each ray starts at offsetRayOrigin(at, its direction) and stops kShadowRayShortening short
+// of the light.
 // `rays` (optional) counts the rays traced.
-float lightVisibility(const Light& light, const glm::vec3& P, const glm::vec3& N,
+float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec3& N,
                       std::uint64_t seed, int samples, const Visibility& visibility,
                       long long* rays = nullptr);
 

@@ -31,16 +31,43 @@ public:
     }
 };
 
-// Where a ray leaving a G-buffer surface point P starts: P moved along its normal N (unit,
-// on the side the ray leaves to) by a bound on P's error. P was rounded to float (½ ulp of
-// its largest coordinate) after an intersection accurate to a few ulps, and N was stored as
-// half; 2⁻¹⁶ of the largest coordinate (about 128 ulps) covers both with a wide margin while
-// staying far below a pixel's footprint, so a lit surface never shadows itself and a block
-// standing on a floor leaves no visible gap at its foot (docs/lighting.md).
-inline glm::vec3 offsetRayOrigin(const glm::vec3& P, const glm::vec3& N) {
-    const float scale = std::max(std::max(std::abs(P.x), std::abs(P.y)), std::abs(P.z));
-    const float epsilon = std::max(scale, 1e-3f) * 0x1p-16f;
-    return P + N * epsilon;
+// A surface point that secondary rays leave from, reduced to what spawning a ray needs (as
+// pbrt-v4's Interaction): P, the unit geometric normal of the surface there (its triangle's,
+// not the shading normal) and a bound on the absolute error of each coordinate of P, which
+// covers P's rounding and the arithmetic of a later ray-triangle test near P (surfaceAt).
+struct SurfacePoint {
+    glm::vec3 P{0.0f};
+    glm::vec3 Ng{0.0f, 0.0f, 1.0f};
+    float error = 0.0f;
+};
+
+// Where a ray leaving `p` along `w` starts: P moved off the surface along ±Ng, to the side w
+// leaves to, by d = error · (|Ng.x| + |Ng.y| + |Ng.z|) (the extent of the error box along Ng),
+// each coordinate then rounded one float further away from P (pbrt-v4 OffsetRayOrigin,
+// Pharr, Jakob, Humphreys 4th ed. §6.8.6). The ray can then not hit the surface it leaves,
+// whatever the ulps of the intersection kernel, and starts no further off than P's error.
+inline glm::vec3 offsetRayOrigin(const SurfacePoint& p, const glm::vec3& w) {
+    const float d = p.error * (std::abs(p.Ng.x) + std::abs(p.Ng.y) + std::abs(p.Ng.z));
+    glm::vec3 offset = d * p.Ng;
+    if (glm::dot(w, p.Ng) < 0.0f) offset = -offset;
+    glm::vec3 o = p.P + offset;
+    for (int i = 0; i < 3; ++i) {
+        if (offset[i] > 0.0f)
+            o[i] = std::nextafter(o[i], INFINITY);
+        else if (offset[i] < 0.0f)
+            o[i] = std::nextafter(o[i], -INFINITY);
+    }
+    return o;
+}
+
+// The error bound of a point whose source gave none (a G-buffer another program wrote, with
+// no Perr channel): 2⁻¹⁶ (about 128 ulps) of the larger of its distance from the camera (a
+// hit position's error grows with the length of the primary ray) and its largest coordinate
+// (its rounding), as the float P of a renderer that reprojects depth can be this far off.
+inline float fallbackPositionError(const glm::vec3& P, const glm::vec3& eye) {
+    const glm::vec3 d = glm::abs(P - eye), a = glm::abs(P);
+    const float scale = std::max({d.x, d.y, d.z, a.x, a.y, a.z, 1e-3f});
+    return scale * 0x1p-16f;
 }
 
 // How far short of a sampled point on a light a shadow ray stops, relative to the distance:

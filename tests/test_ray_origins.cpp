@@ -1,0 +1,198 @@
+// Where secondary rays start (issue 21): G-buffer points on their triangles within the bound
+// they carry, no surface shadowing itself at any distance or offset from the world's origin
+// under any Embree kernel, and no emitter lighting the points of its own plane.
+#include "scene_builder.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <cmath>
+#include <dhdr/deferred/emissive_lights.h>
+#include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/ray_caster.h>
+#include <dhdr/deferred/scene.h>
+#include <gtest/gtest.h>
+
+using namespace dhdr;
+using namespace dhdr::test;
+
+namespace {
+
+[[maybe_unused]] auto* const kKernel = ::testing::AddGlobalTestEnvironment(new EmbreeKernel);
+
+// A square of side `size` about `centre`, tilted off every axis (so that no coordinate of its
+// points is exact), with its normal.
+struct TiltedQuad {
+    glm::dvec3 centre, u, v, normal;
+};
+
+TiltedQuad tiltedQuad(const glm::dvec3& centre, double size) {
+    const glm::dvec3 n = glm::normalize(glm::dvec3(0.31, 0.87, 0.38));
+    const glm::dvec3 u = glm::normalize(glm::cross(n, glm::dvec3(0.0, 0.0, 1.0)));
+    const glm::dvec3 v = glm::cross(n, u);
+    return {centre, u * (0.5 * size), v * (0.5 * size), n};
+}
+
+Scene quadScene(const TiltedQuad& q) {
+    Scene scene = emptyScene();
+    const glm::dvec3 c = q.centre;
+    addQuad(scene, glm::vec3(c - q.u - q.v), glm::vec3(c + q.u - q.v), glm::vec3(c + q.u + q.v),
+            glm::vec3(c - q.u + q.v));
+    return scene;
+}
+
+// Two directional lights from above the quad, at 35° and 70° from its normal (as the
+// glTF-Asset-Generator's Mesh_PrimitiveMode_04 is lit).
+std::vector<Light> twoSuns(const TiltedQuad& q) {
+    std::vector<Light> lights(2);
+    const glm::dvec3 towards[2] = {glm::normalize(q.normal + 0.7 * glm::normalize(q.u)),
+                                   glm::normalize(q.normal + 2.75 * glm::normalize(q.v))};
+    for (int i = 0; i < 2; ++i) {
+        lights[size_t(i)].type = LightType::Directional;
+        lights[size_t(i)].direction = glm::vec3(-towards[i]);
+        lights[size_t(i)].intensity = 3.0f;
+    }
+    return lights;
+}
+
+struct Falses {
+    int covered = 0, shadowed = 0;
+};
+
+// Pixels of the lone quad that the shadowed pass leaves darker than the unshadowed one.
+Falses falseShadows(const ImageBuf& gbuf, const std::vector<Light>& lights,
+                    const RayCaster& caster) {
+    const ImageBuf lit = shade(gbuf, lights, &caster);
+    const ImageBuf open = shade(gbuf, lights, nullptr);
+    const int a = gbuf.spec().channelindex("A");
+    Falses f;
+    for (int y = 0; y < gbuf.spec().height; ++y)
+        for (int x = 0; x < gbuf.spec().width; ++x) {
+            if (!(px(gbuf, x, y)[a] > 0.0f)) continue;
+            ++f.covered;
+            f.shadowed += px(lit, x, y)[0] != px(open, x, y)[0];
+        }
+    return f;
+}
+
+} // namespace
+
+// The quad fills the view from 1 to 3000 units away, placed up to 10⁴ from the origin: every
+// pixel is lit exactly as without shadow rays. The same G-buffer with its error bounds set to
+// zero does shadow itself, so the test would see the acne it guards against.
+TEST(RayOrigins, LoneQuadHasNoFalseShadowAtAnyDistanceOrOffset) {
+    for (const double distance : {1.0, 30.0, 300.0, 3000.0})
+        for (const double offset : {0.0, 1.0e2, 1.0e4}) {
+            SCOPED_TRACE("distance " + std::to_string(distance) + ", offset " +
+                         std::to_string(offset));
+            const TiltedQuad q =
+                tiltedQuad(glm::dvec3(offset, -0.37 * offset, 0.61 * offset), 1.2 * distance);
+            const Scene scene = quadScene(q);
+            const glm::dvec3 eye =
+                q.centre + distance * glm::normalize(q.normal + 0.4 * glm::normalize(q.u));
+            const Camera camera = Camera::lookAt(eye, q.centre, glm::dvec3(0, 0, 1), 0.7);
+            ImageBuf gbuf = gbufferOf(scene, camera, 64, 48);
+            const RayCaster caster(scene);
+            ASSERT_TRUE(caster.ok()) << caster.error();
+            const std::vector<Light> lights = twoSuns(q);
+            const Falses f = falseShadows(gbuf, lights, caster);
+            EXPECT_GT(f.covered, 64 * 48 / 2);
+            EXPECT_EQ(f.shadowed, 0);
+
+            const int e = gbuf.spec().channelindex(gbuffer::kPositionError);
+            ASSERT_GE(e, 0);
+            for (int y = 0; y < 48; ++y)
+                for (int x = 0; x < 64; ++x)
+                    static_cast<float*>(gbuf.pixeladdr(x, y))[e] = 0.0f;
+            EXPECT_GT(falseShadows(gbuf, lights, caster).shadowed, 0);
+        }
+}
+
+// Every stored P lies within its bound of the triangle's plane (measured in double), and Ng is
+// that plane's normal facing the camera, whatever the kernel's ulps in the hit distance.
+TEST(RayOrigins, GBufferPointsLieOnTheirTriangleWithinTheirBound) {
+    for (const double offset : {0.0, 1.0e4}) {
+        const TiltedQuad q = tiltedQuad(glm::dvec3(offset, 0.5 * offset, -offset), 360.0);
+        const Scene scene = quadScene(q);
+        // The plane through the float vertices, as the triangles are.
+        const Mesh& m = scene.meshes[0];
+        const glm::dvec3 a(m.positions[0]), b(m.positions[1]), c(m.positions[2]);
+        const glm::dvec3 n = glm::normalize(glm::cross(b - a, c - a));
+        const glm::dvec3 eye =
+            q.centre + 300.0 * glm::normalize(q.normal + 0.4 * glm::normalize(q.u));
+        const ImageBuf gbuf =
+            gbufferOf(scene, Camera::lookAt(eye, q.centre, glm::dvec3(0, 0, 1), 0.7), 48, 32);
+        const OIIO::ImageSpec& spec = gbuf.spec();
+        const int A = spec.channelindex("A"), P = spec.channelindex("P.X"),
+                  Ng = spec.channelindex("Ng.X"), E = spec.channelindex("Perr");
+        ASSERT_TRUE(P >= 0 && Ng >= 0 && E >= 0);
+        int checked = 0;
+        double worst = 0.0; // the largest distance from the plane, in units of its bound
+        for (int y = 0; y < spec.height; ++y)
+            for (int x = 0; x < spec.width; ++x) {
+                const float* g = px(gbuf, x, y);
+                if (!(g[A] > 0.0f)) continue;
+                ++checked;
+                const glm::dvec3 p(g[P], g[P + 1], g[P + 2]);
+                const glm::dvec3 ng(g[Ng], g[Ng + 1], g[Ng + 2]);
+                EXPECT_NEAR(std::abs(glm::dot(ng, n)), 1.0, 1e-6);
+                EXPECT_GT(glm::dot(ng, eye - p), 0.0) << "Ng faces the camera";
+                const double bound = double(g[E]) * (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+                ASSERT_GT(g[E], 0.0f);
+                worst = std::max(worst, std::abs(glm::dot(p - a, n)) / bound);
+            }
+        EXPECT_GT(checked, 48 * 32 / 2);
+        // Rounding P to float moves it off the plane by ½ ulp at most; the bound also covers the
+        // kernel's arithmetic, so the points sit well inside it.
+        EXPECT_LT(worst, 0.1) << "offset " << offset;
+    }
+}
+
+// A ceiling with a rectangle light set into it, facing down, and an emissive panel in the same
+// plane: no ceiling pixel, inside or outside either emitter, gets light from them (both are
+// seen edge on), while the floor below does.
+TEST(RayOrigins, ASurfaceInAnEmittersPlaneGetsNoLightFromIt) {
+    Scene scene = emptyScene();
+    Material glow = scene.materials[0];
+    glow.name = "glow";
+    glow.emission = glm::vec3(5.0f);
+    scene.materials.push_back(glow);
+    const float h = 2.3f;
+    addQuad(scene, {-3, h, -3}, {3, h, -3}, {3, h, 3}, {-3, h, 3}); // faces down
+    addQuad(scene, {0.8f, h, -0.4f}, {1.6f, h, -0.4f}, {1.6f, h, 0.4f}, {0.8f, h, 0.4f}, 1);
+    addFloor(scene, 3.0f);
+    Light panel;
+    panel.type = LightType::Rectangle;
+    panel.position = {-0.9f, h, 0.1f};
+    panel.direction = {0.0f, -1.0f, 0.0f};
+    panel.up = {0.0f, 0.0f, 1.0f};
+    panel.width = 0.9f;
+    panel.height = 0.7f;
+    panel.intensity = 40.0f;
+    std::vector<Light> lights = emissiveLights(scene);
+    ASSERT_EQ(lights.size(), 1u);
+    lights.push_back(panel);
+    // From below the floor's edge, looking up at the ceiling across the room.
+    const Camera camera = Camera::lookAt({0.0, 0.4, 2.9}, {0.0, h, -0.6}, {0, 1, 0}, 1.4);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 96, 72);
+    const ImageBuf lit = shade(gbuf, lights, nullptr);
+    const OIIO::ImageSpec& spec = gbuf.spec();
+    const int A = spec.channelindex("A"), P = spec.channelindex("P.Y"),
+              E = spec.channelindex("emission.R");
+    int ceiling = 0, inside = 0, floorLit = 0;
+    for (int y = 0; y < spec.height; ++y)
+        for (int x = 0; x < spec.width; ++x) {
+            const float* g = px(gbuf, x, y);
+            if (!(g[A] > 0.0f)) continue;
+            if (std::abs(g[P] - h) < 1e-5f) {
+                ++ceiling;
+                inside += g[E] > 0.0f;
+                // Only its own emission (the lighting pass adds G-buffer emission as is).
+                ASSERT_EQ(px(lit, x, y)[0], g[E]) << "at " << x << "," << y;
+            } else if (std::abs(g[P]) < 1e-5f) {
+                floorLit += px(lit, x, y)[0] > 0.0f;
+            }
+        }
+    EXPECT_GT(ceiling, 1000);
+    EXPECT_GT(inside, 20);
+    EXPECT_GT(floorLit, 100);
+}
