@@ -3,8 +3,10 @@
 // shadow is exactly 0.6 of the light, a Mask card shows and casts holes, culled equals brute
 // force per sample, results do not depend on the thread count, and deep files are read back
 // with OpenEXR's own deep reader and in any sample order.
+#include <ImfChannelList.h>
 #include <ImfDeepFrameBuffer.h>
 #include <ImfDeepScanLineInputFile.h>
+#include <ImfDeepScanLineOutputFile.h>
 #include <ImfHeader.h>
 #include <ImfPartType.h>
 #include <OpenImageIO/deepdata.h>
@@ -630,4 +632,58 @@ TEST(DeepGBuffer, MaterialsReadTheirAlphaModes) {
     EXPECT_EQ(find(obj, "tinted")->alphaMode, AlphaMode::Blend);
     EXPECT_FLOAT_EQ(find(obj, "tinted")->alpha, 0.75f);
     std::filesystem::remove_all(dir);
+}
+
+// A deep file whose sample count table claims 10⁸ samples a pixel (patched into an honest
+// uncompressed file): the reader refuses it, naming the claim, before allocating 6 GB.
+TEST(DeepExr, SampleCountsBeyondWhatTheFileCanHoldAreRefused) {
+    const int W = 16;
+    const std::string path =
+        (std::filesystem::temp_directory_path() / "dhdr_deep_claims.exr").string();
+    {
+        Imf::Header header(W, 1);
+        header.compression() = Imf::NO_COMPRESSION;
+        header.setType(Imf::DEEPSCANLINE);
+        header.channels().insert("Z", Imf::Channel(Imf::FLOAT));
+        Imf::DeepScanLineOutputFile file(path.c_str(), header);
+        std::vector<unsigned> counts(W, 1);
+        std::vector<float> z(W, 2.0f);
+        std::vector<float*> zp(W);
+        for (int x = 0; x < W; ++x)
+            zp[size_t(x)] = &z[size_t(x)];
+        Imf::DeepFrameBuffer fb;
+        fb.insertSampleCountSlice(
+            Imf::Slice(Imf::UINT, reinterpret_cast<char*>(counts.data()), sizeof(unsigned), 0));
+        fb.insert("Z", Imf::DeepSlice(Imf::FLOAT, reinterpret_cast<char*>(zp.data()),
+                                      sizeof(float*), 0, sizeof(float)));
+        file.setFrameBuffer(fb);
+        file.writePixels(1);
+    }
+    // The chunk's count table: cumulative counts 1, 2, …, W as little-endian int32.
+    std::string bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    std::string table, claim;
+    for (std::int32_t x = 1; x <= W; ++x) {
+        const std::int32_t c = x * 100000000;
+        table.append(reinterpret_cast<const char*>(&x), 4);
+        claim.append(reinterpret_cast<const char*>(&c), 4);
+    }
+    const size_t at = bytes.find(table);
+    ASSERT_NE(at, std::string::npos);
+    bytes.replace(at, claim.size(), claim);
+    std::ofstream(path, std::ios::binary) << bytes;
+
+    OIIO::ImageSpec spec(W, 1, 1, OIIO::TypeDesc::FLOAT);
+    spec.channelnames = {"Z"};
+    spec.deep = true;
+    DeepScanlineReader reader;
+    std::string error;
+    ASSERT_TRUE(reader.open(path, 0, spec, error)) << error;
+    OIIO::DeepData out;
+    EXPECT_FALSE(reader.read(0, 1, out, error));
+    EXPECT_NE(error.find("claim"), std::string::npos) << error;
+    std::filesystem::remove(path);
 }

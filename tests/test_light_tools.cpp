@@ -5,6 +5,7 @@
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
+#include <fstream>
 
 using namespace dhdr::test;
 
@@ -399,6 +400,34 @@ TEST_F(LightTools, DeepLightingFlattensToTheFlatOutput) {
     const ImageBuf fromDeep = read("daa.exr"), fromFlat = read("daa_flat.exr");
     EXPECT_EQ(OIIO::ImageBufAlgo::compare(fromDeep, fromFlat, 0.0f, 0.0f).nfail, 0u);
     EXPECT_GT(OIIO::ImageBufAlgo::compare(fromDeep, read("dflat.exr"), 1e-4f, 1e-4f).nfail, 0u);
+}
+
+// A light far too bright for half: the flat output clamps to 65504 with a warning, and the
+// --deep-out file follows the same rule (it wrote +Inf samples before).
+TEST_F(LightTools, DeepOutputHoldsNoInfinityWhereHalfOverflows) {
+    ASSERT_EQ(run("dhdr-gbuffer " + kGlass + " --size 32x32 -o " + path("ig.exr")).status, 0);
+    std::ofstream(path("blinding.json"))
+        << R"({"lights": [{"type": "ambient", "name": "blinding", "intensity": 1e9}]})";
+    const Result r = run("dhdr-light " + path("ig.exr") + " --lights " + path("blinding.json") +
+                         " --deep-out " + path("ideep.exr") + " -o " + path("iflat.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("65504"), std::string::npos) << r.err;
+    EXPECT_TRUE(allFinite(read("iflat.exr")));
+    OIIO::ImageBuf deep(path("ideep.exr"));
+    ASSERT_TRUE(deep.read(0, 0, true));
+    const OIIO::DeepData& d = *deep.deepdata();
+    int samples = 0, clamped = 0;
+    for (int64_t p = 0; p < d.pixels(); ++p)
+        for (int k = 0; k < d.samples(p); ++k)
+            for (int c = 0; c < d.channels(); ++c) {
+                const float v = d.deep_value(p, c, k);
+                ASSERT_TRUE(std::isfinite(v))
+                    << "pixel " << p << " sample " << k << " channel " << c;
+                clamped += v == 65504.0f;
+                samples += c == 0;
+            }
+    EXPECT_GT(samples, 32 * 32 / 2);
+    EXPECT_GT(clamped, 0);
 }
 
 TEST_F(LightTools, ProbesAddIndirectLightAndTheirAOV) {

@@ -168,9 +168,27 @@ TEST(Sanitize, CountsAndReplacesNonFiniteValues) {
     EXPECT_EQ(n.positiveInf, 1);
     EXPECT_EQ(n.negativeInf, 1);
     EXPECT_EQ(px(img, 1, 0)[0], 0.0f);
-    EXPECT_EQ(px(img, 0, 1)[0], 4.0f); // the channel's largest finite value
+    EXPECT_EQ(px(img, 0, 1)[0], kInfinityReplacement); // a constant, whatever else was read
     EXPECT_EQ(px(img, 1, 1)[0], 0.0f);
     EXPECT_EQ(px(img, 1, 1)[2], 0.0f);
+}
+
+// The rule holds value by value: replacing strip by strip gives the whole image's result.
+TEST(Sanitize, ReplacementDoesNotDependOnStrips) {
+    ImageBuf whole = floatImage(3, 4, 1);
+    const float values[12] = {1.0f,   INFINITY, 7.0f,     2.0f, -INFINITY, NAN,
+                              900.0f, 3.0f,     INFINITY, 5.0f, 1e6f,      -2.0f};
+    for (int i = 0; i < 12; ++i)
+        px(whole, i % 3, i / 3)[0] = values[i];
+    ImageBuf strips;
+    strips.copy(whole);
+    replaceNonFinite(whole);
+    for (int y = 0; y < 4; ++y)
+        replaceNonFinite(strips, OIIO::ROI(0, 3, y, y + 1, 0, 1, 0, 1));
+    for (int i = 0; i < 12; ++i)
+        EXPECT_EQ(px(whole, i % 3, i / 3)[0], px(strips, i % 3, i / 3)[0]) << i;
+    EXPECT_EQ(px(whole, 1, 0)[0], kInfinityReplacement);
+    EXPECT_EQ(px(whole, 2, 2)[0], kInfinityReplacement);
 }
 
 namespace {

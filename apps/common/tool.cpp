@@ -6,6 +6,7 @@
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cerrno>
+#include <cfloat>
 #include <cmath>
 #include <csignal>
 #include <cstddef>
@@ -242,7 +243,7 @@ void Tool::reportNonFinite(const std::string& path, const NonFiniteCount& n,
     const std::string what =
         zeroNegative ? " non-finite or negative values (" : " non-finite values (";
     warn(path + ": replaced " + std::to_string(n.total()) + what + std::to_string(n.nan) +
-         " NaN → 0, " + std::to_string(n.positiveInf) + " +Inf → largest finite, " +
+         " NaN → 0, " + std::to_string(n.positiveInf) + " +Inf → 65504, " +
          std::to_string(n.negativeInf) + " -Inf → 0" +
          (zeroNegative ? ", " + std::to_string(n.negative) + " negative → 0)" : ")"));
 }
@@ -361,7 +362,21 @@ bool AtomicOutput::openDeep(OIIO::ImageSpec spec) {
 }
 
 bool AtomicOutput::writeDeepRows(int ybegin, int yend, const OIIO::DeepData& samples) {
-    if (std::string error; !m_deep->write(ybegin, yend, samples, error)) {
+    // The flat output's rule for every sample: NaN becomes 0, ±Inf (a half channel's overflow
+    // included, when the value was stored) the type's largest finite value, counted.
+    std::unique_ptr<OIIO::DeepData> fixed;
+    for (int64_t p = 0; p < samples.pixels(); ++p)
+        for (int c = 0; c < samples.channels(); ++c)
+            for (int k = 0; k < samples.samples(p); ++k) {
+                const float v = samples.deep_value(p, c, k);
+                if (std::isfinite(v)) continue;
+                if (!fixed) fixed = std::make_unique<OIIO::DeepData>(samples);
+                const float largest =
+                    samples.channeltype(c) == OIIO::TypeDesc::HALF ? 65504.0f : FLT_MAX;
+                fixed->set_deep_value(p, c, k, std::isnan(v) ? 0.0f : std::copysign(largest, v));
+                ++(std::isnan(v) ? m_nonFinite : m_clamped);
+            }
+    if (std::string error; !m_deep->write(ybegin, yend, fixed ? *fixed : samples, error)) {
         m_tool.fail(m_path + ": cannot write: " + oneLine(error));
         return false;
     }

@@ -56,8 +56,8 @@ bool readSceneLinear(const Tool& tool, const FrameJob& job, const std::string& p
 }
 
 // A frame read strip by strip, each strip as readSceneLinear gives the whole: what a frame
-// too large for FrameJob::wholeFrameBytes is mapped from. A +Inf colour is replaced by the
-// largest finite value of its strip, as in the other streaming stages (docs/tools.md).
+// too large for FrameJob::wholeFrameBytes is mapped from. Non-finite colour is replaced value
+// by value, so a strip gives what the whole frame would (docs/tools.md).
 class SceneLinearStrips {
 public:
     SceneLinearStrips(const Tool& tool, const FrameJob& job, std::string path, int nthreads)

@@ -14,9 +14,12 @@
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfStringVectorAttribute.h>
 #include <OpenEXR/ImfVecAttribute.h>
+#include <cstdint>
 #include <ctime>
 #include <dhdr/deferred/deep_exr.h>
+#include <filesystem>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace dhdr {
@@ -56,6 +59,7 @@ Imf::DeepFrameBuffer frameBuffer(const OIIO::ImageSpec& spec, int ybegin, unsign
 struct DeepScanlineReader::Impl {
     std::unique_ptr<Imf::MultiPartInputFile> file;
     std::unique_ptr<Imf::DeepScanLineInputPart> part;
+    std::uintmax_t fileBytes = 0;
     OIIO::ImageSpec spec;
 };
 
@@ -69,6 +73,9 @@ bool DeepScanlineReader::open(const std::string& path, int part, const OIIO::Ima
         m_impl->file = std::make_unique<Imf::MultiPartInputFile>(path.c_str());
         m_impl->part = std::make_unique<Imf::DeepScanLineInputPart>(*m_impl->file, part);
         m_impl->spec = spec;
+        std::error_code ec;
+        m_impl->fileBytes = std::filesystem::file_size(path, ec);
+        if (ec) m_impl->fileBytes = 0;
         return true;
     } catch (const std::exception& e) {
         error = e.what();
@@ -99,6 +106,20 @@ bool DeepScanlineReader::read(int ybegin, int yend, OIIO::DeepData& out, std::st
         m_impl->part->setFrameBuffer(
             frameBuffer(spec, ybegin, counts.data(), types, pointers, out.samplesize()));
         m_impl->part->readPixelSampleCounts(ybegin, yend - 1);
+        // Counts a corrupt or hostile file claims are checked before anything is allocated for
+        // them: deep parts are stored raw, RLE (at most 64:1) or deflate (at most 1032:1), so
+        // samples that would unpack to more than 1032 bytes for each byte of the file cannot
+        // be in it.
+        std::uint64_t total = 0;
+        for (const unsigned n : counts)
+            total += n;
+        const double bytes = double(total) * double(out.samplesize());
+        if (m_impl->fileBytes > 0 && bytes > 1032.0 * double(m_impl->fileBytes) + 65536.0)
+            throw std::runtime_error(
+                "rows " + std::to_string(ybegin) + "-" + std::to_string(yend - 1) + " claim " +
+                std::to_string(total) + " deep samples (" +
+                std::to_string(std::uint64_t(bytes / 1048576.0)) + " MiB), more than the file's " +
+                std::to_string(m_impl->fileBytes) + " bytes can hold");
         out.set_all_samples(counts);
         const void* const table = pointers.data();
         out.get_pointers(pointers);

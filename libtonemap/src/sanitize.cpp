@@ -15,59 +15,34 @@ NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi, int nthreads
     roi = OIIO::roi_intersection(roi, img.roi());
     const int nch = img.nchannels();
 
-    // Pass 1: per row, the counts and each channel's largest finite value.
-    struct Row {
-        NonFiniteCount count;
-        std::vector<float> maxFinite;
-    };
-    std::vector<Row> rows(static_cast<size_t>(roi.height()));
-    // f(pixel) for the pixels of row y from r.xbegin to r.xend.
-    auto forEachPixel = [&](const OIIO::ROI& r, int y, auto&& f) {
-        float* p = static_cast<float*>(img.pixeladdr(r.xbegin, y));
-        for (int x = r.xbegin; x < r.xend; ++x, p += nch)
-            f(p);
-    };
+    // One pass, each value on its own: the result does not depend on how the image is cut
+    // into strips, tiles or threads. Counts per row, summed in row order.
+    std::vector<NonFiniteCount> rows(static_cast<size_t>(roi.height()));
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y) {
-            Row& row = rows[size_t(y - roi.ybegin)];
-            row.maxFinite.assign(size_t(nch), 0.0f);
-            forEachPixel(r, y, [&](const float* p) {
+            NonFiniteCount& row = rows[size_t(y - roi.ybegin)];
+            float* p = static_cast<float*>(img.pixeladdr(r.xbegin, y));
+            for (int x = r.xbegin; x < r.xend; ++x, p += nch)
                 for (int c = roi.chbegin; c < roi.chend; ++c) {
-                    if (std::isnan(p[c]))
-                        ++row.count.nan;
-                    else if (std::isinf(p[c]))
-                        ++(p[c] > 0 ? row.count.positiveInf : row.count.negativeInf);
-                    else if (zeroNegative && p[c] < 0.0f)
-                        ++row.count.negative;
-                    else
-                        row.maxFinite[size_t(c)] = std::max(row.maxFinite[size_t(c)], p[c]);
+                    float& v = p[c];
+                    if (std::isnan(v)) {
+                        ++row.nan;
+                        v = 0.0f;
+                    } else if (v == INFINITY) {
+                        ++row.positiveInf;
+                        v = kInfinityReplacement;
+                    } else if (v == -INFINITY) {
+                        ++row.negativeInf;
+                        v = 0.0f;
+                    } else if (zeroNegative && v < 0.0f) {
+                        ++row.negative;
+                        v = 0.0f;
+                    }
                 }
-            });
         }
     });
-    std::vector<float> maxFinite(size_t(nch), 0.0f);
-    for (const Row& row : rows) {
-        count.nan += row.count.nan;
-        count.positiveInf += row.count.positiveInf;
-        count.negativeInf += row.count.negativeInf;
-        count.negative += row.count.negative;
-        for (int c = 0; c < nch; ++c)
-            maxFinite[size_t(c)] = std::max(maxFinite[size_t(c)], row.maxFinite[size_t(c)]);
-    }
-    if (count.total() == 0) return count;
-
-    // Pass 2: replace.
-    OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
-        for (int y = r.ybegin; y < r.yend; ++y)
-            forEachPixel(r, y, [&](float* p) {
-                for (int c = roi.chbegin; c < roi.chend; ++c) {
-                    if (std::isnan(p[c]) || p[c] == -INFINITY || (zeroNegative && p[c] < 0.0f))
-                        p[c] = 0.0f;
-                    else if (p[c] == INFINITY)
-                        p[c] = maxFinite[size_t(c)];
-                }
-            });
-    });
+    for (const NonFiniteCount& row : rows)
+        count += row;
     return count;
 }
 

@@ -20,10 +20,15 @@ struct NonFiniteCount {
     }
 };
 
+// What +Inf becomes: half's largest finite value, very bright yet far from float's overflow in
+// any sum or filter downstream. A constant, so that the result of a pixel never depends on
+// which other pixels were read with it (a strip, a tile).
+inline constexpr float kInfinityReplacement = 65504.0f;
+
 // Replaces, in the channels [roi.chbegin, roi.chend) of `img`, NaN and -Inf by 0 and +Inf by
-// the largest finite value found in that channel (0 if there is none), and with
-// `zeroNegative` also finite negative values by 0 (colour that a display cannot show).
-// Returns the counts of replaced values. `img` must hold float pixels (as dhdr's tools read).
+// kInfinityReplacement, and with `zeroNegative` also finite negative values by 0 (colour that
+// a display cannot show), each value on its own. Returns the counts of replaced values. `img`
+// must hold float pixels (as dhdr's tools read).
 NonFiniteCount replaceNonFinite(OIIO::ImageBuf& img, OIIO::ROI roi = {}, int nthreads = 0,
                                 bool zeroNegative = false);
 
