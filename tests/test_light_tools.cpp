@@ -430,6 +430,30 @@ TEST_F(LightTools, DeepOutputHoldsNoInfinityWhereHalfOverflows) {
     EXPECT_GT(clamped, 0);
 }
 
+// dhdr-probes takes dhdr-light's --radiometric: the same lights bake to 1/683 the irradiance.
+TEST_F(LightTools, ProbesTakeTheLightUnitsOfDhdrLight) {
+    const std::string spheres = kTestdata + "/spheres.gltf";
+    std::ofstream(path("point.json"))
+        << R"({"lights": [{"type": "point", "position": [0.3, 2.0, 1.0], "intensity": 500}]})";
+    const std::string bake = "dhdr-probes " + spheres + " --lights " + path("point.json") +
+                             " --grid 2,2,2 --rays 64 --bounces 1 ";
+    ASSERT_EQ(run(bake + "-o " + path("photometric.probes.exr")).status, 0);
+    const Result r = run(bake + "--radiometric -o " + path("radiometric.probes.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf a = read("photometric.probes.exr"), b = read("radiometric.probes.exr");
+    ASSERT_EQ(a.spec().image_pixels(), b.spec().image_pixels());
+    int compared = 0;
+    for (int y = 0; y < a.spec().height; ++y)
+        for (int x = 0; x < a.spec().width; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float p = a.getchannel(x, y, 0, c), q = b.getchannel(x, y, 0, c);
+                if (!(p > 1e-3f)) continue;
+                EXPECT_NEAR(q * 683.0f / p, 1.0f, 3e-3f) << x << "," << y;
+                ++compared;
+            }
+    EXPECT_GT(compared, 100);
+}
+
 TEST_F(LightTools, ProbesAddIndirectLightAndTheirAOV) {
     // dhdr-probes bakes the Cornell box; dhdr-light --probes lights what faces away from every
     // light (the bounce off the walls), --aovs writes that light as indirect.R/G/B, and the

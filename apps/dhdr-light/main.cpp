@@ -1,5 +1,6 @@
 // dhdr-light: a G-buffer and a lights file in, linear HDR radiance out (docs/tools.md).
 #include "../common/frames.h"
+#include "../common/light_options.h"
 #include "../common/strip_reader.h"
 #include "../common/tool.h"
 #include "whole_frame.h"
@@ -98,10 +99,7 @@ int run(int argc, char** argv) {
     cl.option("--camera-from", cameraFrom, "SCENE[:CAMERA]",
               "with --channels, the camera of the scene file the passes were rendered from "
               "(default its first camera)");
-    cl.flag("--radiometric", radiometric,
-            "divide photometric light units (point and spot candela, directional lux) by 683 "
-            "lm/W, so that lights exported by Blender light as they do in Cycles; emission "
-            "and environments are unchanged");
+    app::addLightUnitsOption(cl, radiometric);
     cl.option("--probes", probesPath, "FILE",
               "light probes baked by dhdr-probes for this scene: indirect diffuse light "
               "(docs/gi.md)");
@@ -234,11 +232,7 @@ int run(int argc, char** argv) {
                     [](const app::FramePattern& p) { return p.isSequence(); });
     std::vector<Light> lights = sceneLights;
     if (!animatedLights && !readLights(lightsPaths, lights)) return app::kExitFailure;
-    if (radiometric)
-        for (Light& l : lights)
-            if (l.type == LightType::Point || l.type == LightType::Spot ||
-                l.type == LightType::Directional)
-                l.intensity /= 683.0f;
+    if (radiometric) toRadiometricUnits(lights);
     if (animatedLights && radiometric)
         return usage("--radiometric works with lights files that hold every frame's lights");
     LightingInputs inputs{lights, caster.get()};
@@ -250,6 +244,8 @@ int run(int argc, char** argv) {
             channelMap = blenderChannelMap();
         else if (!readChannelMap(channelsArg, channelMap, error))
             return tool.fail(channelsArg + ": " + error);
+        if (!deepOut.empty())
+            return usage("--deep-out needs a deep dhdr G-buffer; --channels reads flat passes");
     } else if (!cameraFrom.empty()) {
         return usage("--camera-from goes with --channels");
     }

@@ -1,4 +1,5 @@
 // dhdr-probes: bakes light probes for diffuse global illumination (docs/gi.md).
+#include "../common/light_options.h"
 #include "../common/tool.h"
 
 #include <chrono>
@@ -41,6 +42,8 @@ int run(int argc, char** argv) {
     cl.option("--bounces", p.bounces, "K", "light bounces (default 3)", 1, 16);
     cl.option("--shadow-samples", p.shadowSamples, "N",
               "shadow rays per area light at each ray's hit (default 4)", 1, 256);
+    bool radiometric = false;
+    app::addLightUnitsOption(cl, radiometric);
     cl.option("--emissive-lights", emissive, "on|off",
               "emissive meshes as area lights, as dhdr-light --scene has them (default on); off: "
               "their emission is seen by the probes' rays instead");
@@ -86,6 +89,7 @@ int run(int argc, char** argv) {
             tool.warn(warning);
         lights.insert(lights.end(), more.begin(), more.end());
     }
+    if (radiometric) toRadiometricUnits(lights);
     if (emissive == "on") {
         const std::vector<Light> glowing = emissiveLights(scene);
         lights.insert(lights.end(), glowing.begin(), glowing.end());

@@ -1,4 +1,5 @@
 #include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/brdf.h>
@@ -63,14 +64,42 @@ EnvironmentImage EnvironmentImage::downsampled() const {
     return half;
 }
 
+namespace {
+
+// Which channels of `spec` are R, G and B (the same one three times for grey); false when none
+// can be.
+bool colourChannels(const OIIO::ImageSpec& spec, int rgb[3]) {
+    const int r = spec.channelindex("R"), g = spec.channelindex("G"), b = spec.channelindex("B");
+    if (r >= 0 && g >= 0 && b >= 0) {
+        rgb[0] = r, rgb[1] = g, rgb[2] = b;
+        return true;
+    }
+    int grey = spec.channelindex("Y");
+    if (grey < 0 && spec.nchannels <= 2) grey = 0; // Y or Y, A without names
+    if (grey < 0 && r >= 0 && spec.nchannels < 3) grey = r;
+    if (grey >= 0) {
+        rgb[0] = rgb[1] = rgb[2] = grey;
+        return true;
+    }
+    if (spec.nchannels < 3) return false;
+    rgb[0] = 0, rgb[1] = 1, rgb[2] = 2;
+    return true;
+}
+
+} // namespace
+
 bool readEnvironmentImage(const std::string& path, EnvironmentImage& env, std::string& error,
                           long long* replaced, int subimage) {
-    OIIO::ImageBuf img(path, subimage, 0);
-    if (!img.read(subimage, 0, true, OIIO::TypeDesc::FLOAT)) {
-        error = "cannot read: " + img.geterror();
-        return false;
+    // The header first: its size and channels decide before any pixel is allocated.
+    OIIO::ImageSpec spec;
+    {
+        auto in = OIIO::ImageInput::open(path);
+        if (!in || !in->seek_subimage(subimage, 0)) {
+            error = "cannot read: " + (in ? in->geterror() : OIIO::geterror());
+            return false;
+        }
+        spec = in->spec();
     }
-    const OIIO::ImageSpec& spec = img.spec();
     if (spec.deep) {
         error = "a deep image is not an environment";
         return false;
@@ -80,15 +109,30 @@ bool readEnvironmentImage(const std::string& path, EnvironmentImage& env, std::s
                 std::to_string(spec.width) + "x" + std::to_string(spec.height);
         return false;
     }
+    if (double(spec.width) * double(spec.height) > double(kMaxEnvironmentTexels)) {
+        error = std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                " is larger than an environment may be (16384x8192)";
+        return false;
+    }
+    int rgb[3];
+    if (!colourChannels(spec, rgb)) {
+        error = "no colour channels (R, G, B or Y)";
+        return false;
+    }
+    OIIO::ImageBuf img(path, subimage, 0);
+    if (!img.read(subimage, 0, true, OIIO::TypeDesc::FLOAT)) {
+        error = "cannot read: " + img.geterror();
+        return false;
+    }
     env.width = spec.width;
     env.height = spec.height;
     env.rgb.assign(size_t(env.width) * size_t(env.height) * 3, 0.0f);
     long long bad = 0;
-    const int nch = spec.nchannels;
+    const int nch = img.spec().nchannels;
     const float* src = static_cast<const float*>(img.localpixels());
     for (size_t i = 0; i < size_t(env.width) * size_t(env.height); ++i)
         for (int c = 0; c < 3; ++c) {
-            float v = src[i * size_t(nch) + size_t(std::min(c, nch - 1))];
+            float v = src[i * size_t(nch) + size_t(rgb[c])];
             if (!std::isfinite(v)) {
                 v = 0.0f;
                 ++bad;

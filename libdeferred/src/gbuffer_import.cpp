@@ -93,6 +93,15 @@ bool readChannelMap(const std::string& path, ChannelMap& map, std::string& error
 bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::ImageBuf& dst,
                    std::vector<std::string>& warnings, std::string& error) {
     const OIIO::ImageSpec& in = src.spec();
+    if (in.deep || src.deep()) {
+        error = "a deep image: a channel map reads flat passes (a deep dhdr G-buffer is read as "
+                "it is, without --channels)";
+        return false;
+    }
+    if (in.format != OIIO::TypeDesc::FLOAT || !src.localpixels()) {
+        error = "the passes must be read as float pixels in memory";
+        return false;
+    }
     // The source channels of each quantity: its own, its fallback, or none (a constant).
     auto pick = [&](const char* what, const ChannelSource& s, std::vector<int>& index) {
         index.clear();

@@ -1,6 +1,7 @@
 // The baked IBL as one multi-part EXR (writeIbl, loadIbl).
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
+#include <cmath>
 #include <dhdr/deferred/ibl.h>
 
 namespace dhdr {
@@ -89,7 +90,15 @@ bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, boo
         baked = true;
         return bakeIbl(env, params, ibl, error, nthreads);
     }
+    // A baked file is dhdr's own output, which never holds NaN or Inf: one that does was
+    // damaged or written by something else, and would light the frame black, so every number
+    // read from it is checked.
     const float* c = static_cast<const float*>(sh->data());
+    for (int i = 0; i < 27; ++i)
+        if (!std::isfinite(c[i])) {
+            error = "a baked IBL file whose spherical harmonics are not finite";
+            return false;
+        }
     for (int i = 0; i < 9; ++i)
         ibl.sh[size_t(i)] = glm::vec3(c[3 * i], c[3 * i + 1], c[3 * i + 2]);
     ibl.params.levels = first.get_int_attribute("dhdr:iblLevels");
@@ -103,12 +112,15 @@ bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, boo
         return false;
     }
     ibl.levels.clear();
-    long long bad = 0;
     for (int k = 0; k < ibl.params.levels; ++k) {
         EnvironmentImage level;
         long long n = 0;
         if (!readEnvironmentImage(path, level, error, &n, k)) return false;
-        bad += n;
+        if (n > 0) {
+            error = "level " + std::to_string(k) + " of a baked IBL file has " + std::to_string(n) +
+                    " texels that are not finite";
+            return false;
+        }
         ibl.levels.push_back(std::move(level));
     }
     OIIO::ImageBuf dfg(path, ibl.params.levels, 0);
@@ -121,10 +133,15 @@ bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, boo
     const float* p = static_cast<const float*>(dfg.localpixels());
     ibl.dfg.assign(p == nullptr ? 0 : size_t(ibl.params.dfgSize) * size_t(ibl.params.dfgSize),
                    glm::vec2(0.0f));
-    for (size_t i = 0; i < ibl.dfg.size(); ++i)
+    for (size_t i = 0; i < ibl.dfg.size(); ++i) {
         ibl.dfg[i] = {p[2 * i], p[2 * i + 1]};
+        if (!std::isfinite(ibl.dfg[i].x) || !std::isfinite(ibl.dfg[i].y)) {
+            error = "a baked IBL file whose DFG table is not finite";
+            return false;
+        }
+    }
     ibl.sampler.build(ibl.levels[0]);
-    if (replaced) *replaced = bad;
+    if (replaced) *replaced = 0;
     return true;
 }
 

@@ -89,7 +89,17 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
             v.counts[a] = counts[a];
             v.spacing[a] = counts[a] > 1 ? extent[a] / counts[a] : std::max(extent[a], 1e-3);
         } else {
-            v.counts[a] = std::clamp(int(std::ceil(extent[a] / params.spacing - 1e-9)), 1, 256);
+            // In double, and refused past 256: a tiny spacing must neither overflow an int
+            // nor be cut to a grid that no longer covers the scene.
+            const double along = std::max(1.0, std::ceil(extent[a] / params.spacing - 1e-9));
+            if (!(along <= 256.0) || !(float(params.spacing) > 0.0f)) {
+                error =
+                    "a spacing of " + std::to_string(params.spacing) + " gives " +
+                    (along < 1e12 ? std::to_string((long long)along) : std::string("over 10^12")) +
+                    " probes along " + "XYZ"[a] + " (at most 256): use a larger spacing or counts";
+                return false;
+            }
+            v.counts[a] = int(along);
             v.spacing[a] = params.spacing;
         }
         v.origin[a] = lo[a] + 0.5 * (extent[a] - (v.counts[a] - 1) * v.spacing[a]);

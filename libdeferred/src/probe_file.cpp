@@ -119,7 +119,8 @@ bool readProbes(const std::string& path, ProbeVolume& v, std::string& error) {
         v.counts[a] = c[a];
         v.origin[a] = o[a];
         v.spacing[a] = s[a];
-        if (c[a] < 1 || c[a] > 256 || !(s[a] > 0.0f) || !std::isfinite(o[a])) {
+        if (c[a] < 1 || c[a] > 256 || !(s[a] > 0.0f) || !std::isfinite(s[a]) ||
+            !std::isfinite(o[a])) {
             error = "probe grid out of range";
             return false;
         }
@@ -143,6 +144,11 @@ bool readProbes(const std::string& path, ProbeVolume& v, std::string& error) {
     }
     const float* st = static_cast<const float*>(states->data());
     const float* pos = static_cast<const float*>(positions->data());
+    for (int p = 0; p < 3 * n; ++p)
+        if (!std::isfinite(pos[p])) {
+            error = "probe " + std::to_string(p / 3) + "'s position is not finite";
+            return false;
+        }
     for (int p = 0; p < n; ++p) {
         v.states.push_back(st[p] == 2.0f   ? ProbeState::Off
                            : st[p] == 1.0f ? ProbeState::Relocated

@@ -32,9 +32,15 @@ struct EnvironmentImage {
     EnvironmentImage downsampled() const;
 };
 
-// Reads subimage `subimage` of an image OpenImageIO reads as an environment: 2:1, RGB (the
-// first three channels; one channel is grey). NaN and ±Inf texels are replaced by 0 and
-// counted in `replaced`. False with `error` saying why (without the path).
+// The largest environment read, in texels: 16384 × 8192 (the largest HDRIs published, 1.5 GiB
+// as float RGB); a larger header is refused before anything is allocated.
+inline constexpr long long kMaxEnvironmentTexels = 16384LL * 8192LL;
+
+// Reads subimage `subimage` of an image OpenImageIO reads as an environment: 2:1, at most
+// kMaxEnvironmentTexels. Colour by channel name: R, G, B; else a luminance channel Y (or a
+// single unnamed one) as grey, its alpha ignored; else the first three channels. NaN and ±Inf
+// texels are replaced by 0 and counted in `replaced`. False with `error` saying why (without
+// the path).
 bool readEnvironmentImage(const std::string& path, EnvironmentImage& env, std::string& error,
                           long long* replaced = nullptr, int subimage = 0);
 

@@ -83,6 +83,13 @@ bool parseLights(const std::string& json, std::vector<Light>& lights, std::strin
 bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::string& error,
                     std::vector<std::string>& warnings);
 
+// Blender's glTF exporter writes point and spot intensities in candela and directional ones in
+// lux (photometric, W × 683 / 4π); Cycles lights with watts. Divides those three types'
+// intensities by 683 lm/W, so that such lights light as in Cycles (docs/interop.md); area,
+// emissive and environment lights are radiometric already and unchanged.
+inline constexpr float kLuminousEfficacy = 683.0f;
+void toRadiometricUnits(std::vector<Light>& lights);
+
 // The lights file text for `lights` (what dhdr-gbuffer --lights-out writes); emissive meshes
 // are left out.
 std::string formatLights(const std::vector<Light>& lights);
