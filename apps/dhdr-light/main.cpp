@@ -1,6 +1,7 @@
 // dhdr-light: a G-buffer and a lights file in, linear HDR radiance out (docs/tools.md).
 #include "../common/frames.h"
 #include "../common/light_options.h"
+#include "../common/param_options.h"
 #include "../common/strip_reader.h"
 #include "../common/tool.h"
 #include "whole_frame.h"
@@ -43,7 +44,9 @@ int run(int argc, char** argv) {
     std::string plateArg, background, dataType = "half", scenePath, emissive = "auto",
                                       aoMode = "off";
     bool bruteForce = false, aovs = false, noShadows = false;
-    int tileSize = 16, shadowSamples = 16, aoSamples = 16, envSamples = 0;
+    // The counts' options, ranges and defaults come from the library's table.
+    LightingParams params;
+    params.aoSamples = 16; // with --ao rt or ssao; 0 when AO is off
     double aoDistance = 1.0;
     cl.option("--lights", "FILE",
               "lights file (JSON, docs/lights.md); repeat to add the lights of several; "
@@ -57,21 +60,12 @@ int run(int argc, char** argv) {
               "its own lights when no --lights is given");
     cl.flag("--no-shadows", noShadows,
             "with --scene, trace no shadow rays (the unshadowed reference; AO is still traced)");
-    cl.option("--shadow-samples", shadowSamples, "N",
-              "points per pixel on each sphere, rectangle or emissive light, for soft shadows "
-              "(default 16)",
-              1, 4096);
-    cl.option("--env-samples", envSamples, "N",
-              "with --scene, shadow rays per pixel drawn from each environment light by its "
-              "luminance, so that a sun in the HDRI casts shadows (default 0: none)",
-              0, 4096);
+    app::addParamOptions(cl, params, kLightingParamTable);
     cl.option("--emissive-lights", emissive, "on|off",
               "with --scene, make every emissive mesh an area light (default: on)");
     cl.option("--ao", aoMode, "off|rt|ssao",
               "ambient occlusion of the ambient light: rt traces rays in the scene (needs "
               "--scene), ssao works from the G-buffer alone (default off)");
-    cl.option("--ao-samples", aoSamples, "N", "AO rays or kernel points per pixel (default 16)", 1,
-              4096);
     cl.option("--ao-distance", aoDistance, "D",
               "rt: a hit closer than D occludes; ssao: the kernel's radius; scene units, metres "
               "for glTF (default 1)",
@@ -84,8 +78,6 @@ int run(int argc, char** argv) {
               "light as the camera sees it): objects and the shadows a --ground-plane catches, "
               "onto the plate; A is then 1");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
-    cl.option("--tile", tileSize, "N", "tile size of the light lists in pixels (default 16)", 1,
-              1024);
     cl.flag("--aovs", aovs,
             "also write the G-buffer's Z and N.X N.Y N.Z channels, AO, and the probes' "
             "indirect.R/G/B");
@@ -117,8 +109,8 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-light: usage error: give one G-buffer file\n");
         return app::kExitUsage;
     }
-    auto usage = [](const char* message) {
-        std::fprintf(stderr, "dhdr-light: usage error: %s\n", message);
+    auto usage = [](const std::string& message) {
+        std::fprintf(stderr, "dhdr-light: usage error: %s\n", message.c_str());
         return app::kExitUsage;
     };
     if (lightsPaths.empty() && scenePath.empty())
@@ -131,15 +123,14 @@ int run(int argc, char** argv) {
         if (aoMode == "rt") return usage("--ao rt traces rays in the scene: give --scene SCENE");
         if (noShadows) return usage("--no-shadows needs --scene (without it nothing is shadowed)");
         if (emissive != "auto") return usage("--emissive-lights needs --scene");
-        if (envSamples > 0) return usage("--env-samples traces rays in the scene: give --scene");
+        if (params.environmentSamples > 0)
+            return usage("--env-samples traces rays in the scene: give --scene");
     }
     if (dataType != "half" && dataType != "float") {
         std::fprintf(stderr, "dhdr-light: usage error: --type must be half or float\n");
         return app::kExitUsage;
     }
-    LightingParams params;
     params.bruteForce = bruteForce;
-    params.tileSize = tileSize;
     params.plateEnvironment = plateArg == "env";
     if (background == "env") {
         params.environmentBackground = true;
@@ -154,15 +145,16 @@ int run(int argc, char** argv) {
     }
     if (aovs) params.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
     params.shadows = !noShadows;
-    params.shadowSamples = shadowSamples;
-    params.environmentSamples = envSamples;
-    params.aoSamples = aoMode == "rt" ? aoSamples : 0;
+    SsaoParams ssao;
+    ssao.samples = params.aoSamples;
+    params.aoSamples = aoMode == "rt" ? params.aoSamples : 0;
     params.aoDistance = float(aoDistance);
     params.writeAO = aovs && aoMode != "off";
     params.writeIndirect = aovs && !probesPath.empty();
-    SsaoParams ssao;
     ssao.radius = float(aoDistance);
-    ssao.samples = std::min(aoSamples, 256);
+    if (aoMode == "ssao")
+        if (const std::string e = checkRanges(ssao, kSsaoParamTable); !e.empty())
+            return usage(e + " with --ao ssao");
     // The scene: its triangles for shadow and AO rays, its emissive meshes and its lights.
     Scene scene;
     std::unique_ptr<RayCaster> caster;
@@ -394,7 +386,8 @@ int run(int argc, char** argv) {
         LightingParams strips = params;
         strips.frame = OIIO::get_roi(gspec);
         // SSAO looks at neighbouring pixels anywhere in the frame: one strip, the whole frame.
-        const int rows = aoMode == "ssao" ? gspec.height : tileSize * std::max(1, 128 / tileSize);
+        const int rows =
+            aoMode == "ssao" ? gspec.height : params.tileSize * std::max(1, 128 / params.tileSize);
         std::string lightFiles;
         for (size_t i = 1; i < in.size(); ++i)
             lightFiles += (i > 1 ? ", " : "") + in[i];

@@ -1,5 +1,6 @@
 // dhdr-probes: bakes light probes for diffuse global illumination (docs/gi.md).
 #include "../common/light_options.h"
+#include "../common/param_options.h"
 #include "../common/tool.h"
 
 #include <chrono>
@@ -38,10 +39,7 @@ int run(int argc, char** argv) {
     cl.option("--spacing", spacing, "M", "distance between probes in scene units (default 0.25)",
               {0.0, 1e6, true, false});
     cl.option("--grid", grid, "NX,NY,NZ", "probe counts along X, Y, Z instead of --spacing");
-    cl.option("--rays", p.rays, "N", "rays per probe (default 256)", 16, 65536);
-    cl.option("--bounces", p.bounces, "K", "light bounces (default 3)", 1, 16);
-    cl.option("--shadow-samples", p.shadowSamples, "N",
-              "shadow rays per area light at each ray's hit (default 4)", 1, 256);
+    app::addParamOptions(cl, p, kProbeBakeParamTable);
     bool radiometric = false;
     app::addLightUnitsOption(cl, radiometric);
     cl.option("--emissive-lights", emissive, "on|off",

@@ -48,8 +48,12 @@ float smoothstep01(float x) {
 
 bool screenSpaceAO(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const SsaoParams& params,
                    int nthreads) {
-    if (!(params.radius > 0.0f) || params.samples < 1 || params.samples > 256) {
-        dst.errorfmt("SSAO radius must be positive and samples 1-256");
+    if (const std::string error = checkRanges(params, kSsaoParamTable); !error.empty()) {
+        dst.errorfmt("SSAO {}", error);
+        return false;
+    }
+    if (!(params.radius > 0.0f)) {
+        dst.errorfmt("SSAO radius must be positive");
         return false;
     }
     GBufferPixels g;

@@ -16,6 +16,13 @@
 
 namespace dhdr {
 
+bool validate(const LightingParams& params, std::string& error) {
+    error = checkRanges(params, kLightingParamTable);
+    if (error.empty() && !(params.aoDistance > 0.0f))
+        error = "--ao-distance: the AO distance must be positive";
+    return error.empty();
+}
+
 namespace {
 
 // What the shading loop reads first for every candidate light, packed by field (structure of
@@ -113,15 +120,8 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         }
         passIndex.push_back(c);
     }
-    if (params.tileSize <= 0) {
-        dst.errorfmt("tile size must be positive");
-        return false;
-    }
-    if (params.shadowSamples < 1 || params.shadowSamples > 4096 || params.aoSamples < 0 ||
-        params.environmentSamples < 0 || params.environmentSamples > 4096 ||
-        params.aoSamples > 4096 || !(params.aoDistance > 0.0f)) {
-        dst.errorfmt("shadow samples must be 1-4096, AO samples 0-4096 and the AO distance "
-                     "positive");
+    if (std::string error; !validate(params, error)) {
+        dst.errorfmt("{}", error);
         return false;
     }
     roi = roi.defined() ? OIIO::roi_intersection(roi, source.roi) : source.roi;

@@ -68,13 +68,11 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                 std::string& error, int nthreads) {
     const glm::ivec3 counts = params.counts;
     const bool byCounts = counts.x > 0 || counts.y > 0 || counts.z > 0;
+    if (error = checkRanges(params, kProbeBakeParamTable); !error.empty()) return false;
     if ((byCounts && (glm::any(glm::lessThan(counts, glm::ivec3(1))) ||
                       glm::any(glm::greaterThan(counts, glm::ivec3(256))))) ||
-        (!byCounts && !(params.spacing > 0.0)) || params.rays < 16 || params.rays > 65536 ||
-        params.bounces < 1 || params.bounces > 16 || params.shadowSamples < 1 ||
-        params.shadowSamples > 256) {
-        error = "probe parameters out of range (counts 1-256, spacing > 0, rays 16-65536, "
-                "bounces 1-16)";
+        (!byCounts && !(params.spacing > 0.0))) {
+        error = "probe grid out of range (counts 1-256, spacing > 0)";
         return false;
     }
     if (scene.meshes.empty()) {

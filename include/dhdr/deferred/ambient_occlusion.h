@@ -4,6 +4,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <cstdint>
+#include <dhdr/deferred/param_table.h>
 #include <dhdr/deferred/visibility.h>
 
 namespace dhdr {
@@ -22,12 +23,17 @@ float rayTracedOcclusion(const SurfacePoint& at, const glm::vec3& N, std::uint64
 struct SsaoParams {
     // Radius of the hemisphere kernel, scene units (metres); > 0.
     float radius = 0.5f;
-    // Kernel points per pixel, 1–256; each pixel of a 4 × 4 block turns the kernel about its
-    // normal by a different angle, and the 4 × 4 blur averages the 16 turns.
+    // Kernel points per pixel (range: kSsaoParamTable); each pixel of a 4 × 4 block turns the
+    // kernel about its normal by a different angle, and the 4 × 4 blur averages the 16 turns.
     int samples = 16;
     // Depth a kernel point must be behind the stored surface to count as occluded, scene
     // units; absorbs the G-buffer's depth precision.
     float bias = 0.005f;
+};
+
+// SsaoParams' counts: dhdr-light's --ao-samples with --ao ssao.
+inline constexpr IntParam<SsaoParams> kSsaoParamTable[] = {
+    {"--ao-samples", &SsaoParams::samples, 1, 256, "N", "--ao ssao: kernel points per pixel"},
 };
 
 // One channel "AO" in [0, 1] for every pixel of `gbuffer` (a whole frame, float or not; 1

@@ -3,6 +3,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/param_table.h>
 #include <dhdr/deferred/visibility.h>
 #include <string>
 #include <vector>
@@ -34,7 +35,8 @@ struct LightingParams {
     // Evaluate every light at every pixel instead of only those whose screen rectangle
     // covers the pixel's tile: the reference the culled pass must match.
     bool bruteForce = false;
-    // Side of the square tiles that per-tile light lists are built for, in pixels.
+    // Side of the square tiles that per-tile light lists are built for, in pixels (range:
+    // kLightingParamTable).
     int tileSize = 16;
     // RGBA written where the G-buffer has no surface (A = 0).
     float background[4] = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -52,12 +54,12 @@ struct LightingParams {
     // With a Visibility: trace shadow rays (false: the unshadowed reference, AO still traced).
     bool shadows = true;
     // Points sampled on each sphere, rectangle or emissive-mesh light per pixel for its soft
-    // shadow, 1–4096.
+    // shadow. The counts' ranges are kLightingParamTable's (below), checked by validate().
     int shadowSamples = 16;
     // With a Visibility: directions drawn from each environment light per pixel for its
-    // shadows (0: none, the environment is unshadowed), 0–4096.
+    // shadows (0: none, the environment is unshadowed).
     int environmentSamples = 0;
-    // Ray-traced AO with a Visibility: cosine-weighted rays per pixel (0: no AO), 0–4096 ...
+    // Ray-traced AO with a Visibility: cosine-weighted rays per pixel (0: no AO) ...
     int aoSamples = 0;
     // ... and the distance within which a hit occludes, scene units (metres), > 0 (+∞ allowed).
     float aoDistance = 1.0f;
@@ -66,6 +68,22 @@ struct LightingParams {
     // Also write the probes' indirect light as indirect.R, indirect.G, indirect.B (after AO).
     bool writeIndirect = false;
 };
+
+// The ranges of LightingParams' counts, and the options of dhdr-light that set them.
+inline constexpr IntParam<LightingParams> kLightingParamTable[] = {
+    {"--shadow-samples", &LightingParams::shadowSamples, 1, 4096, "N",
+     "points per pixel on each sphere, rectangle or emissive light, for soft shadows"},
+    {"--env-samples", &LightingParams::environmentSamples, 0, 4096, "N",
+     "with --scene, shadow rays per pixel drawn from each environment light by its luminance, "
+     "so that a sun in the HDRI casts shadows (0: none)"},
+    {"--ao-samples", &LightingParams::aoSamples, 0, 4096, "N",
+     "--ao rt: ambient-occlusion rays per pixel (0: no AO)"},
+    {"--tile", &LightingParams::tileSize, 1, 1024, "N", "tile size of the light lists, in pixels"},
+};
+
+// Whether `params` are within their ranges (kLightingParamTable, and the AO distance > 0);
+// false with `error` naming the first that is not.
+bool validate(const LightingParams& params, std::string& error);
 
 struct LightingStats {
     // Lights considered, summed over covered pixels: those in the pixel's tile list whose

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/param_table.h>
 #include <functional>
 #include <string>
 #include <vector>
@@ -17,16 +18,25 @@ class RayCaster;
 struct Scene;
 
 struct ProbeBakeParams {
-    double spacing = 0.25;       // metres (scene units) between probes, > 0; unused with counts
-    glm::ivec3 counts{0};        // probes along X, Y, Z (each 1–256); 0: from `spacing`
-    int rays = 256;              // rays per probe, 16–65536: a spherical Fibonacci set
-    int bounces = 3;             // light bounces, 1–16
-    int shadowSamples = 4;       // shadow rays per area light at a ray's hit, 1–256
+    double spacing = 0.25; // metres (scene units) between probes, > 0; unused with counts
+    glm::ivec3 counts{0};  // probes along X, Y, Z (each 1–256); 0: from `spacing`
+    // The counts: their meaning and ranges are kProbeBakeParamTable's (validated by bakeProbes).
+    int rays = 256;
+    int bounces = 3;
+    int shadowSamples = 4;
     float backfaceLimit = 0.25f; // a probe seeing more back faces than this share is inside
     float minDistance = 0.1f;    // … or nearer a surface than this × spacing: moved or off
     // Called with the share of the work done, in [0, 1], from the calling thread, after the
     // rays and after each bounce.
     std::function<void(float)> progress;
+};
+
+// ProbeBakeParams' counts, and the options of dhdr-probes that set them.
+inline constexpr IntParam<ProbeBakeParams> kProbeBakeParamTable[] = {
+    {"--rays", &ProbeBakeParams::rays, 16, 65536, "N", "rays per probe: a spherical Fibonacci set"},
+    {"--bounces", &ProbeBakeParams::bounces, 1, 16, "K", "light bounces"},
+    {"--shadow-samples", &ProbeBakeParams::shadowSamples, 1, 256, "N",
+     "shadow rays per area light at each ray's hit"},
 };
 
 enum class ProbeState : int {
