@@ -36,30 +36,29 @@ struct Layer {
 // The surfaces along `ray` front to back up to and including the first opaque one (with
 // `firstOnly`, the first surface of any kind): Mask cut-outs are no surface; Blend surfaces
 // are kept while there is room for them and the opaque one (at most maxLayers in all), later
-// ones are passed through.
+// ones are passed through. The search goes on past a surface from a new origin just beyond
+// it, offset along its geometric normal by its position's error bound (offsetRayOrigin), so
+// that no kernel's ulps find the same surface again, whatever the distance; hits keep their
+// distance along the first ray.
 int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int maxLayers,
                 Layer* out, bool firstOnly = false) {
     int n = 0;
-    double tnear = 0.0;
-    RayHit last;
+    Ray search = ray;
+    double travelled = 0.0; // from ray.origin to search.origin, along the direction
     // Bounded: a ray crosses a finite number of surfaces, but rounding must not loop forever.
     for (int step = 0; step < 4096; ++step) {
-        const RayHit hit = caster.intersect(ray, tnear);
+        RayHit hit = caster.intersect(search);
         if (!hit.hit) break;
-        // The surface just recorded, hit again at (nearly) its depth: a triangle reported
-        // twice, or its neighbour across a shared edge. Move on past it. Embree compares t
-        // with tnear after rounding, so it may report a hit a little before tnear: the next
-        // search starts a relative 2⁻¹⁶ beyond, far above that rounding (coplanar surfaces
-        // closer than that are one layer).
-        const bool again = last.hit && hit.mesh == last.mesh &&
-                           std::abs(hit.t - last.t) <= 0x1p-16 * std::max(last.t, 1e-3);
-        tnear = std::max(tnear, hit.t) * (1.0 + 0x1p-16) + 1e-9;
-        if (again) continue;
+        hit.t += travelled;
+        const SurfaceSample s = surfaceAt(scene, ray, hit);
+        const SurfacePoint at{glm::vec3(s.position), glm::vec3(s.geometric),
+                              float(s.positionError)};
+        search.origin = glm::dvec3(offsetRayOrigin(at, glm::vec3(ray.direction)));
+        travelled = std::max(travelled, glm::dot(search.origin - ray.origin, ray.direction));
         SurfaceCoverage c;
         if (hit.mesh != kGroundPlaneHit)
             c = surfaceCoverage(scene, hit.mesh, hit.triangle, hit.u, hit.v);
         if (!c.present) continue;
-        last = hit;
         const bool opaque = c.alpha >= 1.0f || firstOnly;
         if (opaque || n < maxLayers - 1) out[n++] = {hit, c.alpha};
         if (opaque) break;
