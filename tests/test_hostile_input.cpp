@@ -3,8 +3,11 @@
 // or temporary left behind.
 #include "tool_test.h"
 
+#include <chrono>
 #include <csignal>
 #include <sys/types.h>
+#include <sys/wait.h>
+#include <thread>
 #include <unistd.h>
 
 using namespace dhdr::test;
@@ -68,4 +71,48 @@ TEST_F(HostileInput, MisspeltLightKeysAreErrors) {
                   path("l8.exr"))
                   .status,
               0);
+}
+
+// `nohup dhdr-… &` died on SIGHUP: the tools installed their clean-up handler over the
+// SIG_IGN that nohup had set (and over the SIGINT a non-interactive shell ignores for a
+// background job). The tool runs under the real nohup with SIGINT ignored too, is sent
+// SIGHUP and SIGINT while its temporary output is open (the handlers are installed by
+// then), and finishes its picture.
+TEST_F(HostileInput, IgnoredSignalsStayIgnored) {
+    const std::string out = path("nohup.exr");
+    const pid_t pid = fork();
+    if (pid == 0) {
+        std::signal(SIGINT, SIG_IGN);
+        const std::string cmd = "exec nohup " + kTools + "/dhdr-gbuffer " + kCornell +
+                                " --size 1000x1000 --threads 1 -o " + out + " >" +
+                                path("nohup.out") + " 2>" + path("nohup.err") + " </dev/null";
+        execl("/bin/sh", "sh", "-c", cmd.c_str(), nullptr);
+        _exit(127);
+    }
+    ASSERT_GT(pid, 0);
+    auto temporaryOpen = [] {
+        for (const auto& e : fs::directory_iterator(dir))
+            if (e.path().filename().string().rfind(".nohup.tmp", 0) == 0) return true;
+        return false;
+    };
+    int status = 0, signalled = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (waitpid(pid, &status, WNOHANG) == 0) {
+        if (temporaryOpen()) {
+            kill(pid, SIGHUP);
+            kill(pid, SIGINT);
+            ++signalled;
+        }
+        if (std::chrono::steady_clock::now() > deadline) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            FAIL() << "dhdr-gbuffer did not finish";
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ASSERT_GT(signalled, 0) << "the run ended before its output was open; make it longer";
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+    EXPECT_EQ(WEXITSTATUS(status), 0) << slurp(dir / "nohup.err");
+    EXPECT_TRUE(fs::exists(out));
+    EXPECT_TRUE(noTemporaries());
 }

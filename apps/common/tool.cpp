@@ -75,11 +75,25 @@ private:
         std::raise(signal);
     }
 
+    // A termination signal that the process was started with ignored stays ignored, as
+    // well-behaved Unix tools do: `nohup dhdr-… &` ignores SIGHUP, and a shell without job
+    // control starts `dhdr-… &` with SIGINT and SIGQUIT ignored; such a run must go on, not
+    // die in our handler. Fatal signals (SIGABRT from abort(), and the faults) end the
+    // process whatever their disposition, so their handler is always installed to clean up.
     void installHandlers() {
         if (m_installed) return;
         m_installed = true;
-        for (int s : {SIGHUP, SIGINT, SIGTERM, SIGQUIT, SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL})
-            std::signal(s, onSignal);
+        struct sigaction action {};
+        action.sa_handler = onSignal;
+        sigemptyset(&action.sa_mask);
+        action.sa_flags = SA_RESTART; // as signal() installs a handler
+        for (int s : {SIGHUP, SIGINT, SIGTERM, SIGQUIT}) {
+            struct sigaction old {};
+            if (sigaction(s, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+            sigaction(s, &action, nullptr);
+        }
+        for (int s : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL})
+            sigaction(s, &action, nullptr);
     }
 
     std::mutex m_mutex;
