@@ -116,3 +116,100 @@ TEST_F(HostileInput, IgnoredSignalsStayIgnored) {
     EXPECT_TRUE(fs::exists(out));
     EXPECT_TRUE(noTemporaries());
 }
+
+// An output could overwrite an input with exit 0: -o naming the --probes or --plate file,
+// --deep-out naming the G-buffer, dhdr-ibl -o naming its environment, --deep-out = -o
+// sharing one temporary. Every file a tool reads, by any option, is an input; each case is a
+// usage error (2) naming the file and both options, before anything is read or written, and
+// the input is left as it was.
+TEST_F(HostileInput, NoOutputOverwritesAnInput) {
+    ASSERT_EQ(
+        run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " + path("h.exr")).status,
+        0);
+    fs::copy_file(kLights, path("l.json"));
+    fs::copy_file(kCornell, path("scene.gltf"));
+    fs::copy_file(path("h.exr"), path("plate.exr"));
+    fs::copy_file(path("h.exr"), path("probes.exr"));
+    fs::copy_file(path("h.exr"), path("env.exr"));
+    fs::create_hard_link(path("env.exr"), path("env_link.exr"));
+    fs::create_directories(dir / "sub");
+    std::ofstream(path("stats.json")) << "{}";
+    const std::string g = path("g.exr"), h = path("h.exr"), l = path("l.json");
+    const std::string light = "dhdr-light " + g + " --lights " + l;
+    struct Case {
+        std::string command, message;
+    };
+    const Case cases[] = {
+        {light + " --probes " + path("probes.exr") + " -o " + path("probes.exr"),
+         "probes.exr: the output (-o) is also an input (--probes)"},
+        {light + " --plate " + path("plate.exr") + " -o " + path("plate.exr"),
+         "plate.exr: the output (-o) is also an input (--plate)"},
+        {light + " -o " + l, "l.json: the output (-o) is also an input (--lights)"},
+        {light + " --scene " + path("scene.gltf") + " -o " + path("scene.gltf"),
+         "scene.gltf: the output (-o) is also an input (--scene)"},
+        {light + " -o " + path("out.exr") + " --deep-out " + g,
+         "g.exr: the output (--deep-out) is also an input;"},
+        // Another spelling of the same file.
+        {light + " -o " + path("sub/../out.exr") + " --deep-out " + dir.string() +
+             "/./sub/../g.exr",
+         "the output (--deep-out) is also an input;"},
+        // Two outputs in one file, neither existing yet, spelt differently.
+        {light + " -o " + path("d.exr") + " --deep-out " + path("sub/../d.exr"),
+         "-o and --deep-out name the same file"},
+        // Frame patterns: the deep output's pattern is the G-buffers'; one frame of -o is
+        // the --probes file.
+        {"dhdr-light " + path("g.####.exr") + " --lights " + l + " --frames 1-2 -o " +
+             path("h.####.exr") + " --deep-out " + path("g.####.exr"),
+         "g.####.exr: the output (--deep-out) is also an input"},
+        {"dhdr-light " + path("g.####.exr") + " --lights " + l + " --frames 1-2 -o " +
+             path("h.####.exr") + " --probes " + path("h.0002.exr"),
+         "h.0002.exr: the output (-o) is also an input (--probes)"},
+        {"dhdr-aa " + h + " --gbuffer " + g + " -o " + g,
+         "g.exr: the output (-o) is also an input (--gbuffer)"},
+        {"dhdr-ibl " + path("env.exr") + " -o " + path("env.exr"),
+         "env.exr: the output (-o) is also an input"},
+        // A hard link to the environment is the same file.
+        {"dhdr-ibl " + path("env.exr") + " -o " + path("env_link.exr"),
+         "env_link.exr: the output (-o) is also an input"},
+        {"dhdr-probes " + path("scene.gltf") + " -o " + path("scene.gltf"),
+         "scene.gltf: the output (-o) is also an input"},
+        {"dhdr-probes " + path("scene.gltf") + " --lights " + l + " -o " + l,
+         "l.json: the output (-o) is also an input (--lights)"},
+        {"dhdr-gbuffer " + path("scene.gltf") + " --size 8x8 -o " + path("g8.exr") +
+             " --lights-out " + path("scene.gltf"),
+         "scene.gltf: the output (--lights-out) is also an input"},
+        {"dhdr-gbuffer " + path("scene.gltf") + " --size 8x8 -o " + path("g8.exr") +
+             " --lights-out " + path("g8.exr"),
+         "-o and --lights-out name the same file"},
+        {"dhdr-tonemap " + path("g.####.exr") + " -o " + path("t.####.png") +
+             " --adapt --stats-out " + path("g.0002.exr"),
+         "g.0002.exr: the output (--stats-out) is also an input"},
+        {"dhdr-tonemap " + path("g.####.exr") + " --meter-only --stats-out " + path("g.0001.exr"),
+         "g.0001.exr: the output (--stats-out) is also an input"},
+        {"dhdr-tonemap " + path("g.####.exr") + " -o " + path("t.####.png") + " --adapt-from " +
+             path("stats.json") + " --stats-out " + path("stats.json"),
+         "stats.json: the output (--stats-out) is also an input (--adapt-from)"},
+        {"dhdr-tonemap " + path("g.####.exr") + " -o " + path("g.####.exr"),
+         "g.####.exr: the output (-o) is also an input"},
+    };
+    fs::copy_file(g, path("g.0001.exr"));
+    fs::copy_file(g, path("g.0002.exr"));
+    std::vector<std::pair<std::string, std::string>> before;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.is_regular_file() && e.path().filename().string().rfind("std", 0) != 0)
+            before.emplace_back(e.path().string(), slurp(e.path()));
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.command);
+        const Result r = run(c.command);
+        EXPECT_EQ(r.status, 2) << r.err;
+        EXPECT_NE(r.err.find(c.message), std::string::npos)
+            << "expected '" << c.message << "' in: " << r.err;
+        EXPECT_TRUE(noTemporaries());
+        for (const char* name : {"out.exr", "d.exr", "t.0001.png", "g8.exr", "h.0001.exr"})
+            EXPECT_FALSE(fs::exists(path(name))) << name;
+    }
+    for (const auto& [file, bytes] : before)
+        EXPECT_TRUE(slurp(file) == bytes) << file << " was changed";
+    // Distinct outputs next to their inputs still work.
+    EXPECT_EQ(run(light + " --plate " + path("plate.exr") + " -o " + path("out.exr")).status, 0);
+}

@@ -166,13 +166,10 @@ int Tool::start(const std::vector<std::string>& inputs, const std::string& out) 
                      m_name.c_str(), m_name.c_str());
         return kExitUsage;
     }
+    std::vector<NamedFile> in, outs;
+    files(inputs, out, in, outs);
+    if (!outputsAreTheirOwn(in, outs)) return kExitUsage;
     std::error_code ec;
-    for (const std::string& in : inputs) {
-        if (fs::exists(in, ec) && fs::exists(out, ec) && fs::equivalent(in, out, ec)) {
-            fail(out + ": is also an input; refusing to overwrite it");
-            return kExitUsage;
-        }
-    }
     const fs::path folder = fs::absolute(fs::path(out)).parent_path();
     if (!fs::is_directory(folder, ec)) {
         fail(out + ": the folder " + folder.string() + " does not exist");
@@ -183,6 +180,61 @@ int Tool::start(const std::vector<std::string>& inputs, const std::string& out) 
         return kExitFailure;
     }
     return -1;
+}
+
+void Tool::files(const std::vector<std::string>& inputs, const std::string& out,
+                 std::vector<NamedFile>& in, std::vector<NamedFile>& outs) const {
+    in = m_cl.inputFiles();
+    for (const std::string& path : inputs)
+        if (std::none_of(in.begin(), in.end(), [&](const NamedFile& f) { return f.path == path; }))
+            in.push_back({"", path});
+    outs.clear();
+    if (!m_cl.output().empty()) outs.push_back({"-o", m_cl.output()});
+    for (const NamedFile& f : m_cl.outputFiles())
+        outs.push_back(f);
+    if (!out.empty() &&
+        std::none_of(outs.begin(), outs.end(), [&](const NamedFile& f) { return f.path == out; }))
+        outs.push_back({"the output", out});
+}
+
+namespace {
+
+// Whether `a` and `b` are one file: by identity (a hard link, a symbolic link, another
+// spelling) when both exist; else by their paths made absolute, with symbolic links in the
+// folders that exist resolved, and normalized (./x.exr and d/../x.exr are x.exr).
+bool sameFile(const std::string& a, const std::string& b) {
+    if (a == b) return true;
+    std::error_code ea, eb;
+    const bool aExists = fs::exists(a, ea), bExists = fs::exists(b, eb);
+    if (aExists && bExists) return fs::equivalent(a, b, ea) && !ea;
+    if (aExists != bExists) return false;
+    fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
+    if (ea) ca = fs::absolute(a, ea).lexically_normal();
+    if (eb) cb = fs::absolute(b, eb).lexically_normal();
+    return ca == cb;
+}
+
+} // namespace
+
+bool Tool::outputsAreTheirOwn(const std::vector<NamedFile>& inputs,
+                              const std::vector<NamedFile>& outputs) const {
+    for (size_t o = 0; o < outputs.size(); ++o) {
+        const NamedFile& out = outputs[o];
+        for (const NamedFile& in : inputs)
+            if (sameFile(in.path, out.path)) {
+                fail(out.path + ": the output (" + out.option + ") is also an input" +
+                     (in.option.empty() ? "" : " (" + in.option + ")") +
+                     "; refusing to overwrite it");
+                return false;
+            }
+        for (size_t k = 0; k < o; ++k)
+            if (sameFile(outputs[k].path, out.path)) {
+                fail(out.path + ": " + outputs[k].option + " and " + out.option +
+                     " name the same file; give each output its own");
+                return false;
+            }
+    }
+    return true;
 }
 
 namespace {
