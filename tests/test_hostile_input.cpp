@@ -213,3 +213,38 @@ TEST_F(HostileInput, NoOutputOverwritesAnInput) {
     // Distinct outputs next to their inputs still work.
     EXPECT_EQ(run(light + " --plate " + path("plate.exr") + " -o " + path("out.exr")).status, 0);
 }
+
+// A frame pattern wider than the formatting buffer (31 digits) wrote every frame to one
+// file, its name cut to zeros. Past 16 digits (frame numbers have at most 9 and a sign) a
+// pattern is a usage error naming it; up to 16 every frame has its own file.
+TEST_F(HostileInput, FramePatternWidthIsBounded) {
+    ASSERT_EQ(
+        run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " + path("seq.1.exr"))
+            .status,
+        0);
+    fs::copy_file(path("seq.1.exr"), path("seq.2.exr"));
+    const std::string wide = path("wide." + std::string(40, '#') + ".exr");
+    const std::string cases[] = {
+        "dhdr-bloom " + path("seq.#.exr") + " -o " + wide,
+        "dhdr-bloom " + path("seq.#.exr") + " -o " + path("wide.%040d.exr"),
+        "dhdr-bloom " + path("seq.#.exr") + " -o " + path("wide.%099999999999999999999d.exr"),
+        "dhdr-tonemap " + path("seq.#.exr") + " -o " + path("wide.%017d.png"),
+        "dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " + path("w.exr") +
+            " --deep-out " + path("wide." + std::string(17, '#') + ".exr"),
+    };
+    for (const std::string& c : cases) {
+        SCOPED_TRACE(c);
+        const Result r = run(c);
+        EXPECT_EQ(r.status, 2) << r.err;
+        EXPECT_NE(r.err.find("the frame pattern is wider than 16 digits"), std::string::npos)
+            << r.err;
+        EXPECT_TRUE(noTemporaries());
+    }
+    for (const auto& e : fs::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().rfind("wide", 0), std::string::npos) << e.path();
+    const Result r = run("dhdr-bloom " + path("seq.#.exr") + " -o " +
+                         path("ok." + std::string(16, '#') + ".exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(path("ok.0000000000000001.exr")));
+    EXPECT_TRUE(fs::exists(path("ok.0000000000000002.exr")));
+}

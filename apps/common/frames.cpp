@@ -35,14 +35,18 @@ FramePattern::FramePattern(std::string path) : m_text(std::move(path)) {
     if (std::regex_search(file, m, printfStyle)) {
         m_prefix = m_text.substr(0, name + size_t(m.position(0)));
         m_suffix = m_text.substr(name + size_t(m.position(0) + m.length(0)));
-        m_width = m[2].length() ? std::atoi(m[2].str().c_str()) : 0;
+        // More digits than any width could need: past kMaxFrameWidth, without overflowing.
+        m_width = m[2].length() > 6 ? 1000000 : m[2].length() ? std::atoi(m[2].str().c_str()) : 0;
     }
 }
 
 std::string FramePattern::path(int frame) const {
     if (!isSequence()) return m_text;
-    char digits[32];
-    std::snprintf(digits, sizeof digits, "%0*d", m_width, frame);
+    // Sized for the width, so that no width truncates (Tool::start refuses those past
+    // kMaxFrameWidth); a fixed buffer cut wide patterns to one name for every frame.
+    std::string digits(size_t(std::max(m_width, 0)) + 16, '\0');
+    const int n = std::snprintf(digits.data(), digits.size(), "%0*d", m_width, frame);
+    digits.resize(size_t(std::max(n, 0)));
     return m_prefix + digits + m_suffix;
 }
 

@@ -15,6 +15,8 @@ public:
     explicit FramePattern(std::string path);
 
     bool isSequence() const { return m_width >= 0; }
+    // Digits of the frame number (0: no padding); −1 when not a sequence.
+    int width() const { return m_width; }
     // The path of `frame` (the path itself when it is not a sequence).
     std::string path(int frame) const;
     const std::string& text() const { return m_text; }
@@ -31,6 +33,10 @@ private:
 inline constexpr long long kMinFrame = -99999999, kMaxFrame = 999999999, kMaxFrameCount = 1000000;
 inline constexpr const char* kFrameRangeText =
     "frames in [-99999999, 999999999], at most 1000000 of them";
+
+// The widest frame pattern (#### or %0Nd): frame numbers have at most 9 digits and a sign,
+// and a wider pattern is a typo. dhdr-farm has the same limit (dhdr_farm/frames.py).
+inline constexpr int kMaxFrameWidth = 16;
 
 // "A-B" or "A" → [A, B]; false when malformed, B < A, or outside the limits above.
 bool parseFrameRange(const std::string& text, int& first, int& last);

@@ -1,5 +1,6 @@
 #include "tool.h"
 
+#include "frames.h"
 #include "layers.h"
 #include "native_pixels.h"
 
@@ -168,6 +169,15 @@ int Tool::start(const std::vector<std::string>& inputs, const std::string& out) 
     }
     std::vector<NamedFile> in, outs;
     files(inputs, out, in, outs);
+    for (const auto* list : {&in, &outs})
+        for (const NamedFile& f : *list)
+            if (FramePattern(f.path).width() > kMaxFrameWidth) {
+                std::fprintf(stderr,
+                             "%s: usage error: %s: the frame pattern is wider than %d digits "
+                             "(frame numbers have at most 9)\n",
+                             m_name.c_str(), f.path.c_str(), kMaxFrameWidth);
+                return kExitUsage;
+            }
     if (!outputsAreTheirOwn(in, outs)) return kExitUsage;
     std::error_code ec;
     const fs::path folder = fs::absolute(fs::path(out)).parent_path();

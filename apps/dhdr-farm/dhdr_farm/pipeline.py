@@ -5,7 +5,7 @@ import json
 import os
 import re
 
-from .frames import FramePattern
+from .frames import MAX_WIDTH, FramePattern
 
 TOOLS = ("dhdr-gbuffer", "dhdr-light", "dhdr-aa", "dhdr-bloom", "dhdr-tonemap")
 STAGE_KEYS = {"name", "tool", "inputs", "output", "options", "adapt", "fps"}
@@ -105,6 +105,10 @@ def parse(doc, path="pipeline.json"):
         options = s.get("options", [])
         if not _strings(options):
             bad("\"options\" must be a list of strings, one per word (\"--size\", \"640x360\")")
+        for text in inputs + [output] + options:
+            if FramePattern(text).width > MAX_WIDTH:
+                bad("%r: the frame pattern is wider than %d digits (frame numbers have at "
+                    "most 9)" % (text, MAX_WIDTH))
         reserved = RESERVED | (TONEMAP_RESERVED if tool == "dhdr-tonemap" else set())
         for o in options:
             if o.split("=", 1)[0] in reserved:
