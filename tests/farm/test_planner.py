@@ -88,6 +88,26 @@ class Pipelines(unittest.TestCase):
                       self.error({"stages": [dict(tonemap, options=["--adapt"])]}))
         self.assertIn("\"fps\" goes with", self.error({"stages": [dict(tonemap, fps=30)]}))
 
+    def test_two_stages_cannot_write_one_output(self):
+        # Issue 21: each would overwrite the other's frames with exit 0.
+        light = {"tool": "dhdr-light", "inputs": ["g.####.exr"], "output": "out/h.####.exr"}
+        bloom = {"tool": "dhdr-bloom", "inputs": ["out/h.####.exr"], "output": "out/h.####.exr"}
+        self.assertIn("stages[0] (light) and stages[1] (bloom) both write 'out/h.####.exr'; "
+                      "give each stage its own \"output\"",
+                      self.error({"stages": [light, bloom]}))
+        # Spelt differently, the same files.
+        for other in ("./out/h.%04d.exr", "out/../out/h.####.exr"):
+            self.assertIn("stages[0] (light) and stages[1] (bloom) both write %r" % other,
+                          self.error({"stages": [light, dict(bloom, output=other)]}))
+        with self.assertRaises(PipelineError) as e:
+            parse({"stages": [dict(light, output="/tmp/farm/h.####.exr"),
+                              dict(bloom, output="/tmp/farm/sub/../h.%04d.exr")]},
+                  "/elsewhere/p.json")
+        self.assertIn("both write", str(e.exception))
+        # Other widths or names are other files.
+        for other in ("out/h.###.exr", "out/b.####.exr", "h.####.exr"):
+            parse({"stages": [light, dict(bloom, output=other)]}, "p.json")
+
     def test_the_shipped_example_is_valid(self):
         path = os.path.join(fx.SOURCE, "docs", "examples", "cornell.farm.json")
         with open(path) as f:

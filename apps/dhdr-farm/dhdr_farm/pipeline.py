@@ -128,4 +128,17 @@ def parse(doc, path="pipeline.json"):
         if "fps" in s and not adapt:
             bad("\"fps\" goes with \"adapt\": true")
         stages.append(Stage(stage_name, tool, inputs, output, options, adapt, float(fps)))
+    # Two stages writing one pattern would overwrite each other's frames (and each would
+    # find the other's chunks complete). The same files are the same pattern however it is
+    # spelt: out/a.####.exr, ./out/a.%04d.exr.
+    root = os.path.dirname(os.path.abspath(path))
+    writers = {}
+    for i, stage in enumerate(stages):
+        p = FramePattern(os.path.normpath(os.path.join(root, stage.output)))
+        key = (p.prefix, p.suffix, max(p.width, 1))  # %d pads as # does
+        if key in writers:
+            j = writers[key]
+            fail("stages[%d] (%s) and stages[%d] (%s) both write %r; give each stage its own "
+                 "\"output\"" % (j, stages[j].name, i, stage.name, stage.output))
+        writers[key] = i
     return Pipeline(path, name, stages)
