@@ -390,9 +390,58 @@ TEST(Lights, ErrorsNameTheLightAndField) {
     EXPECT_FALSE(parseLights(R"({"lights": [[]]})", lights, error));
     EXPECT_EQ(error, "light 0: not an object");
     EXPECT_FALSE(parseLights(R"({"lamps": []})", lights, error));
+    EXPECT_EQ(error, "unknown key \"lamps\" at the top level (a lights file has \"lights\")");
+    EXPECT_FALSE(parseLights(R"({"$comment": "none"})", lights, error));
     EXPECT_EQ(error, "no \"lights\" array");
     EXPECT_FALSE(parseLights("{\"lights\": [", lights, error));
     EXPECT_NE(error.find("not valid JSON"), std::string::npos);
+}
+
+// Issue 21: a misspelt or foreign key is an error naming the key and the light, not a light
+// silently left at its defaults.
+TEST(Lights, UnknownKeysAreErrors) {
+    std::vector<Light> lights;
+    std::string error;
+    EXPECT_FALSE(parseLights(R"({"lights": [{"type": "ambient"},
+        {"type": "point", "name": "bulb", "position": [0, 0, 0], "colour": [1, 0, 0]}]})",
+                             lights, error));
+    EXPECT_EQ(error, "light 1 (point \"bulb\"): unknown key \"colour\" (did you mean \"color\"?)");
+    EXPECT_FALSE(parseLights(R"([{"type": "spot", "position": [0, 0, 0], "direction": [0, 0, 1],
+                                  "rnage": 2}])",
+                             lights, error));
+    EXPECT_EQ(error, "light 0 (spot): unknown key \"rnage\" (did you mean \"range\"?)");
+    EXPECT_FALSE(parseLights(R"([{"type": "point", "position": [0, 0, 0], "brightness": 2}])",
+                             lights, error));
+    EXPECT_EQ(error, "light 0 (point): unknown key \"brightness\"");
+    // A key of another type: a point light given a direction was meant to be a spot.
+    EXPECT_FALSE(parseLights(
+        R"([{"type": "point", "position": [0, 0, 0], "direction": [0, 0, 1]}])", lights, error));
+    EXPECT_EQ(error, "light 0 (point): \"direction\" does not apply to a point light (only to "
+                     "spot, directional or rectangle)");
+    EXPECT_FALSE(parseLights(R"({"lights": [], "version": 2})", lights, error));
+    EXPECT_EQ(error, "unknown key \"version\" at the top level (a lights file has \"lights\")");
+    // Comments and a schema reference are allowed, as in the channel map.
+    EXPECT_TRUE(parseLights(R"({"$schema": "lights.schema.json", "$comment": "x",
+        "lights": [{"type": "ambient", "$comment": "fill"}]})",
+                            lights, error))
+        << error;
+    // What formatLights writes for every type reads back.
+    Light rect;
+    rect.type = LightType::Rectangle;
+    rect.width = rect.height = 1.0f;
+    rect.direction = glm::vec3(0, -1, 0);
+    rect.up = glm::vec3(0, 0, 1);
+    Light sphere;
+    sphere.type = LightType::Sphere;
+    sphere.radius = 0.5f;
+    Light spot;
+    spot.type = LightType::Spot;
+    Light env;
+    env.type = LightType::Environment;
+    env.image = "sky.exr";
+    std::vector<Light> again;
+    ASSERT_TRUE(parseLights(formatLights({rect, sphere, spot, env}), again, error)) << error;
+    EXPECT_EQ(again.size(), 4u);
 }
 
 // ---- BRDF -------------------------------------------------------------------------------

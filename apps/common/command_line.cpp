@@ -13,13 +13,22 @@ CommandLine::CommandLine(std::string tool, std::string synopsis, std::string des
       m_description(std::move(description)) {}
 
 void CommandLine::flag(const std::string& name, bool& target, const std::string& help) {
-    m_options.push_back({name, "", help, nullptr, &target});
+    Option o;
+    o.name = name;
+    o.help = help;
+    o.flag = &target;
+    m_options.push_back(std::move(o));
 }
 
 void CommandLine::option(const std::string& name, const std::string& metavar,
                          const std::string& help,
                          std::function<bool(const std::string&, std::string&)> parse) {
-    m_options.push_back({name, metavar, help, std::move(parse), nullptr});
+    Option o;
+    o.name = name;
+    o.metavar = metavar;
+    o.help = help;
+    o.parse = std::move(parse);
+    m_options.push_back(std::move(o));
 }
 
 void CommandLine::option(const std::string& name, std::string& target, const std::string& metavar,
@@ -28,6 +37,15 @@ void CommandLine::option(const std::string& name, std::string& target, const std
         target = v;
         return true;
     });
+}
+
+void CommandLine::namesFile(const std::string& name, FileRole role,
+                            std::function<std::string(const std::string&)> path) {
+    for (Option& o : m_options)
+        if (o.name == name) {
+            o.role = role;
+            o.filePath = std::move(path);
+        }
 }
 
 bool CommandLine::Range::contains(double v) const {
@@ -213,6 +231,12 @@ int CommandLine::parse(int argc, char** argv) {
             std::string v, err;
             if (!takeValue(v)) return usageError(arg + " needs a value (" + found->metavar + ")");
             if (!found->parse(v, err)) return usageError(arg + ": " + err);
+            if (found->role) {
+                const std::string file = found->filePath ? found->filePath(v) : v;
+                if (!file.empty())
+                    (*found->role == FileRole::Input ? m_inputFiles : m_outputFiles)
+                        .push_back({arg, file});
+            }
             continue;
         }
         m_inputs.push_back(arg);

@@ -13,6 +13,16 @@ inline constexpr int kExitSuccess = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
 
+// A file that a command line names, and the option that names it ("-o", "--probes"; empty
+// for a positional input).
+struct NamedFile {
+    std::string option, path;
+};
+
+// What the value of an option names: a file the tool reads, or one it writes. Tool::start and
+// runFrames refuse an output that is one of the inputs or another output.
+enum class FileRole { Input, Output };
+
 class CommandLine {
 public:
     CommandLine(std::string tool, std::string synopsis, std::string description);
@@ -41,6 +51,11 @@ public:
     // `--ground-plane=0.2`): `given` is set, and `value` when a number follows.
     void flagWithNumber(const std::string& name, bool& given, std::optional<double>& value,
                         const std::string& metavar, const std::string& help);
+    // Marks the option `name` (declared before) as naming a file read or written. `path`
+    // turns a value into the file it names, or "" for a keyword that names none (--plate
+    // env); by default the value itself.
+    void namesFile(const std::string& name, FileRole role,
+                   std::function<std::string(const std::string&)> path = {});
     // Text printed after the options in --help (examples, notes).
     void epilog(const std::string& text) { m_epilog = text; }
 
@@ -57,6 +72,9 @@ public:
     const std::string& frames() const { return m_frames; }
     // 0 quiet, 1 normal, 2 verbose.
     int verbosity() const { return m_verbosity; }
+    // The files the options marked by namesFile named, in the order given (-o is output()).
+    const std::vector<NamedFile>& inputFiles() const { return m_inputFiles; }
+    const std::vector<NamedFile>& outputFiles() const { return m_outputFiles; }
 
 private:
     struct Option {
@@ -64,6 +82,8 @@ private:
         std::function<bool(const std::string&, std::string&)> parse; // null for flags
         bool* flag = nullptr;
         std::optional<double>* number = nullptr; // flagWithNumber's value
+        std::optional<FileRole> role;            // namesFile
+        std::function<std::string(const std::string&)> filePath;
     };
     void printHelp() const;
     int usageError(const std::string& message) const;
@@ -71,6 +91,7 @@ private:
     std::string m_tool, m_synopsis, m_description, m_epilog;
     std::vector<Option> m_options;
     std::vector<std::string> m_inputs;
+    std::vector<NamedFile> m_inputFiles, m_outputFiles;
     std::string m_output;
     std::string m_compression;
     std::string m_frames;

@@ -35,14 +35,18 @@ FramePattern::FramePattern(std::string path) : m_text(std::move(path)) {
     if (std::regex_search(file, m, printfStyle)) {
         m_prefix = m_text.substr(0, name + size_t(m.position(0)));
         m_suffix = m_text.substr(name + size_t(m.position(0) + m.length(0)));
-        m_width = m[2].length() ? std::atoi(m[2].str().c_str()) : 0;
+        // More digits than any width could need: past kMaxFrameWidth, without overflowing.
+        m_width = m[2].length() > 6 ? 1000000 : m[2].length() ? std::atoi(m[2].str().c_str()) : 0;
     }
 }
 
 std::string FramePattern::path(int frame) const {
     if (!isSequence()) return m_text;
-    char digits[32];
-    std::snprintf(digits, sizeof digits, "%0*d", m_width, frame);
+    // Sized for the width, so that no width truncates (Tool::start refuses those past
+    // kMaxFrameWidth); a fixed buffer cut wide patterns to one name for every frame.
+    std::string digits(size_t(std::max(m_width, 0)) + 16, '\0');
+    const int n = std::snprintf(digits.data(), digits.size(), "%0*d", m_width, frame);
+    digits.resize(size_t(std::max(n, 0)));
     return m_prefix + digits + m_suffix;
 }
 
@@ -100,7 +104,9 @@ std::string sequenceStatus(size_t done, size_t total, std::chrono::steady_clock:
     return text;
 }
 
-int planFrames(const Tool& tool, const std::vector<std::string>& paths, FramePlan& plan) {
+namespace {
+
+int resolveFrames(const Tool& tool, const std::vector<std::string>& paths, FramePlan& plan) {
     if (const int status = tool.start(paths); status >= 0) return status;
     plan.inputs.clear();
     for (const std::string& path : paths)
@@ -148,21 +154,52 @@ int planFrames(const Tool& tool, const std::vector<std::string>& paths, FramePla
     return -1;
 }
 
+} // namespace
+
+int planFrames(const Tool& tool, const std::vector<std::string>& paths, FramePlan& plan) {
+    if (const int status = resolveFrames(tool, paths, plan); status >= 0) return status;
+    // Before any input is read: no output of any frame is an input or another output.
+    return checkFrameOutputs(tool, plan, plan.frames);
+}
+
+int checkFrameOutputs(const Tool& tool, const FramePlan& plan, const std::vector<int>& frames) {
+    std::vector<std::string> texts;
+    for (const FramePattern& in : plan.inputs)
+        texts.push_back(in.text());
+    return checkFrameOutputs(tool, texts, plan.output.text(), frames);
+}
+
+int checkFrameOutputs(const Tool& tool, const std::vector<std::string>& inputs,
+                      const std::string& output, const std::vector<int>& frames) {
+    // Every input and output of every frame, the files options name included (a frame
+    // pattern in --deep-out, a plain --probes file that one frame of -o would be).
+    std::vector<NamedFile> inFiles, outFiles;
+    tool.files(inputs, output, inFiles, outFiles);
+    auto patterns = [](const std::vector<NamedFile>& files) {
+        std::vector<FramePattern> p;
+        for (const NamedFile& f : files)
+            p.emplace_back(f.path);
+        return p;
+    };
+    const std::vector<FramePattern> inPatterns = patterns(inFiles),
+                                    outPatterns = patterns(outFiles);
+    for (int f : frames) {
+        std::vector<NamedFile> in = inFiles, out = outFiles;
+        for (size_t k = 0; k < in.size(); ++k)
+            in[k].path = inPatterns[k].path(f);
+        for (size_t k = 0; k < out.size(); ++k)
+            out[k].path = outPatterns[k].path(f);
+        if (!tool.outputsAreTheirOwn(in, out)) return kExitUsage;
+    }
+    return -1;
+}
+
 int runFrames(
     const Tool& tool, const FramePlan& plan,
     const std::function<bool(int, const std::vector<std::string>&, const std::string&)>& frame) {
     const std::vector<int>& frames = plan.frames;
     const std::vector<FramePattern>& inputs = plan.inputs;
     const FramePattern& output = plan.output;
-    std::error_code ec;
-    for (int f : frames)
-        for (const FramePattern& in : inputs)
-            if (in.path(f) == output.path(f) ||
-                (fs::exists(in.path(f), ec) && fs::exists(output.path(f), ec) &&
-                 fs::equivalent(in.path(f), output.path(f), ec))) {
-                tool.fail(output.path(f) + ": is also an input; refusing to overwrite it");
-                return kExitUsage;
-            }
     Progress progress(tool, tool.name());
     size_t failures = 0, done = 0;
     for (int f : frames) {

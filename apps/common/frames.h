@@ -15,6 +15,8 @@ public:
     explicit FramePattern(std::string path);
 
     bool isSequence() const { return m_width >= 0; }
+    // Digits of the frame number (0: no padding); −1 when not a sequence.
+    int width() const { return m_width; }
     // The path of `frame` (the path itself when it is not a sequence).
     std::string path(int frame) const;
     const std::string& text() const { return m_text; }
@@ -32,6 +34,10 @@ inline constexpr long long kMinFrame = -99999999, kMaxFrame = 999999999, kMaxFra
 inline constexpr const char* kFrameRangeText =
     "frames in [-99999999, 999999999], at most 1000000 of them";
 
+// The widest frame pattern (#### or %0Nd): frame numbers have at most 9 digits and a sign,
+// and a wider pattern is a typo. dhdr-farm has the same limit (dhdr_farm/frames.py).
+inline constexpr int kMaxFrameWidth = 16;
+
 // "A-B" or "A" → [A, B]; false when malformed, B < A, or outside the limits above.
 bool parseFrameRange(const std::string& text, int& first, int& last);
 
@@ -47,15 +53,24 @@ struct FramePlan {
     std::vector<int> frames;
 };
 
-// Checks the output (Tool::start) and resolves the frames. With a frame pattern in the output,
-// every pattern among `inputs` expands frame by frame (plain paths stay as they are) over
+// Checks the output (Tool::start), resolves the frames, and checks that no output of any
+// frame is one of its inputs or another output (checkFrameOutputs). With a frame pattern in the
+// output, every pattern among `inputs` expands frame by frame (plain paths stay as they are) over
 // --frames, or over the frames whose first patterned input exists. Without one, there is one
 // frame and no input may be a pattern. Returns −1 to go on, or the exit status after printing
 // why not.
 int planFrames(const Tool& tool, const std::vector<std::string>& inputs, FramePlan& plan);
 
-// Runs `frame(number, inputs, output)` for each frame in turn, with a progress line for
-// sequences, after checking that no output is one of its inputs. Returns the exit status.
+// Checks, frame by frame, that no output (`output` and the files options write: --deep-out)
+// is an input (`inputs` and the files options read: --probes) or another output, each frame
+// pattern expanded (Tool::outputsAreTheirOwn). Returns −1 to go on, else the exit status (2)
+// after printing why not.
+int checkFrameOutputs(const Tool& tool, const std::vector<std::string>& inputs,
+                      const std::string& output, const std::vector<int>& frames);
+int checkFrameOutputs(const Tool& tool, const FramePlan& plan, const std::vector<int>& frames);
+
+// Runs `frame(number, inputs, output)` for each frame of a plan made by planFrames (which has
+// checked the outputs) in turn, with a progress line for sequences. Returns the exit status.
 int runFrames(
     const Tool& tool, const FramePlan& plan,
     const std::function<bool(int, const std::vector<std::string>&, const std::string&)>& frame);

@@ -1,5 +1,6 @@
 #include "tool.h"
 
+#include "frames.h"
 #include "layers.h"
 #include "native_pixels.h"
 
@@ -76,11 +77,25 @@ private:
         std::raise(signal);
     }
 
+    // A termination signal that the process was started with ignored stays ignored, as
+    // well-behaved Unix tools do: `nohup dhdr-… &` ignores SIGHUP, and a shell without job
+    // control starts `dhdr-… &` with SIGINT and SIGQUIT ignored; such a run must go on, not
+    // die in our handler. Fatal signals (SIGABRT from abort(), and the faults) end the
+    // process whatever their disposition, so their handler is always installed to clean up.
     void installHandlers() {
         if (m_installed) return;
         m_installed = true;
-        for (int s : {SIGHUP, SIGINT, SIGTERM, SIGQUIT, SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL})
-            std::signal(s, onSignal);
+        struct sigaction action {};
+        action.sa_handler = onSignal;
+        sigemptyset(&action.sa_mask);
+        action.sa_flags = SA_RESTART; // as signal() installs a handler
+        for (int s : {SIGHUP, SIGINT, SIGTERM, SIGQUIT}) {
+            struct sigaction old {};
+            if (sigaction(s, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+            sigaction(s, &action, nullptr);
+        }
+        for (int s : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL})
+            sigaction(s, &action, nullptr);
     }
 
     std::mutex m_mutex;
@@ -153,13 +168,19 @@ int Tool::start(const std::vector<std::string>& inputs, const std::string& out) 
                      m_name.c_str(), m_name.c_str());
         return kExitUsage;
     }
+    std::vector<NamedFile> in, outs;
+    files(inputs, out, in, outs);
+    for (const auto* list : {&in, &outs})
+        for (const NamedFile& f : *list)
+            if (FramePattern(f.path).width() > kMaxFrameWidth) {
+                std::fprintf(stderr,
+                             "%s: usage error: %s: the frame pattern is wider than %d digits "
+                             "(frame numbers have at most 9)\n",
+                             m_name.c_str(), f.path.c_str(), kMaxFrameWidth);
+                return kExitUsage;
+            }
+    if (!outputsAreTheirOwn(in, outs)) return kExitUsage;
     std::error_code ec;
-    for (const std::string& in : inputs) {
-        if (fs::exists(in, ec) && fs::exists(out, ec) && fs::equivalent(in, out, ec)) {
-            fail(out + ": is also an input; refusing to overwrite it");
-            return kExitUsage;
-        }
-    }
     const fs::path folder = fs::absolute(fs::path(out)).parent_path();
     if (!fs::is_directory(folder, ec)) {
         fail(out + ": the folder " + folder.string() + " does not exist");
@@ -170,6 +191,61 @@ int Tool::start(const std::vector<std::string>& inputs, const std::string& out) 
         return kExitFailure;
     }
     return -1;
+}
+
+void Tool::files(const std::vector<std::string>& inputs, const std::string& out,
+                 std::vector<NamedFile>& in, std::vector<NamedFile>& outs) const {
+    in = m_cl.inputFiles();
+    for (const std::string& path : inputs)
+        if (std::none_of(in.begin(), in.end(), [&](const NamedFile& f) { return f.path == path; }))
+            in.push_back({"", path});
+    outs.clear();
+    if (!m_cl.output().empty()) outs.push_back({"-o", m_cl.output()});
+    for (const NamedFile& f : m_cl.outputFiles())
+        outs.push_back(f);
+    if (!out.empty() &&
+        std::none_of(outs.begin(), outs.end(), [&](const NamedFile& f) { return f.path == out; }))
+        outs.push_back({"the output", out});
+}
+
+namespace {
+
+// Whether `a` and `b` are one file: by identity (a hard link, a symbolic link, another
+// spelling) when both exist; else by their paths made absolute, with symbolic links in the
+// folders that exist resolved, and normalized (./x.exr and d/../x.exr are x.exr).
+bool sameFile(const std::string& a, const std::string& b) {
+    if (a == b) return true;
+    std::error_code ea, eb;
+    const bool aExists = fs::exists(a, ea), bExists = fs::exists(b, eb);
+    if (aExists && bExists) return fs::equivalent(a, b, ea) && !ea;
+    if (aExists != bExists) return false;
+    fs::path ca = fs::weakly_canonical(a, ea), cb = fs::weakly_canonical(b, eb);
+    if (ea) ca = fs::absolute(a, ea).lexically_normal();
+    if (eb) cb = fs::absolute(b, eb).lexically_normal();
+    return ca == cb;
+}
+
+} // namespace
+
+bool Tool::outputsAreTheirOwn(const std::vector<NamedFile>& inputs,
+                              const std::vector<NamedFile>& outputs) const {
+    for (size_t o = 0; o < outputs.size(); ++o) {
+        const NamedFile& out = outputs[o];
+        for (const NamedFile& in : inputs)
+            if (sameFile(in.path, out.path)) {
+                fail(out.path + ": the output (" + out.option + ") is also an input" +
+                     (in.option.empty() ? "" : " (" + in.option + ")") +
+                     "; refusing to overwrite it");
+                return false;
+            }
+        for (size_t k = 0; k < o; ++k)
+            if (sameFile(outputs[k].path, out.path)) {
+                fail(out.path + ": " + outputs[k].option + " and " + out.option +
+                     " name the same file; give each output its own");
+                return false;
+            }
+    }
+    return true;
 }
 
 namespace {

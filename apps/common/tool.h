@@ -35,11 +35,23 @@ public:
     // Printed with -v only.
     void info(const std::string& message) const;
 
-    // Applies --threads to OpenImageIO's pool and checks the output: given, not one of the
-    // inputs, in a folder that exists. Returns -1 to go on, else the exit status.
+    // Applies --threads to OpenImageIO's pool and checks the output: given, in a folder that
+    // exists, and neither an input (`inputs` or a file an option reads: namesFile) nor
+    // another output (--deep-out, --lights-out, --stats-out). Returns -1 to go on, else the
+    // exit status (2 for an output that would overwrite an input).
     int start(const std::vector<std::string>& inputs) const { return start(inputs, m_cl.output()); }
     // The same for a tool whose output is not -o (dhdr-tonemap --meter-only's statistics).
     int start(const std::vector<std::string>& inputs, const std::string& out) const;
+
+    // The inputs and outputs of the command line: `inputs` (positional, or their frame
+    // patterns) and `out`, with the files its options name.
+    void files(const std::vector<std::string>& inputs, const std::string& out,
+               std::vector<NamedFile>& in, std::vector<NamedFile>& outs) const;
+    // Whether every output is a file of its own: none the same file as an input (compared by
+    // filesystem identity when both exist, else by their normalized paths) or as another
+    // output. Prints why not and returns false.
+    bool outputsAreTheirOwn(const std::vector<NamedFile>& inputs,
+                            const std::vector<NamedFile>& outputs) const;
 
     // Reads the colour of `path` found by name (layers.h): layer or part `layer` (--layer),
     // or the one the conventions name. Channels 0–2 (3) of `image` are then R, G, B (A); with

@@ -69,6 +69,7 @@ int run(int argc, char** argv) {
               "the layer or EXR part to filter (default: the unnamed R,G,B,A, else the one "
               "called Combined, rgba or beauty)");
     cl.epilog("Example:\n  dhdr-aa frame.hdr.exr --gbuffer frame.gbuf.exr -o frame.aa.exr");
+    cl.namesFile("--gbuffer", app::FileRole::Input);
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-aa", cl);
     if (cl.inputs().size() != 1) {

@@ -59,6 +59,7 @@ int run(int argc, char** argv) {
             "out) and exit; needs no -o");
     cl.epilog(
         "Example:\n  dhdr-gbuffer testdata/cornell_box.gltf --size 1280x720 -o frame.gbuf.exr");
+    cl.namesFile("--lights-out", app::FileRole::Output);
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-gbuffer", cl);
     if (cl.inputs().size() != 1) {
@@ -72,10 +73,6 @@ int run(int argc, char** argv) {
         if (!loadScene(path, scene, error)) return tool.fail(error);
         std::fputs(app::describeScene(scene, path).c_str(), stdout);
         return app::kExitSuccess;
-    }
-    if (!lightsOut.empty() && (lightsOut == cl.output() || lightsOut == path)) {
-        std::fprintf(stderr, "dhdr-gbuffer: usage error: --lights-out must be another file\n");
-        return app::kExitUsage;
     }
     app::FramePlan plan;
     if (const int status = app::planFrames(tool, cl.inputs(), plan); status >= 0) return status;

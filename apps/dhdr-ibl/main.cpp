@@ -34,6 +34,8 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-ibl: usage error: give one environment and -o OUTPUT\n");
         return app::kExitUsage;
     }
+    // The output checks every tool makes: not the environment, in a folder that exists.
+    if (const int status = tool.start(cl.inputs()); status >= 0) return status;
     const std::string& path = cl.inputs()[0];
     const auto t0 = std::chrono::steady_clock::now();
     EnvironmentImage env;

@@ -103,6 +103,20 @@ int run(int argc, char** argv) {
               "-o frame.hdr.exr\n"
               "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --ao rt "
               "-o frame.hdr.exr");
+    // Every file an option reads is an input that no output may overwrite.
+    for (const char* option : {"--lights", "--scene", "--probes"})
+        cl.namesFile(option, app::FileRole::Input);
+    cl.namesFile("--plate", app::FileRole::Input,
+                 [](const std::string& v) { return v == "env" ? std::string() : v; });
+    cl.namesFile("--channels", app::FileRole::Input,
+                 [](const std::string& v) { return v == "blender" ? std::string() : v; });
+    cl.namesFile("--camera-from", app::FileRole::Input, [](const std::string& v) {
+        // SCENE[:CAMERA], as read below: the part before the last colon unless the whole
+        // value is a file.
+        const size_t colon = v.rfind(':');
+        return colon == std::string::npos || std::filesystem::exists(v) ? v : v.substr(0, colon);
+    });
+    cl.namesFile("--deep-out", app::FileRole::Output);
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-light", cl);
     if (cl.inputs().size() != 1) {

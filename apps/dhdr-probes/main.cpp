@@ -49,12 +49,15 @@ int run(int argc, char** argv) {
         "Example:\n  dhdr-probes testdata/cornell_box.gltf --spacing 0.1 -o cornell.probes.exr\n"
         "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --probes "
         "cornell.probes.exr -o frame.hdr.exr");
+    cl.namesFile("--lights", app::FileRole::Input);
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-probes", cl);
     if (cl.inputs().size() != 1 || cl.output().empty()) {
         std::fprintf(stderr, "dhdr-probes: usage error: give one scene and -o OUTPUT\n");
         return app::kExitUsage;
     }
+    // The output checks every tool makes: not an input, in a folder that exists.
+    if (const int status = tool.start(cl.inputs()); status >= 0) return status;
     if (emissive != "on" && emissive != "off") {
         std::fprintf(stderr, "dhdr-probes: usage error: --emissive-lights must be on or off\n");
         return app::kExitUsage;

@@ -130,6 +130,9 @@ int run(int argc, char** argv) {
               "  dhdr-tonemap --scan m1.json m2.json --stats-out adapted.json\n"
               "  dhdr-tonemap shot.####.exr --frames 1-50 --adapt-from adapted.json -o "
               "shot.####.png");
+    cl.namesFile("--ocio-config", app::FileRole::Input);
+    cl.namesFile("--adapt-from", app::FileRole::Input);
+    cl.namesFile("--stats-out", app::FileRole::Output);
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-tonemap", cl);
     const int modes = int(adapt) + int(meterOnly) + int(scan) + int(!adaptFrom.empty());
@@ -232,9 +235,10 @@ int run(int argc, char** argv) {
                       (gaps > 5 ? ", …" : "") + ")" +
                       (adapt ? "; adaptation steps over them as if they were not there" : ""));
     }
-    for (int f : numbers)
-        if (!meterOnly && input.path(f) == output.path(f))
-            return usage(output.path(f) + " is also an input; refusing to overwrite it");
+    if (const int status =
+            app::checkFrameOutputs(tool, cl.inputs(), meterOnly ? statsOut : cl.output(), numbers);
+        status >= 0)
+        return status;
     const size_t n = numbers.size();
     const std::string metering = app::meteringDescription(job);
 

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -68,6 +69,102 @@ private:
     size_t m_index;
 };
 
+// The keys of a light in a lights file, and the types each belongs to (docs/lights.md's
+// table). Any other key is an error, as in the channel map: a misspelt "colour" or "rnage"
+// would otherwise be dropped and the light silently wrong.
+struct LightField {
+    const char* key;
+    std::vector<LightType> types; // empty: every type
+};
+
+const std::vector<LightField>& lightFields() {
+    using T = LightType;
+    static const std::vector<LightField> fields = {
+        {"type", {}},
+        {"name", {}},
+        {"color", {}},
+        {"intensity", {}},
+        {"$comment", {}},
+        {"position", {T::Point, T::Spot, T::Sphere, T::Rectangle}},
+        {"range", {T::Point, T::Spot, T::Sphere, T::Rectangle}},
+        {"direction", {T::Spot, T::Directional, T::Rectangle}},
+        {"innerConeAngle", {T::Spot}},
+        {"outerConeAngle", {T::Spot}},
+        {"radius", {T::Sphere}},
+        {"width", {T::Rectangle}},
+        {"height", {T::Rectangle}},
+        {"up", {T::Rectangle}},
+        {"image", {T::Environment}},
+        {"rotation", {T::Environment}},
+    };
+    return fields;
+}
+
+// Edit distance with transpositions (optimal string alignment), case-insensitive, for "did
+// you mean" on a misspelt key: "rnage" is one edit from "range".
+size_t editDistance(const std::string& a, const std::string& b) {
+    const size_t n = a.size(), m = b.size();
+    std::vector<std::vector<size_t>> d(n + 1, std::vector<size_t>(m + 1));
+    auto same = [&](size_t i, size_t j) {
+        return std::tolower((unsigned char)a[i]) == std::tolower((unsigned char)b[j]);
+    };
+    for (size_t i = 0; i <= n; ++i)
+        for (size_t j = 0; j <= m; ++j) {
+            if (i == 0 || j == 0) {
+                d[i][j] = i + j;
+                continue;
+            }
+            d[i][j] = std::min(
+                {d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (same(i - 1, j - 1) ? 0 : 1)});
+            if (i > 1 && j > 1 && same(i - 1, j - 2) && same(i - 2, j - 1))
+                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+        }
+    return d[n][m];
+}
+
+// Fails on the first key of `j` that a light of `light.type` does not have, naming the key
+// and the light (index, type and name).
+void checkKeys(const json& j, const Light& light, size_t index) {
+    for (const auto& item : j.items()) {
+        const std::string& key = item.key();
+        const LightField* field = nullptr;
+        for (const LightField& f : lightFields())
+            if (key == f.key) field = &f;
+        const bool applies =
+            field && (field->types.empty() || std::find(field->types.begin(), field->types.end(),
+                                                        light.type) != field->types.end());
+        if (applies) continue;
+        std::string message = "light " + std::to_string(index) + " (" + lightTypeName(light.type) +
+                              (light.name.empty() ? "" : " \"" + light.name + "\"") + "): ";
+        if (field) {
+            std::string owners;
+            for (size_t k = 0; k < field->types.size(); ++k)
+                owners += std::string(k == 0                         ? ""
+                                      : k + 1 == field->types.size() ? " or "
+                                                                     : ", ") +
+                          lightTypeName(field->types[k]);
+            message += "\"" + key + "\" does not apply to a " + lightTypeName(light.type) +
+                       " light (only to " + owners + ")";
+        } else {
+            message += "unknown key \"" + key + "\"";
+            // The closest key this type has, when it is a likely misspelling.
+            const LightField* closest = nullptr;
+            size_t best = 3;
+            for (const LightField& f : lightFields()) {
+                const bool ofType = f.types.empty() || std::find(f.types.begin(), f.types.end(),
+                                                                 light.type) != f.types.end();
+                const size_t d = editDistance(key, f.key);
+                if (ofType && f.key[0] != '$' && d < best) {
+                    best = d;
+                    closest = &f;
+                }
+            }
+            if (closest) message += std::string(" (did you mean \"") + closest->key + "\"?)";
+        }
+        throw LightError{message};
+    }
+}
+
 Light parseLight(const json& j, size_t index) {
     LightReader r(j, index);
     if (!j.is_object()) throw LightError{"light " + std::to_string(index) + ": not an object"};
@@ -98,6 +195,7 @@ Light parseLight(const json& j, size_t index) {
         if (!j.at("name").is_string()) r.fail("name", "must be a string");
         light.name = j.at("name").get<std::string>();
     }
+    checkKeys(j, light, index);
     light.color = r.vec3("color", glm::vec3(1.0f));
     if (light.color.r < 0 || light.color.g < 0 || light.color.b < 0)
         r.fail("color", "must not be negative");
@@ -193,6 +291,11 @@ bool parseLights(const std::string& text, std::vector<Light>& lights, std::strin
         if (depth == 1 && event == json::parse_event_t::key && root == Root::Object) {
             key = parsed.get<std::string>();
             sawLights = sawLights || key == "lights";
+            if (key != "lights" && key != "$schema" && key != "$comment")
+                throw LightError{"unknown key \"" + key + "\" at the top level" +
+                                 (editDistance(key, "lights") < 3
+                                      ? " (did you mean \"lights\"?)"
+                                      : " (a lights file has \"lights\")")};
         }
         const bool lightDepth = (root == Root::Object && depth == 2 && key == "lights") ||
                                 (root == Root::Array && depth == 1);

@@ -36,6 +36,24 @@ class Frames(unittest.TestCase):
         self.assertFalse(FramePattern("take#1/a.exr").is_sequence)
         self.assertEqual(FramePattern("take#1/a.#.#.exr").path(3), "take#1/a.#.3.exr")
 
+    def test_pattern_width_is_bounded(self):
+        # Issue 21: a pattern wider than the tools' buffer wrote every frame to one file.
+        light = {"tool": "dhdr-light", "inputs": ["g.####.exr"], "output": "h.####.exr"}
+        for wide in ("h." + "#" * 17 + ".exr", "h.%040d.exr", "h.%0999999999999999999999d.exr"):
+            with self.assertRaises(PipelineError, msg=wide) as e:
+                parse({"stages": [dict(light, output=wide)]}, "p.json")
+            self.assertIn("stages[0]: %r: the frame pattern is wider than 16 digits" % wide,
+                          str(e.exception))
+        with self.assertRaises(PipelineError) as e:
+            parse({"stages": [dict(light, inputs=["g." + "#" * 20 + ".exr"])]}, "p.json")
+        self.assertIn("wider than 16 digits", str(e.exception))
+        with self.assertRaises(PipelineError) as e:
+            parse({"stages": [dict(light, options=["--deep-out", "d.%020d.exr"])]}, "p.json")
+        self.assertIn("'d.%020d.exr': the frame pattern is wider", str(e.exception))
+        ok = "h." + "#" * 16 + ".exr"
+        self.assertEqual(parse({"stages": [dict(light, output=ok)]}, "p.json").stages[0].output, ok)
+        self.assertEqual(FramePattern(ok).path(3), "h.0000000000000003.exr")
+
     def test_ranges(self):
         self.assertEqual(parse_range("1-240"), (1, 240))
         self.assertEqual(parse_range("7"), (7, 7))
@@ -69,6 +87,26 @@ class Pipelines(unittest.TestCase):
         self.assertIn("use \"adapt\"",
                       self.error({"stages": [dict(tonemap, options=["--adapt"])]}))
         self.assertIn("\"fps\" goes with", self.error({"stages": [dict(tonemap, fps=30)]}))
+
+    def test_two_stages_cannot_write_one_output(self):
+        # Issue 21: each would overwrite the other's frames with exit 0.
+        light = {"tool": "dhdr-light", "inputs": ["g.####.exr"], "output": "out/h.####.exr"}
+        bloom = {"tool": "dhdr-bloom", "inputs": ["out/h.####.exr"], "output": "out/h.####.exr"}
+        self.assertIn("stages[0] (light) and stages[1] (bloom) both write 'out/h.####.exr'; "
+                      "give each stage its own \"output\"",
+                      self.error({"stages": [light, bloom]}))
+        # Spelt differently, the same files.
+        for other in ("./out/h.%04d.exr", "out/../out/h.####.exr"):
+            self.assertIn("stages[0] (light) and stages[1] (bloom) both write %r" % other,
+                          self.error({"stages": [light, dict(bloom, output=other)]}))
+        with self.assertRaises(PipelineError) as e:
+            parse({"stages": [dict(light, output="/tmp/farm/h.####.exr"),
+                              dict(bloom, output="/tmp/farm/sub/../h.%04d.exr")]},
+                  "/elsewhere/p.json")
+        self.assertIn("both write", str(e.exception))
+        # Other widths or names are other files.
+        for other in ("out/h.###.exr", "out/b.####.exr", "h.####.exr"):
+            parse({"stages": [light, dict(bloom, output=other)]}, "p.json")
 
     def test_the_shipped_example_is_valid(self):
         path = os.path.join(fx.SOURCE, "docs", "examples", "cornell.farm.json")

@@ -4,6 +4,9 @@ import os
 import re
 
 _PRINTF = re.compile(r"%(0?([0-9]*))d")
+# The widest pattern the tools take (apps/common/frames.h, kMaxFrameWidth): frame numbers
+# have at most 9 digits and a sign; a wider pattern is a typo.
+MAX_WIDTH = 16
 
 
 class FramePattern:

@@ -5,7 +5,7 @@ import json
 import os
 import re
 
-from .frames import FramePattern
+from .frames import MAX_WIDTH, FramePattern
 
 TOOLS = ("dhdr-gbuffer", "dhdr-light", "dhdr-aa", "dhdr-bloom", "dhdr-tonemap")
 STAGE_KEYS = {"name", "tool", "inputs", "output", "options", "adapt", "fps"}
@@ -105,6 +105,10 @@ def parse(doc, path="pipeline.json"):
         options = s.get("options", [])
         if not _strings(options):
             bad("\"options\" must be a list of strings, one per word (\"--size\", \"640x360\")")
+        for text in inputs + [output] + options:
+            if FramePattern(text).width > MAX_WIDTH:
+                bad("%r: the frame pattern is wider than %d digits (frame numbers have at "
+                    "most 9)" % (text, MAX_WIDTH))
         reserved = RESERVED | (TONEMAP_RESERVED if tool == "dhdr-tonemap" else set())
         for o in options:
             if o.split("=", 1)[0] in reserved:
@@ -124,4 +128,17 @@ def parse(doc, path="pipeline.json"):
         if "fps" in s and not adapt:
             bad("\"fps\" goes with \"adapt\": true")
         stages.append(Stage(stage_name, tool, inputs, output, options, adapt, float(fps)))
+    # Two stages writing one pattern would overwrite each other's frames (and each would
+    # find the other's chunks complete). The same files are the same pattern however it is
+    # spelt: out/a.####.exr, ./out/a.%04d.exr.
+    root = os.path.dirname(os.path.abspath(path))
+    writers = {}
+    for i, stage in enumerate(stages):
+        p = FramePattern(os.path.normpath(os.path.join(root, stage.output)))
+        key = (p.prefix, p.suffix, max(p.width, 1))  # %d pads as # does
+        if key in writers:
+            j = writers[key]
+            fail("stages[%d] (%s) and stages[%d] (%s) both write %r; give each stage its own "
+                 "\"output\"" % (j, stages[j].name, i, stage.name, stage.output))
+        writers[key] = i
     return Pipeline(path, name, stages)

@@ -1,0 +1,250 @@
+// Hostile input from issue 21, run as a user runs the tools: each case ends in a clear
+// message naming the file and what is wrong, exit 1 (bad input) or 2 (usage), and no output
+// or temporary left behind.
+#include "tool_test.h"
+
+#include <chrono>
+#include <csignal>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+using namespace dhdr::test;
+
+namespace {
+
+const std::string kCornell = kTestdata + "/cornell_box.gltf";
+const std::string kLights = kTestdata + "/cornell_box.lights.json";
+
+class HostileInput : public ToolTest {
+protected:
+    static void SetUpTestSuite() {
+        makeScratch();
+        ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 32x24 -o " + path("g.exr")).status, 0);
+    }
+
+    // `r` failed with status `status`, saying `what`, and left neither `out` nor temporaries.
+    static void expectFailure(const Result& r, int status, const std::string& what,
+                              const std::string& out = {}) {
+        EXPECT_EQ(r.status, status) << r.err;
+        EXPECT_NE(r.err.find(what), std::string::npos) << "expected '" << what << "' in: " << r.err;
+        if (!out.empty()) {
+            EXPECT_FALSE(fs::exists(out)) << out;
+        }
+        EXPECT_TRUE(noTemporaries());
+    }
+};
+
+} // namespace
+
+// A misspelt key in a lights file ("colour", "rnage") was dropped and the light rendered at
+// its defaults with exit 0; now dhdr-light and dhdr-probes refuse the file, naming the key
+// and the light.
+TEST_F(HostileInput, MisspeltLightKeysAreErrors) {
+    std::ofstream(path("colour.json")) << R"({"lights": [
+        {"type": "ambient", "intensity": 0.1},
+        {"type": "point", "name": "bulb", "position": [0.28, 0.45, 0.28], "colour": [1, 0, 0]}]})";
+    std::ofstream(path("rnage.json"))
+        << R"([{"type": "spot", "position": [0.1, 0.45, 0.05], "direction": [0, -1, 0],
+               "rnage": 1.6}])";
+    const std::string light = "dhdr-light " + path("g.exr") + " -o " + path("l.exr") + " --lights ";
+    expectFailure(run(light + path("colour.json")), 1,
+                  "colour.json: light 1 (point \"bulb\"): unknown key \"colour\" (did you mean "
+                  "\"color\"?)",
+                  path("l.exr"));
+    expectFailure(run(light + path("rnage.json")), 1,
+                  "rnage.json: light 0 (spot): unknown key \"rnage\" (did you mean \"range\"?)",
+                  path("l.exr"));
+    expectFailure(run("dhdr-probes " + kCornell + " --lights " + path("colour.json") + " -o " +
+                      path("p.exr")),
+                  1, "colour.json: light 1 (point \"bulb\"): unknown key \"colour\"",
+                  path("p.exr"));
+    // The project's own lights files, and what dhdr-gbuffer --lights-out writes, still load.
+    for (const std::string& file : {kLights, kTestdata + "/cornell_box.fill.lights.json"})
+        EXPECT_EQ(run(light + file).status, 0) << file;
+    ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 8x8 --lights-out " +
+                  path("out.lights.json") + " -o " + path("g8.exr"))
+                  .status,
+              0);
+    EXPECT_EQ(run("dhdr-light " + path("g8.exr") + " --lights " + path("out.lights.json") + " -o " +
+                  path("l8.exr"))
+                  .status,
+              0);
+}
+
+// `nohup dhdr-… &` died on SIGHUP: the tools installed their clean-up handler over the
+// SIG_IGN that nohup had set (and over the SIGINT a non-interactive shell ignores for a
+// background job). The tool runs under the real nohup with SIGINT ignored too, is sent
+// SIGHUP and SIGINT while its temporary output is open (the handlers are installed by
+// then), and finishes its picture.
+TEST_F(HostileInput, IgnoredSignalsStayIgnored) {
+    const std::string out = path("nohup.exr");
+    const pid_t pid = fork();
+    if (pid == 0) {
+        std::signal(SIGINT, SIG_IGN);
+        const std::string cmd = "exec nohup " + kTools + "/dhdr-gbuffer " + kCornell +
+                                " --size 1000x1000 --threads 1 -o " + out + " >" +
+                                path("nohup.out") + " 2>" + path("nohup.err") + " </dev/null";
+        execl("/bin/sh", "sh", "-c", cmd.c_str(), nullptr);
+        _exit(127);
+    }
+    ASSERT_GT(pid, 0);
+    auto temporaryOpen = [] {
+        for (const auto& e : fs::directory_iterator(dir))
+            if (e.path().filename().string().rfind(".nohup.tmp", 0) == 0) return true;
+        return false;
+    };
+    int status = 0, signalled = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (waitpid(pid, &status, WNOHANG) == 0) {
+        if (temporaryOpen()) {
+            kill(pid, SIGHUP);
+            kill(pid, SIGINT);
+            ++signalled;
+        }
+        if (std::chrono::steady_clock::now() > deadline) {
+            kill(pid, SIGKILL);
+            waitpid(pid, &status, 0);
+            FAIL() << "dhdr-gbuffer did not finish";
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ASSERT_GT(signalled, 0) << "the run ended before its output was open; make it longer";
+    ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+    EXPECT_EQ(WEXITSTATUS(status), 0) << slurp(dir / "nohup.err");
+    EXPECT_TRUE(fs::exists(out));
+    EXPECT_TRUE(noTemporaries());
+}
+
+// An output could overwrite an input with exit 0: -o naming the --probes or --plate file,
+// --deep-out naming the G-buffer, dhdr-ibl -o naming its environment, --deep-out = -o
+// sharing one temporary. Every file a tool reads, by any option, is an input; each case is a
+// usage error (2) naming the file and both options, before anything is read or written, and
+// the input is left as it was.
+TEST_F(HostileInput, NoOutputOverwritesAnInput) {
+    ASSERT_EQ(
+        run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " + path("h.exr")).status,
+        0);
+    fs::copy_file(kLights, path("l.json"));
+    fs::copy_file(kCornell, path("scene.gltf"));
+    fs::copy_file(path("h.exr"), path("plate.exr"));
+    fs::copy_file(path("h.exr"), path("probes.exr"));
+    fs::copy_file(path("h.exr"), path("env.exr"));
+    fs::create_hard_link(path("env.exr"), path("env_link.exr"));
+    fs::create_directories(dir / "sub");
+    std::ofstream(path("stats.json")) << "{}";
+    const std::string g = path("g.exr"), h = path("h.exr"), l = path("l.json");
+    const std::string light = "dhdr-light " + g + " --lights " + l;
+    struct Case {
+        std::string command, message;
+    };
+    const Case cases[] = {
+        {light + " --probes " + path("probes.exr") + " -o " + path("probes.exr"),
+         "probes.exr: the output (-o) is also an input (--probes)"},
+        {light + " --plate " + path("plate.exr") + " -o " + path("plate.exr"),
+         "plate.exr: the output (-o) is also an input (--plate)"},
+        {light + " -o " + l, "l.json: the output (-o) is also an input (--lights)"},
+        {light + " --scene " + path("scene.gltf") + " -o " + path("scene.gltf"),
+         "scene.gltf: the output (-o) is also an input (--scene)"},
+        {light + " -o " + path("out.exr") + " --deep-out " + g,
+         "g.exr: the output (--deep-out) is also an input;"},
+        // Another spelling of the same file.
+        {light + " -o " + path("sub/../out.exr") + " --deep-out " + dir.string() +
+             "/./sub/../g.exr",
+         "the output (--deep-out) is also an input;"},
+        // Two outputs in one file, neither existing yet, spelt differently.
+        {light + " -o " + path("d.exr") + " --deep-out " + path("sub/../d.exr"),
+         "-o and --deep-out name the same file"},
+        // Frame patterns: the deep output's pattern is the G-buffers'; one frame of -o is
+        // the --probes file.
+        {"dhdr-light " + path("g.####.exr") + " --lights " + l + " --frames 1-2 -o " +
+             path("h.####.exr") + " --deep-out " + path("g.####.exr"),
+         "g.####.exr: the output (--deep-out) is also an input"},
+        {"dhdr-light " + path("g.####.exr") + " --lights " + l + " --frames 1-2 -o " +
+             path("h.####.exr") + " --probes " + path("h.0002.exr"),
+         "h.0002.exr: the output (-o) is also an input (--probes)"},
+        {"dhdr-aa " + h + " --gbuffer " + g + " -o " + g,
+         "g.exr: the output (-o) is also an input (--gbuffer)"},
+        {"dhdr-ibl " + path("env.exr") + " -o " + path("env.exr"),
+         "env.exr: the output (-o) is also an input"},
+        // A hard link to the environment is the same file.
+        {"dhdr-ibl " + path("env.exr") + " -o " + path("env_link.exr"),
+         "env_link.exr: the output (-o) is also an input"},
+        {"dhdr-probes " + path("scene.gltf") + " -o " + path("scene.gltf"),
+         "scene.gltf: the output (-o) is also an input"},
+        {"dhdr-probes " + path("scene.gltf") + " --lights " + l + " -o " + l,
+         "l.json: the output (-o) is also an input (--lights)"},
+        {"dhdr-gbuffer " + path("scene.gltf") + " --size 8x8 -o " + path("g8.exr") +
+             " --lights-out " + path("scene.gltf"),
+         "scene.gltf: the output (--lights-out) is also an input"},
+        {"dhdr-gbuffer " + path("scene.gltf") + " --size 8x8 -o " + path("g8.exr") +
+             " --lights-out " + path("g8.exr"),
+         "-o and --lights-out name the same file"},
+        {"dhdr-tonemap " + path("g.####.exr") + " -o " + path("t.####.png") +
+             " --adapt --stats-out " + path("g.0002.exr"),
+         "g.0002.exr: the output (--stats-out) is also an input"},
+        {"dhdr-tonemap " + path("g.####.exr") + " --meter-only --stats-out " + path("g.0001.exr"),
+         "g.0001.exr: the output (--stats-out) is also an input"},
+        {"dhdr-tonemap " + path("g.####.exr") + " -o " + path("t.####.png") + " --adapt-from " +
+             path("stats.json") + " --stats-out " + path("stats.json"),
+         "stats.json: the output (--stats-out) is also an input (--adapt-from)"},
+        {"dhdr-tonemap " + path("g.####.exr") + " -o " + path("g.####.exr"),
+         "g.####.exr: the output (-o) is also an input"},
+    };
+    fs::copy_file(g, path("g.0001.exr"));
+    fs::copy_file(g, path("g.0002.exr"));
+    std::vector<std::pair<std::string, std::string>> before;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.is_regular_file() && e.path().filename().string().rfind("std", 0) != 0)
+            before.emplace_back(e.path().string(), slurp(e.path()));
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.command);
+        const Result r = run(c.command);
+        EXPECT_EQ(r.status, 2) << r.err;
+        EXPECT_NE(r.err.find(c.message), std::string::npos)
+            << "expected '" << c.message << "' in: " << r.err;
+        EXPECT_TRUE(noTemporaries());
+        for (const char* name : {"out.exr", "d.exr", "t.0001.png", "g8.exr", "h.0001.exr"})
+            EXPECT_FALSE(fs::exists(path(name))) << name;
+    }
+    for (const auto& [file, bytes] : before)
+        EXPECT_TRUE(slurp(file) == bytes) << file << " was changed";
+    // Distinct outputs next to their inputs still work.
+    EXPECT_EQ(run(light + " --plate " + path("plate.exr") + " -o " + path("out.exr")).status, 0);
+}
+
+// A frame pattern wider than the formatting buffer (31 digits) wrote every frame to one
+// file, its name cut to zeros. Past 16 digits (frame numbers have at most 9 and a sign) a
+// pattern is a usage error naming it; up to 16 every frame has its own file.
+TEST_F(HostileInput, FramePatternWidthIsBounded) {
+    ASSERT_EQ(
+        run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " + path("seq.1.exr"))
+            .status,
+        0);
+    fs::copy_file(path("seq.1.exr"), path("seq.2.exr"));
+    const std::string wide = path("wide." + std::string(40, '#') + ".exr");
+    const std::string cases[] = {
+        "dhdr-bloom " + path("seq.#.exr") + " -o " + wide,
+        "dhdr-bloom " + path("seq.#.exr") + " -o " + path("wide.%040d.exr"),
+        "dhdr-bloom " + path("seq.#.exr") + " -o " + path("wide.%099999999999999999999d.exr"),
+        "dhdr-tonemap " + path("seq.#.exr") + " -o " + path("wide.%017d.png"),
+        "dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " + path("w.exr") +
+            " --deep-out " + path("wide." + std::string(17, '#') + ".exr"),
+    };
+    for (const std::string& c : cases) {
+        SCOPED_TRACE(c);
+        const Result r = run(c);
+        EXPECT_EQ(r.status, 2) << r.err;
+        EXPECT_NE(r.err.find("the frame pattern is wider than 16 digits"), std::string::npos)
+            << r.err;
+        EXPECT_TRUE(noTemporaries());
+    }
+    for (const auto& e : fs::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().rfind("wide", 0), std::string::npos) << e.path();
+    const Result r = run("dhdr-bloom " + path("seq.#.exr") + " -o " +
+                         path("ok." + std::string(16, '#') + ".exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_TRUE(fs::exists(path("ok.0000000000000001.exr")));
+    EXPECT_TRUE(fs::exists(path("ok.0000000000000002.exr")));
+}
