@@ -44,6 +44,7 @@ bench: build
 	@python3 bench/ibl.py --bin $(BUILD)/apps
 	@python3 bench/deep.py --bin $(BUILD)/apps
 	@python3 bench/probes.py --bin $(BUILD)/apps
+	@python3 bench/false_shadows.py --bin $(BUILD)/apps
 	@python3 bench/farm.py --bin $(BUILD)/apps
 	@$(BUILD)/dhdr-bench-occlusion testdata/cornell_box.gltf
 
