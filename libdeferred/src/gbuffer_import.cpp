@@ -75,6 +75,16 @@ bool readChannelMap(const std::string& path, ChannelMap& map, std::string& error
             if (!std::isfinite(source->scale) || !std::isfinite(source->value))
                 throw std::runtime_error(std::string(key) + ": scale and value must be finite");
         }
+        // What every map must say, checked here so that the error names the map, not the
+        // passes it is applied to.
+        for (const auto& [key, source] :
+             {std::pair<const char*, ChannelSource*>{"depth", &map.depth},
+              {"position", &map.position},
+              {"normal", &map.normal}})
+            if (source->channels.empty() && source->fallback.empty())
+                throw std::runtime_error(std::string(key) +
+                                         " needs channels (a map needs depth, position and "
+                                         "normal)");
         map.backgroundDepth = doc.value("backgroundDepth", 1e9f);
         if (!(map.backgroundDepth > 0.0f))
             throw std::runtime_error("backgroundDepth must be positive");
