@@ -88,6 +88,19 @@ class Pipelines(unittest.TestCase):
                       self.error({"stages": [dict(tonemap, options=["--adapt"])]}))
         self.assertIn("\"fps\" goes with", self.error({"stages": [dict(tonemap, fps=30)]}))
 
+    def test_files_that_are_not_json_text_are_errors_naming_them(self):
+        # Issue 21: bytes that are not UTF-8 gave an error without the file's name.
+        from dhdr_farm.pipeline import load
+        with tempfile.TemporaryDirectory() as d:
+            for name, data in (("binary.json", b"\xbc\x01\xff{"), ("bom.json", b"\xff\xfe{"),
+                               ("deep.json", b"[" * 100000)):
+                path = os.path.join(d, name)
+                with open(path, "wb") as f:
+                    f.write(data)
+                with self.assertRaises(PipelineError) as e:
+                    load(path)
+                self.assertIn(name, str(e.exception))
+
     def test_two_stages_cannot_write_one_output(self):
         # Issue 21: each would overwrite the other's frames with exit 0.
         light = {"tool": "dhdr-light", "inputs": ["g.####.exr"], "output": "out/h.####.exr"}

@@ -171,7 +171,13 @@ def status(args):
     state = os.path.abspath(args.state or default_state(pipeline))
     try:
         record = status_mod.read_record(state)
-    except (OSError, ValueError):
+    except (OSError, ValueError, RecursionError):
+        record = None
+    # A record damaged by hand or by a full disk is as good as none.
+    if not (isinstance(record, dict) and isinstance(record.get("frames"), list)
+            and len(record["frames"]) == 2
+            and all(isinstance(f, int) for f in record["frames"])
+            and isinstance(record.get("chunk", 10), int)):
         record = None
     if record is None and not args.frames:
         return _error("%s: never submitted (no %s); give --frames to check the outputs" % (
@@ -220,6 +226,8 @@ def main(argv=None):
         return _error(str(e))
     except slurm.SlurmError as e:
         return _error(str(e))
+    except OSError as e:
+        return _error("%s: %s" % (e.filename or "dhdr-farm", e.strerror or e))
     except KeyboardInterrupt:
         return _error("interrupted (jobs already submitted keep running; dhdr-farm status "
                       "shows them)")

@@ -52,6 +52,8 @@ def load(path):
         raise PipelineError("%s: cannot be read (%s)" % (path, e.strerror))
     except json.JSONDecodeError as e:
         raise PipelineError("%s: not JSON (line %d: %s)" % (path, e.lineno, e.msg))
+    except (UnicodeDecodeError, RecursionError, ValueError) as e:
+        raise PipelineError("%s: not a JSON text file (%s)" % (path, e))
     return parse(doc, path)
 
 
