@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
@@ -53,7 +54,8 @@ int run(int argc, char** argv) {
                       "(docs/ibl.md)");
     cl.flag("--frame-all", frameAll,
             "move the camera (the scene's, --lookat's, or without either one looking from the "
-            "front and a little above) back until the whole scene fits the image");
+            "front and a little above) back until the whole scene fits the image (an error when "
+            "no float camera can: coordinates near 3e38)");
     cl.flag("--info", info,
             "print what the scene holds (bounds, cameras, lights, materials, what is left "
             "out) and exit; needs no -o");
@@ -159,6 +161,11 @@ int run(int argc, char** argv) {
                     return false;
                 }
             }
+            if (!chosen->problem.empty()) {
+                tool.fail(scenePath + ": camera '" + chosen->name +
+                          "' cannot be rendered from: " + chosen->problem);
+                return false;
+            }
             camera = chosen->camera;
             tool.info("camera '" + chosen->name + "'");
         } else if (frameAll) {
@@ -176,8 +183,22 @@ int run(int argc, char** argv) {
             else
                 camera.yfov = glm::radians(fov);
         }
-        if (frameAll)
+        if (frameAll) {
             camera = frameScene(scene, camera, double(params.width) / double(params.height));
+            if (const std::string why = camera.problem(); !why.empty()) {
+                const glm::dvec3 lo = scene.boundsMin(), hi = scene.boundsMax();
+                char bounds[160];
+                std::snprintf(bounds, sizeof bounds, "(%g, %g, %g) to (%g, %g, %g)", lo.x, lo.y,
+                              lo.z, hi.x, hi.y, hi.z);
+                tool.fail(scenePath + ": --frame-all cannot frame the scene's bounds, " + bounds +
+                          ": the camera that would fit them cannot be rendered from: " + why);
+                return false;
+            }
+        }
+        if (const std::string why = camera.problem(); !why.empty()) {
+            tool.fail(scenePath + ": the camera cannot be rendered from: " + why);
+            return false;
+        }
         tool.info(camera.orthographic
                       ? "orthographic camera, " + std::to_string(2.0 * camera.ymag) + " units high"
                       : "perspective camera, vertical fov " +

@@ -266,6 +266,9 @@ int run(int argc, char** argv) {
         if (!loadScene(file, cameras, error)) return tool.fail(error);
         for (const SceneCamera& c : cameras.cameras)
             if (name.empty() || c.name == name) {
+                if (!c.problem.empty())
+                    return tool.fail(file + ": camera '" + c.name +
+                                     "' cannot be rendered from: " + c.problem);
                 foreignCamera = c.camera;
                 break;
             }

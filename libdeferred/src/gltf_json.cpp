@@ -124,6 +124,65 @@ bool gltfLightsByNode(const std::string& path, std::map<std::string, GltfLight>&
     return true;
 }
 
+std::map<std::string, GltfCamera> gltfCamerasByNode(const std::string& path) {
+    std::map<std::string, GltfCamera> out;
+    const nlohmann::json doc = readGltfJson(path);
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains("nodes") ||
+        !doc["nodes"].is_array() || !doc.contains("cameras") || !doc["cameras"].is_array())
+        return out;
+    const nlohmann::json& cameras = doc["cameras"];
+    for (const auto& node : doc["nodes"]) {
+        if (!node.is_object() || !node.contains("name") || !node["name"].is_string() ||
+            !node.contains("camera") || !node["camera"].is_number_unsigned())
+            continue;
+        const size_t index = node["camera"].get<size_t>();
+        if (index >= cameras.size() || !cameras[index].is_object()) continue;
+        const nlohmann::json& c = cameras[index];
+        GltfCamera g;
+        g.name = c.contains("name") && c["name"].is_string() ? c["name"].get<std::string>()
+                                                             : std::to_string(index);
+        // A number a float holds (Assimp reads it into one); its range is Camera::problem's to
+        // judge.
+        auto number = [](const nlohmann::json& j, const char* key, double fallback, bool required) {
+            if (!j.contains(key)) {
+                if (required) throw FieldError{std::string("has no \"") + key + "\""};
+                return fallback;
+            }
+            if (!isFloat(j[key]))
+                throw FieldError{std::string("\"") + key + "\" must be a number a float holds"};
+            return j[key].get<double>();
+        };
+        try {
+            g.orthographic = c.contains("type") && c["type"] == "orthographic";
+            const char* kind = g.orthographic ? "orthographic" : "perspective";
+            if (!c.contains(kind) || !c[kind].is_object())
+                throw FieldError{std::string("has no \"") + kind + "\" object"};
+            const nlohmann::json& p = c[kind];
+            if (g.orthographic) {
+                g.xmag = number(p, "xmag", 0.0, true);
+                g.ymag = number(p, "ymag", 0.0, true);
+                g.znear = number(p, "znear", 0.0, true);
+                g.zfar = number(p, "zfar", 0.0, true);
+            } else {
+                g.yfov = number(p, "yfov", 0.0, true);
+                g.aspectRatio = number(p, "aspectRatio", 0.0, false);
+                if (p.contains("aspectRatio") && !(g.aspectRatio > 0.0))
+                    throw FieldError{"its aspectRatio, " + p["aspectRatio"].dump() +
+                                     ", is not a positive number"};
+                g.znear = number(p, "znear", 0.0, true);
+                g.zfar = number(p, "zfar", 0.0, false);
+                if (p.contains("zfar") && !(g.zfar > g.znear))
+                    throw FieldError{"its zfar, " + p["zfar"].dump() +
+                                     ", is not greater than its znear"};
+            }
+        } catch (const FieldError& e) {
+            g.problem = e.message;
+        }
+        out[node["name"].get<std::string>()] = g;
+    }
+    return out;
+}
+
 namespace {
 
 // KHR_texture_transform of a textureInfo, and whether it asks for a UV set other than 0.

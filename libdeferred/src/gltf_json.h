@@ -48,4 +48,19 @@ struct GltfLight {
 bool gltfLightsByNode(const std::string& path, std::map<std::string, GltfLight>& lights,
                       std::string& error);
 
+// A glTF camera as the file gives it: Assimp 5.2 passes its numbers through floats and
+// folds the aspect ratio into the field of view, and reports an absent zfar as a number.
+struct GltfCamera {
+    std::string name; // the camera's own name, for messages
+    bool orthographic = false;
+    double yfov = 0.0, aspectRatio = 0.0; // perspective; aspectRatio 0: none given
+    double xmag = 0.0, ymag = 0.0;        // orthographic
+    double znear = 0.0, zfar = 0.0;       // zfar 0: none given (perspective)
+    std::string problem; // a field of the wrong type, or missing: the camera is unusable
+};
+
+// The cameras of a .gltf or .glb file by the name of the node that holds them (unnamed nodes
+// are left out).
+std::map<std::string, GltfCamera> gltfCamerasByNode(const std::string& path);
+
 } // namespace dhdr::detail

@@ -10,11 +10,13 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <dhdr/deferred/scene.h>
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -69,8 +71,7 @@ public:
         : m_ai(ai), m_path(path), m_scene(scene), m_gltf(isGltf(path)) {}
 
     bool build(std::string& error) {
-        if (!loadMaterials(error)) return false;
-        visitAll();
+        if (!loadMaterials(error) || !visitAll(error)) return false;
         if (m_zeroNormals > 0)
             m_scene.warnings.push_back(
                 std::to_string(m_zeroNormals) +
@@ -223,7 +224,8 @@ private:
         }
     }
 
-    void visitAll() {
+    bool visitAll(std::string& error) {
+        bool ok = true;
         forEachNode([&](const aiNode& n, const glm::dmat4& world) {
             const aiNode* node = &n;
             if (node->mNumMeshes > 0) {
@@ -231,24 +233,46 @@ private:
                 std::string name = node->mName.C_Str();
                 if (name.empty()) name = m_ai.mMeshes[node->mMeshes[0]]->mName.C_Str();
                 m_scene.objectNames.push_back(name);
-                const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
-                for (unsigned i = 0; i < node->mNumMeshes; ++i)
-                    addMesh(*m_ai.mMeshes[node->mMeshes[i]], world, normalMatrix, object);
+                // The inverse transpose, scaled to its largest entry: a node scaled by 1e38
+                // keeps usable normals (only their direction matters).
+                glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
+                double largest = 0.0;
+                for (int c = 0; c < 3; ++c)
+                    for (int r = 0; r < 3; ++r)
+                        largest = std::max(largest, std::abs(normalMatrix[c][r]));
+                if (largest > 0.0 && std::isfinite(largest)) normalMatrix /= largest;
+                for (unsigned i = 0; i < node->mNumMeshes && ok; ++i)
+                    ok = addMesh(*m_ai.mMeshes[node->mMeshes[i]], *node, world, normalMatrix,
+                                 object, error);
             }
-            return true;
+            return ok;
         });
+        return ok;
     }
 
-    void addMesh(const aiMesh& am, const glm::dmat4& world, const glm::dmat3& normalMatrix,
-                 int object) {
-        if (!(am.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return; // points and lines
+    bool addMesh(const aiMesh& am, const aiNode& node, const glm::dmat4& world,
+                 const glm::dmat3& normalMatrix, int object, std::string& error) {
+        if (!(am.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return true; // points and lines
         Mesh mesh;
         mesh.object = object;
         mesh.material = std::min<int>(int(am.mMaterialIndex), int(m_scene.materials.size()) - 1);
         mesh.positions.reserve(am.mNumVertices);
         for (unsigned v = 0; v < am.mNumVertices; ++v) {
             const aiVector3D& p = am.mVertices[v];
-            mesh.positions.emplace_back(world * glm::dvec4(p.x, p.y, p.z, 1.0));
+            const glm::dvec3 wp(world * glm::dvec4(p.x, p.y, p.z, 1.0));
+            // A vertex at infinity (or NaN, or beyond a float once transformed) has no place
+            // in a bounding box, a BVH or a camera framing: the file is refused.
+            const double fmax = double(std::numeric_limits<float>::max());
+            if (!(std::abs(wp.x) <= fmax && std::abs(wp.y) <= fmax && std::abs(wp.z) <= fmax)) {
+                char where[160];
+                std::snprintf(where, sizeof where, "(%g, %g, %g) -> (%g, %g, %g)", p.x, p.y, p.z,
+                              wp.x, wp.y, wp.z);
+                error = m_path + ": mesh '" + am.mName.C_Str() + "' (node '" + node.mName.C_Str() +
+                        "'): vertex " + std::to_string(v) +
+                        " is not a finite position in world space " + where;
+                return false;
+            }
+            mesh.positions.emplace_back(wp);
             const aiVector3D& n = am.mNormals[v];
             const glm::dvec3 wn = normalMatrix * glm::dvec3(n.x, n.y, n.z);
             const double len = glm::length(wn);
@@ -283,6 +307,7 @@ private:
             mesh.bitangents.clear();
         }
         if (!mesh.triangles.empty()) m_scene.meshes.push_back(std::move(mesh));
+        return true;
     }
 
     // The world transform of the first node named `name`, depth first; identity when none is.
@@ -297,6 +322,11 @@ private:
     }
 
     void loadCameras() {
+        // Assimp 5.2 passes a glTF camera's numbers through floats, folds its aspect ratio into
+        // the field of view and reports an absent zfar as a number: glTF cameras come from the
+        // file itself (placement from the node), others from Assimp.
+        const auto fromFile = m_gltf ? detail::gltfCamerasByNode(m_path)
+                                     : std::map<std::string, detail::GltfCamera>{};
         for (unsigned i = 0; i < m_ai.mNumCameras; ++i) {
             const aiCamera& ac = *m_ai.mCameras[i];
             const glm::dmat4 world = nodeWorld(ac.mName);
@@ -305,10 +335,35 @@ private:
             sc.aspect = ac.mAspect;
             sc.camera.znear = ac.mClipPlaneNear > 0.0f ? ac.mClipPlaneNear : 0.01;
             sc.camera.zfar = ac.mClipPlaneFar > sc.camera.znear ? ac.mClipPlaneFar : 1000.0;
-            if (m_gltf) {
-                // Assimp 5.2's glTF importer copies the node's translation into mPosition
-                // (applying it would move the camera twice) and reports yfov · aspect as
-                // mHorizontalFOV. A glTF camera sits at its node, looking down −Z.
+            const auto file = fromFile.find(sc.name);
+            if (file != fromFile.end()) {
+                // A glTF camera sits at its node, looking down −Z.
+                const detail::GltfCamera& g = file->second;
+                sc.camera.cameraToWorld = world;
+                sc.problem = g.problem;
+                sc.camera.orthographic = g.orthographic;
+                sc.camera.znear = g.znear;
+                if (g.orthographic) {
+                    sc.camera.ymag = g.ymag;
+                    sc.camera.zfar = g.zfar;
+                    sc.aspect = g.ymag != 0.0 ? g.xmag / g.ymag : 0.0;
+                    if (sc.problem.empty() && !(g.xmag > 0.0))
+                        sc.problem =
+                            "its xmag, " + std::to_string(g.xmag) + ", is not a positive number";
+                } else {
+                    sc.camera.yfov = g.yfov;
+                    sc.aspect = g.aspectRatio;
+                    // No zfar (an infinite projection in glTF): Assimp's far plane, as before,
+                    // if it lies beyond the near one.
+                    if (g.zfar != 0.0)
+                        sc.camera.zfar = g.zfar;
+                    else if (!(sc.camera.zfar > g.znear))
+                        sc.camera.zfar = std::max(1000.0, 1000.0 * g.znear);
+                }
+            } else if (m_gltf) {
+                // An unnamed node's camera: Assimp's numbers. Assimp 5.2's glTF importer
+                // copies the node's translation into mPosition (applying it would move the
+                // camera twice) and reports yfov · aspect as mHorizontalFOV.
                 sc.camera.cameraToWorld = world;
                 sc.camera.yfov =
                     ac.mAspect > 0.0f ? ac.mHorizontalFOV / ac.mAspect : ac.mHorizontalFOV;
@@ -329,6 +384,12 @@ private:
                 const double aspect = ac.mAspect > 0.0f ? ac.mAspect : 1.0;
                 sc.camera.yfov = 2.0 * std::atan(std::tan(double(ac.mHorizontalFOV)) / aspect);
             }
+            if (sc.problem.empty()) sc.problem = sc.camera.problem();
+            if (sc.problem.empty() && !(std::isfinite(sc.aspect) && sc.aspect >= 0.0))
+                sc.problem = "its aspect ratio is not a positive number";
+            if (!sc.problem.empty())
+                m_scene.warnings.push_back("camera '" + sc.name +
+                                           "' cannot be rendered from: " + sc.problem);
             m_scene.cameras.push_back(sc);
         }
     }
@@ -417,6 +478,16 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
             reason = ai && !ai->mRootNode ? "the file has no nodes (no scene to render)"
                                           : "the file holds no scene Assimp can use";
         error = path + ": cannot load the scene: " + reason;
+        // Assimp's validation refuses some broken glTF cameras (a zfar before the znear) for
+        // the whole file: the camera and its fault are named from the file itself.
+        if (isGltf(path) && reason.find("aiCamera") != std::string::npos)
+            for (const auto& [node, camera] : detail::gltfCamerasByNode(path))
+                if (!camera.problem.empty()) {
+                    error = path + ": camera '" + node +
+                            "' cannot be rendered from: " + camera.problem +
+                            " (Assimp refuses the file: " + reason + ")";
+                    break;
+                }
         return false;
     }
     if (!SceneBuilder(*ai, path, scene).build(error)) return false;

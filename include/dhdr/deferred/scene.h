@@ -74,6 +74,9 @@ struct SceneCamera {
     std::string name;
     Camera camera;
     double aspect = 0.0; // width / height from the file, 0 when unknown
+    // Why the camera cannot be rendered from (a node scaled by 0, a field of view of 0, a
+    // field of the wrong type...), empty when it can; the tools refuse it by this message.
+    std::string problem;
 };
 
 struct Scene {
@@ -116,7 +119,8 @@ void addGroundPlane(Scene& scene, float y);
 
 // A camera like `like` (its direction, up and projection) moved so that the scene's bounding
 // sphere just fits an image of `aspect` (width / height): perspective cameras back off along
-// their view axis, orthographic ones also widen their image plane.
+// their view axis, orthographic ones also widen their image plane. Check the result with
+// Camera::problem(): bounds too large for a float camera give one that cannot be used.
 Camera frameScene(const Scene& scene, const Camera& like, double aspect);
 
 // Loads a glTF 2.0 (.gltf, .glb) or OBJ file through Assimp: triangulated, with smooth normals

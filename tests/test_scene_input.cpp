@@ -1,0 +1,169 @@
+// Hostile scenes (issue 21): broken cameras, coordinates at infinity, deep node trees, meshes
+// without normals, unnamed objects and missing textures. Each is a small glTF this file writes
+// (scene_writer.h), run through dhdr-gbuffer as a user runs it, or through loadScene where the
+// loader's result is the point.
+#include "scene_writer.h"
+#include "tool_test.h"
+
+#include <cmath>
+#include <dhdr/deferred/scene.h>
+#include <glm/glm.hpp>
+#include <limits>
+
+using namespace dhdr::test;
+
+namespace {
+
+class SceneInput : public ToolTest {
+protected:
+    static void SetUpTestSuite() { makeScratch(); }
+
+    // `r` failed with exit status 1, saying `what`, and left neither `out` nor a temporary.
+    static void expectRefused(const Result& r, const std::string& what, const std::string& out) {
+        EXPECT_EQ(r.status, 1) << r.err;
+        EXPECT_NE(r.err.find(what), std::string::npos) << "expected '" << what << "' in: " << r.err;
+        EXPECT_FALSE(fs::exists(out)) << out;
+        EXPECT_TRUE(noTemporaries());
+    }
+
+    // The square of scene_writer.h and a perspective camera `camera` on the node `node`.
+    static nlohmann::json squareWithCamera(const nlohmann::json& camera,
+                                           const nlohmann::json& node) {
+        nlohmann::json doc = gltfWithMesh(squareMesh());
+        doc["cameras"] = {camera};
+        nlohmann::json cameraNode = node;
+        cameraNode["name"] = "shot";
+        cameraNode["camera"] = 0;
+        doc["nodes"] = {{{"name", "square"}, {"mesh", 0}}, cameraNode};
+        doc["scenes"] = {{{"nodes", {0, 1}}}};
+        return doc;
+    }
+};
+
+const nlohmann::json kGoodPerspective = {
+    {"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"znear", 0.1}, {"zfar", 100.0}}}};
+
+} // namespace
+
+// A camera node scaled by 0 aborted inside Embree (NaN rays); a field of view of 0, a znear of
+// 0, a zfar before znear, a negative ymag: each is refused naming the file and the camera, and
+// --info says why. A good camera on the same square renders.
+TEST_F(SceneInput, DegenerateCamerasAreRefused) {
+    const nlohmann::json at = {{"translation", {0.0, 0.0, 3.0}}};
+    nlohmann::json perspective = kGoodPerspective;
+    writeJson(path("good_camera.gltf"), squareWithCamera(perspective, at));
+    const Result good =
+        run("dhdr-gbuffer " + path("good_camera.gltf") + " --size 8x8 -o " + path("good.exr"));
+    ASSERT_EQ(good.status, 0) << good.err;
+
+    struct Case {
+        std::string name;
+        nlohmann::json camera, node;
+        std::string why;
+        bool fileRefused = false; // Assimp refuses the whole file, not just the camera
+    };
+    std::vector<Case> cases;
+    nlohmann::json scaled = at;
+    scaled["scale"] = {0.0, 0.0, 0.0};
+    cases.push_back({"scale0", perspective, scaled, "camera-to-world matrix is not invertible"});
+    nlohmann::json flat = at;
+    flat["scale"] = {1.0, 0.0, 1.0};
+    cases.push_back({"flat", perspective, flat, "camera-to-world matrix is not invertible"});
+    nlohmann::json c = perspective;
+    c["perspective"]["yfov"] = 0.0;
+    cases.push_back({"yfov0", c, at, "vertical field of view, 0 degrees"});
+    c = perspective;
+    c["perspective"]["yfov"] = 4.0;
+    cases.push_back({"yfov4", c, at, "is not between 0 and 180"});
+    c = perspective;
+    c["perspective"]["znear"] = 0.0;
+    cases.push_back({"znear0", c, at, "its znear, 0, is not a positive number"});
+    c = perspective;
+    c["perspective"]["zfar"] = 0.05;
+    cases.push_back({"zfar", c, at, "its zfar, 0.05, is not greater than its znear", true});
+    c = perspective;
+    c["perspective"]["aspectRatio"] = 0.0;
+    cases.push_back({"aspect0", c, at, "its aspectRatio, 0.0, is not a positive number"});
+    c = perspective;
+    c["perspective"]["yfov"] = "wide";
+    cases.push_back({"yfovstring", c, at, "\"yfov\" must be a number"});
+    c = perspective;
+    c["perspective"]["znear"] = 1e39; // beyond a float
+    c["perspective"]["zfar"] = 1e40;
+    cases.push_back({"znearhuge", c, at, "\"znear\" must be a number a float holds", true});
+    const nlohmann::json ortho = {
+        {"type", "orthographic"},
+        {"orthographic", {{"xmag", 1.0}, {"ymag", -1.0}, {"znear", 0.0}, {"zfar", 10.0}}}};
+    cases.push_back({"ymag", ortho, at, "its ymag, -1, is not a positive number"});
+    nlohmann::json huge = at;
+    huge["translation"] = {0.0, 0.0, 1e39};
+    cases.push_back({"far", perspective, huge, "is not finite"});
+
+    for (const Case& k : cases) {
+        const std::string file = path("camera_" + k.name + ".gltf");
+        const std::string out = path("camera_" + k.name + ".exr");
+        writeJson(file, squareWithCamera(k.camera, k.node));
+        expectRefused(run("dhdr-gbuffer " + file + " --size 8x8 -o " + out),
+                      file + ": camera 'shot' cannot be rendered from: ", out);
+        const Result refused = run("dhdr-gbuffer " + file + " --size 8x8 -o " + out);
+        EXPECT_NE(refused.err.find(k.why), std::string::npos) << k.name << ": " << refused.err;
+        // --frame-all keeps the camera's direction: a camera without one is refused too.
+        expectRefused(run("dhdr-gbuffer " + file + " --frame-all --size 8x8 -o " + out),
+                      "camera 'shot' cannot be rendered from", out);
+        if (k.fileRefused) continue;
+        // A camera given on the command line replaces it; --info tells what is wrong.
+        EXPECT_EQ(run("dhdr-gbuffer " + file + " --lookat 0,0,3,0,0,0 --size 8x8 -o " + out).status,
+                  0)
+            << k.name;
+        fs::remove(out);
+        const Result info = run("dhdr-gbuffer " + file + " --info");
+        EXPECT_EQ(info.status, 0) << info.err;
+        EXPECT_NE(info.out.find("unusable: "), std::string::npos) << k.name << ": " << info.out;
+    }
+}
+
+// A vertex at infinity (written as the float +Inf, which JSON cannot spell but a buffer can):
+// an error naming the mesh, with or without --frame-all (which wrote NaN matrices with exit 0).
+// A node scaled so that finite vertices leave the float range is refused the same way.
+TEST_F(SceneInput, NonFiniteVerticesAreAnErrorNamingTheMesh) {
+    GltfMesh mesh = squareMesh();
+    mesh.positions[2][2] = std::numeric_limits<float>::infinity();
+    nlohmann::json doc = gltfWithMesh(mesh);
+    doc["accessors"][0].erase("min");
+    doc["accessors"][0].erase("max");
+    doc["nodes"] = {{{"name", "square"}, {"mesh", 0}}};
+    doc["scenes"] = {{{"nodes", {0}}}};
+    writeJson(path("inf.gltf"), doc);
+    for (const std::string options : {" --lookat 0,0,3,0,0,0", " --frame-all"})
+        expectRefused(
+            run("dhdr-gbuffer " + path("inf.gltf") + options + " --size 8x8 -o " + path("inf.exr")),
+            path("inf.gltf") + ": mesh 'mesh' (node 'square'): vertex 2 is not a finite "
+                               "position in world space",
+            path("inf.exr"));
+
+    doc = gltfWithMesh(squareMesh(2.0f));
+    doc["nodes"] = {{{"name", "square"}, {"mesh", 0}, {"scale", {3e38, 3e38, 3e38}}}};
+    doc["scenes"] = {{{"nodes", {0}}}};
+    writeJson(path("overflow.gltf"), doc);
+    expectRefused(run("dhdr-gbuffer " + path("overflow.gltf") + " --frame-all --size 8x8 -o " +
+                      path("overflow.exr")),
+                  "mesh 'mesh' (node 'square'): vertex 0 is not a finite position",
+                  path("overflow.exr"));
+}
+
+// Finite vertices whose bounding sphere no float camera can frame: --frame-all says so (it
+// wrote a G-buffer with infinite matrices and no surface, exit 0).
+TEST_F(SceneInput, FrameAllRefusesBoundsNoCameraCanFrame) {
+    GltfMesh mesh = squareMesh();
+    mesh.positions = {
+        {-3e38f, -3e38f, 0}, {3e38f, -3e38f, 0}, {3e38f, 3e38f, 0}, {-3e38f, 3e38f, 0}};
+    nlohmann::json doc = gltfWithMesh(mesh);
+    doc["nodes"] = {{{"name", "square"}, {"mesh", 0}}};
+    doc["scenes"] = {{{"nodes", {0}}}};
+    writeJson(path("vast.gltf"), doc);
+    expectRefused(
+        run("dhdr-gbuffer " + path("vast.gltf") + " --frame-all --size 8x8 -o " + path("vast.exr")),
+        path("vast.gltf") + ": --frame-all cannot frame the scene's bounds, (-3e+38, -3e+38, 0) to "
+                            "(3e+38, 3e+38, 0)",
+        path("vast.exr"));
+}
