@@ -6,9 +6,11 @@
 #include "tool_test.h"
 
 #include <cmath>
+#include <cstring>
 #include <dhdr/deferred/scene.h>
 #include <glm/glm.hpp>
 #include <limits>
+#include <pthread.h>
 
 using namespace dhdr::test;
 
@@ -166,4 +168,125 @@ TEST_F(SceneInput, FrameAllRefusesBoundsNoCameraCanFrame) {
         path("vast.gltf") + ": --frame-all cannot frame the scene's bounds, (-3e+38, -3e+38, 0) to "
                             "(3e+38, 3e+38, 0)",
         path("vast.exr"));
+}
+
+namespace {
+
+// `doc` as a binary glTF: header, JSON chunk, and its buffer 0 (a data URI in `doc`) as the
+// BIN chunk, which is how Assimp 5.2 reads a .glb's buffer.
+void writeGlb(const std::string& file, nlohmann::json doc) {
+    const std::string uri = doc["buffers"][0]["uri"].get<std::string>();
+    const std::string b64 = uri.substr(uri.find(',') + 1);
+    std::string bin;
+    std::uint32_t bits = 0;
+    int count = 0;
+    for (const char ch : b64) {
+        const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        const char* at = std::strchr(table, ch);
+        if (ch == '=' || !at) break;
+        bits = bits << 6 | std::uint32_t(at - table);
+        if (++count % 4 == 0)
+            for (int k = 2; k >= 0; --k)
+                bin += char((bits >> (8 * k)) & 255u);
+    }
+    if (count % 4 == 3) {
+        bin += char((bits >> 10) & 255u);
+        bin += char((bits >> 2) & 255u);
+    } else if (count % 4 == 2) {
+        bin += char((bits >> 4) & 255u);
+    }
+    doc["buffers"][0].erase("uri");
+    while (bin.size() % 4 != 0)
+        bin += '\0';
+    std::string text = doc.dump();
+    while (text.size() % 4 != 0)
+        text += ' ';
+    const std::uint32_t header[5] = {0x46546C67u, 2u,
+                                     std::uint32_t(12 + 8 + text.size() + 8 + bin.size()),
+                                     std::uint32_t(text.size()), 0x4E4F534Au};
+    const std::uint32_t binHeader[2] = {std::uint32_t(bin.size()), 0x004E4942u};
+    std::ofstream out(file, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(header), sizeof header);
+    out.write(text.data(), std::streamsize(text.size()));
+    out.write(reinterpret_cast<const char*>(binHeader), sizeof binHeader);
+    out.write(bin.data(), std::streamsize(bin.size()));
+}
+
+// 15,000 nodes, each the only child of the one before and 0.0001 to the right of it, the
+// square at the bottom and a camera 3 units in front of it; 1.5 to the right in all.
+nlohmann::json deepNodes(int depth) {
+    nlohmann::json doc = gltfWithMesh(squareMesh());
+    doc["cameras"] = {kGoodPerspective};
+    nlohmann::json nodes = nlohmann::json::array();
+    for (int i = 0; i < depth; ++i)
+        nodes.push_back({{"name", "n" + std::to_string(i)},
+                         {"translation", {1e-4, 0.0, 0.0}},
+                         {"children", {i + 1}}});
+    nodes.push_back({{"name", "leaf"}, {"children", {depth + 1, depth + 2}}});
+    nodes.push_back({{"name", "square"}, {"mesh", 0}});
+    nodes.push_back({{"name", "shot"}, {"camera", 0}, {"translation", {0.0, 0.0, 3.0}}});
+    doc["nodes"] = nodes;
+    doc["scenes"] = {{{"nodes", {0}}}};
+    return doc;
+}
+
+} // namespace
+
+// 15,000 nested nodes overflowed the stack inside Assimp 5.2's recursive glTF reader (a
+// segfault at 40,000 nodes, or at 15,000 on a 2 MiB stack): a deep tree is handed to it
+// flattened, transforms composed, so the square and the camera are where the file puts them,
+// from a .gltf and a .glb alike. A cycle, which Assimp would recurse on forever, is an error.
+TEST_F(SceneInput, DeeplyNestedNodesLoadWithTheirTransforms) {
+    const nlohmann::json doc = deepNodes(15000);
+    writeJson(path("deep.gltf"), doc);
+    writeGlb(path("deep.glb"), doc);
+    for (const char* name : {"deep.gltf", "deep.glb"}) {
+        const Result r = run("dhdr-gbuffer " + path(name) + " --size 16x16 -o " + path("deep.exr"));
+        ASSERT_EQ(r.status, 0) << name << ": " << r.err;
+        const ImageBuf g = read("deep.exr");
+        const int px = g.spec().channelindex("P.X"), pz = g.spec().channelindex("P.Z");
+        const float* p = static_cast<const float*>(g.pixeladdr(8, 8));
+        ASSERT_EQ(p[0], 1.0f) << name;
+        EXPECT_NEAR(p[px], 1.5f, 0.1f) << name; // the pixel's centre is off the axis by 1/16
+        EXPECT_NEAR(p[pz], 0.0f, 1e-4f) << name;
+        const Result info = run("dhdr-gbuffer " + path(name) + " --info");
+        EXPECT_NE(info.out.find("shot: perspective"), std::string::npos) << info.out;
+        EXPECT_NE(info.out.find("at (1.5, 0, 3)"), std::string::npos) << info.out;
+    }
+
+    // In a thread with a 1 MiB stack, as a host program might call the library.
+    struct Call {
+        std::string path, error;
+        dhdr::Scene scene;
+        bool ok = false;
+    } call{path("deep100k.gltf"), {}, {}, false};
+    writeJson(call.path, deepNodes(100000));
+    pthread_attr_t attr;
+    pthread_attr_init(&attr);
+    pthread_attr_setstacksize(&attr, size_t(1) << 20);
+    pthread_t thread;
+    ASSERT_EQ(pthread_create(
+                  &thread, &attr,
+                  [](void* arg) -> void* {
+                      auto* c = static_cast<Call*>(arg);
+                      c->ok = dhdr::loadScene(c->path, c->scene, c->error);
+                      return nullptr;
+                  },
+                  &call),
+              0);
+    pthread_join(thread, nullptr);
+    pthread_attr_destroy(&attr);
+    ASSERT_TRUE(call.ok) << call.error;
+    ASSERT_EQ(call.scene.meshes.size(), 1u);
+    EXPECT_NEAR(call.scene.boundsMin().x, 9.0, 1e-3); // 100,000 × 0.0001 − 1
+    ASSERT_EQ(call.scene.cameras.size(), 1u);
+    EXPECT_NEAR(call.scene.cameras[0].camera.position().x, 10.0, 1e-3);
+
+    nlohmann::json cycle = deepNodes(3);
+    cycle["nodes"][2]["children"] = {1};
+    writeJson(path("cycle.gltf"), cycle);
+    expectRefused(run("dhdr-gbuffer " + path("cycle.gltf") + " --size 8x8 -o " + path("cycle.exr")),
+                  path("cycle.gltf") +
+                      ": cannot load the scene: node 1 is its own ancestor (the nodes form a cycle",
+                  path("cycle.exr"));
 }

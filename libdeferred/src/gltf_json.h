@@ -63,4 +63,16 @@ struct GltfCamera {
 // are left out).
 std::map<std::string, GltfCamera> gltfCamerasByNode(const std::string& path);
 
+// Assimp 5.2 reads a glTF node tree recursively, and its stack overflows on a few thousand
+// levels: nodes nested deeper than this are handed to it flattened.
+inline constexpr int kMaxGltfNodeDepth = 256;
+
+// When the node tree of the .gltf or .glb file at `path` nests deeper than kMaxGltfNodeDepth,
+// the file's bytes with the default scene's nodes flattened (each node's world transform as
+// its matrix, no children, all of them the scene's roots, in depth-first order) in `bytes`;
+// else `bytes` empty. Walks the tree with an explicit stack. False, with `error`, when the
+// nodes do not form a tree (a node its own ancestor, which Assimp would recurse on forever, or
+// reached twice in a tree it must flatten).
+bool gltfFlattenDeepNodes(const std::string& path, std::string& bytes, std::string& error);
+
 } // namespace dhdr::detail

@@ -42,10 +42,19 @@ bool isGltf(const std::string& path) {
 // Assimp 5.2's MTL parser stops at the `aniso` and `anisor` lines that Blender writes into
 // every material ("Cannot parse string \"niso\" as a real number"), so no Blender OBJ loads.
 // MTL files are handed to it without those lines; the rest (Pm, Pr, Ke...) it reads itself.
+//
+// It also hands Assimp a replacement for the scene file itself when one is set (a glTF whose
+// deep node tree dhdr flattened, gltfFlattenDeepNodes).
 class MtlCleaningIOSystem : public Assimp::DefaultIOSystem {
 public:
+    void replace(const std::string& path, std::string bytes) {
+        m_replaced = path;
+        m_bytes = std::move(bytes);
+    }
+
     Assimp::IOStream* Open(const char* file, const char* mode) override {
         const std::string path = file;
+        if (!m_bytes.empty() && sameFile(path, m_replaced)) return memory(m_bytes);
         std::string ext = std::filesystem::path(path).extension().string();
         std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
         if (ext != ".mtl") return Assimp::DefaultIOSystem::Open(file, mode);
@@ -59,10 +68,22 @@ public:
             if (key == "aniso" || key == "anisor") continue;
             text += line + "\n";
         }
+        return memory(text);
+    }
+
+private:
+    static Assimp::IOStream* memory(const std::string& text) {
         auto* bytes = new uint8_t[text.size() + 1];
         std::memcpy(bytes, text.data(), text.size() + 1);
         return new Assimp::MemoryIOStream(bytes, text.size(), true);
     }
+
+    static bool sameFile(const std::string& a, const std::string& b) {
+        std::error_code ec;
+        return a == b || std::filesystem::equivalent(a, b, ec);
+    }
+
+    std::string m_replaced, m_bytes;
 };
 
 class SceneBuilder {
@@ -464,7 +485,16 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
         return false;
     }
     Assimp::Importer importer;
-    importer.SetIOHandler(new MtlCleaningIOSystem); // the importer owns it
+    auto* io = new MtlCleaningIOSystem;
+    importer.SetIOHandler(io); // the importer owns it
+    if (isGltf(path)) {
+        std::string flattened;
+        if (!detail::gltfFlattenDeepNodes(path, flattened, error)) {
+            error = path + ": cannot load the scene: " + error;
+            return false;
+        }
+        if (!flattened.empty()) io->replace(path, std::move(flattened));
+    }
     // ValidateDataStructure turns what would crash later (a face index past the vertices)
     // into an error here.
     const unsigned flags = aiProcess_ValidateDataStructure | aiProcess_Triangulate |
