@@ -290,3 +290,81 @@ TEST_F(SceneInput, DeeplyNestedNodesLoadWithTheirTransforms) {
                       ": cannot load the scene: node 1 is its own ancestor (the nodes form a cycle",
                   path("cycle.exr"));
 }
+
+namespace {
+
+// A 2 × 2 × 2 box around the origin, its 8 corners shared by the 12 triangles (wound
+// counter-clockwise seen from outside), without normals.
+GltfMesh boxWithoutNormals() {
+    GltfMesh m;
+    m.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                   {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+    m.indices = {4, 5, 6, 4, 6, 7, 0, 2, 1, 0, 3, 2, 1, 2, 6, 1, 6, 5,
+                 0, 4, 7, 0, 7, 3, 3, 7, 6, 3, 6, 2, 0, 1, 5, 0, 5, 4};
+    return m;
+}
+
+} // namespace
+
+// glTF 2.0 §3.7.2.1: a primitive without normals gets flat normals (smoothed ones made the box
+// a blob: corner normals along the diagonals). Every covered pixel's N is the outward normal
+// of the face it sees, the face told by P (the coordinate at ±1), under a plain node and under
+// a mirroring one (which reverses the winding, glTF §3.7.4); the three faces in view all show.
+// A primitive with normals keeps the file's.
+TEST_F(SceneInput, MeshesWithoutNormalsGetFlatNormals) {
+    for (const bool mirrored : {false, true}) {
+        nlohmann::json doc = gltfWithMesh(boxWithoutNormals());
+        doc["nodes"] = {{{"name", "box"}, {"mesh", 0}}};
+        if (mirrored) doc["nodes"][0]["scale"] = {-1.0, 1.0, 1.0};
+        doc["scenes"] = {{{"nodes", {0}}}};
+        writeJson(path("box.gltf"), doc);
+        const Result r = run("dhdr-gbuffer " + path("box.gltf") +
+                             " --lookat 3,2.5,4,0,0,0 --size 48x48 -o " + path("box.exr"));
+        ASSERT_EQ(r.status, 0) << r.err;
+        EXPECT_EQ(r.err.find("zero length"), std::string::npos) << r.err;
+        const ImageBuf g = read("box.exr");
+        const int p0 = g.spec().channelindex("P.X"), n0 = g.spec().channelindex("N.X");
+        ASSERT_GE(p0, 0);
+        ASSERT_GE(n0, 0);
+        int faces[3] = {0, 0, 0}, wrong = 0;
+        for (int y = 0; y < 48; ++y)
+            for (int x = 0; x < 48; ++x) {
+                const float* px = static_cast<const float*>(g.pixeladdr(x, y));
+                if (px[0] == 0.0f) continue;
+                const glm::vec3 p(px[p0], px[p0 + 1], px[p0 + 2]);
+                const glm::vec3 n(px[n0], px[n0 + 1], px[n0 + 2]);
+                const glm::vec3 a = glm::abs(p);
+                const int axis = a.x >= a.y && a.x >= a.z ? 0 : a.y >= a.z ? 1 : 2;
+                // On an edge the face is ambiguous.
+                if (a[(axis + 1) % 3] > 0.97f || a[(axis + 2) % 3] > 0.97f) continue;
+                glm::vec3 expected(0.0f);
+                expected[axis] = p[axis] > 0.0f ? 1.0f : -1.0f;
+                ++faces[axis];
+                wrong += glm::length(n - expected) > 1e-5f;
+                if (wrong == 1 && glm::length(n - expected) > 1e-5f)
+                    ADD_FAILURE() << "mirrored " << mirrored << " pixel " << x << "," << y
+                                  << ": N (" << n.x << ", " << n.y << ", " << n.z << ")";
+            }
+        EXPECT_EQ(wrong, 0) << "mirrored " << mirrored;
+        for (int axis = 0; axis < 3; ++axis)
+            EXPECT_GT(faces[axis], 50) << "axis " << axis << ", mirrored " << mirrored;
+    }
+
+    GltfMesh tilted = squareMesh();
+    for (auto& n : tilted.normals)
+        n = {0.6f, 0.0f, 0.8f};
+    nlohmann::json doc = gltfWithMesh(tilted);
+    doc["nodes"] = {{{"name", "square"}, {"mesh", 0}}};
+    doc["scenes"] = {{{"nodes", {0}}}};
+    writeJson(path("tilted.gltf"), doc);
+    const Result r = run("dhdr-gbuffer " + path("tilted.gltf") +
+                         " --lookat 0,0,3,0,0,0 --size 16x16 -o " + path("tilted.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf g = read("tilted.exr");
+    const int n0 = g.spec().channelindex("N.X");
+    const float* px = static_cast<const float*>(g.pixeladdr(8, 8));
+    ASSERT_EQ(px[0], 1.0f);
+    EXPECT_NEAR(px[n0], 0.6f, 1e-3f); // N is stored as half
+    EXPECT_NEAR(px[n0 + 1], 0.0f, 1e-3f);
+    EXPECT_NEAR(px[n0 + 2], 0.8f, 1e-3f);
+}

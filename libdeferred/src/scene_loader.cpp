@@ -294,14 +294,16 @@ private:
                 return false;
             }
             mesh.positions.emplace_back(wp);
-            const aiVector3D& n = am.mNormals[v];
-            const glm::dvec3 wn = normalMatrix * glm::dvec3(n.x, n.y, n.z);
-            const double len = glm::length(wn);
-            // Zero (or broken) normals stay zero: the triangle's own normal replaces them
-            // where they are used (gbuffer_render.cpp).
-            const bool usable = len > 1e-12 && std::isfinite(len);
-            m_zeroNormals += !usable;
-            mesh.normals.emplace_back(usable ? wn / len : glm::dvec3(0.0));
+            if (am.HasNormals()) { // else flat normals, below
+                const aiVector3D& n = am.mNormals[v];
+                const glm::dvec3 wn = normalMatrix * glm::dvec3(n.x, n.y, n.z);
+                const double len = glm::length(wn);
+                // Zero (or broken) normals stay zero: the triangle's own normal replaces them
+                // where they are used (gbuffer_render.cpp).
+                const bool usable = len > 1e-12 && std::isfinite(len);
+                m_zeroNormals += !usable;
+                mesh.normals.emplace_back(usable ? wn / len : glm::dvec3(0.0));
+            }
             // Assimp's UVs have their origin at the image's bottom-left (it flips glTF's).
             if (am.HasTextureCoords(0))
                 mesh.uvs.emplace_back(am.mTextureCoords[0][v].x, 1.0f - am.mTextureCoords[0][v].y);
@@ -323,12 +325,65 @@ private:
             if (face.mNumIndices == 3)
                 mesh.triangles.emplace_back(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
         }
+        if (!am.HasNormals()) mesh = flatShaded(mesh, am, world, normalMatrix);
         if (mesh.tangents.size() != mesh.positions.size()) {
             mesh.tangents.clear();
             mesh.bitangents.clear();
         }
         if (!mesh.triangles.empty()) m_scene.meshes.push_back(std::move(mesh));
         return true;
+    }
+
+    // glTF 2.0 (§3.7.2.1): "When normals are not specified, client implementations MUST
+    // calculate flat normals". Each triangle gets three vertices of its own with its normal:
+    // the cross product of its edges in the file's space, turned by the normal matrix (so that
+    // under a mirroring node it stays on the front, whose winding the node reverses). With UVs,
+    // each triangle also gets its tangent frame from them (CalcTangentSpace needs normals):
+    // T along +u, B up the image, as Assimp computes them.
+    static Mesh flatShaded(const Mesh& shared, const aiMesh& am, const glm::dmat4& world,
+                           const glm::dmat3& normalMatrix) {
+        Mesh flat;
+        flat.object = shared.object;
+        flat.material = shared.material;
+        const bool uvs = !shared.uvs.empty();
+        auto unit = [](const glm::dvec3& d) {
+            const double len = glm::length(d);
+            return len > 0.0 && std::isfinite(len) ? glm::vec3(d / len) : glm::vec3(0.0f);
+        };
+        for (const glm::uvec3& t : shared.triangles) {
+            auto local = [&](unsigned i) {
+                const aiVector3D& p = am.mVertices[i];
+                return glm::dvec3(p.x, p.y, p.z);
+            };
+            const glm::dvec3 a = local(t.x), b = local(t.y), c = local(t.z);
+            const glm::vec3 normal = unit(normalMatrix * glm::cross(b - a, c - a));
+            glm::vec3 tangent(0.0f), bitangent(0.0f);
+            if (uvs) {
+                // Assimp's UVs (v up the image), from ours (v down).
+                auto uv = [&](unsigned i) {
+                    return glm::dvec2(shared.uvs[i].x, 1.0 - double(shared.uvs[i].y));
+                };
+                const glm::dvec2 d1 = uv(t.y) - uv(t.x), d2 = uv(t.z) - uv(t.x);
+                const glm::dvec3 e1 = glm::dmat3(world) * (b - a), e2 = glm::dmat3(world) * (c - a);
+                const double det = d1.x * d2.y - d2.x * d1.y;
+                if (det != 0.0) {
+                    tangent = unit((e1 * d2.y - e2 * d1.y) / det);
+                    bitangent = unit((e2 * d1.x - e1 * d2.x) / det);
+                }
+            }
+            const unsigned first = unsigned(flat.positions.size());
+            for (const unsigned i : {t.x, t.y, t.z}) {
+                flat.positions.push_back(shared.positions[i]);
+                flat.normals.push_back(normal);
+                if (uvs) {
+                    flat.uvs.push_back(shared.uvs[i]);
+                    flat.tangents.push_back(tangent);
+                    flat.bitangents.push_back(bitangent);
+                }
+            }
+            flat.triangles.emplace_back(first, first + 1, first + 2);
+        }
+        return flat;
     }
 
     // The world transform of the first node named `name`, depth first; identity when none is.
@@ -497,9 +552,11 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
     }
     // ValidateDataStructure turns what would crash later (a face index past the vertices)
     // into an error here.
+    // No aiProcess_GenSmoothNormals: a primitive without normals gets flat ones, as glTF
+    // requires (SceneBuilder::flatShaded).
     const unsigned flags = aiProcess_ValidateDataStructure | aiProcess_Triangulate |
-                           aiProcess_GenSmoothNormals | aiProcess_CalcTangentSpace |
-                           aiProcess_JoinIdenticalVertices | aiProcess_SortByPType;
+                           aiProcess_CalcTangentSpace | aiProcess_JoinIdenticalVertices |
+                           aiProcess_SortByPType;
     const aiScene* ai = importer.ReadFile(path, flags);
     if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
         std::string reason = importer.GetErrorString();

@@ -123,7 +123,7 @@ void addGroundPlane(Scene& scene, float y);
 // Camera::problem(): bounds too large for a float camera give one that cannot be used.
 Camera frameScene(const Scene& scene, const Camera& like, double aspect);
 
-// Loads a glTF 2.0 (.gltf, .glb) or OBJ file through Assimp: triangulated, with smooth normals
+// Loads a glTF 2.0 (.gltf, .glb) or OBJ file through Assimp: triangulated, with flat normals
 // where the file has none, node transforms applied. Works around Assimp 5.2's glTF quirks
 // (docs/scenes.md). On failure returns false with a message in `error`.
 bool loadScene(const std::string& path, Scene& scene, std::string& error);
