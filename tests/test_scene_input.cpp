@@ -368,3 +368,87 @@ TEST_F(SceneInput, MeshesWithoutNormalsGetFlatNormals) {
     EXPECT_NEAR(px[n0 + 1], 0.0f, 1e-3f);
     EXPECT_NEAR(px[n0 + 2], 0.8f, 1e-3f);
 }
+
+namespace {
+
+// The Cryptomatte manifest of `layer` in the G-buffer's header, as text.
+std::string manifestOf(const OIIO::ImageSpec& spec, const std::string& layer) {
+    for (const OIIO::ParamValue& p : spec.extra_attribs)
+        if (p.name().string().rfind("cryptomatte/", 0) == 0 && p.name().string().size() > 20 &&
+            p.name().string().compare(p.name().string().size() - 5, 5, "/name") == 0 &&
+            spec.get_string_attribute(p.name().string()) == layer)
+            return spec.get_string_attribute(
+                p.name().string().substr(0, p.name().string().size() - 4) + "manifest");
+    return {};
+}
+
+// A G-buffer header's name table (dhdr:objectNames, dhdr:materialNames).
+std::vector<std::string> nameTable(const OIIO::ImageSpec& spec, const char* attribute) {
+    std::vector<std::string> out;
+    const OIIO::ParamValue* table = spec.find_attribute(attribute);
+    if (!table) return out;
+    const auto* names = static_cast<const char* const*>(table->data());
+    for (int i = 0; i < table->nvalues() * int(table->type().numelements()); ++i)
+        out.push_back(names[i]);
+    return out;
+}
+
+} // namespace
+
+// Unnamed objects and materials made a Cryptomatte manifest entry "" (twice, for two of them):
+// they are named as Blender names datablocks, from the mesh's name, else "Object",
+// "Object.001"..., "Material", "Material.001"..., and a name the file gives twice gets ".001"
+// the second time; the same names in dhdr:objectNames / dhdr:materialNames and the manifests.
+TEST_F(SceneInput, UnnamedObjectsAndMaterialsGetBlenderNames) {
+    nlohmann::json doc = gltfWithMesh(squareMesh(0.4f));
+    const nlohmann::json primitive = doc["meshes"][0]["primitives"][0];
+    doc["meshes"][0].erase("name");
+    nlohmann::json named = {{"name", "crate"}, {"primitives", {primitive}}};
+    named["primitives"][0]["material"] = 1;
+    doc["meshes"].push_back(named);
+    nlohmann::json noMaterial = {{"primitives", {primitive}}};
+    noMaterial["primitives"][0].erase("material");
+    doc["meshes"].push_back(noMaterial);
+    doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 1}}}}},
+                        {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 1, 0, 1}}}}}};
+    doc["nodes"] = nlohmann::json::array();
+    const std::pair<const char*, int> nodes[] = {{"", 0},       {"", 0},     {"", 1},
+                                                 {"Object", 0}, {"twin", 2}, {"twin", 0}};
+    for (size_t i = 0; i < std::size(nodes); ++i) {
+        nlohmann::json node = {{"mesh", nodes[i].second},
+                               {"translation", {double(i) - 2.5, 0.0, 0.0}}};
+        if (*nodes[i].first) node["name"] = nodes[i].first;
+        doc["nodes"].push_back(node);
+    }
+    doc["scenes"] = {{{"nodes", {0, 1, 2, 3, 4, 5}}}};
+    writeJson(path("unnamed.gltf"), doc);
+    const Result r = run("dhdr-gbuffer " + path("unnamed.gltf") +
+                         " --lookat 0,0,6,0,0,0 --fov 70 --size 96x24 -o " + path("unnamed.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    ImageBuf g(path("unnamed.exr"));
+    ASSERT_TRUE(g.init_spec(path("unnamed.exr"), 0, 0));
+    const OIIO::ImageSpec& spec = g.spec();
+
+    const std::vector<std::string> objects = nameTable(spec, "dhdr:objectNames");
+    const std::vector<std::string> materials = nameTable(spec, "dhdr:materialNames");
+    // Index 0 of each table is the background's.
+    EXPECT_EQ(objects, (std::vector<std::string>{"", "Object.001", "Object.002", "crate", "Object",
+                                                 "twin", "twin.001"}));
+    ASSERT_EQ(materials.size(), 4u);
+    EXPECT_EQ(std::vector<std::string>(materials.begin() + 1, materials.end()),
+              (std::vector<std::string>{"Material", "Material.001", "Material.002"}));
+
+    for (const auto& [layer, table] :
+         {std::pair{std::string("CryptoObject"), objects}, {"CryptoMaterial", materials}}) {
+        const std::string text = manifestOf(spec, layer);
+        ASSERT_FALSE(text.empty()) << layer;
+        EXPECT_EQ(text.find("\"\":"), std::string::npos) << text;
+        const nlohmann::json manifest = nlohmann::json::parse(text);
+        // A JSON object keeps one entry per key: as many keys as names means no name twice.
+        EXPECT_EQ(manifest.size(), table.size() - 1) << text;
+        for (size_t i = 1; i < table.size(); ++i) {
+            EXPECT_FALSE(table[i].empty()) << layer << " " << i;
+            EXPECT_TRUE(manifest.contains(table[i])) << table[i] << " in " << text;
+        }
+    }
+}

@@ -128,6 +128,17 @@ bool gltfLightsByNode(const std::string& path, std::map<std::string, GltfLight>&
     return true;
 }
 
+std::set<std::string> gltfNames(const std::string& path, const char* array) {
+    std::set<std::string> out;
+    const nlohmann::json doc = readGltfJson(path);
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains(array) || !doc[array].is_array())
+        return out;
+    for (const auto& e : doc[array])
+        if (e.is_object() && e.contains("name") && e["name"].is_string())
+            out.insert(e["name"].get<std::string>());
+    return out;
+}
+
 std::map<std::string, GltfCamera> gltfCamerasByNode(const std::string& path) {
     std::map<std::string, GltfCamera> out;
     const nlohmann::json doc = readGltfJson(path);

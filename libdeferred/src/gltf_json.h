@@ -4,6 +4,7 @@
 #include <dhdr/deferred/scene.h>
 #include <glm/glm.hpp>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,10 @@ struct GltfCamera {
 // The cameras of a .gltf or .glb file by the name of the node that holds them (unnamed nodes
 // are left out).
 std::map<std::string, GltfCamera> gltfCamerasByNode(const std::string& path);
+
+// The names the file gives the elements of its top-level array `array` ("nodes", "meshes"):
+// Assimp 5.2 names an unnamed one after its place ("nodes[3]"), which is no name to show.
+std::set<std::string> gltfNames(const std::string& path, const char* array);
 
 // Assimp 5.2 reads a glTF node tree recursively, and its stack overflows on a few thousand
 // levels: nodes nested deeper than this are handed to it flattened.

@@ -18,6 +18,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <limits>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace dhdr {
@@ -93,6 +94,7 @@ public:
 
     bool build(std::string& error) {
         if (!loadMaterials(error) || !visitAll(error)) return false;
+        nameUnnamed();
         if (m_zeroNormals > 0)
             m_scene.warnings.push_back(
                 std::to_string(m_zeroNormals) +
@@ -251,8 +253,11 @@ private:
             const aiNode* node = &n;
             if (node->mNumMeshes > 0) {
                 const int object = int(m_scene.objectNames.size());
-                std::string name = node->mName.C_Str();
-                if (name.empty()) name = m_ai.mMeshes[node->mMeshes[0]]->mName.C_Str();
+                // Unnamed: the mesh's name, else a generated one (nameUnnamed).
+                std::string name = shownName(node->mName.C_Str(), m_nodeNames, "nodes");
+                if (name.empty())
+                    name = shownName(m_ai.mMeshes[node->mMeshes[0]]->mName.C_Str(), m_meshNames,
+                                     "meshes");
                 m_scene.objectNames.push_back(name);
                 // The inverse transpose, scaled to its largest entry: a node scaled by 1e38
                 // keeps usable normals (only their direction matters).
@@ -332,6 +337,47 @@ private:
         }
         if (!mesh.triangles.empty()) m_scene.meshes.push_back(std::move(mesh));
         return true;
+    }
+
+    // A name as the file gives it: empty for one Assimp made up for an unnamed glTF element
+    // ("nodes[3]", "meshes[0]"), unless the file itself uses that name.
+    std::string shownName(const std::string& name, const std::set<std::string>& given,
+                          const std::string& array) const {
+        if (!m_gltf || given.count(name) || name.rfind(array + "[", 0) != 0) return name;
+        return {};
+    }
+
+    // Blender's naming of datablocks, so that Cryptomatte manifests and the G-buffer's name
+    // tables hold no empty name and no name twice: a name the file gives keeps it at its
+    // first use; an unnamed object or material is "Object" or "Material", and a name already
+    // taken gets the first free ".001", ".002"... suffix ("Object.001", "box.001").
+    static void blenderNames(std::vector<std::string*> names, const std::string& fallback) {
+        std::set<std::string> taken;
+        std::vector<bool> keep(names.size(), false);
+        for (size_t i = 0; i < names.size(); ++i)
+            keep[i] = !names[i]->empty() && taken.insert(*names[i]).second;
+        for (size_t i = 0; i < names.size(); ++i) {
+            if (keep[i]) continue;
+            const std::string base = names[i]->empty() ? fallback : *names[i];
+            std::string name = base;
+            for (int k = 1; taken.count(name); ++k) {
+                char suffix[16];
+                std::snprintf(suffix, sizeof suffix, ".%03d", k);
+                name = base + suffix;
+            }
+            taken.insert(name);
+            *names[i] = name;
+        }
+    }
+
+    void nameUnnamed() {
+        std::vector<std::string*> objects, materials;
+        for (std::string& name : m_scene.objectNames)
+            objects.push_back(&name);
+        for (Material& m : m_scene.materials)
+            materials.push_back(&m.name);
+        blenderNames(objects, "Object");
+        blenderNames(materials, "Material");
     }
 
     // glTF 2.0 (§3.7.2.1): "When normals are not specified, client implementations MUST
@@ -529,6 +575,10 @@ private:
     const bool m_gltf;
     std::map<std::string, int> m_textureIndex;
     long long m_zeroNormals = 0;
+    const std::set<std::string> m_nodeNames =
+        m_gltf ? detail::gltfNames(m_path, "nodes") : std::set<std::string>{};
+    const std::set<std::string> m_meshNames =
+        m_gltf ? detail::gltfNames(m_path, "meshes") : std::set<std::string>{};
 };
 
 } // namespace
