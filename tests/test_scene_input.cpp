@@ -452,3 +452,137 @@ TEST_F(SceneInput, UnnamedObjectsAndMaterialsGetBlenderNames) {
         }
     }
 }
+
+namespace {
+
+// The square of scene_writer.h with UVs, its material (named `material`, or unnamed when
+// empty) of base colour factor (0.5, 0.8, 0.6) textured by `baseColour`, emissive factor
+// (2, 2, 2) textured by `emissive`, with a normal map `normal` (no texture where empty).
+nlohmann::json texturedSquare(const std::string& material, const std::string& baseColour,
+                              const std::string& emissive, const std::string& normal) {
+    nlohmann::json doc = gltfWithMesh(squareMesh());
+    const float uv[8] = {0, 1, 1, 1, 1, 0, 0, 0};
+    std::vector<std::uint8_t> bytes(sizeof uv);
+    std::memcpy(bytes.data(), uv, sizeof uv);
+    doc["buffers"].push_back({{"byteLength", bytes.size()},
+                              {"uri", "data:application/octet-stream;base64," + base64(bytes)}});
+    doc["bufferViews"].push_back({{"buffer", 1}, {"byteLength", bytes.size()}});
+    doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1},
+                                {"componentType", 5126},
+                                {"count", 4},
+                                {"type", "VEC2"}});
+    doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = doc["accessors"].size() - 1;
+    nlohmann::json& m = doc["materials"][0];
+    if (material.empty())
+        m.erase("name");
+    else
+        m["name"] = material;
+    m["pbrMetallicRoughness"]["baseColorFactor"] = {0.5, 0.8, 0.6, 1.0};
+    doc["images"] = nlohmann::json::array();
+    doc["textures"] = nlohmann::json::array();
+    auto texture = [&](const std::string& uri) {
+        doc["images"].push_back({{"uri", uri}});
+        doc["textures"].push_back({{"source", doc["images"].size() - 1}});
+        return nlohmann::json{{"index", doc["textures"].size() - 1}};
+    };
+    if (!baseColour.empty()) m["pbrMetallicRoughness"]["baseColorTexture"] = texture(baseColour);
+    if (!emissive.empty()) {
+        m["emissiveTexture"] = texture(emissive);
+        m["emissiveFactor"] = {2.0, 2.0, 2.0};
+    }
+    if (!normal.empty()) m["normalTexture"] = texture(normal);
+    doc["nodes"] = {{{"name", "square"}, {"mesh", 0}}};
+    doc["scenes"] = {{{"nodes", {0}}}};
+    return doc;
+}
+
+} // namespace
+
+// A missing texture aborted the whole render: now a warning naming the texture file and the
+// material, and the material shows loud magenta (1, 0, 1) times its factor, as Blender shows a
+// missing texture in pink (a missing normal map is left out: the surface's own normal). An
+// unnamed material is named by its generated name. --strict makes it an error, with no output.
+TEST_F(SceneInput, MissingTexturesAreMagentaUnlessStrict) {
+    writeJson(path("missing.gltf"),
+              texturedSquare("brick", "nowhere.png", "gone/glow.png", "flat_nowhere.png"));
+    const std::string out = path("missing.exr");
+    const Result r = run("dhdr-gbuffer " + path("missing.gltf") +
+                         " --lookat 0,0,3,0,0,0 --size 16x16 -o " + out);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const std::string prefix = "warning: " + path("missing.gltf") + ": material 'brick', ";
+    for (const auto& [slot, file, tail] :
+         {std::tuple<std::string, std::string, std::string>{
+              "base colour", "nowhere.png",
+              "shown as magenta (1, 0, 1) times the material's factor"},
+          {"emissive", "gone/glow.png", "shown as magenta (1, 0, 1) times the material's factor"},
+          {"normal", "flat_nowhere.png", "the normal map is left out"}}) {
+        const size_t at = r.err.find(prefix + slot + " texture: " + path(file) + ": cannot read");
+        ASSERT_NE(at, std::string::npos) << slot << " in " << r.err;
+        const std::string line = r.err.substr(at, r.err.find('\n', at) - at);
+        EXPECT_NE(line.find(tail), std::string::npos) << line;
+    }
+    const ImageBuf g = read("missing.exr");
+    const float* px = static_cast<const float*>(g.pixeladdr(8, 8));
+    ASSERT_EQ(px[0], 1.0f);
+    const int albedo = g.spec().channelindex("albedo.R");
+    const int emission = g.spec().channelindex("emission.R");
+    const int normal = g.spec().channelindex("N.X");
+    EXPECT_NEAR(px[albedo], 0.5f, 1e-3f);
+    EXPECT_NEAR(px[albedo + 1], 0.0f, 1e-3f);
+    EXPECT_NEAR(px[albedo + 2], 0.6f, 1e-3f);
+    EXPECT_NEAR(px[emission], 2.0f, 1e-3f);
+    EXPECT_NEAR(px[emission + 1], 0.0f, 1e-3f);
+    EXPECT_NEAR(px[emission + 2], 2.0f, 1e-3f);
+    EXPECT_NEAR(px[normal + 2], 1.0f, 1e-3f);
+
+    // An unnamed material: its generated name.
+    writeJson(path("missing_unnamed.gltf"), texturedSquare("", "nowhere.png", "", ""));
+    const Result unnamed = run("dhdr-gbuffer " + path("missing_unnamed.gltf") +
+                               " --lookat 0,0,3,0,0,0 --size 8x8 -o " + path("unnamed.exr"));
+    EXPECT_EQ(unnamed.status, 0) << unnamed.err;
+    EXPECT_NE(unnamed.err.find("material 'Material', base colour texture: " + path("nowhere.png")),
+              std::string::npos)
+        << unnamed.err;
+
+    // --strict: an error naming the file and the material, and nothing written.
+    fs::remove(out);
+    expectRefused(run("dhdr-gbuffer " + path("missing.gltf") +
+                      " --strict --lookat 0,0,3,0,0,0 --size 16x16 -o " + out),
+                  path("missing.gltf") +
+                      ": material 'brick', base colour texture: " + path("nowhere.png"),
+                  out);
+    const Result info = run("dhdr-gbuffer " + path("missing.gltf") + " --strict --info");
+    EXPECT_EQ(info.status, 1) << info.err;
+    EXPECT_NE(run("dhdr-gbuffer --help").out.find("--strict"), std::string::npos);
+}
+
+// The same option wherever tools load scenes: dhdr-probes and dhdr-light (--scene,
+// --camera-from) warn and go on, or with --strict refuse.
+TEST_F(SceneInput, StrictAppliesWhereverScenesAreLoaded) {
+    nlohmann::json doc = texturedSquare("brick", "nowhere.png", "", "");
+    doc["cameras"] = {kGoodPerspective};
+    doc["nodes"].push_back({{"name", "shot"}, {"camera", 0}, {"translation", {0.0, 0.0, 3.0}}});
+    doc["scenes"] = {{{"nodes", {0, 1}}}};
+    writeJson(path("probe_scene.gltf"), doc);
+    const std::string scene = path("probe_scene.gltf");
+    const std::string want =
+        scene + ": material 'brick', base colour texture: " + path("nowhere.png");
+
+    const std::string probes = "dhdr-probes " + scene + " --grid 2,2,2 --rays 16 --lights " +
+                               kTestdata + "/cornell_box.lights.json -o ";
+    const Result baked = run(probes + path("p.probes.exr"));
+    EXPECT_EQ(baked.status, 0) << baked.err;
+    EXPECT_NE(baked.err.find("warning: " + want), std::string::npos) << baked.err;
+    expectRefused(run(probes + path("strict.probes.exr") + " --strict"), want,
+                  path("strict.probes.exr"));
+
+    ASSERT_EQ(run("dhdr-gbuffer " + scene + " --size 16x16 -o " + path("pg.exr")).status, 0);
+    const std::string light =
+        "dhdr-light " + path("pg.exr") + " --lights " + kTestdata + "/cornell_box.lights.json -o ";
+    EXPECT_EQ(run(light + path("pl.exr") + " --scene " + scene).status, 0);
+    expectRefused(run(light + path("strict_l.exr") + " --scene " + scene + " --strict"), want,
+                  path("strict_l.exr"));
+    for (const char* tool : {"dhdr-light", "dhdr-probes"})
+        EXPECT_NE(run(std::string(tool) + " --help").out.find("--strict"), std::string::npos)
+            << tool;
+}

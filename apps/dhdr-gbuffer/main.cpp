@@ -56,6 +56,10 @@ int run(int argc, char** argv) {
             "move the camera (the scene's, --lookat's, or without either one looking from the "
             "front and a little above) back until the whole scene fits the image (an error when "
             "no float camera can: coordinates near 3e38)");
+    bool strict = false;
+    cl.flag("--strict", strict,
+            "a texture the scene names that cannot be read is an error (default: a warning, and "
+            "the material shows magenta (1, 0, 1) times its factor, as in Blender)");
     cl.flag("--info", info,
             "print what the scene holds (bounds, cameras, lights, materials, what is left "
             "out) and exit; needs no -o");
@@ -71,7 +75,7 @@ int run(int argc, char** argv) {
     if (info) {
         Scene scene;
         std::string error;
-        if (!loadScene(path, scene, error)) return tool.fail(error);
+        if (!loadScene(path, scene, error, SceneOptions{strict})) return tool.fail(error);
         std::fputs(app::describeScene(scene, path).c_str(), stdout);
         return app::kExitSuccess;
     }
@@ -130,7 +134,7 @@ int run(int argc, char** argv) {
         const auto t0 = std::chrono::steady_clock::now();
         Scene scene;
         std::string error;
-        if (!loadScene(scenePath, scene, error)) {
+        if (!loadScene(scenePath, scene, error, SceneOptions{strict})) {
             tool.fail(error);
             return false;
         }

@@ -89,12 +89,15 @@ private:
 
 class SceneBuilder {
 public:
-    SceneBuilder(const aiScene& ai, const std::string& path, Scene& scene)
-        : m_ai(ai), m_path(path), m_scene(scene), m_gltf(isGltf(path)) {}
+    SceneBuilder(const aiScene& ai, const std::string& path, const SceneOptions& options,
+                 Scene& scene)
+        : m_ai(ai), m_path(path), m_options(options), m_scene(scene), m_gltf(isGltf(path)) {}
 
     bool build(std::string& error) {
-        if (!loadMaterials(error) || !visitAll(error)) return false;
+        loadMaterials();
+        if (!visitAll(error)) return false;
         nameUnnamed();
+        if (!reportUnreadTextures(error)) return false;
         if (m_zeroNormals > 0)
             m_scene.warnings.push_back(
                 std::to_string(m_zeroNormals) +
@@ -105,7 +108,7 @@ public:
     }
 
 private:
-    bool loadMaterials(std::string& error) {
+    void loadMaterials() {
         const auto strengths =
             m_gltf ? detail::gltfEmissiveStrengths(m_path) : std::map<std::string, float>{};
         const auto textures = m_gltf ? detail::gltfMaterialTextures(m_path)
@@ -173,40 +176,85 @@ private:
             aiString texPath;
             if (am.GetTexture(aiTextureType_BASE_COLOR, 0, &texPath) == AI_SUCCESS ||
                 am.GetTexture(aiTextureType_DIFFUSE, 0, &texPath) == AI_SUCCESS) {
-                if (!loadTexture(texPath.C_Str(), true, m.baseColorTexture.texture, error))
-                    return false;
+                m.baseColorTexture.texture = loadTexture(texPath.C_Str(), true, "base colour");
                 m.baseColorTexture.transform = transforms.baseColor;
             }
             if (am.GetTexture(aiTextureType_EMISSIVE, 0, &texPath) == AI_SUCCESS) {
-                if (!loadTexture(texPath.C_Str(), true, m.emissiveTexture.texture, error))
-                    return false;
+                m.emissiveTexture.texture = loadTexture(texPath.C_Str(), true, "emissive");
                 m.emissiveTexture.transform = transforms.emissive;
             }
             if (am.GetTexture(aiTextureType_NORMALS, 0, &texPath) == AI_SUCCESS) {
-                if (!loadTexture(texPath.C_Str(), false, m.normalTexture.texture, error))
-                    return false;
+                m.normalTexture.texture = loadTexture(texPath.C_Str(), false, "normal");
                 m.normalTexture.transform = transforms.normal;
                 m.normalScale = transforms.normalScale;
             }
             m_scene.materials.push_back(m);
         }
         if (m_scene.materials.empty()) m_scene.materials.push_back(Material{});
+    }
+
+    // A texture that cannot be read (missing, undecodable) does not stop the render: the
+    // material shows magenta (1, 0, 1) times its factor there, as Blender shows a missing
+    // texture in pink, and a normal map is left out; reportUnreadTextures warns, naming the file
+    // and the material, or with SceneOptions::strict fails.
+    // Returns the index of the texture in Scene::textures, or −1.
+    int loadTexture(const std::string& ref, bool srgb, const char* slot) {
+        // The same file can be a colour (sRGB) and a data texture: one decoding of each.
+        const std::string key = (srgb ? "srgb:" : "data:") + ref;
+        if (auto it = m_unread.find(key); it != m_unread.end()) return unread(it->second, slot);
+        if (auto it = m_textureIndex.find(key); it != m_textureIndex.end()) return it->second;
+        std::string why;
+        int index = -1;
+        if (!decodeTexture(ref, srgb, index, why)) {
+            m_unread[key] = why;
+            return unread(why, slot);
+        }
+        m_textureIndex[key] = index;
+        return index;
+    }
+
+    // Records an unread texture of the material being loaded; the index to use in its place:
+    // the magenta one for colours, none for a normal map.
+    int unread(const std::string& why, const char* slot) {
+        const bool normal = std::string(slot) == "normal";
+        m_unreadUses.push_back({m_scene.materials.size(), slot, why});
+        if (normal) return -1;
+        if (m_missingTexture < 0) {
+            Texture magenta;
+            magenta.name = "dhdr:missing texture";
+            magenta.width = magenta.height = 1;
+            magenta.rgba = {1.0f, 0.0f, 1.0f, 1.0f};
+            m_missingTexture = int(m_scene.textures.size());
+            m_scene.textures.push_back(std::move(magenta));
+        }
+        return m_missingTexture;
+    }
+
+    // After the materials have their names: one warning per unread texture use, naming the
+    // texture (OpenImageIO's message names the file) and the material; with strict, an error.
+    bool reportUnreadTextures(std::string& error) {
+        for (const UnreadTexture& u : m_unreadUses) {
+            const std::string material = m_scene.materials[u.material].name;
+            const std::string what =
+                "material '" + material + "', " + u.slot + " texture: " + u.why;
+            if (m_options.strict) {
+                error = m_path + ": " + what + " (without --strict it would be " +
+                        (u.slot == std::string("normal") ? "left out" : "shown magenta") + ")";
+                return false;
+            }
+            m_scene.warnings.push_back(
+                what + (u.slot == std::string("normal")
+                            ? "; the normal map is left out"
+                            : "; shown as magenta (1, 0, 1) times the material's factor"));
+        }
         return true;
     }
 
-    bool loadTexture(const std::string& ref, bool srgb, int& index, std::string& error) {
-        // The same file can be a colour (sRGB) and a data texture: one decoding of each.
-        const std::string key = (srgb ? "srgb:" : "data:") + ref;
-        if (auto it = m_textureIndex.find(key); it != m_textureIndex.end()) {
-            index = it->second;
-            return true;
-        }
+    bool decodeTexture(const std::string& ref, bool srgb, int& index, std::string& error) {
         Texture texture;
         if (const aiTexture* embedded = m_ai.GetEmbeddedTexture(ref.c_str())) {
             if (embedded->mHeight != 0) {
-                error = m_path + ": texture " + ref +
-                        ": uncompressed embedded textures are not "
-                        "supported";
+                error = ref + ": uncompressed embedded textures are not supported";
                 return false;
             }
             const std::string hint = std::string("embedded.") + embedded->achFormatHint;
@@ -225,7 +273,6 @@ private:
             if (!detail::loadTexture(texture, file.string(), nullptr, 0, srgb, error)) return false;
         }
         index = int(m_scene.textures.size());
-        m_textureIndex[key] = index;
         m_scene.textures.push_back(std::move(texture));
         return true;
     }
@@ -571,9 +618,19 @@ private:
 
     const aiScene& m_ai;
     const std::string& m_path;
+    const SceneOptions& m_options;
     Scene& m_scene;
     const bool m_gltf;
     std::map<std::string, int> m_textureIndex;
+    // Textures that could not be read, by key, with the reason; each use of one.
+    std::map<std::string, std::string> m_unread;
+    struct UnreadTexture {
+        size_t material;
+        const char* slot;
+        std::string why;
+    };
+    std::vector<UnreadTexture> m_unreadUses;
+    int m_missingTexture = -1; // the magenta texture's index, once made
     long long m_zeroNormals = 0;
     const std::set<std::string> m_nodeNames =
         m_gltf ? detail::gltfNames(m_path, "nodes") : std::set<std::string>{};
@@ -583,7 +640,8 @@ private:
 
 } // namespace
 
-bool loadScene(const std::string& path, Scene& scene, std::string& error) {
+bool loadScene(const std::string& path, Scene& scene, std::string& error,
+               const SceneOptions& options) {
     scene = Scene{};
     if (!std::filesystem::exists(path)) {
         error = path + ": no such file";
@@ -627,7 +685,7 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error) {
                 }
         return false;
     }
-    if (!SceneBuilder(*ai, path, scene).build(error)) return false;
+    if (!SceneBuilder(*ai, path, options, scene).build(error)) return false;
     if (isGltf(path))
         for (const std::string& w : detail::gltfIgnoredFeatures(path))
             scene.warnings.push_back(w);
