@@ -11,6 +11,7 @@
 #include <glm/glm.hpp>
 #include <limits>
 #include <pthread.h>
+#include <tuple>
 
 using namespace dhdr::test;
 
@@ -105,9 +106,8 @@ TEST_F(SceneInput, DegenerateCamerasAreRefused) {
         const std::string file = path("camera_" + k.name + ".gltf");
         const std::string out = path("camera_" + k.name + ".exr");
         writeJson(file, squareWithCamera(k.camera, k.node));
-        expectRefused(run("dhdr-gbuffer " + file + " --size 8x8 -o " + out),
-                      file + ": camera 'shot' cannot be rendered from: ", out);
         const Result refused = run("dhdr-gbuffer " + file + " --size 8x8 -o " + out);
+        expectRefused(refused, file + ": camera 'shot' cannot be rendered from: ", out);
         EXPECT_NE(refused.err.find(k.why), std::string::npos) << k.name << ": " << refused.err;
         // --frame-all keeps the camera's direction: a camera without one is refused too.
         expectRefused(run("dhdr-gbuffer " + file + " --frame-all --size 8x8 -o " + out),
@@ -585,4 +585,35 @@ TEST_F(SceneInput, StrictAppliesWhereverScenesAreLoaded) {
     for (const char* tool : {"dhdr-light", "dhdr-probes"})
         EXPECT_NE(run(std::string(tool) + " --help").out.find("--strict"), std::string::npos)
             << tool;
+}
+
+// A normal-mapped primitive without normals: flat normals and per-triangle tangents from its
+// UVs, so the map bends N as it does on a primitive with normals (test_scene_features.cpp):
+// on a square facing +Z with u along +X and v down the image, the map's (0.8, 0.5, 0.9) is
+// N = (0.6, 0, 0.8) and (0.5, 0.8, 0.9) is (0, 0.6, 0.8), in both of its triangles.
+TEST_F(SceneInput, FlatPrimitivesKeepTheirNormalMaps) {
+    for (const auto& [name, encoded, expected] :
+         std::vector<std::tuple<std::string, glm::vec3, glm::vec3>>{
+             {"x", {0.8f, 0.5f, 0.9f}, {0.6f, 0.0f, 0.8f}},
+             {"y", {0.5f, 0.8f, 0.9f}, {0.0f, 0.6f, 0.8f}}}) {
+        ImageBuf map(OIIO::ImageSpec(4, 4, 3, OIIO::TypeDesc::FLOAT));
+        for (int y = 0; y < 4; ++y)
+            for (int x = 0; x < 4; ++x)
+                map.setpixel(x, y, &encoded[0]);
+        ASSERT_TRUE(map.write(path("bent_" + name + ".png"), OIIO::TypeDesc::UINT8));
+        nlohmann::json doc = texturedSquare("bent", "", "", "bent_" + name + ".png");
+        doc["meshes"][0]["primitives"][0]["attributes"].erase("NORMAL");
+        writeJson(path("bent.gltf"), doc);
+        const Result r = run("dhdr-gbuffer " + path("bent.gltf") +
+                             " --lookat 0,0,3,0,0,0 --size 16x16 -o " + path("bent.exr"));
+        ASSERT_EQ(r.status, 0) << r.err;
+        const ImageBuf g = read("bent.exr");
+        const int n0 = g.spec().channelindex("N.X");
+        for (const auto& [x, y] : {std::pair{5, 9}, {10, 6}}) { // one pixel in each triangle
+            const float* px = static_cast<const float*>(g.pixeladdr(x, y));
+            ASSERT_EQ(px[0], 1.0f);
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(px[n0 + c], expected[c], 0.01f) << name << " " << x << "," << y;
+        }
+    }
 }
