@@ -28,8 +28,9 @@ std::string glbJsonChunk(const std::vector<char>& bytes) {
     return std::string(bytes.data() + 20, length);
 }
 
-// The JSON document of a .gltf or .glb file; discarded when it is neither.
-nlohmann::json readGltfJson(const std::string& path) {
+} // namespace
+
+nlohmann::json gltfJson(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return nlohmann::json(nlohmann::json::value_t::discarded);
     const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
@@ -38,6 +39,8 @@ nlohmann::json readGltfJson(const std::string& path) {
     return nlohmann::json::parse(text.empty() ? std::string(bytes.begin(), bytes.end()) : text,
                                  nullptr, false);
 }
+
+namespace {
 
 // Thrown by the field readers below, caught in gltfLightsByNode.
 struct FieldError {
@@ -66,9 +69,8 @@ glm::vec3 vec3Or(const nlohmann::json& j, const char* key, glm::vec3 fallback) {
 
 } // namespace
 
-std::map<std::string, float> gltfEmissiveStrengths(const std::string& path) {
+std::map<std::string, float> gltfEmissiveStrengths(const nlohmann::json& doc) {
     std::map<std::string, float> out;
-    const nlohmann::json doc = readGltfJson(path);
     if (doc.is_discarded() || !doc.contains("materials")) return out;
     for (const auto& m : doc["materials"]) {
         if (!m.is_object() || !m.contains("name") || !m["name"].is_string()) continue;
@@ -81,10 +83,9 @@ std::map<std::string, float> gltfEmissiveStrengths(const std::string& path) {
     return out;
 }
 
-bool gltfLightsByNode(const std::string& path, std::map<std::string, GltfLight>& out,
+bool gltfLightsByNode(const nlohmann::json& doc, std::map<std::string, GltfLight>& out,
                       std::string& error) {
     out.clear();
-    const nlohmann::json doc = readGltfJson(path);
     if (doc.is_discarded() || !doc.contains("nodes") || !doc["nodes"].is_array() ||
         !doc.contains("extensions") || !doc["extensions"].is_object())
         return true;
@@ -128,9 +129,8 @@ bool gltfLightsByNode(const std::string& path, std::map<std::string, GltfLight>&
     return true;
 }
 
-std::set<std::string> gltfNames(const std::string& path, const char* array) {
+std::set<std::string> gltfNames(const nlohmann::json& doc, const char* array) {
     std::set<std::string> out;
-    const nlohmann::json doc = readGltfJson(path);
     if (doc.is_discarded() || !doc.is_object() || !doc.contains(array) || !doc[array].is_array())
         return out;
     for (const auto& e : doc[array])
@@ -139,9 +139,8 @@ std::set<std::string> gltfNames(const std::string& path, const char* array) {
     return out;
 }
 
-std::map<std::string, GltfCamera> gltfCamerasByNode(const std::string& path) {
+std::map<std::string, GltfCamera> gltfCamerasByNode(const nlohmann::json& doc) {
     std::map<std::string, GltfCamera> out;
-    const nlohmann::json doc = readGltfJson(path);
     if (doc.is_discarded() || !doc.is_object() || !doc.contains("nodes") ||
         !doc["nodes"].is_array() || !doc.contains("cameras") || !doc["cameras"].is_array())
         return out;
@@ -227,9 +226,8 @@ TextureTransform textureTransform(const nlohmann::json& info, bool& otherUvSet) 
 
 } // namespace
 
-std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const std::string& path) {
+std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann::json& doc) {
     std::map<std::string, GltfMaterialTextures> out;
-    const nlohmann::json doc = readGltfJson(path);
     if (doc.is_discarded() || !doc.contains("materials") || !doc["materials"].is_array())
         return out;
     for (const auto& m : doc["materials"]) {
@@ -252,8 +250,7 @@ std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const std::stri
     return out;
 }
 
-std::string gltfEmptySceneReason(const std::string& path) {
-    const nlohmann::json doc = readGltfJson(path);
+std::string gltfEmptySceneReason(const nlohmann::json& doc) {
     if (doc.is_discarded() || !doc.is_object()) return {};
     if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty())
         return "the file has no scene";
@@ -267,11 +264,10 @@ std::string gltfEmptySceneReason(const std::string& path) {
     return {};
 }
 
-std::vector<std::string> gltfIgnoredFeatures(const std::string& path) {
+std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
     static const char* const kRead[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
                                         "KHR_texture_transform"};
     std::vector<std::string> out;
-    const nlohmann::json doc = readGltfJson(path);
     if (doc.is_discarded() || !doc.is_object()) return out;
     if (doc.contains("extensionsUsed") && doc["extensionsUsed"].is_array()) {
         std::string ignored;
@@ -354,20 +350,13 @@ std::vector<size_t> childrenOf(const nlohmann::json& nodes, size_t n) {
 
 } // namespace
 
-bool gltfFlattenDeepNodes(const std::string& path, std::string& bytes, std::string& error) {
+bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& original,
+                          std::string& bytes, std::string& error) {
     bytes.clear();
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return true;
-    const std::vector<char> file((std::istreambuf_iterator<char>(in)),
-                                 std::istreambuf_iterator<char>());
-    const std::string chunk = glbJsonChunk(file);
-    const bool glb = !chunk.empty();
-    nlohmann::json doc =
-        nlohmann::json::parse(glb ? chunk : std::string(file.begin(), file.end()), nullptr, false);
-    if (doc.is_discarded() || !doc.is_object() || !doc.contains("nodes") ||
-        !doc["nodes"].is_array())
+    if (original.is_discarded() || !original.is_object() || !original.contains("nodes") ||
+        !original["nodes"].is_array())
         return true;
-    nlohmann::json& nodes = doc["nodes"];
+    const nlohmann::json& nodes = original["nodes"];
     const size_t count = nodes.size();
 
     // Depth of every node from the nodes no node names as a child, and cycles: a node on the
@@ -420,7 +409,9 @@ bool gltfFlattenDeepNodes(const std::string& path, std::string& bytes, std::stri
         return false;
     }
 
-    // The default scene's nodes, depth first in the file's order, with their world transforms.
+    // The default scene's nodes, depth first in the file's order, with their world transforms,
+    // in a copy of the document.
+    nlohmann::json doc = original;
     if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) return true;
     const size_t sceneIndex =
         doc.contains("scene") && doc["scene"].is_number_unsigned() ? doc["scene"].get<size_t>() : 0;
@@ -442,7 +433,7 @@ bool gltfFlattenDeepNodes(const std::string& path, std::string& bytes, std::stri
     }
     nlohmann::json roots = nlohmann::json::array();
     for (const auto& [n, world] : flat) {
-        nlohmann::json& node = nodes[n];
+        nlohmann::json& node = doc["nodes"][n];
         if (!node.is_object()) continue;
         for (const char* key : {"children", "translation", "rotation", "scale", "matrix"})
             node.erase(key);
@@ -453,6 +444,10 @@ bool gltfFlattenDeepNodes(const std::string& path, std::string& bytes, std::stri
     scene["nodes"] = roots;
 
     std::string text = doc.dump();
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<char> file((std::istreambuf_iterator<char>(in)),
+                                 std::istreambuf_iterator<char>());
+    const bool glb = !glbJsonChunk(file).empty();
     if (!glb) {
         bytes = std::move(text);
         return true;

@@ -89,9 +89,11 @@ private:
 
 class SceneBuilder {
 public:
-    SceneBuilder(const aiScene& ai, const std::string& path, const SceneOptions& options,
-                 Scene& scene)
-        : m_ai(ai), m_path(path), m_options(options), m_scene(scene), m_gltf(isGltf(path)) {}
+    // `doc`: the glTF file's JSON (gltfJson), discarded for other files.
+    SceneBuilder(const aiScene& ai, const std::string& path, const nlohmann::json& doc,
+                 const SceneOptions& options, Scene& scene)
+        : m_ai(ai), m_path(path), m_doc(doc), m_options(options), m_scene(scene),
+          m_gltf(isGltf(path)) {}
 
     bool build(std::string& error) {
         loadMaterials();
@@ -110,8 +112,8 @@ public:
 private:
     void loadMaterials() {
         const auto strengths =
-            m_gltf ? detail::gltfEmissiveStrengths(m_path) : std::map<std::string, float>{};
-        const auto textures = m_gltf ? detail::gltfMaterialTextures(m_path)
+            m_gltf ? detail::gltfEmissiveStrengths(m_doc) : std::map<std::string, float>{};
+        const auto textures = m_gltf ? detail::gltfMaterialTextures(m_doc)
                                      : std::map<std::string, detail::GltfMaterialTextures>{};
         for (unsigned i = 0; i < m_ai.mNumMaterials; ++i) {
             const aiMaterial& am = *m_ai.mMaterials[i];
@@ -494,8 +496,8 @@ private:
         // Assimp 5.2 passes a glTF camera's numbers through floats, folds its aspect ratio into
         // the field of view and reports an absent zfar as a number: glTF cameras come from the
         // file itself (placement from the node), others from Assimp.
-        const auto fromFile = m_gltf ? detail::gltfCamerasByNode(m_path)
-                                     : std::map<std::string, detail::GltfCamera>{};
+        const auto fromFile =
+            m_gltf ? detail::gltfCamerasByNode(m_doc) : std::map<std::string, detail::GltfCamera>{};
         for (unsigned i = 0; i < m_ai.mNumCameras; ++i) {
             const aiCamera& ac = *m_ai.mCameras[i];
             const glm::dmat4 world = nodeWorld(ac.mName);
@@ -567,7 +569,7 @@ private:
         // Assimp 5.2 folds a glTF light's intensity into its colour and drops its range, so
         // for glTF the light's own fields come from the file; placement from the node.
         std::map<std::string, detail::GltfLight> fromFile;
-        if (m_gltf && !detail::gltfLightsByNode(m_path, fromFile, error)) {
+        if (m_gltf && !detail::gltfLightsByNode(m_doc, fromFile, error)) {
             error = m_path + ": " + error;
             return false;
         }
@@ -618,6 +620,7 @@ private:
 
     const aiScene& m_ai;
     const std::string& m_path;
+    const nlohmann::json& m_doc;
     const SceneOptions& m_options;
     Scene& m_scene;
     const bool m_gltf;
@@ -633,9 +636,9 @@ private:
     int m_missingTexture = -1; // the magenta texture's index, once made
     long long m_zeroNormals = 0;
     const std::set<std::string> m_nodeNames =
-        m_gltf ? detail::gltfNames(m_path, "nodes") : std::set<std::string>{};
+        m_gltf ? detail::gltfNames(m_doc, "nodes") : std::set<std::string>{};
     const std::set<std::string> m_meshNames =
-        m_gltf ? detail::gltfNames(m_path, "meshes") : std::set<std::string>{};
+        m_gltf ? detail::gltfNames(m_doc, "meshes") : std::set<std::string>{};
 };
 
 } // namespace
@@ -650,9 +653,12 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error,
     Assimp::Importer importer;
     auto* io = new MtlCleaningIOSystem;
     importer.SetIOHandler(io); // the importer owns it
+    // A glTF file's JSON, read once for what Assimp 5.2 leaves out of it.
+    const nlohmann::json doc =
+        isGltf(path) ? detail::gltfJson(path) : nlohmann::json(nlohmann::json::value_t::discarded);
     if (isGltf(path)) {
         std::string flattened;
-        if (!detail::gltfFlattenDeepNodes(path, flattened, error)) {
+        if (!detail::gltfFlattenDeepNodes(path, doc, flattened, error)) {
             error = path + ": cannot load the scene: " + error;
             return false;
         }
@@ -668,7 +674,7 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error,
     const aiScene* ai = importer.ReadFile(path, flags);
     if (!ai || !ai->mRootNode || (ai->mFlags & AI_SCENE_FLAGS_INCOMPLETE)) {
         std::string reason = importer.GetErrorString();
-        if (reason.empty() && isGltf(path)) reason = detail::gltfEmptySceneReason(path);
+        if (reason.empty() && isGltf(path)) reason = detail::gltfEmptySceneReason(doc);
         if (reason.empty())
             reason = ai && !ai->mRootNode ? "the file has no nodes (no scene to render)"
                                           : "the file holds no scene Assimp can use";
@@ -676,7 +682,7 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error,
         // Assimp's validation refuses some broken glTF cameras (a zfar before the znear) for
         // the whole file: the camera and its fault are named from the file itself.
         if (isGltf(path) && reason.find("aiCamera") != std::string::npos)
-            for (const auto& [node, camera] : detail::gltfCamerasByNode(path))
+            for (const auto& [node, camera] : detail::gltfCamerasByNode(doc))
                 if (!camera.problem.empty()) {
                     error = path + ": camera '" + node +
                             "' cannot be rendered from: " + camera.problem +
@@ -685,9 +691,9 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error,
                 }
         return false;
     }
-    if (!SceneBuilder(*ai, path, options, scene).build(error)) return false;
+    if (!SceneBuilder(*ai, path, doc, options, scene).build(error)) return false;
     if (isGltf(path))
-        for (const std::string& w : detail::gltfIgnoredFeatures(path))
+        for (const std::string& w : detail::gltfIgnoredFeatures(doc))
             scene.warnings.push_back(w);
     if (scene.meshes.empty()) {
         error = path + ": the scene has no triangles";
