@@ -265,7 +265,7 @@ TEST(SceneLoading, GltfFieldOfViewIsYfovWhateverTheAspect) {
     EXPECT_NEAR(scene.cameras[0].aspect, 1.5, 1e-6);
     EXPECT_NEAR(scene.cameras[0].camera.position().x, 1.0, 1e-6);
     EXPECT_NEAR(scene.cameras[0].camera.position().z, 3.0, 1e-6);
-    // No normals in the file: smooth normals are generated.
+    // No normals in the file: flat normals are generated (glTF §3.7.2.1).
     ASSERT_EQ(scene.meshes.size(), 1u);
     EXPECT_NEAR(std::abs(scene.meshes[0].normals[0].z), 1.0f, 1e-6);
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
@@ -53,7 +54,12 @@ int run(int argc, char** argv) {
                       "(docs/ibl.md)");
     cl.flag("--frame-all", frameAll,
             "move the camera (the scene's, --lookat's, or without either one looking from the "
-            "front and a little above) back until the whole scene fits the image");
+            "front and a little above) back until the whole scene fits the image (an error when "
+            "no float camera can: coordinates near 3e38)");
+    bool strict = false;
+    cl.flag("--strict", strict,
+            "a texture the scene names that cannot be read is an error (default: a warning, and "
+            "the material shows magenta (1, 0, 1) times its factor, as in Blender)");
     cl.flag("--info", info,
             "print what the scene holds (bounds, cameras, lights, materials, what is left "
             "out) and exit; needs no -o");
@@ -70,7 +76,7 @@ int run(int argc, char** argv) {
     if (info) {
         Scene scene;
         std::string error;
-        if (!loadScene(path, scene, error)) return tool.fail(error);
+        if (!loadScene(path, scene, error, SceneOptions{strict})) return tool.fail(error);
         std::fputs(app::describeScene(scene, path).c_str(), stdout);
         return app::kExitSuccess;
     }
@@ -125,7 +131,7 @@ int run(int argc, char** argv) {
         const auto t0 = std::chrono::steady_clock::now();
         Scene scene;
         std::string error;
-        if (!loadScene(scenePath, scene, error)) {
+        if (!loadScene(scenePath, scene, error, SceneOptions{strict})) {
             tool.fail(error);
             return false;
         }
@@ -156,6 +162,11 @@ int run(int argc, char** argv) {
                     return false;
                 }
             }
+            if (!chosen->problem.empty()) {
+                tool.fail(scenePath + ": camera '" + chosen->name +
+                          "' cannot be rendered from: " + chosen->problem);
+                return false;
+            }
             camera = chosen->camera;
             tool.info("camera '" + chosen->name + "'");
         } else if (frameAll) {
@@ -173,8 +184,22 @@ int run(int argc, char** argv) {
             else
                 camera.yfov = glm::radians(fov);
         }
-        if (frameAll)
+        if (frameAll) {
             camera = frameScene(scene, camera, double(params.width) / double(params.height));
+            if (const std::string why = camera.problem(); !why.empty()) {
+                const glm::dvec3 lo = scene.boundsMin(), hi = scene.boundsMax();
+                char bounds[160];
+                std::snprintf(bounds, sizeof bounds, "(%g, %g, %g) to (%g, %g, %g)", lo.x, lo.y,
+                              lo.z, hi.x, hi.y, hi.z);
+                tool.fail(scenePath + ": --frame-all cannot frame the scene's bounds, " + bounds +
+                          ": the camera that would fit them cannot be rendered from: " + why);
+                return false;
+            }
+        }
+        if (const std::string why = camera.problem(); !why.empty()) {
+            tool.fail(scenePath + ": the camera cannot be rendered from: " + why);
+            return false;
+        }
         tool.info(camera.orthographic
                       ? "orthographic camera, " + std::to_string(2.0 * camera.ymag) + " units high"
                       : "perspective camera, vertical fov " +

@@ -33,7 +33,8 @@ std::string describeScene(const Scene& scene, const std::string& path) {
                (c.camera.orthographic ? format("orthographic, %g units high", 2.0 * c.camera.ymag)
                                       : format("perspective, vertical fov %.4g degrees",
                                                glm::degrees(c.camera.yfov))) +
-               format(", at (%g, %g, %g)\n", p.x, p.y, p.z);
+               format(", at (%g, %g, %g)", p.x, p.y, p.z) +
+               (c.problem.empty() ? "" : "; unusable: " + c.problem) + "\n";
     }
     out += "  lights      " + std::to_string(scene.lights.size()) + "\n";
     for (const Light& l : scene.lights)

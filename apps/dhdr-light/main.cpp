@@ -58,6 +58,10 @@ int run(int argc, char** argv) {
     cl.option("--scene", scenePath, "FILE",
               "the scene the G-buffer was rendered from: shadows, emissive lights, --ao rt, and "
               "its own lights when no --lights is given");
+    bool strict = false;
+    cl.flag("--strict", strict,
+            "with --scene or --camera-from: a texture the scene names that cannot be read is an "
+            "error (default: a warning, and the material shows magenta)");
     cl.flag("--no-shadows", noShadows,
             "with --scene, trace no shadow rays (the unshadowed reference; AO is still traced)");
     app::addParamOptions(cl, params, kLightingParamTable);
@@ -177,7 +181,7 @@ int run(int argc, char** argv) {
     if (!scenePath.empty()) {
         const auto t = std::chrono::steady_clock::now();
         std::string error;
-        if (!loadScene(scenePath, scene, error)) return tool.fail(error);
+        if (!loadScene(scenePath, scene, error, SceneOptions{strict})) return tool.fail(error);
         for (const std::string& warning : scene.warnings)
             tool.info(scenePath + ": " + warning);
         caster = std::make_unique<RayCaster>(scene);
@@ -265,9 +269,12 @@ int run(int argc, char** argv) {
         }
         Scene cameras;
         std::string error;
-        if (!loadScene(file, cameras, error)) return tool.fail(error);
+        if (!loadScene(file, cameras, error, SceneOptions{strict})) return tool.fail(error);
         for (const SceneCamera& c : cameras.cameras)
             if (name.empty() || c.name == name) {
+                if (!c.problem.empty())
+                    return tool.fail(file + ": camera '" + c.name +
+                                     "' cannot be rendered from: " + c.problem);
                 foreignCamera = c.camera;
                 break;
             }

@@ -45,6 +45,10 @@ int run(int argc, char** argv) {
     cl.option("--emissive-lights", emissive, "on|off",
               "emissive meshes as area lights, as dhdr-light --scene has them (default on); off: "
               "their emission is seen by the probes' rays instead");
+    bool strict = false;
+    cl.flag("--strict", strict,
+            "a texture the scene names that cannot be read is an error (default: a warning, and "
+            "the material shows magenta (1, 0, 1) times its factor)");
     cl.epilog(
         "Example:\n  dhdr-probes testdata/cornell_box.gltf --spacing 0.1 -o cornell.probes.exr\n"
         "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --probes "
@@ -78,9 +82,11 @@ int run(int argc, char** argv) {
     const auto t0 = std::chrono::steady_clock::now();
     Scene scene;
     std::string error;
-    if (!loadScene(path, scene, error)) return tool.fail(error);
+    if (!loadScene(path, scene, error, SceneOptions{strict})) return tool.fail(error);
+    // dhdr-probes is often the first to read the scene (before dhdr-gbuffer, which warns the
+    // same way): what the loader repaired, a missing texture among it, is a warning.
     for (const std::string& warning : scene.warnings)
-        tool.info(path + ": " + warning);
+        tool.warn(path + ": " + warning);
     std::vector<Light> lights = lightsPaths.empty() ? scene.lights : std::vector<Light>{};
     for (const std::string& file : lightsPaths) {
         std::vector<Light> more;

@@ -48,6 +48,12 @@ void writeCryptomatteHeader(OIIO::ImageSpec& spec, const std::string& layer,
         std::snprintf(hex, sizeof hex, "%08x", h);
         std::string quoted;
         for (const char c : names[i]) {
+            if (static_cast<unsigned char>(c) < 0x20) { // a control character: JSON's \u form
+                char escaped[8];
+                std::snprintf(escaped, sizeof escaped, "\\u%04x", unsigned(c));
+                quoted += escaped;
+                continue;
+            }
             if (c == '"' || c == '\\') quoted += '\\';
             quoted += c;
         }

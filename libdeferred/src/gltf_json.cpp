@@ -5,9 +5,13 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <utility>
 #include <vector>
 
 namespace dhdr::detail {
@@ -24,8 +28,9 @@ std::string glbJsonChunk(const std::vector<char>& bytes) {
     return std::string(bytes.data() + 20, length);
 }
 
-// The JSON document of a .gltf or .glb file; discarded when it is neither.
-nlohmann::json readGltfJson(const std::string& path) {
+} // namespace
+
+nlohmann::json gltfJson(const std::string& path) {
     std::ifstream in(path, std::ios::binary);
     if (!in) return nlohmann::json(nlohmann::json::value_t::discarded);
     const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
@@ -34,6 +39,8 @@ nlohmann::json readGltfJson(const std::string& path) {
     return nlohmann::json::parse(text.empty() ? std::string(bytes.begin(), bytes.end()) : text,
                                  nullptr, false);
 }
+
+namespace {
 
 // Thrown by the field readers below, caught in gltfLightsByNode.
 struct FieldError {
@@ -62,9 +69,8 @@ glm::vec3 vec3Or(const nlohmann::json& j, const char* key, glm::vec3 fallback) {
 
 } // namespace
 
-std::map<std::string, float> gltfEmissiveStrengths(const std::string& path) {
+std::map<std::string, float> gltfEmissiveStrengths(const nlohmann::json& doc) {
     std::map<std::string, float> out;
-    const nlohmann::json doc = readGltfJson(path);
     if (doc.is_discarded() || !doc.contains("materials")) return out;
     for (const auto& m : doc["materials"]) {
         if (!m.is_object() || !m.contains("name") || !m["name"].is_string()) continue;
@@ -77,10 +83,9 @@ std::map<std::string, float> gltfEmissiveStrengths(const std::string& path) {
     return out;
 }
 
-bool gltfLightsByNode(const std::string& path, std::map<std::string, GltfLight>& out,
+bool gltfLightsByNode(const nlohmann::json& doc, std::map<std::string, GltfLight>& out,
                       std::string& error) {
     out.clear();
-    const nlohmann::json doc = readGltfJson(path);
     if (doc.is_discarded() || !doc.contains("nodes") || !doc["nodes"].is_array() ||
         !doc.contains("extensions") || !doc["extensions"].is_object())
         return true;
@@ -124,6 +129,74 @@ bool gltfLightsByNode(const std::string& path, std::map<std::string, GltfLight>&
     return true;
 }
 
+std::set<std::string> gltfNames(const nlohmann::json& doc, const char* array) {
+    std::set<std::string> out;
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains(array) || !doc[array].is_array())
+        return out;
+    for (const auto& e : doc[array])
+        if (e.is_object() && e.contains("name") && e["name"].is_string())
+            out.insert(e["name"].get<std::string>());
+    return out;
+}
+
+std::map<std::string, GltfCamera> gltfCamerasByNode(const nlohmann::json& doc) {
+    std::map<std::string, GltfCamera> out;
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains("nodes") ||
+        !doc["nodes"].is_array() || !doc.contains("cameras") || !doc["cameras"].is_array())
+        return out;
+    const nlohmann::json& cameras = doc["cameras"];
+    for (const auto& node : doc["nodes"]) {
+        if (!node.is_object() || !node.contains("name") || !node["name"].is_string() ||
+            !node.contains("camera") || !node["camera"].is_number_unsigned())
+            continue;
+        const size_t index = node["camera"].get<size_t>();
+        if (index >= cameras.size() || !cameras[index].is_object()) continue;
+        const nlohmann::json& c = cameras[index];
+        GltfCamera g;
+        g.name = c.contains("name") && c["name"].is_string() ? c["name"].get<std::string>()
+                                                             : std::to_string(index);
+        // A number a float holds (Assimp reads it into one); its range is Camera::problem's to
+        // judge.
+        auto number = [](const nlohmann::json& j, const char* key, double fallback, bool required) {
+            if (!j.contains(key)) {
+                if (required) throw FieldError{std::string("has no \"") + key + "\""};
+                return fallback;
+            }
+            if (!isFloat(j[key]))
+                throw FieldError{std::string("\"") + key + "\" must be a number a float holds"};
+            return j[key].get<double>();
+        };
+        try {
+            g.orthographic = c.contains("type") && c["type"] == "orthographic";
+            const char* kind = g.orthographic ? "orthographic" : "perspective";
+            if (!c.contains(kind) || !c[kind].is_object())
+                throw FieldError{std::string("has no \"") + kind + "\" object"};
+            const nlohmann::json& p = c[kind];
+            if (g.orthographic) {
+                g.xmag = number(p, "xmag", 0.0, true);
+                g.ymag = number(p, "ymag", 0.0, true);
+                g.znear = number(p, "znear", 0.0, true);
+                g.zfar = number(p, "zfar", 0.0, true);
+            } else {
+                g.yfov = number(p, "yfov", 0.0, true);
+                g.aspectRatio = number(p, "aspectRatio", 0.0, false);
+                if (p.contains("aspectRatio") && !(g.aspectRatio > 0.0))
+                    throw FieldError{"its aspectRatio, " + p["aspectRatio"].dump() +
+                                     ", is not a positive number"};
+                g.znear = number(p, "znear", 0.0, true);
+                g.zfar = number(p, "zfar", 0.0, false);
+                if (p.contains("zfar") && !(g.zfar > g.znear))
+                    throw FieldError{"its zfar, " + p["zfar"].dump() +
+                                     ", is not greater than its znear"};
+            }
+        } catch (const FieldError& e) {
+            g.problem = e.message;
+        }
+        out[node["name"].get<std::string>()] = g;
+    }
+    return out;
+}
+
 namespace {
 
 // KHR_texture_transform of a textureInfo, and whether it asks for a UV set other than 0.
@@ -153,9 +226,8 @@ TextureTransform textureTransform(const nlohmann::json& info, bool& otherUvSet) 
 
 } // namespace
 
-std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const std::string& path) {
+std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann::json& doc) {
     std::map<std::string, GltfMaterialTextures> out;
-    const nlohmann::json doc = readGltfJson(path);
     if (doc.is_discarded() || !doc.contains("materials") || !doc["materials"].is_array())
         return out;
     for (const auto& m : doc["materials"]) {
@@ -178,8 +250,7 @@ std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const std::stri
     return out;
 }
 
-std::string gltfEmptySceneReason(const std::string& path) {
-    const nlohmann::json doc = readGltfJson(path);
+std::string gltfEmptySceneReason(const nlohmann::json& doc) {
     if (doc.is_discarded() || !doc.is_object()) return {};
     if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty())
         return "the file has no scene";
@@ -193,11 +264,10 @@ std::string gltfEmptySceneReason(const std::string& path) {
     return {};
 }
 
-std::vector<std::string> gltfIgnoredFeatures(const std::string& path) {
+std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
     static const char* const kRead[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
                                         "KHR_texture_transform"};
     std::vector<std::string> out;
-    const nlohmann::json doc = readGltfJson(path);
     if (doc.is_discarded() || !doc.is_object()) return out;
     if (doc.contains("extensionsUsed") && doc["extensionsUsed"].is_array()) {
         std::string ignored;
@@ -242,6 +312,162 @@ std::vector<std::string> gltfIgnoredFeatures(const std::string& path) {
         out.push_back("metallic-roughness textures are not read: their factors alone are used");
     if (occlusion) out.push_back("occlusion textures are not read");
     return out;
+}
+
+namespace {
+
+// A node's local transform: its matrix, else translation · rotation · scale; a field of the
+// wrong shape counts as absent (as the rest of the file, Assimp judges it).
+glm::dmat4 localTransform(const nlohmann::json& node) {
+    auto numbers = [&](const char* key, size_t count, std::vector<double>& out) {
+        out.clear();
+        if (!node.contains(key) || !node[key].is_array() || node[key].size() != count) return false;
+        for (const auto& v : node[key]) {
+            if (!v.is_number()) return false;
+            out.push_back(v.get<double>());
+        }
+        return true;
+    };
+    std::vector<double> v;
+    if (numbers("matrix", 16, v)) return glm::make_mat4(v.data());
+    glm::dmat4 m(1.0);
+    if (numbers("translation", 3, v)) m[3] = glm::dvec4(v[0], v[1], v[2], 1.0);
+    if (numbers("rotation", 4, v)) m = m * glm::mat4_cast(glm::dquat(v[3], v[0], v[1], v[2]));
+    if (numbers("scale", 3, v)) m = m * glm::scale(glm::dmat4(1.0), glm::dvec3(v[0], v[1], v[2]));
+    return m;
+}
+
+// The children of node `n` that exist.
+std::vector<size_t> childrenOf(const nlohmann::json& nodes, size_t n) {
+    std::vector<size_t> out;
+    const nlohmann::json& node = nodes[n];
+    if (!node.is_object() || !node.contains("children") || !node["children"].is_array()) return out;
+    for (const auto& c : node["children"])
+        if (c.is_number_unsigned() && c.get<size_t>() < nodes.size())
+            out.push_back(c.get<size_t>());
+    return out;
+}
+
+} // namespace
+
+bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& original,
+                          std::string& bytes, std::string& error) {
+    bytes.clear();
+    if (original.is_discarded() || !original.is_object() || !original.contains("nodes") ||
+        !original["nodes"].is_array())
+        return true;
+    const nlohmann::json& nodes = original["nodes"];
+    const size_t count = nodes.size();
+
+    // Depth of every node from the nodes no node names as a child, and cycles: a node on the
+    // current path met again. An explicit stack of (node, depth, next child to visit).
+    std::vector<std::vector<size_t>> children(count);
+    std::vector<int> parents(count, 0);
+    for (size_t n = 0; n < count; ++n) {
+        children[n] = childrenOf(nodes, n);
+        for (size_t c : children[n])
+            ++parents[c];
+    }
+    enum : char { kUnseen, kOnPath, kDone };
+    std::vector<char> state(count, kUnseen);
+    int deepest = 0;
+    bool shared = false;
+    auto walk = [&](size_t root) {
+        std::vector<std::pair<size_t, size_t>> stack = {{root, 0}}; // node, next child index
+        state[root] = kOnPath;
+        while (!stack.empty()) {
+            deepest = std::max(deepest, int(stack.size()));
+            auto& [n, next] = stack.back();
+            if (next == children[n].size()) {
+                state[n] = kDone;
+                stack.pop_back();
+                continue;
+            }
+            const size_t c = children[n][next++];
+            if (state[c] == kOnPath) {
+                error = "node " + std::to_string(c) +
+                        " is its own ancestor (the nodes form a cycle, not a tree)";
+                return false;
+            }
+            if (state[c] == kDone) {
+                shared = true;
+                continue;
+            }
+            state[c] = kOnPath;
+            stack.emplace_back(c, 0);
+        }
+        return true;
+    };
+    for (size_t n = 0; n < count; ++n)
+        if (parents[n] == 0 && !walk(n)) return false;
+    // What no root reaches lies on a cycle (or hangs from one).
+    for (size_t n = 0; n < count; ++n)
+        if (state[n] == kUnseen && !walk(n)) return false;
+    if (deepest <= kMaxGltfNodeDepth) return true;
+    if (shared) {
+        error = "a node is the child of two nodes (the nodes do not form a tree)";
+        return false;
+    }
+
+    // The default scene's nodes, depth first in the file's order, with their world transforms,
+    // in a copy of the document.
+    nlohmann::json doc = original;
+    if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) return true;
+    const size_t sceneIndex =
+        doc.contains("scene") && doc["scene"].is_number_unsigned() ? doc["scene"].get<size_t>() : 0;
+    if (sceneIndex >= doc["scenes"].size() || !doc["scenes"][sceneIndex].is_object()) return true;
+    nlohmann::json& scene = doc["scenes"][sceneIndex];
+    if (!scene.contains("nodes") || !scene["nodes"].is_array()) return true;
+    std::vector<std::pair<size_t, glm::dmat4>> stack;
+    for (size_t i = scene["nodes"].size(); i-- > 0;)
+        if (scene["nodes"][i].is_number_unsigned() && scene["nodes"][i].get<size_t>() < count)
+            stack.emplace_back(scene["nodes"][i].get<size_t>(), glm::dmat4(1.0));
+    std::vector<std::pair<size_t, glm::dmat4>> flat;
+    while (!stack.empty()) {
+        const auto [n, parent] = stack.back();
+        stack.pop_back();
+        const glm::dmat4 world = parent * localTransform(nodes[n]);
+        flat.emplace_back(n, world);
+        for (size_t i = children[n].size(); i-- > 0;)
+            stack.emplace_back(children[n][i], world);
+    }
+    nlohmann::json roots = nlohmann::json::array();
+    for (const auto& [n, world] : flat) {
+        nlohmann::json& node = doc["nodes"][n];
+        if (!node.is_object()) continue;
+        for (const char* key : {"children", "translation", "rotation", "scale", "matrix"})
+            node.erase(key);
+        const double* m = glm::value_ptr(world);
+        node["matrix"] = std::vector<double>(m, m + 16);
+        roots.push_back(n);
+    }
+    scene["nodes"] = roots;
+
+    std::string text = doc.dump();
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<char> file((std::istreambuf_iterator<char>(in)),
+                                 std::istreambuf_iterator<char>());
+    const bool glb = !glbJsonChunk(file).empty();
+    if (!glb) {
+        bytes = std::move(text);
+        return true;
+    }
+    // A binary glTF: header, the new JSON chunk padded with spaces to 4 bytes, then the
+    // file's other chunks as they were.
+    while (text.size() % 4 != 0)
+        text += ' ';
+    std::uint32_t oldLength = 0;
+    std::memcpy(&oldLength, file.data() + 12, 4);
+    const size_t rest = 20 + size_t(oldLength);
+    const std::uint32_t jsonLength = std::uint32_t(text.size());
+    const std::uint32_t total = std::uint32_t(12 + 8 + text.size() + (file.size() - rest));
+    bytes.assign(file.data(), 8);
+    bytes.append(reinterpret_cast<const char*>(&total), 4);
+    bytes.append(reinterpret_cast<const char*>(&jsonLength), 4);
+    bytes.append("JSON", 4);
+    bytes += text;
+    bytes.append(file.data() + rest, file.size() - rest);
+    return true;
 }
 
 } // namespace dhdr::detail

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <glm/glm.hpp>
+#include <string>
 
 namespace dhdr {
 
@@ -34,6 +35,12 @@ struct Camera {
     // perspective, or glm::ortho for an orthographic camera.
     glm::dmat4 cameraToNDC(double aspect) const;
     glm::dmat4 worldToNDC(double aspect) const { return cameraToNDC(aspect) * worldToCamera(); }
+
+    // Why the camera cannot be rendered from, empty when it can: a camera-to-world matrix that
+    // is not finite, does not fit a float (the G-buffer stores it as one) or is not invertible
+    // (a node scaled by 0); a vertical field of view outside (0°, 180°); ymag not a positive
+    // float; znear not > 0 (perspective) or ≥ 0 (orthographic); zfar not finite or not > znear.
+    std::string problem() const;
 
     // The primary ray through the centre of pixel (x, y) of a width × height image, y down.
     Ray primaryRay(int x, int y, int width, int height) const;

@@ -74,6 +74,9 @@ struct SceneCamera {
     std::string name;
     Camera camera;
     double aspect = 0.0; // width / height from the file, 0 when unknown
+    // Why the camera cannot be rendered from (a node scaled by 0, a field of view of 0, a
+    // field of the wrong type...), empty when it can; the tools refuse it by this message.
+    std::string problem;
 };
 
 struct Scene {
@@ -116,13 +119,24 @@ void addGroundPlane(Scene& scene, float y);
 
 // A camera like `like` (its direction, up and projection) moved so that the scene's bounding
 // sphere just fits an image of `aspect` (width / height): perspective cameras back off along
-// their view axis, orthographic ones also widen their image plane.
+// their view axis, orthographic ones also widen their image plane. Check the result with
+// Camera::problem(): bounds too large for a float camera give one that cannot be used.
 Camera frameScene(const Scene& scene, const Camera& like, double aspect);
 
-// Loads a glTF 2.0 (.gltf, .glb) or OBJ file through Assimp: triangulated, with smooth normals
+// How loadScene treats what it could repair.
+struct SceneOptions {
+    // A texture that cannot be read (missing, undecodable): false, a warning in
+    // Scene::warnings naming the texture and the material, whose texture is then magenta
+    // (1, 0, 1) times its factor, as Blender shows a missing texture (a normal map is left out);
+    // true, an error (the tools' --strict).
+    bool strict = false;
+};
+
+// Loads a glTF 2.0 (.gltf, .glb) or OBJ file through Assimp: triangulated, with flat normals
 // where the file has none, node transforms applied. Works around Assimp 5.2's glTF quirks
 // (docs/scenes.md). On failure returns false with a message in `error`.
-bool loadScene(const std::string& path, Scene& scene, std::string& error);
+bool loadScene(const std::string& path, Scene& scene, std::string& error,
+               const SceneOptions& options = {});
 
 // SHA-1 of the bytes of the scene file at `path` (40 hex digits), the fingerprint dhdr-gbuffer
 // records in the G-buffer (gbuffer::kSceneFingerprint) so that dhdr-light can tell whether
