@@ -34,6 +34,21 @@ protected:
         }
         EXPECT_TRUE(noTemporaries());
     }
+
+    // Copies EXR `from` to `to` with a header that claims size × size pixels, its rows absent
+    // (as tests/test_bad_input.cpp does).
+    static void claimHugeSize(const std::string& from, const std::string& to, int size) {
+        std::string bytes = slurp(from);
+        for (const char* name : {"dataWindow", "displayWindow"}) {
+            const std::string key = std::string(name) + '\0' + "box2i" + '\0';
+            const size_t at = bytes.find(key);
+            ASSERT_NE(at, std::string::npos) << name;
+            const int box[4] = {0, 0, size - 1, size - 1};
+            std::memcpy(&bytes[at + key.size() + 4], box, sizeof box);
+        }
+        bytes.append(size_t(size) * 8, '\0');
+        std::ofstream(to, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+    }
 };
 
 } // namespace
@@ -247,4 +262,94 @@ TEST_F(HostileInput, FramePatternWidthIsBounded) {
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(fs::exists(path("ok.0000000000000001.exr")));
     EXPECT_TRUE(fs::exists(path("ok.0000000000000002.exr")));
+}
+
+// A 65536 × 65536 EXR whose pixels are really there (a constant image, ZIP-compressed to a few
+// MB) streamed through dhdr-bloom or dhdr-tonemap for many minutes. Every tool now refuses an
+// image of more than --max-pixels pixels (default 16384 × 16384) wherever it opens one —
+// colour inputs, G-buffers flat and deep, --gbuffer, --plate, --channels — before any pixel is
+// read or any output opened, and dhdr-gbuffer refuses such a --size; --max-pixels raises the
+// limit (0 lifts it). A real 65536² file is too slow to make here: a 64 × 64 frame under
+// --max-pixels 1000 stands in for it, and a header claiming 65536² for the default limit.
+TEST_F(HostileInput, PixelLimitIsCheckedByEveryTool) {
+    const std::string g64 = path("px_g64.exr"), gd64 = path("px_gd64.exr"),
+                      h64 = path("px_h64.exr"), out = path("px_out.exr");
+    const std::string lights = " --lights " + kLights;
+    const std::string over = "64x64 pixels is more than --max-pixels 1000; give --max-pixels to "
+                             "raise it";
+    // dhdr-gbuffer: --size past the limit is a usage error.
+    expectFailure(run("dhdr-gbuffer " + kCornell + " --size 64x64 --max-pixels 1000 -o " + g64), 2,
+                  "--size 64x64: " + over, g64);
+    ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 64x64 --max-pixels 4096 -o " + g64).status,
+              0);
+    ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 64x64 --deep -o " + gd64).status, 0);
+    ASSERT_EQ(run("dhdr-light " + g64 + lights + " --aovs -o " + h64).status, 0);
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + lights + " -o " + path("px_h.exr")).status, 0);
+    struct Case {
+        std::string command, file; // `file` is the one over the limit
+        bool works = true;         // within the limit; else it fails for another reason
+    };
+    const Case cases[] = {
+        {"dhdr-light " + g64 + lights, g64},
+        {"dhdr-light " + gd64 + lights, gd64},
+        // A dhdr G-buffer is not Blender's passes: within the limit, another complaint.
+        {"dhdr-light " + g64 + lights + " --channels blender", g64, false},
+        // The frame (32 × 24) is within the limit, its plate is not (nor of its size).
+        {"dhdr-light " + path("g.exr") + lights + " --plate " + h64, h64, false},
+        {"dhdr-aa " + h64, h64},
+        {"dhdr-aa " + h64 + " --gbuffer " + g64, h64},
+        {"dhdr-aa " + h64 + " --gbuffer " + gd64, h64},
+        {"dhdr-aa " + path("px_h.exr") + " --gbuffer " + g64, g64, false},
+        {"dhdr-aa " + path("px_h.exr") + " --gbuffer " + gd64, gd64, false},
+        {"dhdr-bloom " + h64, h64},
+        {"dhdr-tonemap " + h64, h64},
+        {"dhdr-tonemap --op reinhard-local " + h64, h64},
+        {"dhdr-tonemap --memory 0 " + h64, h64},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.command);
+        expectFailure(run(c.command + " --max-pixels 1000 -o " + out), 1, c.file + ": " + over,
+                      out);
+        // At the limit, and with no limit, the same command works.
+        for (const char* limit : {" --max-pixels 4096", " --max-pixels 0"}) {
+            const Result r = run(c.command + limit + " -o " + out);
+            if (c.works)
+                EXPECT_EQ(r.status, 0) << limit << ": " << r.err;
+            else
+                EXPECT_EQ(r.err.find("--max-pixels"), std::string::npos) << limit << ": " << r.err;
+            fs::remove(out);
+        }
+    }
+    // Not a count of pixels: usage errors.
+    for (const char* bad : {"-1", "1e9", "x", "99999999999999999999"})
+        expectFailure(run("dhdr-bloom " + h64 + " --max-pixels " + std::string(bad) + " -o " + out),
+                      2, "--max-pixels: '" + std::string(bad) + "' is not a count of pixels", out);
+    // The default limit, 16384 × 16384, against a header that claims 65536 × 65536: refused at
+    // once by every tool that reads an image, naming the file, its size and the limit.
+    claimHugeSize(h64, path("px_huge.exr"), 65536);
+    claimHugeSize(g64, path("px_huge_g.exr"), 65536);
+    const std::string huge = "65536x65536 pixels is more than --max-pixels 268435456 "
+                             "(16384x16384); give --max-pixels to raise it";
+    const Case hugeCases[] = {
+        {"dhdr-bloom " + path("px_huge.exr"), path("px_huge.exr")},
+        {"dhdr-tonemap " + path("px_huge.exr"), path("px_huge.exr")},
+        {"dhdr-aa " + path("px_huge.exr") + " --gbuffer " + g64, path("px_huge.exr")},
+        {"dhdr-aa " + h64 + " --gbuffer " + path("px_huge_g.exr"), path("px_huge_g.exr")},
+        {"dhdr-light " + path("px_huge_g.exr") + lights, path("px_huge_g.exr")},
+    };
+    for (const Case& c : hugeCases) {
+        SCOPED_TRACE(c.command);
+        const auto t = std::chrono::steady_clock::now();
+        expectFailure(run(c.command + " -o " + out), 1, c.file + ": " + huge, out);
+        EXPECT_LT(std::chrono::steady_clock::now() - t, std::chrono::seconds(10));
+    }
+    expectFailure(run("dhdr-gbuffer " + kCornell + " --size 65536x65536 -o " + out), 2,
+                  "--size 65536x65536: " + huge, out);
+    // A header of exactly 16384 × 16384 pixels passes the limit (and fails at its first absent
+    // row, as before).
+    claimHugeSize(h64, path("px_16k.exr"), 16384);
+    const Result r = run("dhdr-tonemap " + path("px_16k.exr") + " -o " + out);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(r.err.find("--max-pixels"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("px_16k.exr: cannot read"), std::string::npos) << r.err;
 }

@@ -1,5 +1,6 @@
 #include "command_line.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +8,39 @@
 #include <sstream>
 
 namespace dhdr::app {
+
+namespace {
+long long g_maxPixels = kDefaultMaxPixels;
+constexpr const char* kPixelLimitText = " pixels is more than --max-pixels ";
+} // namespace
+
+long long maxPixels() {
+    return g_maxPixels;
+}
+void setMaxPixels(long long pixels) {
+    g_maxPixels = pixels;
+}
+
+std::string pixelLimitError(long long width, long long height, long long depth) {
+    const long long limit = g_maxPixels;
+    if (limit <= 0) return {};
+    // In long double: a header's sizes can multiply past 2^63.
+    const long double pixels =
+        (long double)width * (long double)height * (long double)std::max(depth, 1LL);
+    if (pixels <= (long double)limit) return {};
+    std::string text = std::to_string(width) + "x" + std::to_string(height) +
+                       (depth > 1 ? "x" + std::to_string(depth) : std::string()) + kPixelLimitText +
+                       std::to_string(limit);
+    const long long side = std::llround(std::sqrt(double(limit)));
+    if (side * side == limit)
+        text += " (" + std::to_string(side) + "x" + std::to_string(side) + ")";
+    return text + "; give --max-pixels to raise it";
+}
+
+bool isPixelLimitError(const std::string& error) {
+    return error.find(kPixelLimitText) != std::string::npos &&
+           error.find("; give --max-pixels to raise it") != std::string::npos;
+}
 
 CommandLine::CommandLine(std::string tool, std::string synopsis, std::string description)
     : m_tool(std::move(tool)), m_synopsis(std::move(synopsis)),
@@ -119,6 +153,9 @@ void CommandLine::printHelp() const {
                         "output (default: every frame whose input exists)");
     row("--threads N",
         "worker threads (0: one per core; default 0) [0, " + std::to_string(kMaxThreads) + "]");
+    row("--max-pixels N",
+        "refuse an image of more than N pixels (width x height) before reading it (default " +
+            std::to_string(kDefaultMaxPixels) + " = 16384x16384; 0: no limit)");
     row("-v, --verbose", "report what is measured and done");
     row("-q, --quiet", "print nothing but errors");
     row("-h, --help", "show this help and exit");
@@ -205,6 +242,18 @@ int CommandLine::parse(int argc, char** argv) {
             m_threads = int(n);
             continue;
         }
+        if (arg == "--max-pixels") {
+            std::string v;
+            char* end = nullptr;
+            if (!takeValue(v)) return usageError("--max-pixels needs a number");
+            errno = 0;
+            const long long n = std::strtoll(v.c_str(), &end, 10);
+            if (v.empty() || *end != '\0' || errno == ERANGE || n < 0)
+                return usageError("--max-pixels: '" + v +
+                                  "' is not a count of pixels (0: no limit)");
+            m_maxPixels = n;
+            continue;
+        }
         if (arg.size() > 1 && arg[0] == '-') {
             const Option* found = nullptr;
             for (const Option& o : m_options)
@@ -241,6 +290,7 @@ int CommandLine::parse(int argc, char** argv) {
         }
         m_inputs.push_back(arg);
     }
+    setMaxPixels(m_maxPixels);
     return -1;
 }
 

@@ -143,6 +143,10 @@ std::string oneLine(std::string message) {
 
 } // namespace
 
+std::string cannotRead(const std::string& path, const std::string& error) {
+    return path + (isPixelLimitError(error) ? ": " : ": cannot read: ") + oneLine(error);
+}
+
 int Tool::fail(const std::string& message) const {
     std::fprintf(stderr, "%s: error: %s\n", m_name.c_str(), message.c_str());
     return kExitFailure;
@@ -268,6 +272,12 @@ bool findColour(const Tool& tool, const std::string& path, const std::string& la
         tool.fail(path + ": " + error);
         return false;
     }
+    // Before any pixel is read or any output opened.
+    if (const std::string e = pixelLimitError(chosen.width, chosen.height, chosen.depth);
+        !e.empty()) {
+        tool.fail(path + ": " + e);
+        return false;
+    }
     if (layers.size() > 1 || chosen.subimage > 0)
         tool.info(path + ": reading layer '" + chosen.name() + "'");
     return true;
@@ -281,7 +291,7 @@ bool Tool::openColour(const std::string& path, const std::string& layer, bool ke
     if (!findColour(*this, path, layer, chosen)) return false;
     std::string error;
     if (!reader.open(path, chosen, keepOthers, threads(), error)) {
-        fail(path + ": cannot read: " + oneLine(error));
+        fail(cannotRead(path, error));
         return false;
     }
     return true;
@@ -294,7 +304,7 @@ bool Tool::readColour(const std::string& path, const std::string& layer, bool ke
     if (!findColour(*this, path, layer, chosen)) return false;
     std::string error;
     if (!readColourLayer(path, chosen, keepOthers, nthreads, image, formats, error)) {
-        fail(path + ": cannot read: " + oneLine(error));
+        fail(cannotRead(path, error));
         return false;
     }
     return true;

@@ -124,6 +124,12 @@ int run(int argc, char** argv) {
                 }
             }
             probe->seek_subimage(part, 0);
+            if (const std::string e = app::pixelLimitError(
+                    probe->spec().width, probe->spec().height, probe->spec().depth);
+                !e.empty()) {
+                tool.fail(geometryPath + ": " + e);
+                return false;
+            }
             int chbegin = probe->spec().nchannels, chend = 0;
             for (const std::string& name : geometryChannels)
                 if (const int c = probe->spec().channelindex(name); c >= 0) {
@@ -133,7 +139,7 @@ int run(int argc, char** argv) {
             if (chend <= chbegin) chbegin = 0, chend = probe->spec().nchannels;
             // A deep G-buffer: the edges of its front surfaces.
             if (!gbuffer.open(geometryPath, part, chbegin, chend, tool.threads(), error, true)) {
-                tool.fail(geometryPath + ": cannot read: " + error);
+                tool.fail(app::cannotRead(geometryPath, error));
                 return false;
             }
         }

@@ -88,6 +88,10 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-gbuffer: usage error: --size '%s' is not WxH\n", size.c_str());
         return app::kExitUsage;
     }
+    if (const std::string e = app::pixelLimitError(params.width, params.height); !e.empty()) {
+        std::fprintf(stderr, "dhdr-gbuffer: usage error: --size %s: %s\n", size.c_str(), e.c_str());
+        return app::kExitUsage;
+    }
 
     std::optional<Camera> lookatCamera;
     if (!lookat.empty()) {

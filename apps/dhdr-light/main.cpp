@@ -289,6 +289,12 @@ int run(int argc, char** argv) {
     OIIO::ImageBuf plate;
     if (!plateArg.empty() && plateArg != "env") {
         plate.reset(plateArg);
+        // Its header first: a plate over --max-pixels is refused before its pixels are read.
+        if (plate.init_spec(plateArg, 0, 0))
+            if (const std::string e = app::pixelLimitError(plate.spec().width, plate.spec().height,
+                                                           plate.spec().depth);
+                !e.empty())
+                return tool.fail(plateArg + ": " + e);
         if (!plate.read(0, 0, true, OIIO::TypeDesc::FLOAT))
             return tool.fail(plateArg + ": cannot read the plate: " + plate.geterror());
         inputs.plate = &plate;
@@ -366,8 +372,16 @@ int run(int argc, char** argv) {
             return false;
         }
         bool deepInput = false;
-        if (auto probe = OIIO::ImageInput::open(path); probe && probe->seek_subimage(part, 0))
+        if (auto probe = OIIO::ImageInput::open(path); probe && probe->seek_subimage(part, 0)) {
             deepInput = probe->spec().deep;
+            // Flat or deep, before any pixel is read or any output opened.
+            const OIIO::ImageSpec& s = probe->spec();
+            if (const std::string e = app::pixelLimitError(s.width, s.height, s.depth);
+                !e.empty()) {
+                tool.fail(path + ": " + e);
+                return false;
+            }
+        }
         if (deepInput) {
             if (aoMode == "ssao") {
                 tool.fail(path + ": --ao ssao works on flat G-buffers; a deep one needs --ao rt");
@@ -383,7 +397,7 @@ int run(int argc, char** argv) {
         }
         app::StripReader reader;
         if (!reader.open(path, part, 0, 1 << 20, tool.threads(), error)) {
-            tool.fail(path + ": cannot read: " + error);
+            tool.fail(app::cannotRead(path, error));
             return false;
         }
         const OIIO::ImageSpec& gspec = reader.spec();
