@@ -35,6 +35,19 @@ protected:
         EXPECT_TRUE(noTemporaries());
     }
 
+    // run() from the scratch folder, so that files are named there as a user names them
+    // (a name that begins with '-' included).
+    static Result runHere(const std::string& args) {
+        Result r;
+        const std::string cmd = "cd '" + dir.string() + "' && env -u OCIO " + kTools + "/" + args +
+                                " >stdout.txt 2>stderr.txt </dev/null";
+        const int raw = std::system(cmd.c_str());
+        r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+        r.out = slurp(dir / "stdout.txt");
+        r.err = slurp(dir / "stderr.txt");
+        return r;
+    }
+
     // Copies EXR `from` to `to` with a header that claims size × size pixels, its rows absent
     // (as tests/test_bad_input.cpp does).
     static void claimHugeSize(const std::string& from, const std::string& to, int size) {
@@ -352,4 +365,97 @@ TEST_F(HostileInput, PixelLimitIsCheckedByEveryTool) {
     EXPECT_EQ(r.status, 1);
     EXPECT_EQ(r.err.find("--max-pixels"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("px_16k.exr: cannot read"), std::string::npos) << r.err;
+}
+
+// Names the tools wrote but could not read: a file whose name begins with '-' was taken for
+// an option, and one whose name holds '?' was written but OpenImageIO could not open it.
+// `--` now ends the options in every tool, and a file named with '*', '[', a space or a
+// leading '-' goes through the whole chain — written by each tool, read back by the
+// next (dhdr-gbuffer's G-buffer and --lights-out, dhdr-probes, dhdr-ibl, dhdr-light, dhdr-aa,
+// dhdr-bloom, dhdr-tonemap) — run from the files' folder, as a user names them.
+TEST_F(HostileInput, OddFileNamesGoThroughTheChain) {
+    fs::copy_file(kCornell, path("scene.gltf"), fs::copy_options::overwrite_existing);
+    for (const std::string stem : {"st*r", "br[1]", "sp ace", "-x", "--odd"}) {
+        SCOPED_TRACE(stem);
+        auto q = [&](const std::string& suffix) { return " '" + stem + suffix + "'"; };
+        fs::copy_file(path("scene.gltf"), path(stem + ".gltf"));
+        const std::string steps[] = {
+            "dhdr-gbuffer --size 16x12 --lights-out" + q(".lights.json") + " -o" + q(".g.exr") +
+                " --" + q(".gltf"),
+            "dhdr-probes --grid 2,2,2 --lights" + q(".lights.json") + " -o" + q(".p.exr") + " --" +
+                q(".gltf"),
+            // A 2:1 picture for dhdr-ibl to bake.
+            "dhdr-gbuffer --size 32x16 -o" + q(".eg.exr") + " --" + q(".gltf"),
+            "dhdr-light --lights" + q(".lights.json") + " -o" + q(".env.exr") + " --" +
+                q(".eg.exr"),
+            "dhdr-ibl -o" + q(".ibl.exr") + " --" + q(".env.exr"),
+            "dhdr-light --scene" + q(".gltf") + " --lights" + q(".lights.json") + " --lights" +
+                q(".ibl.json") + " --probes" + q(".p.exr") + " -o" + q(".h.exr") + " --" +
+                q(".g.exr"),
+            "dhdr-aa --gbuffer" + q(".g.exr") + " -o" + q(".a.exr") + " --" + q(".h.exr"),
+            "dhdr-bloom -o" + q(".b.exr") + " --" + q(".a.exr"),
+            "dhdr-tonemap -o" + q(".png") + " --" + q(".b.exr"),
+        };
+        for (const std::string& step : steps) {
+            if (step.find("dhdr-light --scene") == 0)
+                std::ofstream(path(stem + ".ibl.json"))
+                    << R"({"lights": [{"type": "environment", "intensity": 0.5, "image": )" << '"'
+                    << stem << ".ibl.exr\"}]}";
+            const Result r = runHere(step);
+            ASSERT_EQ(r.status, 0) << step << ": " << r.err;
+        }
+        EXPECT_EQ(read(stem + ".png").spec().width, 16);
+        EXPECT_TRUE(noTemporaries());
+    }
+    // '?': OpenImageIO takes what follows it in a name for options (file.exr?key=value) and
+    // cannot open such a file, so no tool writes an image under such a name (a usage error
+    // before anything is read) and one given as input is named with the reason. A lights
+    // file (JSON) may still hold '?'.
+    for (const char* c :
+         {"dhdr-gbuffer --size 8x8 -o 'q?.g.exr' -- scene.gltf",
+          "dhdr-bloom -o 'q?.b.exr' -- '-x.a.exr'", "dhdr-ibl -o 'q?.ibl.exr' -- '-x.env.exr'",
+          "dhdr-probes --grid 2,2,2 -o 'q?.p.exr' -- scene.gltf",
+          "dhdr-light --lights '-x.lights.json' -o x.exr --deep-out 'q?.d.exr' -- '-x.g.exr'"}) {
+        SCOPED_TRACE(c);
+        const Result r = runHere(c);
+        EXPECT_EQ(r.status, 2) << r.err;
+        EXPECT_NE(r.err.find("an image whose name holds '?' cannot be read back"),
+                  std::string::npos)
+            << r.err;
+    }
+    for (const auto& e : fs::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().rfind("q?", 0), std::string::npos) << e.path();
+    fs::copy_file(path("-x.a.exr"), path("q?.a.exr"));
+    const Result question = runHere("dhdr-bloom -o out.exr -- 'q?.a.exr'");
+    EXPECT_EQ(question.status, 1) << question.err;
+    EXPECT_NE(question.err.find("q?.a.exr: cannot read: OpenImageIO takes what follows '?'"),
+              std::string::npos)
+        << question.err;
+    ASSERT_EQ(runHere("dhdr-gbuffer --size 8x8 --lights-out 'q?.lights.json' -o q.exr -- "
+                      "scene.gltf")
+                  .status,
+              0);
+    EXPECT_EQ(runHere("dhdr-light --lights 'q?.lights.json' -o q.h.exr -- q.exr").status, 0);
+    // Without `--`, a name that begins with '-' is an unknown option; the message says what
+    // to do.
+    const Result r = runHere("dhdr-bloom -o out.exr -x.a.exr");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("unknown option -x.a.exr"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("after --"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+    // After `--`, everything is a file, even a name spelt like an option.
+    EXPECT_EQ(runHere("dhdr-bloom -o out.exr -- --help").status, 1);
+    // A '#' in a file name stands for a digit of the frame number (docs/tools.md): `a#b.exr`
+    // is a frame pattern, so a single picture cannot be written under that name (a usage
+    // error that says why); with --frames it is a sequence.
+    const Result hash = runHere("dhdr-bloom -o 'a#b.exr' -- '-x.a.exr'");
+    EXPECT_EQ(hash.status, 2) << hash.err;
+    EXPECT_NE(hash.err.find("a#b.exr"), std::string::npos) << hash.err;
+    EXPECT_NE(hash.err.find("frame pattern"), std::string::npos) << hash.err;
+    ASSERT_EQ(runHere("dhdr-gbuffer --size 8x8 --frames 3-3 -o 'a#b.exr' -- scene.gltf").status, 0);
+    EXPECT_TRUE(fs::exists(path("a3b.exr")));
+    EXPECT_EQ(
+        runHere("dhdr-light --lights -x.lights.json --frames 3-3 -o 'c#d.exr' -- 'a#b.exr'").status,
+        0);
+    EXPECT_TRUE(fs::exists(path("c3d.exr")));
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 
 namespace dhdr::app {
@@ -159,6 +160,7 @@ void CommandLine::printHelp() const {
     row("-v, --verbose", "report what is measured and done");
     row("-q, --quiet", "print nothing but errors");
     row("-h, --help", "show this help and exit");
+    row("--", "end of the options: what follows are files (a name beginning with '-')");
     row("--version", "show the version and exit");
     if (!m_epilog.empty()) std::printf("\n%s\n", m_epilog.c_str());
     std::printf("\nExit status: 0 success, 1 failure, 2 usage error.\n");
@@ -184,6 +186,11 @@ void CommandLine::flagWithNumber(const std::string& name, bool& given, std::opti
 int CommandLine::parse(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         std::string arg = argv[i];
+        // `--` ends the options: what follows are files, whatever their names (-x.exr).
+        if (arg == "--") {
+            m_inputs.insert(m_inputs.end(), argv + i + 1, argv + argc);
+            break;
+        }
         std::string value;
         bool hasValue = false;
         if (arg.rfind("--", 0) == 0) {
@@ -258,7 +265,15 @@ int CommandLine::parse(int argc, char** argv) {
             const Option* found = nullptr;
             for (const Option& o : m_options)
                 if (o.name == arg) found = &o;
-            if (!found) return usageError("unknown option " + arg);
+            if (!found) {
+                std::error_code ec;
+                const bool isFile = std::filesystem::exists(argv[i], ec);
+                return usageError(
+                    "unknown option " + arg +
+                    (isFile ? " (a file whose name begins with '-' goes after --: " + m_tool +
+                                  " [options] -- " + std::string(argv[i]) + ")"
+                            : std::string()));
+            }
             if (found->number) {
                 *found->flag = true;
                 std::string v = hasValue ? value : (i + 1 < argc ? argv[i + 1] : "");

@@ -144,6 +144,10 @@ std::string oneLine(std::string message) {
 } // namespace
 
 std::string cannotRead(const std::string& path, const std::string& error) {
+    if (path.find('?') != std::string::npos &&
+        error.find("malformed filename") != std::string::npos)
+        return path + ": cannot read: OpenImageIO takes what follows '?' in a file name for "
+                      "options (file.exr?key=value); rename the file without '?'";
     return path + (isPixelLimitError(error) ? ": " : ": cannot read: ") + oneLine(error);
 }
 
@@ -183,6 +187,20 @@ int Tool::start(const std::vector<std::string>& inputs, const std::string& out) 
                              m_name.c_str(), f.path.c_str(), kMaxFrameWidth);
                 return kExitUsage;
             }
+    // OpenImageIO reads what follows a '?' in an image's name as options (file.exr?key=value)
+    // and refuses the name otherwise: an image written under it could never be read back.
+    for (const NamedFile& f : outs) {
+        std::string ext = fs::path(f.path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+        if (f.path.find('?') != std::string::npos && ext != ".json") {
+            std::fprintf(stderr,
+                         "%s: usage error: %s: an image whose name holds '?' cannot be read back "
+                         "(OpenImageIO takes what follows '?' for options: file.exr?key=value); "
+                         "choose a name without '?'\n",
+                         m_name.c_str(), f.path.c_str());
+            return kExitUsage;
+        }
+    }
     if (!outputsAreTheirOwn(in, outs)) return kExitUsage;
     std::error_code ec;
     const fs::path folder = fs::absolute(fs::path(out)).parent_path();
@@ -265,7 +283,7 @@ bool findColour(const Tool& tool, const std::string& path, const std::string& la
     std::vector<ColourLayer> layers;
     std::string error;
     if (!listColourLayers(path, layers, error)) {
-        tool.fail(path + ": cannot read: " + oneLine(error));
+        tool.fail(cannotRead(path, error));
         return false;
     }
     if (!chooseColourLayer(layers, layer, chosen, error)) {

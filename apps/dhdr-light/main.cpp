@@ -366,9 +366,8 @@ int run(int argc, char** argv) {
         std::string error;
         const int part = gbuffer::findGBufferPart(path, error);
         if (part < 0) {
-            tool.fail(
-                path + ": " +
-                (error.find("G-buffer") != std::string::npos ? error : "cannot read: " + error));
+            tool.fail(error.find("G-buffer") != std::string::npos ? path + ": " + error
+                                                                  : app::cannotRead(path, error));
             return false;
         }
         bool deepInput = false;
