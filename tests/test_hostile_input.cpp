@@ -459,3 +459,69 @@ TEST_F(HostileInput, OddFileNamesGoThroughTheChain) {
         0);
     EXPECT_TRUE(fs::exists(path("c3d.exr")));
 }
+
+// Ranges were checked in double and the values used as float: --ao-distance 1e-50 passed
+// (0, 1e30] and became 0, --bloom's --threshold 0.99999999999 passed [0, 1) and became 1,
+// --key 1e-50 passed (0, 100] and became 0, --ground-plane and --background took 1e39 and
+// became +Inf. Every option whose value ends in a float is now checked as that float, and the
+// numbers of a lights file must be ones a float holds (0, or 1.4e-45 to 3.4e38 in magnitude).
+TEST_F(HostileInput, FloatOptionsAreCheckedAsFloats) {
+    const std::string g = path("g.exr"), h = path("fl_h.exr"), out = path("fl_out.exr");
+    ASSERT_EQ(run("dhdr-light " + g + " --lights " + kLights + " --aovs -o " + h).status, 0);
+    const std::string light = "dhdr-light " + g + " --lights " + kLights;
+    struct Case {
+        std::string command, message;
+    };
+    const Case cases[] = {
+        {"dhdr-bloom " + h + " --key 1e-50", "--key: 1e-50 is outside (0, 100] as a float (0)"},
+        {"dhdr-bloom " + h + " --threshold 0.99999999999",
+         "--threshold: 0.99999999999 is outside [0, 1) as a float (1)"},
+        {"dhdr-bloom " + h + " --sigma 1e39", "--sigma: 1e39 is outside [0, 64]"},
+        {light + " --ao ssao --ao-distance 1e-50",
+         "--ao-distance: 1e-50 is outside (0, 1e+30] as a float (0)"},
+        {light + " --background 1e39,0,0", "--background: 1e39 is more than a float holds"},
+        {"dhdr-aa " + h + " --normal-weight 1e39", "--normal-weight: 1e39 is outside [0, 1e+06]"},
+        {"dhdr-gbuffer " + kCornell + " --size 8x8 --ground-plane 1e39",
+         "--ground-plane: 1e39 is outside [-1e+30, 1e+30]"},
+        {"dhdr-gbuffer " + kCornell + " --size 8x8 --ground-plane=-1e39",
+         "--ground-plane: -1e39 is outside [-1e+30, 1e+30]"},
+        {"dhdr-gbuffer " + kCornell + " --size 8x8 --lookat 1e39,0,0,0,0,0",
+         "--lookat: 1e39 is more than a float holds"},
+        {"dhdr-tonemap " + h + " --white 1e999", "--white must be a positive number"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.command);
+        expectFailure(run(c.command + " -o " + out), 2, c.message, out);
+    }
+    // Values a float holds within the range still work.
+    for (const std::string& ok : {"dhdr-bloom " + h + " --key 1e-30 --threshold 0.9999999",
+                                  light + " --ao ssao --ao-distance 1e-30 --background 1e38,0,0,1",
+                                  "dhdr-gbuffer " + kCornell + " --size 8x8 --ground-plane -1e30",
+                                  "dhdr-aa " + h + " --normal-weight 1e-50"}) {
+        SCOPED_TRACE(ok);
+        const Result r = run(ok + " -o " + out);
+        EXPECT_EQ(r.status, 0) << r.err;
+        fs::remove(out);
+    }
+    // A lights file: 1e39 (refused before) and a non-zero number that a float rounds to 0.
+    const std::string holds = "must be a number that a float holds (0, or 1.4e-45 to 3.4e38 in "
+                              "magnitude)";
+    std::ofstream(path("fl_big.json"))
+        << R"([{"type": "point", "position": [0.28, 0.45, 0.28], "intensity": 1e39}])";
+    std::ofstream(path("fl_tiny.json"))
+        << R"([{"type": "point", "position": [0.28, 0.45, 0.28], "color": [1e-50, 1, 1]}])";
+    std::ofstream(path("fl_range.json"))
+        << R"([{"type": "point", "position": [0.28, 0.45, 0.28], "range": 1e-50}])";
+    std::ofstream(path("fl_ok.json")) << R"([{"type": "point", "position": [0.28, 0.45, 0.28],
+                                              "color": [1e-30, 1, 1], "range": 1e-44}])";
+    const std::string lit = "dhdr-light " + g + " -o " + out + " --lights ";
+    expectFailure(run(lit + path("fl_big.json")), 1, "fl_big.json: light 0: \"intensity\" " + holds,
+                  out);
+    expectFailure(run(lit + path("fl_tiny.json")), 1,
+                  "fl_tiny.json: light 0: \"color\" must be an array of 3 numbers that a float "
+                  "holds",
+                  out);
+    expectFailure(run(lit + path("fl_range.json")), 1, "fl_range.json: light 0: \"range\" " + holds,
+                  out);
+    EXPECT_EQ(run(lit + path("fl_ok.json")).status, 0);
+}

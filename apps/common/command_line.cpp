@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace dhdr::app {
 
@@ -115,6 +117,49 @@ void CommandLine::option(const std::string& name, double& target, const std::str
            });
 }
 
+namespace {
+
+// The number `v` (as given) checked as the float it becomes against `range`; empty when fine.
+std::string checkAsFloat(const std::string& v, double d, const CommandLine::Range& range) {
+    if (!range.contains(d)) return v + " is outside " + range.text();
+    // Against the range's ends as floats too: 1e30 is not a float, and the float nearest it
+    // is a little larger.
+    const float f = float(d);
+    const CommandLine::Range asFloat{double(float(range.lo)), double(float(range.hi)), range.openLo,
+                                     range.openHi};
+    if (!asFloat.contains(double(f))) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", double(f));
+        return v + " is outside " + range.text() + " as a float (" + text + ")";
+    }
+    return {};
+}
+
+void requireFloatRange(const std::string& name, const CommandLine::Range& range) {
+    const double largest = double(std::numeric_limits<float>::max());
+    if (!(std::fabs(range.lo) <= largest && std::fabs(range.hi) <= largest))
+        throw std::logic_error(name + ": the range of a float option must fit a float");
+}
+
+} // namespace
+
+void CommandLine::option(const std::string& name, float& target, const std::string& metavar,
+                         const std::string& help, Range range) {
+    requireFloatRange(name, range);
+    option(name, metavar, help + " " + range.text(),
+           [&target, range](const std::string& v, std::string& err) {
+               char* end = nullptr;
+               const double d = std::strtod(v.c_str(), &end);
+               if (v.empty() || *end != '\0' || !std::isfinite(d)) {
+                   err = "'" + v + "' is not a finite number";
+                   return false;
+               }
+               if (err = checkAsFloat(v, d, range); !err.empty()) return false;
+               target = float(d);
+               return true;
+           });
+}
+
 void CommandLine::option(const std::string& name, int& target, const std::string& metavar,
                          const std::string& help, int lo, int hi) {
     const Range range{double(lo), double(hi)};
@@ -173,11 +218,13 @@ int CommandLine::usageError(const std::string& message) const {
 }
 
 void CommandLine::flagWithNumber(const std::string& name, bool& given, std::optional<double>& value,
-                                 const std::string& metavar, const std::string& help) {
+                                 const std::string& metavar, const std::string& help, Range range) {
+    requireFloatRange(name, range);
     Option o;
     o.name = name;
     o.metavar = "[" + metavar + "]";
-    o.help = help;
+    o.help = help + " " + range.text();
+    o.numberRange = range;
     o.flag = &given;
     o.number = &value;
     m_options.push_back(o);
@@ -281,6 +328,9 @@ int CommandLine::parse(int argc, char** argv) {
                 const double d = std::strtod(v.c_str(), &end);
                 const bool isNumber = !v.empty() && *end == '\0' && std::isfinite(d);
                 if (hasValue && !isNumber) return usageError(arg + ": '" + v + "' is not a number");
+                if (isNumber)
+                    if (const std::string e = checkAsFloat(v, d, found->numberRange); !e.empty())
+                        return usageError(arg + ": " + e);
                 if (isNumber) {
                     *found->number = d;
                     if (!hasValue) ++i;
@@ -333,6 +383,24 @@ bool parseNumbers(const std::string& text, std::vector<double>& values, size_t c
         values.push_back(d);
     }
     return count == 0 ? !values.empty() : values.size() == count;
+}
+
+std::string floatProblem(double value, const std::string& text) {
+    const float f = float(value);
+    if (!std::isfinite(f)) return text + " is more than a float holds (3.4e38 in magnitude)";
+    return {};
+}
+
+bool parseFloatNumbers(const std::string& text, std::vector<double>& values, size_t count,
+                       std::string& error) {
+    if (!parseNumbers(text, values, count)) return false;
+    std::stringstream in(text);
+    std::string item;
+    for (double v : values) {
+        std::getline(in, item, ',');
+        if (error = floatProblem(v, item); !error.empty()) return false;
+    }
+    return true;
 }
 
 } // namespace dhdr::app

@@ -60,12 +60,18 @@ public:
     };
     void option(const std::string& name, double& target, const std::string& metavar,
                 const std::string& help, Range range);
+    // A number stored as a float: checked as the float it becomes, so that 1e39 (+Inf as a
+    // float) or 1e-50 (0) cannot pass a range that the double would; `range` must lie within
+    // a float's (±3.4e38).
+    void option(const std::string& name, float& target, const std::string& metavar,
+                const std::string& help, Range range);
     void option(const std::string& name, int& target, const std::string& metavar,
                 const std::string& help, int lo, int hi);
     // A switch with an optional number after it (`--ground-plane` or `--ground-plane 0.2`,
     // `--ground-plane=0.2`): `given` is set, and `value` when a number follows.
+    // The number must lie in `range` as the float it becomes (the value is used as a float).
     void flagWithNumber(const std::string& name, bool& given, std::optional<double>& value,
-                        const std::string& metavar, const std::string& help);
+                        const std::string& metavar, const std::string& help, Range range);
     // Marks the option `name` (declared before) as naming a file read or written. `path`
     // turns a value into the file it names, or "" for a keyword that names none (--plate
     // env); by default the value itself.
@@ -99,6 +105,7 @@ private:
         std::function<bool(const std::string&, std::string&)> parse; // null for flags
         bool* flag = nullptr;
         std::optional<double>* number = nullptr; // flagWithNumber's value
+        Range numberRange{0.0, 0.0};             // and its range
         std::optional<FileRole> role;            // namesFile
         std::function<std::string(const std::string&)> filePath;
     };
@@ -124,5 +131,12 @@ inline constexpr int kMaxThreads = 512;
 bool parseSize(const std::string& text, int& width, int& height);
 // "a,b,c,..." → finite numbers; false unless exactly `count` (count 0: any).
 bool parseNumbers(const std::string& text, std::vector<double>& values, size_t count = 0);
+// Empty when `value`, stored as a float, stays finite; else "V is more than a float holds
+// (3.4e38 in magnitude)" (V as given in `text`). (A value that a float rounds to 0 is left to
+// the range of the option that takes it: CommandLine's float options.)
+std::string floatProblem(double value, const std::string& text);
+// parseNumbers for values used as floats: false with `error` (floatProblem) when one is not.
+bool parseFloatNumbers(const std::string& text, std::vector<double>& values, size_t count,
+                       std::string& error);
 
 } // namespace dhdr::app

@@ -50,7 +50,8 @@ int run(int argc, char** argv) {
     cl.flagWithNumber("--ground-plane", groundPlane, groundY, "Y",
                       "add an infinite horizontal plane at height Y (default: the scene's lowest "
                       "point) that dhdr-light treats as a shadow catcher for compositing "
-                      "(docs/ibl.md)");
+                      "(docs/ibl.md)",
+                      {-1e30, 1e30});
     cl.flag("--frame-all", frameAll,
             "move the camera (the scene's, --lookat's, or without either one looking from the "
             "front and a little above) back until the whole scene fits the image");
@@ -96,8 +97,11 @@ int run(int argc, char** argv) {
     std::optional<Camera> lookatCamera;
     if (!lookat.empty()) {
         std::vector<double> v;
-        if (!app::parseNumbers(lookat, v) || (v.size() != 6 && v.size() != 9)) {
-            std::fprintf(stderr, "dhdr-gbuffer: usage error: --lookat needs 6 or 9 numbers\n");
+        std::string error;
+        if (!app::parseFloatNumbers(lookat, v, 0, error) || (v.size() != 6 && v.size() != 9)) {
+            // The camera's rays are traced in float (Embree).
+            std::fprintf(stderr, "dhdr-gbuffer: usage error: --lookat%s\n",
+                         error.empty() ? " needs 6 or 9 numbers" : (": " + error).c_str());
             return app::kExitUsage;
         }
         const glm::dvec3 up = v.size() == 9 ? glm::dvec3(v[6], v[7], v[8]) : glm::dvec3(0, 1, 0);

@@ -47,7 +47,7 @@ int run(int argc, char** argv) {
     // The counts' options, ranges and defaults come from the library's table.
     LightingParams params;
     params.aoSamples = 16; // with --ao rt or ssao; 0 when AO is off
-    double aoDistance = 1.0;
+    float aoDistance = 1.0f;
     cl.option("--lights", "FILE",
               "lights file (JSON, docs/lights.md); repeat to add the lights of several; "
               "replaces the scene's own punctual lights; needed without --scene",
@@ -150,8 +150,10 @@ int run(int argc, char** argv) {
         params.environmentBackground = true;
     } else if (!background.empty()) {
         std::vector<double> v;
-        if (!app::parseNumbers(background, v) || (v.size() != 3 && v.size() != 4)) {
-            std::fprintf(stderr, "dhdr-light: usage error: --background needs 3 or 4 numbers\n");
+        std::string error;
+        if (!app::parseFloatNumbers(background, v, 0, error) || (v.size() != 3 && v.size() != 4)) {
+            std::fprintf(stderr, "dhdr-light: usage error: --background%s\n",
+                         error.empty() ? " needs 3 or 4 numbers" : (": " + error).c_str());
             return app::kExitUsage;
         }
         for (size_t i = 0; i < 4; ++i)
@@ -162,10 +164,10 @@ int run(int argc, char** argv) {
     SsaoParams ssao;
     ssao.samples = params.aoSamples;
     params.aoSamples = aoMode == "rt" ? params.aoSamples : 0;
-    params.aoDistance = float(aoDistance);
+    params.aoDistance = aoDistance;
     params.writeAO = aovs && aoMode != "off";
     params.writeIndirect = aovs && !probesPath.empty();
-    ssao.radius = float(aoDistance);
+    ssao.radius = aoDistance;
     if (aoMode == "ssao")
         if (const std::string e = checkRanges(ssao, kSsaoParamTable); !e.empty())
             return usage(e + " with --ao ssao");
