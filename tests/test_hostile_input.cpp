@@ -34,6 +34,34 @@ protected:
         }
         EXPECT_TRUE(noTemporaries());
     }
+
+    // run() from the scratch folder, so that files are named there as a user names them
+    // (a name that begins with '-' included).
+    static Result runHere(const std::string& args) {
+        Result r;
+        const std::string cmd = "cd '" + dir.string() + "' && env -u OCIO " + kTools + "/" + args +
+                                " >stdout.txt 2>stderr.txt </dev/null";
+        const int raw = std::system(cmd.c_str());
+        r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+        r.out = slurp(dir / "stdout.txt");
+        r.err = slurp(dir / "stderr.txt");
+        return r;
+    }
+
+    // Copies EXR `from` to `to` with a header that claims size × size pixels, its rows absent
+    // (as tests/test_bad_input.cpp does).
+    static void claimHugeSize(const std::string& from, const std::string& to, int size) {
+        std::string bytes = slurp(from);
+        for (const char* name : {"dataWindow", "displayWindow"}) {
+            const std::string key = std::string(name) + '\0' + "box2i" + '\0';
+            const size_t at = bytes.find(key);
+            ASSERT_NE(at, std::string::npos) << name;
+            const int box[4] = {0, 0, size - 1, size - 1};
+            std::memcpy(&bytes[at + key.size() + 4], box, sizeof box);
+        }
+        bytes.append(size_t(size) * 8, '\0');
+        std::ofstream(to, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+    }
 };
 
 } // namespace
@@ -247,4 +275,253 @@ TEST_F(HostileInput, FramePatternWidthIsBounded) {
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(fs::exists(path("ok.0000000000000001.exr")));
     EXPECT_TRUE(fs::exists(path("ok.0000000000000002.exr")));
+}
+
+// A 65536 × 65536 EXR whose pixels are really there (a constant image, ZIP-compressed to a few
+// MB) streamed through dhdr-bloom or dhdr-tonemap for many minutes. Every tool now refuses an
+// image of more than --max-pixels pixels (default 16384 × 16384) wherever it opens one —
+// colour inputs, G-buffers flat and deep, --gbuffer, --plate, --channels — before any pixel is
+// read or any output opened, and dhdr-gbuffer refuses such a --size; --max-pixels raises the
+// limit (0 lifts it). A real 65536² file is too slow to make here: a 64 × 64 frame under
+// --max-pixels 1000 stands in for it, and a header claiming 65536² for the default limit.
+TEST_F(HostileInput, PixelLimitIsCheckedByEveryTool) {
+    const std::string g64 = path("px_g64.exr"), gd64 = path("px_gd64.exr"),
+                      h64 = path("px_h64.exr"), out = path("px_out.exr");
+    const std::string lights = " --lights " + kLights;
+    const std::string over = "64x64 pixels is more than --max-pixels 1000; give --max-pixels to "
+                             "raise it";
+    // dhdr-gbuffer: --size past the limit is a usage error.
+    expectFailure(run("dhdr-gbuffer " + kCornell + " --size 64x64 --max-pixels 1000 -o " + g64), 2,
+                  "--size 64x64: " + over, g64);
+    ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 64x64 --max-pixels 4096 -o " + g64).status,
+              0);
+    ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 64x64 --deep -o " + gd64).status, 0);
+    ASSERT_EQ(run("dhdr-light " + g64 + lights + " --aovs -o " + h64).status, 0);
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + lights + " -o " + path("px_h.exr")).status, 0);
+    struct Case {
+        std::string command, file; // `file` is the one over the limit
+        bool works = true;         // within the limit; else it fails for another reason
+    };
+    const Case cases[] = {
+        {"dhdr-light " + g64 + lights, g64},
+        {"dhdr-light " + gd64 + lights, gd64},
+        // A dhdr G-buffer is not Blender's passes: within the limit, another complaint.
+        {"dhdr-light " + g64 + lights + " --channels blender", g64, false},
+        // The frame (32 × 24) is within the limit, its plate is not (nor of its size).
+        {"dhdr-light " + path("g.exr") + lights + " --plate " + h64, h64, false},
+        {"dhdr-aa " + h64, h64},
+        {"dhdr-aa " + h64 + " --gbuffer " + g64, h64},
+        {"dhdr-aa " + h64 + " --gbuffer " + gd64, h64},
+        {"dhdr-aa " + path("px_h.exr") + " --gbuffer " + g64, g64, false},
+        {"dhdr-aa " + path("px_h.exr") + " --gbuffer " + gd64, gd64, false},
+        {"dhdr-bloom " + h64, h64},
+        {"dhdr-tonemap " + h64, h64},
+        {"dhdr-tonemap --op reinhard-local " + h64, h64},
+        {"dhdr-tonemap --memory 0 " + h64, h64},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.command);
+        expectFailure(run(c.command + " --max-pixels 1000 -o " + out), 1, c.file + ": " + over,
+                      out);
+        // At the limit, and with no limit, the same command works.
+        for (const char* limit : {" --max-pixels 4096", " --max-pixels 0"}) {
+            const Result r = run(c.command + limit + " -o " + out);
+            if (c.works)
+                EXPECT_EQ(r.status, 0) << limit << ": " << r.err;
+            else
+                EXPECT_EQ(r.err.find("--max-pixels"), std::string::npos) << limit << ": " << r.err;
+            fs::remove(out);
+        }
+    }
+    // Not a count of pixels: usage errors.
+    for (const char* bad : {"-1", "1e9", "x", "99999999999999999999"})
+        expectFailure(run("dhdr-bloom " + h64 + " --max-pixels " + std::string(bad) + " -o " + out),
+                      2, "--max-pixels: '" + std::string(bad) + "' is not a count of pixels", out);
+    // The default limit, 16384 × 16384, against a header that claims 65536 × 65536: refused at
+    // once by every tool that reads an image, naming the file, its size and the limit.
+    claimHugeSize(h64, path("px_huge.exr"), 65536);
+    claimHugeSize(g64, path("px_huge_g.exr"), 65536);
+    const std::string huge = "65536x65536 pixels is more than --max-pixels 268435456 "
+                             "(16384x16384); give --max-pixels to raise it";
+    const Case hugeCases[] = {
+        {"dhdr-bloom " + path("px_huge.exr"), path("px_huge.exr")},
+        {"dhdr-tonemap " + path("px_huge.exr"), path("px_huge.exr")},
+        {"dhdr-aa " + path("px_huge.exr") + " --gbuffer " + g64, path("px_huge.exr")},
+        {"dhdr-aa " + h64 + " --gbuffer " + path("px_huge_g.exr"), path("px_huge_g.exr")},
+        {"dhdr-light " + path("px_huge_g.exr") + lights, path("px_huge_g.exr")},
+    };
+    for (const Case& c : hugeCases) {
+        SCOPED_TRACE(c.command);
+        const auto t = std::chrono::steady_clock::now();
+        expectFailure(run(c.command + " -o " + out), 1, c.file + ": " + huge, out);
+        EXPECT_LT(std::chrono::steady_clock::now() - t, std::chrono::seconds(10));
+    }
+    expectFailure(run("dhdr-gbuffer " + kCornell + " --size 65536x65536 -o " + out), 2,
+                  "--size 65536x65536: " + huge, out);
+    // A header of exactly 16384 × 16384 pixels passes the limit (and fails at its first absent
+    // row, as before).
+    claimHugeSize(h64, path("px_16k.exr"), 16384);
+    const Result r = run("dhdr-tonemap " + path("px_16k.exr") + " -o " + out);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_EQ(r.err.find("--max-pixels"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("px_16k.exr: cannot read"), std::string::npos) << r.err;
+}
+
+// Names the tools wrote but could not read: a file whose name begins with '-' was taken for
+// an option, and one whose name holds '?' was written but OpenImageIO could not open it.
+// `--` now ends the options in every tool, and a file named with '*', '[', a space or a
+// leading '-' goes through the whole chain — written by each tool, read back by the
+// next (dhdr-gbuffer's G-buffer and --lights-out, dhdr-probes, dhdr-ibl, dhdr-light, dhdr-aa,
+// dhdr-bloom, dhdr-tonemap) — run from the files' folder, as a user names them.
+TEST_F(HostileInput, OddFileNamesGoThroughTheChain) {
+    fs::copy_file(kCornell, path("scene.gltf"), fs::copy_options::overwrite_existing);
+    for (const std::string stem : {"st*r", "br[1]", "sp ace", "-x", "--odd"}) {
+        SCOPED_TRACE(stem);
+        auto q = [&](const std::string& suffix) { return " '" + stem + suffix + "'"; };
+        fs::copy_file(path("scene.gltf"), path(stem + ".gltf"));
+        const std::string steps[] = {
+            "dhdr-gbuffer --size 16x12 --lights-out" + q(".lights.json") + " -o" + q(".g.exr") +
+                " --" + q(".gltf"),
+            "dhdr-probes --grid 2,2,2 --lights" + q(".lights.json") + " -o" + q(".p.exr") + " --" +
+                q(".gltf"),
+            // A 2:1 picture for dhdr-ibl to bake.
+            "dhdr-gbuffer --size 32x16 -o" + q(".eg.exr") + " --" + q(".gltf"),
+            "dhdr-light --lights" + q(".lights.json") + " -o" + q(".env.exr") + " --" +
+                q(".eg.exr"),
+            "dhdr-ibl -o" + q(".ibl.exr") + " --" + q(".env.exr"),
+            "dhdr-light --scene" + q(".gltf") + " --lights" + q(".lights.json") + " --lights" +
+                q(".ibl.json") + " --probes" + q(".p.exr") + " -o" + q(".h.exr") + " --" +
+                q(".g.exr"),
+            "dhdr-aa --gbuffer" + q(".g.exr") + " -o" + q(".a.exr") + " --" + q(".h.exr"),
+            "dhdr-bloom -o" + q(".b.exr") + " --" + q(".a.exr"),
+            "dhdr-tonemap -o" + q(".png") + " --" + q(".b.exr"),
+        };
+        for (const std::string& step : steps) {
+            if (step.find("dhdr-light --scene") == 0)
+                std::ofstream(path(stem + ".ibl.json"))
+                    << R"({"lights": [{"type": "environment", "intensity": 0.5, "image": )" << '"'
+                    << stem << ".ibl.exr\"}]}";
+            const Result r = runHere(step);
+            ASSERT_EQ(r.status, 0) << step << ": " << r.err;
+        }
+        EXPECT_EQ(read(stem + ".png").spec().width, 16);
+        EXPECT_TRUE(noTemporaries());
+    }
+    // '?': OpenImageIO takes what follows it in a name for options (file.exr?key=value) and
+    // cannot open such a file, so no tool writes an image under such a name (a usage error
+    // before anything is read) and one given as input is named with the reason. A lights
+    // file (JSON) may still hold '?'.
+    for (const char* c :
+         {"dhdr-gbuffer --size 8x8 -o 'q?.g.exr' -- scene.gltf",
+          "dhdr-bloom -o 'q?.b.exr' -- '-x.a.exr'", "dhdr-ibl -o 'q?.ibl.exr' -- '-x.env.exr'",
+          "dhdr-probes --grid 2,2,2 -o 'q?.p.exr' -- scene.gltf",
+          "dhdr-light --lights '-x.lights.json' -o x.exr --deep-out 'q?.d.exr' -- '-x.g.exr'"}) {
+        SCOPED_TRACE(c);
+        const Result r = runHere(c);
+        EXPECT_EQ(r.status, 2) << r.err;
+        EXPECT_NE(r.err.find("an image whose name holds '?' cannot be read back"),
+                  std::string::npos)
+            << r.err;
+    }
+    for (const auto& e : fs::directory_iterator(dir))
+        EXPECT_EQ(e.path().filename().string().rfind("q?", 0), std::string::npos) << e.path();
+    fs::copy_file(path("-x.a.exr"), path("q?.a.exr"));
+    const Result question = runHere("dhdr-bloom -o out.exr -- 'q?.a.exr'");
+    EXPECT_EQ(question.status, 1) << question.err;
+    EXPECT_NE(question.err.find("q?.a.exr: cannot read: OpenImageIO takes what follows '?'"),
+              std::string::npos)
+        << question.err;
+    ASSERT_EQ(runHere("dhdr-gbuffer --size 8x8 --lights-out 'q?.lights.json' -o q.exr -- "
+                      "scene.gltf")
+                  .status,
+              0);
+    EXPECT_EQ(runHere("dhdr-light --lights 'q?.lights.json' -o q.h.exr -- q.exr").status, 0);
+    // Without `--`, a name that begins with '-' is an unknown option; the message says what
+    // to do.
+    const Result r = runHere("dhdr-bloom -o out.exr -x.a.exr");
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("unknown option -x.a.exr"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("after --"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+    // After `--`, everything is a file, even a name spelt like an option.
+    EXPECT_EQ(runHere("dhdr-bloom -o out.exr -- --help").status, 1);
+    // A '#' in a file name stands for a digit of the frame number (docs/tools.md): `a#b.exr`
+    // is a frame pattern, so a single picture cannot be written under that name (a usage
+    // error that says why); with --frames it is a sequence.
+    const Result hash = runHere("dhdr-bloom -o 'a#b.exr' -- '-x.a.exr'");
+    EXPECT_EQ(hash.status, 2) << hash.err;
+    EXPECT_NE(hash.err.find("a#b.exr"), std::string::npos) << hash.err;
+    EXPECT_NE(hash.err.find("frame pattern"), std::string::npos) << hash.err;
+    ASSERT_EQ(runHere("dhdr-gbuffer --size 8x8 --frames 3-3 -o 'a#b.exr' -- scene.gltf").status, 0);
+    EXPECT_TRUE(fs::exists(path("a3b.exr")));
+    EXPECT_EQ(
+        runHere("dhdr-light --lights -x.lights.json --frames 3-3 -o 'c#d.exr' -- 'a#b.exr'").status,
+        0);
+    EXPECT_TRUE(fs::exists(path("c3d.exr")));
+}
+
+// Ranges were checked in double and the values used as float: --ao-distance 1e-50 passed
+// (0, 1e30] and became 0, --bloom's --threshold 0.99999999999 passed [0, 1) and became 1,
+// --key 1e-50 passed (0, 100] and became 0, --ground-plane and --background took 1e39 and
+// became +Inf. Every option whose value ends in a float is now checked as that float, and the
+// numbers of a lights file must be ones a float holds (0, or 1.4e-45 to 3.4e38 in magnitude).
+TEST_F(HostileInput, FloatOptionsAreCheckedAsFloats) {
+    const std::string g = path("g.exr"), h = path("fl_h.exr"), out = path("fl_out.exr");
+    ASSERT_EQ(run("dhdr-light " + g + " --lights " + kLights + " --aovs -o " + h).status, 0);
+    const std::string light = "dhdr-light " + g + " --lights " + kLights;
+    struct Case {
+        std::string command, message;
+    };
+    const Case cases[] = {
+        {"dhdr-bloom " + h + " --key 1e-50", "--key: 1e-50 is outside (0, 100] as a float (0)"},
+        {"dhdr-bloom " + h + " --threshold 0.99999999999",
+         "--threshold: 0.99999999999 is outside [0, 1) as a float (1)"},
+        {"dhdr-bloom " + h + " --sigma 1e39", "--sigma: 1e39 is outside [0, 64]"},
+        {light + " --ao ssao --ao-distance 1e-50",
+         "--ao-distance: 1e-50 is outside (0, 1e+30] as a float (0)"},
+        {light + " --background 1e39,0,0", "--background: 1e39 is more than a float holds"},
+        {"dhdr-aa " + h + " --normal-weight 1e39", "--normal-weight: 1e39 is outside [0, 1e+06]"},
+        {"dhdr-gbuffer " + kCornell + " --size 8x8 --ground-plane 1e39",
+         "--ground-plane: 1e39 is outside [-1e+30, 1e+30]"},
+        {"dhdr-gbuffer " + kCornell + " --size 8x8 --ground-plane=-1e39",
+         "--ground-plane: -1e39 is outside [-1e+30, 1e+30]"},
+        {"dhdr-gbuffer " + kCornell + " --size 8x8 --lookat 1e39,0,0,0,0,0",
+         "--lookat: 1e39 is more than a float holds"},
+        {"dhdr-tonemap " + h + " --white 1e999", "--white must be a positive number"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.command);
+        expectFailure(run(c.command + " -o " + out), 2, c.message, out);
+    }
+    // Values a float holds within the range still work.
+    for (const std::string& ok : {"dhdr-bloom " + h + " --key 1e-30 --threshold 0.9999999",
+                                  light + " --ao ssao --ao-distance 1e-30 --background 1e38,0,0,1",
+                                  "dhdr-gbuffer " + kCornell + " --size 8x8 --ground-plane -1e30",
+                                  "dhdr-aa " + h + " --normal-weight 1e-50"}) {
+        SCOPED_TRACE(ok);
+        const Result r = run(ok + " -o " + out);
+        EXPECT_EQ(r.status, 0) << r.err;
+        fs::remove(out);
+    }
+    // A lights file: 1e39 (refused before) and a non-zero number that a float rounds to 0.
+    const std::string holds = "must be a number that a float holds (0, or 1.4e-45 to 3.4e38 in "
+                              "magnitude)";
+    std::ofstream(path("fl_big.json"))
+        << R"([{"type": "point", "position": [0.28, 0.45, 0.28], "intensity": 1e39}])";
+    std::ofstream(path("fl_tiny.json"))
+        << R"([{"type": "point", "position": [0.28, 0.45, 0.28], "color": [1e-50, 1, 1]}])";
+    std::ofstream(path("fl_range.json"))
+        << R"([{"type": "point", "position": [0.28, 0.45, 0.28], "range": 1e-50}])";
+    std::ofstream(path("fl_ok.json")) << R"([{"type": "point", "position": [0.28, 0.45, 0.28],
+                                              "color": [1e-30, 1, 1], "range": 1e-44}])";
+    const std::string lit = "dhdr-light " + g + " -o " + out + " --lights ";
+    expectFailure(run(lit + path("fl_big.json")), 1, "fl_big.json: light 0: \"intensity\" " + holds,
+                  out);
+    expectFailure(run(lit + path("fl_tiny.json")), 1,
+                  "fl_tiny.json: light 0: \"color\" must be an array of 3 numbers that a float "
+                  "holds",
+                  out);
+    expectFailure(run(lit + path("fl_range.json")), 1, "fl_range.json: light 0: \"range\" " + holds,
+                  out);
+    EXPECT_EQ(run(lit + path("fl_ok.json")).status, 0);
 }

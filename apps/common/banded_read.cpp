@@ -1,5 +1,6 @@
 #include "banded_read.h"
 
+#include "command_line.h"
 #include "native_pixels.h"
 
 #include <OpenImageIO/imageio.h>
@@ -75,6 +76,12 @@ std::unique_ptr<OIIO::ImageInput> openFlatPart(const std::string& path, int subi
     }
     if (subimage != 0 && !in->seek_subimage(subimage, 0)) {
         error = "has no part " + std::to_string(subimage);
+        return nullptr;
+    }
+    // Before any pixel is read: an image over --max-pixels (maxPixels()).
+    if (std::string e = pixelLimitError(in->spec().width, in->spec().height, in->spec().depth);
+        !e.empty()) {
+        error = std::move(e);
         return nullptr;
     }
     if (in->spec().deep) {

@@ -1,12 +1,49 @@
 #include "command_line.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <limits>
 #include <sstream>
+#include <stdexcept>
 
 namespace dhdr::app {
+
+namespace {
+long long g_maxPixels = kDefaultMaxPixels;
+constexpr const char* kPixelLimitText = " pixels is more than --max-pixels ";
+} // namespace
+
+long long maxPixels() {
+    return g_maxPixels;
+}
+void setMaxPixels(long long pixels) {
+    g_maxPixels = pixels;
+}
+
+std::string pixelLimitError(long long width, long long height, long long depth) {
+    const long long limit = g_maxPixels;
+    if (limit <= 0) return {};
+    // In long double: a header's sizes can multiply past 2^63.
+    const long double pixels =
+        (long double)width * (long double)height * (long double)std::max(depth, 1LL);
+    if (pixels <= (long double)limit) return {};
+    std::string text = std::to_string(width) + "x" + std::to_string(height) +
+                       (depth > 1 ? "x" + std::to_string(depth) : std::string()) + kPixelLimitText +
+                       std::to_string(limit);
+    const long long side = std::llround(std::sqrt(double(limit)));
+    if (side * side == limit)
+        text += " (" + std::to_string(side) + "x" + std::to_string(side) + ")";
+    return text + "; give --max-pixels to raise it";
+}
+
+bool isPixelLimitError(const std::string& error) {
+    return error.find(kPixelLimitText) != std::string::npos &&
+           error.find("; give --max-pixels to raise it") != std::string::npos;
+}
 
 CommandLine::CommandLine(std::string tool, std::string synopsis, std::string description)
     : m_tool(std::move(tool)), m_synopsis(std::move(synopsis)),
@@ -80,6 +117,49 @@ void CommandLine::option(const std::string& name, double& target, const std::str
            });
 }
 
+namespace {
+
+// The number `v` (as given) checked as the float it becomes against `range`; empty when fine.
+std::string checkAsFloat(const std::string& v, double d, const CommandLine::Range& range) {
+    if (!range.contains(d)) return v + " is outside " + range.text();
+    // Against the range's ends as floats too: 1e30 is not a float, and the float nearest it
+    // is a little larger.
+    const float f = float(d);
+    const CommandLine::Range asFloat{double(float(range.lo)), double(float(range.hi)), range.openLo,
+                                     range.openHi};
+    if (!asFloat.contains(double(f))) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", double(f));
+        return v + " is outside " + range.text() + " as a float (" + text + ")";
+    }
+    return {};
+}
+
+void requireFloatRange(const std::string& name, const CommandLine::Range& range) {
+    const double largest = double(std::numeric_limits<float>::max());
+    if (!(std::fabs(range.lo) <= largest && std::fabs(range.hi) <= largest))
+        throw std::logic_error(name + ": the range of a float option must fit a float");
+}
+
+} // namespace
+
+void CommandLine::option(const std::string& name, float& target, const std::string& metavar,
+                         const std::string& help, Range range) {
+    requireFloatRange(name, range);
+    option(name, metavar, help + " " + range.text(),
+           [&target, range](const std::string& v, std::string& err) {
+               char* end = nullptr;
+               const double d = std::strtod(v.c_str(), &end);
+               if (v.empty() || *end != '\0' || !std::isfinite(d)) {
+                   err = "'" + v + "' is not a finite number";
+                   return false;
+               }
+               if (err = checkAsFloat(v, d, range); !err.empty()) return false;
+               target = float(d);
+               return true;
+           });
+}
+
 void CommandLine::option(const std::string& name, int& target, const std::string& metavar,
                          const std::string& help, int lo, int hi) {
     const Range range{double(lo), double(hi)};
@@ -119,9 +199,13 @@ void CommandLine::printHelp() const {
                         "output (default: every frame whose input exists)");
     row("--threads N",
         "worker threads (0: one per core; default 0) [0, " + std::to_string(kMaxThreads) + "]");
+    row("--max-pixels N",
+        "refuse an image of more than N pixels (width x height) before reading it (default " +
+            std::to_string(kDefaultMaxPixels) + " = 16384x16384; 0: no limit)");
     row("-v, --verbose", "report what is measured and done");
     row("-q, --quiet", "print nothing but errors");
     row("-h, --help", "show this help and exit");
+    row("--", "end of the options: what follows are files (a name beginning with '-')");
     row("--version", "show the version and exit");
     if (!m_epilog.empty()) std::printf("\n%s\n", m_epilog.c_str());
     std::printf("\nExit status: 0 success, 1 failure, 2 usage error.\n");
@@ -134,11 +218,13 @@ int CommandLine::usageError(const std::string& message) const {
 }
 
 void CommandLine::flagWithNumber(const std::string& name, bool& given, std::optional<double>& value,
-                                 const std::string& metavar, const std::string& help) {
+                                 const std::string& metavar, const std::string& help, Range range) {
+    requireFloatRange(name, range);
     Option o;
     o.name = name;
     o.metavar = "[" + metavar + "]";
-    o.help = help;
+    o.help = help + " " + range.text();
+    o.numberRange = range;
     o.flag = &given;
     o.number = &value;
     m_options.push_back(o);
@@ -147,6 +233,11 @@ void CommandLine::flagWithNumber(const std::string& name, bool& given, std::opti
 int CommandLine::parse(int argc, char** argv) {
     for (int i = 1; i < argc; ++i) {
         std::string arg = argv[i];
+        // `--` ends the options: what follows are files, whatever their names (-x.exr).
+        if (arg == "--") {
+            m_inputs.insert(m_inputs.end(), argv + i + 1, argv + argc);
+            break;
+        }
         std::string value;
         bool hasValue = false;
         if (arg.rfind("--", 0) == 0) {
@@ -205,11 +296,31 @@ int CommandLine::parse(int argc, char** argv) {
             m_threads = int(n);
             continue;
         }
+        if (arg == "--max-pixels") {
+            std::string v;
+            char* end = nullptr;
+            if (!takeValue(v)) return usageError("--max-pixels needs a number");
+            errno = 0;
+            const long long n = std::strtoll(v.c_str(), &end, 10);
+            if (v.empty() || *end != '\0' || errno == ERANGE || n < 0)
+                return usageError("--max-pixels: '" + v +
+                                  "' is not a count of pixels (0: no limit)");
+            m_maxPixels = n;
+            continue;
+        }
         if (arg.size() > 1 && arg[0] == '-') {
             const Option* found = nullptr;
             for (const Option& o : m_options)
                 if (o.name == arg) found = &o;
-            if (!found) return usageError("unknown option " + arg);
+            if (!found) {
+                std::error_code ec;
+                const bool isFile = std::filesystem::exists(argv[i], ec);
+                return usageError(
+                    "unknown option " + arg +
+                    (isFile ? " (a file whose name begins with '-' goes after --: " + m_tool +
+                                  " [options] -- " + std::string(argv[i]) + ")"
+                            : std::string()));
+            }
             if (found->number) {
                 *found->flag = true;
                 std::string v = hasValue ? value : (i + 1 < argc ? argv[i + 1] : "");
@@ -217,6 +328,9 @@ int CommandLine::parse(int argc, char** argv) {
                 const double d = std::strtod(v.c_str(), &end);
                 const bool isNumber = !v.empty() && *end == '\0' && std::isfinite(d);
                 if (hasValue && !isNumber) return usageError(arg + ": '" + v + "' is not a number");
+                if (isNumber)
+                    if (const std::string e = checkAsFloat(v, d, found->numberRange); !e.empty())
+                        return usageError(arg + ": " + e);
                 if (isNumber) {
                     *found->number = d;
                     if (!hasValue) ++i;
@@ -241,6 +355,7 @@ int CommandLine::parse(int argc, char** argv) {
         }
         m_inputs.push_back(arg);
     }
+    setMaxPixels(m_maxPixels);
     return -1;
 }
 
@@ -268,6 +383,24 @@ bool parseNumbers(const std::string& text, std::vector<double>& values, size_t c
         values.push_back(d);
     }
     return count == 0 ? !values.empty() : values.size() == count;
+}
+
+std::string floatProblem(double value, const std::string& text) {
+    const float f = float(value);
+    if (!std::isfinite(f)) return text + " is more than a float holds (3.4e38 in magnitude)";
+    return {};
+}
+
+bool parseFloatNumbers(const std::string& text, std::vector<double>& values, size_t count,
+                       std::string& error) {
+    if (!parseNumbers(text, values, count)) return false;
+    std::stringstream in(text);
+    std::string item;
+    for (double v : values) {
+        std::getline(in, item, ',');
+        if (error = floatProblem(v, item); !error.empty()) return false;
+    }
+    return true;
 }
 
 } // namespace dhdr::app

@@ -13,6 +13,21 @@ inline constexpr int kExitSuccess = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
 
+// The most pixels (width × height) an image a tool reads or renders may have unless
+// --max-pixels raises it: 16384 × 16384, so that a 16K frame (15360 × 8640) passes and a
+// 65536 × 65536 file (a few MB of ZIP-compressed constant pixels) is refused before it is
+// streamed for minutes. 0 lifts the limit.
+inline constexpr long long kDefaultMaxPixels = 16384LL * 16384LL;
+// The limit in force: kDefaultMaxPixels until CommandLine::parse reads --max-pixels.
+long long maxPixels();
+void setMaxPixels(long long pixels);
+// Empty when an image of width × height (× depth) pixels is within maxPixels(); else
+// "WxH pixels is more than --max-pixels N (SxS); give --max-pixels to raise it", which a
+// caller puts after the file's name.
+std::string pixelLimitError(long long width, long long height, long long depth = 1);
+// Whether `error` is one pixelLimitError made (it names the file without "cannot read").
+bool isPixelLimitError(const std::string& error);
+
 // A file that a command line names, and the option that names it ("-o", "--probes"; empty
 // for a positional input).
 struct NamedFile {
@@ -45,12 +60,18 @@ public:
     };
     void option(const std::string& name, double& target, const std::string& metavar,
                 const std::string& help, Range range);
+    // A number stored as a float: checked as the float it becomes, so that 1e39 (+Inf as a
+    // float) or 1e-50 (0) cannot pass a range that the double would; `range` must lie within
+    // a float's (±3.4e38).
+    void option(const std::string& name, float& target, const std::string& metavar,
+                const std::string& help, Range range);
     void option(const std::string& name, int& target, const std::string& metavar,
                 const std::string& help, int lo, int hi);
     // A switch with an optional number after it (`--ground-plane` or `--ground-plane 0.2`,
     // `--ground-plane=0.2`): `given` is set, and `value` when a number follows.
+    // The number must lie in `range` as the float it becomes (the value is used as a float).
     void flagWithNumber(const std::string& name, bool& given, std::optional<double>& value,
-                        const std::string& metavar, const std::string& help);
+                        const std::string& metavar, const std::string& help, Range range);
     // Marks the option `name` (declared before) as naming a file read or written. `path`
     // turns a value into the file it names, or "" for a keyword that names none (--plate
     // env); by default the value itself.
@@ -66,6 +87,8 @@ public:
     const std::vector<std::string>& inputs() const { return m_inputs; }
     const std::string& output() const { return m_output; }
     int threads() const { return m_threads; }
+    // --max-pixels (0: no limit); also in force through maxPixels() once parsed.
+    long long maxPixelsGiven() const { return m_maxPixels; }
     // --compression: the output's compression as OpenImageIO names it; empty: its default.
     const std::string& compression() const { return m_compression; }
     // --frames A-B for frame patterns; empty when not given.
@@ -82,6 +105,7 @@ private:
         std::function<bool(const std::string&, std::string&)> parse; // null for flags
         bool* flag = nullptr;
         std::optional<double>* number = nullptr; // flagWithNumber's value
+        Range numberRange{0.0, 0.0};             // and its range
         std::optional<FileRole> role;            // namesFile
         std::function<std::string(const std::string&)> filePath;
     };
@@ -96,6 +120,7 @@ private:
     std::string m_compression;
     std::string m_frames;
     int m_threads = 0;
+    long long m_maxPixels = kDefaultMaxPixels;
     int m_verbosity = 1;
 };
 
@@ -106,5 +131,12 @@ inline constexpr int kMaxThreads = 512;
 bool parseSize(const std::string& text, int& width, int& height);
 // "a,b,c,..." → finite numbers; false unless exactly `count` (count 0: any).
 bool parseNumbers(const std::string& text, std::vector<double>& values, size_t count = 0);
+// Empty when `value`, stored as a float, stays finite; else "V is more than a float holds
+// (3.4e38 in magnitude)" (V as given in `text`). (A value that a float rounds to 0 is left to
+// the range of the option that takes it: CommandLine's float options.)
+std::string floatProblem(double value, const std::string& text);
+// parseNumbers for values used as floats: false with `error` (floatProblem) when one is not.
+bool parseFloatNumbers(const std::string& text, std::vector<double>& values, size_t count,
+                       std::string& error);
 
 } // namespace dhdr::app

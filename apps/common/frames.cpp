@@ -144,9 +144,9 @@ int resolveFrames(const Tool& tool, const std::vector<std::string>& paths, Frame
     }
     if (!first) {
         std::fprintf(stderr,
-                     "%s: usage error: a frame pattern in the output needs --frames or "
-                     "a patterned input\n",
-                     tool.name().c_str());
+                     "%s: usage error: %s: a frame pattern ('#' and %%d in a file name stand for "
+                     "the frame number) in the output needs --frames or a patterned input\n",
+                     tool.name().c_str(), output.text().c_str());
         return kExitUsage;
     }
     frames = first->existingFrames();

@@ -78,6 +78,9 @@ bool listColourLayers(const std::string& path, std::vector<ColourLayer>& layers,
                 l.part = part;
                 l.prefix = prefix;
                 l.partChannels = spec.channelnames;
+                l.width = spec.width;
+                l.height = spec.height;
+                l.depth = spec.depth;
                 found.push_back(l);
                 it = found.end() - 1;
             }

@@ -18,6 +18,7 @@ struct ColourLayer {
     std::string prefix;             // channels are prefix + "R" …; "" for the unnamed R, G, B, A
     int rgba[4] = {-1, -1, -1, -1}; // channel indices within the part; A may be −1
     std::vector<std::string> partChannels; // every channel name of the part
+    int width = 0, height = 0, depth = 1;  // the part's size in pixels
 
     // How users and messages name the layer: the part and the prefix, joined by '.'.
     std::string name() const;

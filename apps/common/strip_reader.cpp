@@ -1,6 +1,7 @@
 #include "strip_reader.h"
 
 #include "banded_read.h"
+#include "command_line.h"
 #include "native_pixels.h"
 
 #include <OpenImageIO/deepdata.h>
@@ -46,6 +47,10 @@ bool StripReader::open(const std::string& path, int subimage, int chbegin, int c
     if (auto probe = frontSamples ? OIIO::ImageInput::open(path) : nullptr;
         probe && probe->seek_subimage(subimage, 0) && probe->spec().deep) {
         const OIIO::ImageSpec& file = probe->spec();
+        if (std::string e = pixelLimitError(file.width, file.height, file.depth); !e.empty()) {
+            error = std::move(e);
+            return false;
+        }
         m_chbegin = std::clamp(chbegin, 0, file.nchannels);
         m_chend = std::clamp(chend, m_chbegin, file.nchannels);
         m_subimage = subimage;

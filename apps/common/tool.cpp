@@ -143,6 +143,14 @@ std::string oneLine(std::string message) {
 
 } // namespace
 
+std::string cannotRead(const std::string& path, const std::string& error) {
+    if (path.find('?') != std::string::npos &&
+        error.find("malformed filename") != std::string::npos)
+        return path + ": cannot read: OpenImageIO takes what follows '?' in a file name for "
+                      "options (file.exr?key=value); rename the file without '?'";
+    return path + (isPixelLimitError(error) ? ": " : ": cannot read: ") + oneLine(error);
+}
+
 int Tool::fail(const std::string& message) const {
     std::fprintf(stderr, "%s: error: %s\n", m_name.c_str(), message.c_str());
     return kExitFailure;
@@ -179,6 +187,20 @@ int Tool::start(const std::vector<std::string>& inputs, const std::string& out) 
                              m_name.c_str(), f.path.c_str(), kMaxFrameWidth);
                 return kExitUsage;
             }
+    // OpenImageIO reads what follows a '?' in an image's name as options (file.exr?key=value)
+    // and refuses the name otherwise: an image written under it could never be read back.
+    for (const NamedFile& f : outs) {
+        std::string ext = fs::path(f.path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+        if (f.path.find('?') != std::string::npos && ext != ".json") {
+            std::fprintf(stderr,
+                         "%s: usage error: %s: an image whose name holds '?' cannot be read back "
+                         "(OpenImageIO takes what follows '?' for options: file.exr?key=value); "
+                         "choose a name without '?'\n",
+                         m_name.c_str(), f.path.c_str());
+            return kExitUsage;
+        }
+    }
     if (!outputsAreTheirOwn(in, outs)) return kExitUsage;
     std::error_code ec;
     const fs::path folder = fs::absolute(fs::path(out)).parent_path();
@@ -261,11 +283,17 @@ bool findColour(const Tool& tool, const std::string& path, const std::string& la
     std::vector<ColourLayer> layers;
     std::string error;
     if (!listColourLayers(path, layers, error)) {
-        tool.fail(path + ": cannot read: " + oneLine(error));
+        tool.fail(cannotRead(path, error));
         return false;
     }
     if (!chooseColourLayer(layers, layer, chosen, error)) {
         tool.fail(path + ": " + error);
+        return false;
+    }
+    // Before any pixel is read or any output opened.
+    if (const std::string e = pixelLimitError(chosen.width, chosen.height, chosen.depth);
+        !e.empty()) {
+        tool.fail(path + ": " + e);
         return false;
     }
     if (layers.size() > 1 || chosen.subimage > 0)
@@ -281,7 +309,7 @@ bool Tool::openColour(const std::string& path, const std::string& layer, bool ke
     if (!findColour(*this, path, layer, chosen)) return false;
     std::string error;
     if (!reader.open(path, chosen, keepOthers, threads(), error)) {
-        fail(path + ": cannot read: " + oneLine(error));
+        fail(cannotRead(path, error));
         return false;
     }
     return true;
@@ -294,7 +322,7 @@ bool Tool::readColour(const std::string& path, const std::string& layer, bool ke
     if (!findColour(*this, path, layer, chosen)) return false;
     std::string error;
     if (!readColourLayer(path, chosen, keepOthers, nthreads, image, formats, error)) {
-        fail(path + ": cannot read: " + oneLine(error));
+        fail(cannotRead(path, error));
         return false;
     }
     return true;

@@ -20,6 +20,10 @@ namespace dhdr::app {
 
 class ColourStripReader;
 
+// "PATH: cannot read: ERROR", or "PATH: ERROR" for an image over --max-pixels
+// (pixelLimitError), whose message says what is wrong by itself.
+std::string cannotRead(const std::string& path, const std::string& error);
+
 class Tool {
 public:
     Tool(std::string name, const CommandLine& cl) : m_name(std::move(name)), m_cl(cl) {}

@@ -58,13 +58,15 @@ int run(int argc, char** argv) {
                         "bit. Normal and depth come\nfrom --gbuffer, or from the input's own N.* "
                         "and Z channels.");
     std::string gbufferPath, use = "both", layer;
-    double normalWeight = 1.0, depthWeight = 1.0, maxOffset = 0.5;
+    EdgeAAParams params; // the options write into it
     cl.option("--gbuffer", gbufferPath, "FILE", "G-buffer with N.X N.Y N.Z and Z");
     cl.option("--use", use, "normal|depth|both", "which discontinuities count (default both)");
-    cl.option("--normal-weight", normalWeight, "W", "weight of Σ|ΔN|² (default 1)", {0.0, 1e6});
-    cl.option("--depth-weight", depthWeight, "W", "weight of Σ(ΔZ/Z)² (default 1)", {0.0, 1e6});
-    cl.option("--max-offset", maxOffset, "PX", "tap offset at full blur, pixels (default 0.5)",
-              {0.0, 4.0});
+    cl.option("--normal-weight", params.normalWeight, "W", "weight of Σ|ΔN|² (default 1)",
+              {0.0, 1e6});
+    cl.option("--depth-weight", params.depthWeight, "W", "weight of Σ(ΔZ/Z)² (default 1)",
+              {0.0, 1e6});
+    cl.option("--max-offset", params.maxOffset, "PX",
+              "tap offset at full blur, pixels (default 0.5)", {0.0, 4.0});
     cl.option("--layer", layer, "NAME",
               "the layer or EXR part to filter (default: the unnamed R,G,B,A, else the one "
               "called Combined, rgba or beauty)");
@@ -84,15 +86,11 @@ int run(int argc, char** argv) {
     if (!gbufferPath.empty()) paths.push_back(gbufferPath);
     app::FramePlan plan;
     if (const int status = app::planFrames(tool, paths, plan); status >= 0) return status;
-    EdgeAAParams params;
-    params.normalWeight = float(normalWeight);
-    params.depthWeight = float(depthWeight);
-    params.maxOffset = float(maxOffset);
     const std::vector<std::string> geometryChannels = {gbuffer::kDepth, gbuffer::kNormal[0],
                                                        gbuffer::kNormal[1], gbuffer::kNormal[2]};
     // Rows above and below each strip that its pixels read: one for the blur factor's
     // neighbours, and the taps' reach.
-    const int halo = int(std::ceil(maxOffset)) + 2;
+    const int halo = int(std::ceil(params.maxOffset)) + 2;
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
         const bool separate = in.size() > 1;
@@ -124,6 +122,12 @@ int run(int argc, char** argv) {
                 }
             }
             probe->seek_subimage(part, 0);
+            if (const std::string e = app::pixelLimitError(
+                    probe->spec().width, probe->spec().height, probe->spec().depth);
+                !e.empty()) {
+                tool.fail(geometryPath + ": " + e);
+                return false;
+            }
             int chbegin = probe->spec().nchannels, chend = 0;
             for (const std::string& name : geometryChannels)
                 if (const int c = probe->spec().channelindex(name); c >= 0) {
@@ -133,7 +137,7 @@ int run(int argc, char** argv) {
             if (chend <= chbegin) chbegin = 0, chend = probe->spec().nchannels;
             // A deep G-buffer: the edges of its front surfaces.
             if (!gbuffer.open(geometryPath, part, chbegin, chend, tool.threads(), error, true)) {
-                tool.fail(geometryPath + ": cannot read: " + error);
+                tool.fail(app::cannotRead(geometryPath, error));
                 return false;
             }
         }

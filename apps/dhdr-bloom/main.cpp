@@ -17,14 +17,14 @@ int run(int argc, char** argv) {
                         "separable Gaussian, upsampled\nbilinearly and added to R, G, B. Other "
                         "channels pass through unchanged.");
     BloomParams params;
-    double threshold = params.threshold, sigma = params.sigma, strength = params.strength,
-           key = params.key;
-    cl.option("--threshold", threshold, "T",
+    cl.option("--threshold", params.threshold, "T",
               "tone-mapped luminance L/(1+L) above which pixels bloom (default 0.8)",
               {0.0, 1.0, false, true});
-    cl.option("--key", key, "A", "key α of that tone mapping (default 0.18)", {0.0, 100.0, true});
-    cl.option("--sigma", sigma, "S", "Gaussian σ in 1/8-size pixels (default 2)", {0.0, 64.0});
-    cl.option("--strength", strength, "K", "factor of the bloom layer (default 1.3)",
+    cl.option("--key", params.key, "A", "key α of that tone mapping (default 0.18)",
+              {0.0, 100.0, true});
+    cl.option("--sigma", params.sigma, "S", "Gaussian σ in 1/8-size pixels (default 2)",
+              {0.0, 64.0});
+    cl.option("--strength", params.strength, "K", "factor of the bloom layer (default 1.3)",
               {0.0, 1000.0});
     std::string layer;
     cl.option("--layer", layer, "NAME",
@@ -37,10 +37,6 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-bloom: usage error: give one HDR image\n");
         return app::kExitUsage;
     }
-    params.threshold = float(threshold);
-    params.sigma = float(sigma);
-    params.strength = float(strength);
-    params.key = float(key);
     app::FramePlan plan;
     if (const int status = app::planFrames(tool, cl.inputs(), plan); status >= 0) return status;
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
@@ -85,7 +81,7 @@ int run(int argc, char** argv) {
         if (!anySurface) tool.warnNoSurface(path);
         tool.reportNonFinite(path, replaced, false);
         OIIO::ImageSpec spec = frame;
-        spec.attribute("dhdr:bloomStrength", float(strength));
+        spec.attribute("dhdr:bloomStrength", params.strength);
         app::AtomicOutput file(tool, out);
         if (!file.open(spec, reader.formats())) return false;
         for (int y = frame.y; y < frame.y + rows; y += kRows) {

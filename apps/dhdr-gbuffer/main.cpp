@@ -51,7 +51,8 @@ int run(int argc, char** argv) {
     cl.flagWithNumber("--ground-plane", groundPlane, groundY, "Y",
                       "add an infinite horizontal plane at height Y (default: the scene's lowest "
                       "point) that dhdr-light treats as a shadow catcher for compositing "
-                      "(docs/ibl.md)");
+                      "(docs/ibl.md)",
+                      {-1e30, 1e30});
     cl.flag("--frame-all", frameAll,
             "move the camera (the scene's, --lookat's, or without either one looking from the "
             "front and a little above) back until the whole scene fits the image (an error when "
@@ -94,12 +95,19 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-gbuffer: usage error: --size '%s' is not WxH\n", size.c_str());
         return app::kExitUsage;
     }
+    if (const std::string e = app::pixelLimitError(params.width, params.height); !e.empty()) {
+        std::fprintf(stderr, "dhdr-gbuffer: usage error: --size %s: %s\n", size.c_str(), e.c_str());
+        return app::kExitUsage;
+    }
 
     std::optional<Camera> lookatCamera;
     if (!lookat.empty()) {
         std::vector<double> v;
-        if (!app::parseNumbers(lookat, v) || (v.size() != 6 && v.size() != 9)) {
-            std::fprintf(stderr, "dhdr-gbuffer: usage error: --lookat needs 6 or 9 numbers\n");
+        std::string error;
+        if (!app::parseFloatNumbers(lookat, v, 0, error) || (v.size() != 6 && v.size() != 9)) {
+            // The camera's rays are traced in float (Embree).
+            std::fprintf(stderr, "dhdr-gbuffer: usage error: --lookat%s\n",
+                         error.empty() ? " needs 6 or 9 numbers" : (": " + error).c_str());
             return app::kExitUsage;
         }
         const glm::dvec3 up = v.size() == 9 ? glm::dvec3(v[6], v[7], v[8]) : glm::dvec3(0, 1, 0);

@@ -47,7 +47,7 @@ int run(int argc, char** argv) {
     // The counts' options, ranges and defaults come from the library's table.
     LightingParams params;
     params.aoSamples = 16; // with --ao rt or ssao; 0 when AO is off
-    double aoDistance = 1.0;
+    float aoDistance = 1.0f;
     cl.option("--lights", "FILE",
               "lights file (JSON, docs/lights.md); repeat to add the lights of several; "
               "replaces the scene's own punctual lights; needed without --scene",
@@ -154,8 +154,10 @@ int run(int argc, char** argv) {
         params.environmentBackground = true;
     } else if (!background.empty()) {
         std::vector<double> v;
-        if (!app::parseNumbers(background, v) || (v.size() != 3 && v.size() != 4)) {
-            std::fprintf(stderr, "dhdr-light: usage error: --background needs 3 or 4 numbers\n");
+        std::string error;
+        if (!app::parseFloatNumbers(background, v, 0, error) || (v.size() != 3 && v.size() != 4)) {
+            std::fprintf(stderr, "dhdr-light: usage error: --background%s\n",
+                         error.empty() ? " needs 3 or 4 numbers" : (": " + error).c_str());
             return app::kExitUsage;
         }
         for (size_t i = 0; i < 4; ++i)
@@ -166,10 +168,10 @@ int run(int argc, char** argv) {
     SsaoParams ssao;
     ssao.samples = params.aoSamples;
     params.aoSamples = aoMode == "rt" ? params.aoSamples : 0;
-    params.aoDistance = float(aoDistance);
+    params.aoDistance = aoDistance;
     params.writeAO = aovs && aoMode != "off";
     params.writeIndirect = aovs && !probesPath.empty();
-    ssao.radius = float(aoDistance);
+    ssao.radius = aoDistance;
     if (aoMode == "ssao")
         if (const std::string e = checkRanges(ssao, kSsaoParamTable); !e.empty())
             return usage(e + " with --ao ssao");
@@ -296,6 +298,12 @@ int run(int argc, char** argv) {
     OIIO::ImageBuf plate;
     if (!plateArg.empty() && plateArg != "env") {
         plate.reset(plateArg);
+        // Its header first: a plate over --max-pixels is refused before its pixels are read.
+        if (plate.init_spec(plateArg, 0, 0))
+            if (const std::string e = app::pixelLimitError(plate.spec().width, plate.spec().height,
+                                                           plate.spec().depth);
+                !e.empty())
+                return tool.fail(plateArg + ": " + e);
         if (!plate.read(0, 0, true, OIIO::TypeDesc::FLOAT))
             return tool.fail(plateArg + ": cannot read the plate: " + plate.geterror());
         inputs.plate = &plate;
@@ -367,14 +375,21 @@ int run(int argc, char** argv) {
         std::string error;
         const int part = gbuffer::findGBufferPart(path, error);
         if (part < 0) {
-            tool.fail(
-                path + ": " +
-                (error.find("G-buffer") != std::string::npos ? error : "cannot read: " + error));
+            tool.fail(error.find("G-buffer") != std::string::npos ? path + ": " + error
+                                                                  : app::cannotRead(path, error));
             return false;
         }
         bool deepInput = false;
-        if (auto probe = OIIO::ImageInput::open(path); probe && probe->seek_subimage(part, 0))
+        if (auto probe = OIIO::ImageInput::open(path); probe && probe->seek_subimage(part, 0)) {
             deepInput = probe->spec().deep;
+            // Flat or deep, before any pixel is read or any output opened.
+            const OIIO::ImageSpec& s = probe->spec();
+            if (const std::string e = app::pixelLimitError(s.width, s.height, s.depth);
+                !e.empty()) {
+                tool.fail(path + ": " + e);
+                return false;
+            }
+        }
         if (deepInput) {
             if (aoMode == "ssao") {
                 tool.fail(path + ": --ao ssao works on flat G-buffers; a deep one needs --ao rt");
@@ -390,7 +405,7 @@ int run(int argc, char** argv) {
         }
         app::StripReader reader;
         if (!reader.open(path, part, 0, 1 << 20, tool.threads(), error)) {
-            tool.fail(path + ": cannot read: " + error);
+            tool.fail(app::cannotRead(path, error));
             return false;
         }
         const OIIO::ImageSpec& gspec = reader.spec();

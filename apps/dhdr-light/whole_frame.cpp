@@ -77,6 +77,10 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
         return false;
     }
     const OIIO::ImageSpec& frame = reader.spec();
+    if (const std::string e = pixelLimitError(frame.width, frame.height, frame.depth); !e.empty()) {
+        tool.fail(path + ": " + e);
+        return false;
+    }
     if (!run.prepareFrame(path, frame)) return false;
     // A band of whole rows of tiles at a time, about 256K pixels (a deep band's tables of
     // samples and pointers cost ~400 bytes a pixel): memory follows a band's samples, and each
@@ -164,6 +168,13 @@ bool lightMappedPasses(const WholeFrameRun& run, const ChannelMap& map,
     const Tool& tool = run.tool;
     const auto start = std::chrono::steady_clock::now();
     OIIO::ImageBuf src(path);
+    if (src.init_spec(path, 0, 0))
+        if (const std::string e =
+                pixelLimitError(src.spec().width, src.spec().height, src.spec().depth);
+            !e.empty()) {
+            tool.fail(path + ": " + e);
+            return false;
+        }
     if (!src.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
         tool.fail(path + ": cannot read: " + src.geterror());
         return false;

@@ -180,7 +180,7 @@ int run(int argc, char** argv) {
     else if (job.white != "auto") {
         char* end = nullptr;
         params.white = std::strtod(job.white.c_str(), &end);
-        if (*end != '\0' || !(params.white > 0.0))
+        if (*end != '\0' || !(params.white > 0.0) || !std::isfinite(params.white))
             return usage("--white must be a positive number, auto or inf");
     }
     if (job.bits != 8 && job.bits != 16)

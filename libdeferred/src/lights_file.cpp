@@ -17,10 +17,15 @@ using nlohmann::json;
 
 namespace {
 
-// A finite number that a float holds: 1e39 is a double but would be +Inf in the lighting.
+// A finite number that a float holds: 1e39 is a double but would be +Inf in the lighting, and
+// 1e-50 would be 0 (a range, a radius: refused as zero with a misleading message, or a colour
+// silently black). A number is 0 or one whose float is not 0 (the smallest, 1.4e-45, written
+// by --lights-out included).
 bool isFloat(const json& v) {
-    return v.is_number() && std::isfinite(v.get<double>()) &&
-           std::abs(v.get<double>()) <= double(std::numeric_limits<float>::max());
+    if (!v.is_number()) return false;
+    const double d = v.get<double>();
+    return std::isfinite(d) && std::abs(d) <= double(std::numeric_limits<float>::max()) &&
+           (d == 0.0 || float(d) != 0.0f);
 }
 
 // Thrown inside the parser only; becomes the `error` string.
@@ -44,7 +49,9 @@ public:
             return fallback;
         }
         const json& v = m_j.at(field);
-        if (!isFloat(v)) fail(field, "must be a number of at most 3.4e38 in magnitude");
+        if (!isFloat(v))
+            fail(field, "must be a number that a float holds (0, or 1.4e-45 to 3.4e38 in "
+                        "magnitude)");
         return v.get<float>();
     }
 
@@ -58,7 +65,8 @@ public:
         glm::vec3 out;
         for (int i = 0; i < 3; ++i) {
             if (!isFloat(v[size_t(i)]))
-                fail(field, "must be an array of 3 numbers of at most 3.4e38 in magnitude");
+                fail(field, "must be an array of 3 numbers that a float holds (0, or 1.4e-45 "
+                            "to 3.4e38 in magnitude)");
             out[i] = v[size_t(i)].get<float>();
         }
         return out;
