@@ -3,6 +3,7 @@
 // a crash found by fuzzing is reproduced through exactly the calls that found it.
 #pragma once
 
+#include "../libdeferred/src/exr_header.h"
 #include "../libdeferred/src/gltf_json.h"
 
 #include <OpenImageIO/deepdata.h>
@@ -218,6 +219,10 @@ inline void probes(const uint8_t* data, size_t size) {
 // so that one input stays fast, then one shading lookup.
 inline void ibl(const uint8_t* data, size_t size) {
     TempInput input(data, size, "input.exr");
+    // The size is looked at before loadIbl bakes: through the same look at the headers that
+    // loadIbl makes before it opens the file.
+    std::string error;
+    if (!detail::exrHeadersFit(input.path(), error)) return;
     {
         auto in = OIIO::ImageInput::open(input.path());
         if (!in || !smallEnough(in->spec())) return;
@@ -230,7 +235,6 @@ inline void ibl(const uint8_t* data, size_t size) {
     params.dfgSamples = 4;
     Ibl ibl;
     bool baked = false;
-    std::string error;
     long long replaced = 0;
     if (!loadIbl(input.path(), params, ibl, baked, error, &replaced, 1)) return;
     const IblShading shaded =

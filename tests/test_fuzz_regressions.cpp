@@ -4,9 +4,13 @@
 // none may make a sanitizer report. The tests after the replay say what each fixed input must
 // now give.
 #include "../fuzz/targets.h"
+#include "../libdeferred/src/exr_header.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <dhdr/deferred/environment.h>
+#include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/ibl.h>
+#include <dhdr/deferred/probes.h>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>
@@ -84,6 +88,102 @@ TEST(FuzzRegressions, EnvironmentRewrittenLargerBetweenTwoReadsIsReadAsItIsNow) 
     for (const float v : env.rgb)
         ASSERT_EQ(v, 2.0f);
     fs::remove(path);
+}
+
+fs::path regression(const std::string& target, const std::string& name) {
+    return fs::path(DHDR_SOURCE_DIR) / "tests" / "fuzz_regressions" / target / name;
+}
+
+// A scratch file holding `bytes`, removed at the end of the test.
+struct ScratchFile {
+    std::string path;
+    explicit ScratchFile(const std::string& bytes) {
+        path = (fs::temp_directory_path() /
+                ("dhdr-fuzz-regression-" + std::to_string(::getpid()) + ".exr"))
+                   .string();
+        std::ofstream(path, std::ios::binary) << bytes;
+    }
+    ~ScratchFile() { fs::remove(path); }
+};
+
+// An OpenEXR file's start: magic, version 2 with `flags`, then `attributes` (name, type,
+// size, value) and the header's closing 0.
+std::string exrWith(const std::string& attributes, unsigned flags = 0) {
+    std::string s("\x76\x2f\x31\x01", 4);
+    s += char(2);
+    s += char((flags >> 8) & 0xff);
+    s += char((flags >> 16) & 0xff);
+    s += char(0);
+    return s + attributes + std::string(1, '\0') + std::string(64, 'x');
+}
+
+std::string attribute(const std::string& name, const std::string& type, uint32_t size,
+                      const std::string& value) {
+    std::string s = name + std::string(1, '\0') + type + std::string(1, '\0');
+    for (int i = 0; i < 4; ++i)
+        s += char((size >> (8 * i)) & 0xff);
+    return s + value;
+}
+
+std::string u32(uint32_t v) {
+    std::string s;
+    for (int i = 0; i < 4; ++i)
+        s += char((v >> (8 * i)) & 0xff);
+    return s;
+}
+
+// fuzz_gbuffer and fuzz_probes (libFuzzer: out-of-memory, malloc(1920496404) in
+// Imf::TypedAttribute<std::string>::readValueFrom): a 205-byte file whose string attribute
+// claims 1.9 GB; OpenEXR 3.1 allocated and zeroed that much before finding the file too
+// short. Every dhdr reader of EXR files now looks at the headers first (exr_header.h) and
+// refuses a claim past the end of the file, naming the attribute.
+TEST(FuzzRegressions, AnExrAttributeClaimingMoreThanTheFileIsRefusedBeforeOpenExrReadsIt) {
+    std::string error;
+    EXPECT_EQ(dhdr::gbuffer::findGBufferPart(
+                  regression("fuzz_gbuffer", "openexr-string-attribute-2gb.exr").string(), error),
+              -1);
+    EXPECT_NE(error.find("capDate"), std::string::npos) << error;
+    EXPECT_NE(error.find("past the end"), std::string::npos) << error;
+
+    dhdr::ProbeVolume volume;
+    error.clear();
+    EXPECT_FALSE(dhdr::readProbes(
+        regression("fuzz_probes", "openexr-string-attribute-2gb.exr").string(), volume, error));
+    EXPECT_NE(error.find("past the end"), std::string::npos) << error;
+
+    // A preview of 65535² texels in an 8-byte value, a string vector whose one string claims
+    // 1 GB: what OpenEXR 3.1 would allocate by is checked too.
+    for (const std::string& bytes :
+         {exrWith(attribute("preview", "preview", 8, u32(65535) + u32(65535))),
+          exrWith(attribute("names", "stringvector", 8, u32(1u << 30) + "abcd")),
+          exrWith(attribute("note", "string", 0x7fffffff, "short"))}) {
+        ScratchFile file(bytes);
+        error.clear();
+        EXPECT_EQ(dhdr::gbuffer::findGBufferPart(file.path, error), -1);
+        EXPECT_NE(error.find("claims"), std::string::npos) << error;
+        dhdr::EnvironmentImage env;
+        error.clear();
+        EXPECT_FALSE(dhdr::readEnvironmentImage(file.path, env, error));
+        EXPECT_NE(error.find("claims"), std::string::npos) << error;
+        dhdr::Ibl ibl;
+        bool baked = false;
+        error.clear();
+        EXPECT_FALSE(dhdr::loadIbl(file.path, dhdr::IblBakeParams{}, ibl, baked, error));
+        EXPECT_NE(error.find("claims"), std::string::npos) << error;
+        dhdr::DeepGBuffer deep;
+        error.clear();
+        EXPECT_FALSE(dhdr::readDeepGBuffer(file.path, 0, deep, error));
+        EXPECT_NE(error.find("claims"), std::string::npos) << error;
+    }
+
+    // The seeds, real files of every kind dhdr writes, pass the look.
+    for (const char* target : {"fuzz_gbuffer", "fuzz_probes", "fuzz_ibl"})
+        for (const auto& e :
+             fs::directory_iterator(fs::path(DHDR_SOURCE_DIR) / "fuzz" / "corpus" / target)) {
+            error.clear();
+            EXPECT_TRUE(dhdr::detail::exrHeadersFit(e.path().string(), error))
+                << e.path() << ": " << error;
+        }
 }
 
 } // namespace

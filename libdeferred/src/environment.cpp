@@ -1,3 +1,5 @@
+#include "exr_header.h"
+
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
@@ -94,6 +96,7 @@ bool readEnvironmentImage(const std::string& path, EnvironmentImage& env, std::s
     // pixels come from the same open file: through an ImageBuf they came from OpenImageIO's
     // shared ImageCache, whose header of a path read before (since rewritten) could be
     // smaller than this one and was overrun (found by fuzz_ibl).
+    if (!detail::exrHeadersFit(path, error)) return false;
     auto in = OIIO::ImageInput::open(path);
     if (!in || !in->seek_subimage(subimage, 0)) {
         error = "cannot read: " + (in ? in->geterror() : OIIO::geterror());

@@ -1,0 +1,125 @@
+#include "exr_header.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <vector>
+
+namespace dhdr::detail {
+
+namespace {
+
+// Headers are small: the first 64 MiB of a file are looked at; headers that go on past them
+// (with every claim so far within the file) are left to OpenEXR.
+constexpr std::uint64_t kMaxHeaderBytes = 64ull << 20;
+
+struct Cursor {
+    const std::vector<char>& bytes;
+    size_t at = 0;
+
+    bool cString(std::string& out, size_t maxLength) {
+        out.clear();
+        while (at < bytes.size() && bytes[at] != '\0') {
+            if (out.size() >= maxLength) return false;
+            out.push_back(bytes[at++]);
+        }
+        if (at >= bytes.size()) return false;
+        ++at; // the terminating 0
+        return true;
+    }
+    bool int32(std::int32_t& v) {
+        if (bytes.size() - at < 4) return false;
+        const auto* b = reinterpret_cast<const unsigned char*>(&bytes[at]);
+        v = std::int32_t(std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 |
+                         std::uint32_t(b[2]) << 16 | std::uint32_t(b[3]) << 24);
+        at += 4;
+        return true;
+    }
+};
+
+// The values inside an attribute that OpenEXR 3.1 allocates by before reading them.
+bool valueFits(const std::string& type, const char* value, std::int32_t size) {
+    auto u32 = [&](size_t offset) {
+        const auto* b = reinterpret_cast<const unsigned char*>(value + offset);
+        return std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 |
+               std::uint32_t(b[3]) << 24;
+    };
+    if (type == "preview") {
+        // width, height, then 4 bytes a texel.
+        if (size < 8) return false;
+        return 8 + 4 * std::uint64_t(u32(0)) * std::uint64_t(u32(4)) <= std::uint64_t(size);
+    }
+    if (type == "stringvector") {
+        // Each string: its length, then its bytes.
+        std::uint64_t at = 0;
+        while (at < std::uint64_t(size)) {
+            if (std::uint64_t(size) - at < 4) return false;
+            const std::int32_t n = std::int32_t(u32(size_t(at)));
+            at += 4;
+            if (n < 0 || std::uint64_t(n) > std::uint64_t(size) - at) return false;
+            at += std::uint64_t(n);
+        }
+    }
+    return true;
+}
+
+} // namespace
+
+bool exrHeadersFit(const std::string& path, std::string& error) {
+    std::ifstream file(path, std::ios::binary | std::ios::ate);
+    if (!file) return true; // the reader says why it cannot open it
+    const std::uint64_t fileSize = std::uint64_t(file.tellg());
+    file.seekg(0);
+    std::vector<char> bytes(size_t(std::min(fileSize, kMaxHeaderBytes)));
+    if (!file.read(bytes.data(), std::streamsize(bytes.size()))) return true;
+    static const unsigned char kMagic[4] = {0x76, 0x2f, 0x31, 0x01};
+    if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 4) != 0) return true;
+    const auto* v = reinterpret_cast<const unsigned char*>(bytes.data() + 4);
+    const std::uint32_t flags = std::uint32_t(v[1]) << 8 | std::uint32_t(v[2]) << 16;
+    const bool longNames = flags & 0x400, multipart = flags & 0x1000;
+    const size_t maxName = longNames ? 255 : 31;
+    Cursor in{bytes, 8};
+    // Past the bytes read of a larger file nothing more can be said.
+    const bool partial = bytes.size() < fileSize;
+    for (int part = 0;; ++part) {
+        std::string name, type;
+        int attributes = 0;
+        for (;; ++attributes) {
+            if (!in.cString(name, maxName)) {
+                if (partial && in.at >= bytes.size()) return true;
+                error = "an OpenEXR header cut short or with a name longer than " +
+                        std::to_string(maxName) + " bytes";
+                return false;
+            }
+            if (name.empty()) break; // the end of this header
+            std::int32_t size = 0;
+            if (!in.cString(type, maxName) || !in.int32(size)) {
+                if (partial && bytes.size() - in.at < 4) return true;
+                error = "an OpenEXR header cut short in attribute '" + name + "'";
+                return false;
+            }
+            if (partial && std::uint64_t(size) > bytes.size() - in.at &&
+                std::uint64_t(size) <= fileSize - in.at)
+                return true;
+            if (size < 0 || std::uint64_t(size) > bytes.size() - in.at ||
+                !valueFits(type, &bytes[in.at], size)) {
+                error = "OpenEXR attribute '" + name + "' (" + type + ") claims " +
+                        std::to_string(size) + " bytes or more, past the end of the " +
+                        std::to_string(fileSize) + "-byte file";
+                return false;
+            }
+            in.at += size_t(size);
+        }
+        // A single-part file has one header; a multi-part file's list of headers ends with an
+        // empty one (a lone 0 where the next header's first name would be).
+        if (!multipart) return true;
+        if (attributes == 0) return true;
+        if (part > 100000) {
+            error = "an OpenEXR file with more than 100000 parts";
+            return false;
+        }
+    }
+}
+
+} // namespace dhdr::detail
