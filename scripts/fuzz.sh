@@ -3,7 +3,8 @@
 # runs each for FUZZ_SECONDS (docs/development.md, "Fuzzing").
 #   scripts/fuzz.sh [target...]      all targets when none is named
 # Environment: FUZZ_SECONDS (60) per target, FUZZ_BUILD (build-fuzz), JOBS (nproc) for the
-# build, FUZZ_RSS_MB (2048) and FUZZ_TIMEOUT (25 s) for one input.
+# build, FUZZ_RSS_MB (2048) and FUZZ_TIMEOUT (25 s) for one input, FUZZ_PARALLEL (1) targets
+# run at a time.
 # Each target's working corpus is FUZZ_BUILD/corpus/<target>, seeded from fuzz/corpus/<target>;
 # what crashes (or leaks, runs out of memory or time) is saved in FUZZ_BUILD/artifacts/<target>/.
 # Prints one line a target and exits 1 when any target left a new artifact.
@@ -43,16 +44,16 @@ cmake --build "$BUILD" -j "$JOBS" --target "${targets[@]}"
 # Leaks are reported (libFuzzer's default under AddressSanitizer); any UBSan report aborts.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=0:allocator_may_return_null=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+# Leaks whose allocation passes through Debian's Assimp are its own (fuzz/lsan.supp says which).
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/fuzz/lsan.supp}
 
-failed=0
-summary=()
-for t in "${targets[@]}"; do
-  corpus="$BUILD/corpus/$t"
-  artifacts="$BUILD/artifacts/$t"
+# One target: its corpus seeded, fuzzed, its line of the summary in $BUILD/.summary-<target>.
+run_target() {
+  local t=$1
+  local corpus="$BUILD/corpus/$t" artifacts="$BUILD/artifacts/$t" log="$BUILD/$t.log"
+  local marker="$BUILD/.start-$t"
   mkdir -p "$corpus" "$artifacts"
   [ -d "fuzz/corpus/$t" ] && cp -n fuzz/corpus/"$t"/* "$corpus"/ 2>/dev/null || true
-  log="$BUILD/$t.log"
-  marker="$BUILD/.start-$t"
   touch "$marker"
   echo "fuzz: $t for ${SECONDS_PER_TARGET} s (log: $log)"
   # Fork mode with crashes ignored: the run goes on past a crash, and every one is saved.
@@ -60,6 +61,7 @@ for t in "${targets[@]}"; do
     -max_total_time="$SECONDS_PER_TARGET" -rss_limit_mb="$RSS_MB" -timeout="$TIMEOUT" \
     -artifact_prefix="$artifacts/" "$corpus" >"$log" 2>&1 || true
   # Executions: the last "#N: cov: …" status line of fork mode.
+  local execs files found kinds line
   execs=$(grep -oE '^#[0-9]+: cov' "$log" | tail -1 | tr -dc '0-9')
   files=$(find "$corpus" -type f | wc -l)
   found=$(find "$artifacts" -type f -newer "$marker" | wc -l)
@@ -68,13 +70,26 @@ for t in "${targets[@]}"; do
   rm -f "$marker"
   line=$(printf '%-18s %6s s  %10s executions  corpus %5s files  crashes %s' "$t" \
          "$SECONDS_PER_TARGET" "${execs:-0}" "$files" "$found")
-  if [ "$found" -gt 0 ]; then
-    failed=1
-    line="$line  ($kinds in $artifacts/)"
-  fi
-  summary+=("$line")
+  [ "$found" -gt 0 ] && line="$line  ($kinds in $artifacts/)"
+  echo "$line" >"$BUILD/.summary-$t"
+}
+
+# FUZZ_PARALLEL targets at a time (default 1: the machine is shared).
+PARALLEL=${FUZZ_PARALLEL:-1}
+for t in "${targets[@]}"; do
+  rm -f "$BUILD/.summary-$t"
+  while [ "$(jobs -rp | wc -l)" -ge "$PARALLEL" ]; do wait -n || true; done
+  run_target "$t" &
 done
+wait
+
+failed=0
 echo
 echo "fuzz summary:"
-printf '  %s\n' "${summary[@]}"
+for t in "${targets[@]}"; do
+  line=$(cat "$BUILD/.summary-$t" 2>/dev/null || echo "$t: no result")
+  echo "  $line"
+  case "$line" in *"crashes 0"*) ;; *) failed=1 ;; esac
+  rm -f "$BUILD/.summary-$t"
+done
 exit $failed
