@@ -27,8 +27,8 @@ std::vector<uint8_t> readBytes(const fs::path& path) {
 
 std::vector<fs::path> inputsOf(const std::string& target) {
     std::vector<fs::path> files;
-    for (const fs::path dir : {fs::path(DHDR_SOURCE_DIR) / "fuzz" / "corpus" / target,
-                               fs::path(DHDR_SOURCE_DIR) / "tests" / "fuzz_regressions" / target})
+    for (const fs::path& dir : {fs::path(DHDR_SOURCE_DIR) / "fuzz" / "corpus" / target,
+                                fs::path(DHDR_SOURCE_DIR) / "tests" / "fuzz_regressions" / target})
         if (fs::is_directory(dir))
             for (const auto& e : fs::directory_iterator(dir))
                 if (e.is_regular_file()) files.push_back(e.path());
@@ -174,6 +174,26 @@ TEST(FuzzRegressions, AnExrAttributeClaimingMoreThanTheFileIsRefusedBeforeOpenEx
         error.clear();
         EXPECT_FALSE(dhdr::readDeepGBuffer(file.path, 0, deep, error));
         EXPECT_NE(error.find("claims"), std::string::npos) << error;
+    }
+
+    // fuzz_gbuffer (libFuzzer: deadly signal, OpenImageIO's exrinput.cpp:837
+    // "TypeDesc_from_ImfPixelType: Assertion '0' failed: Unknown Imf::PixelType 3", from
+    // ImageInput::open in findGBufferPart): a channel of pixel type 3, which OpenEXR 3.1 reads
+    // and OpenImageIO 2.4 aborts the process on. Refused before OpenImageIO sees it.
+    error.clear();
+    EXPECT_EQ(dhdr::gbuffer::findGBufferPart(
+                  regression("fuzz_gbuffer", "oiio-abort-unknown-pixel-type.exr").string(), error),
+              -1);
+    EXPECT_NE(error.find("pixel type"), std::string::npos) << error;
+    {
+        const std::string channel = std::string("R\0", 2) + u32(3) + std::string(4, '\0') + u32(1) +
+                                    u32(1) + std::string(1, '\0');
+        ScratchFile file(
+            exrWith(attribute("channels", "chlist", uint32_t(channel.size()), channel)));
+        dhdr::EnvironmentImage env;
+        error.clear();
+        EXPECT_FALSE(dhdr::readEnvironmentImage(file.path, env, error));
+        EXPECT_NE(error.find("pixel type"), std::string::npos) << error;
     }
 
     // The seeds, real files of every kind dhdr writes, pass the look.

@@ -38,7 +38,8 @@ struct Cursor {
     }
 };
 
-// The values inside an attribute that OpenEXR 3.1 allocates by before reading them.
+// The values inside an attribute that OpenEXR 3.1 allocates by before reading them, and the
+// channel list, whose pixel types OpenImageIO 2.4 trusts.
 bool valueFits(const std::string& type, const char* value, std::int32_t size) {
     auto u32 = [&](size_t offset) {
         const auto* b = reinterpret_cast<const unsigned char*>(value + offset);
@@ -49,6 +50,22 @@ bool valueFits(const std::string& type, const char* value, std::int32_t size) {
         // width, height, then 4 bytes a texel.
         if (size < 8) return false;
         return 8 + 4 * std::uint64_t(u32(0)) * std::uint64_t(u32(4)) <= std::uint64_t(size);
+    }
+    if (type == "chlist") {
+        // Per channel: its name, pixel type, pLinear and 3 reserved bytes, x and y sampling;
+        // a 0 where a name would start ends the list. OpenImageIO 2.4 aborts (an assertion,
+        // Unknown Imf::PixelType) on a type other than UINT 0, HALF 1 or FLOAT 2, which
+        // OpenEXR 3.1 reads without a word.
+        std::int32_t at = 0;
+        while (at < size && value[at] != '\0') {
+            while (at < size && value[at] != '\0')
+                ++at;
+            if (size - at < 1 + 16) return false;
+            ++at;
+            const std::uint32_t pixelType = u32(size_t(at));
+            if (pixelType > 2) return false;
+            at += 16;
+        }
     }
     if (type == "stringvector") {
         // Each string: its length, then its bytes.
@@ -104,9 +121,13 @@ bool exrHeadersFit(const std::string& path, std::string& error) {
                 return true;
             if (size < 0 || std::uint64_t(size) > bytes.size() - in.at ||
                 !valueFits(type, &bytes[in.at], size)) {
-                error = "OpenEXR attribute '" + name + "' (" + type + ") claims " +
-                        std::to_string(size) + " bytes or more, past the end of the " +
-                        std::to_string(fileSize) + "-byte file";
+                error = type == "chlist" && size >= 0 && std::uint64_t(size) <= bytes.size() - in.at
+                            ? "OpenEXR attribute '" + name +
+                                  "' (chlist) is cut short or holds a channel of a pixel type "
+                                  "OpenEXR does not define (not uint, half or float)"
+                            : "OpenEXR attribute '" + name + "' (" + type + ") claims " +
+                                  std::to_string(size) + " bytes or more, past the end of the " +
+                                  std::to_string(fileSize) + "-byte file";
                 return false;
             }
             in.at += size_t(size);
