@@ -38,24 +38,63 @@ struct Cursor {
     }
 };
 
-// The values inside an attribute that OpenEXR 3.1 allocates by before reading them, and the
-// channel list, whose pixel types OpenImageIO 2.4 trusts.
+// OpenEXR 3.1 does not skip an attribute by the size it states: it reads the value as its type
+// says (16 bytes of a box2i, a channel list up to its closing 0) and goes on from there. An
+// attribute whose size disagrees with its value would be read from elsewhere than it is
+// looked at here, so it is refused. The bytes each fixed-size type reads:
+int fixedSize(const std::string& type) {
+    static const struct {
+        const char* type;
+        int bytes;
+    } kTypes[] = {{"box2i", 16},
+                  {"box2f", 16},
+                  {"chromaticities", 32},
+                  {"compression", 1},
+                  {"deepImageState", 1},
+                  {"double", 8},
+                  {"envmap", 1},
+                  {"float", 4},
+                  {"int", 4},
+                  {"keycode", 28},
+                  {"lineOrder", 1},
+                  {"m33f", 36},
+                  {"m33d", 72},
+                  {"m44f", 64},
+                  {"m44d", 128},
+                  {"rational", 8},
+                  {"tiledesc", 9},
+                  {"timecode", 8},
+                  {"v2i", 8},
+                  {"v2f", 8},
+                  {"v2d", 16},
+                  {"v3i", 12},
+                  {"v3f", 12},
+                  {"v3d", 24}};
+    for (const auto& t : kTypes)
+        if (type == t.type) return t.bytes;
+    return -1;
+}
+
+// The value of an attribute of `size` bytes read as OpenEXR 3.1 reads it: exactly those bytes,
+// nothing it allocates by before reading past them, and a channel list whose pixel types
+// OpenImageIO 2.4 knows.
 bool valueFits(const std::string& type, const char* value, std::int32_t size) {
     auto u32 = [&](size_t offset) {
         const auto* b = reinterpret_cast<const unsigned char*>(value + offset);
         return std::uint32_t(b[0]) | std::uint32_t(b[1]) << 8 | std::uint32_t(b[2]) << 16 |
                std::uint32_t(b[3]) << 24;
     };
+    if (const int bytes = fixedSize(type); bytes >= 0) return size == bytes;
     if (type == "preview") {
         // width, height, then 4 bytes a texel.
         if (size < 8) return false;
-        return 8 + 4 * std::uint64_t(u32(0)) * std::uint64_t(u32(4)) <= std::uint64_t(size);
+        return 8 + 4 * std::uint64_t(u32(0)) * std::uint64_t(u32(4)) == std::uint64_t(size);
     }
     if (type == "chlist") {
         // Per channel: its name, pixel type, pLinear and 3 reserved bytes, x and y sampling;
-        // a 0 where a name would start ends the list. OpenImageIO 2.4 aborts (an assertion,
-        // Unknown Imf::PixelType) on a type other than UINT 0, HALF 1 or FLOAT 2, which
-        // OpenEXR 3.1 reads without a word.
+        // a 0 where a name would start ends the list, as the attribute's last byte.
+        // OpenImageIO 2.4 aborts (an assertion, Unknown Imf::PixelType) on a type other than
+        // UINT 0, HALF 1 or FLOAT 2, which OpenEXR 3.1 reads without a word.
         std::int32_t at = 0;
         while (at < size && value[at] != '\0') {
             while (at < size && value[at] != '\0')
@@ -66,9 +105,10 @@ bool valueFits(const std::string& type, const char* value, std::int32_t size) {
             if (pixelType > 2) return false;
             at += 16;
         }
+        return at == size - 1;
     }
     if (type == "stringvector") {
-        // Each string: its length, then its bytes.
+        // Each string: its length, then its bytes, to the attribute's end.
         std::uint64_t at = 0;
         while (at < std::uint64_t(size)) {
             if (std::uint64_t(size) - at < 4) return false;
@@ -77,7 +117,10 @@ bool valueFits(const std::string& type, const char* value, std::int32_t size) {
             if (n < 0 || std::uint64_t(n) > std::uint64_t(size) - at) return false;
             at += std::uint64_t(n);
         }
+        return true;
     }
+    if (type == "floatvector") return size % 4 == 0;
+    // string, and types OpenEXR does not know (read as opaque bytes): the size is what is read.
     return true;
 }
 
@@ -121,13 +164,18 @@ bool exrHeadersFit(const std::string& path, std::string& error) {
                 return true;
             if (size < 0 || std::uint64_t(size) > bytes.size() - in.at ||
                 !valueFits(type, &bytes[in.at], size)) {
-                error = type == "chlist" && size >= 0 && std::uint64_t(size) <= bytes.size() - in.at
+                const bool inFile = size >= 0 && std::uint64_t(size) <= bytes.size() - in.at;
+                error = !inFile ? "OpenEXR attribute '" + name + "' (" + type + ") claims " +
+                                      std::to_string(size) + " bytes, past the end of the " +
+                                      std::to_string(fileSize) + "-byte file"
+                        : type == "chlist"
                             ? "OpenEXR attribute '" + name +
-                                  "' (chlist) is cut short or holds a channel of a pixel type "
-                                  "OpenEXR does not define (not uint, half or float)"
-                            : "OpenEXR attribute '" + name + "' (" + type + ") claims " +
-                                  std::to_string(size) + " bytes or more, past the end of the " +
-                                  std::to_string(fileSize) + "-byte file";
+                                  "' (chlist) is not a channel list of its size, or holds a "
+                                  "channel of a pixel type OpenEXR does not define (not uint, "
+                                  "half or float)"
+                            : "OpenEXR attribute '" + name + "' (" + type +
+                                  ") does not hold a value of its type in its " +
+                                  std::to_string(size) + " bytes";
                 return false;
             }
             in.at += size_t(size);
