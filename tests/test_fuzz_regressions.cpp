@@ -214,10 +214,12 @@ TEST(FuzzRegressions, AnExrAttributeClaimingMoreThanTheFileIsRefusedBeforeOpenEx
         EXPECT_NE(error.find("'dataWindow' (box2i) does not hold"), std::string::npos) << error;
     }
 
-    // The seeds, real files of every kind dhdr writes, pass the look.
+    // The seeds written by dhdr's tools (all but the past crashes'), real files of every kind
+    // dhdr writes, pass the look.
     for (const char* target : {"fuzz_gbuffer", "fuzz_probes", "fuzz_ibl"})
         for (const auto& e :
              fs::directory_iterator(fs::path(DHDR_SOURCE_DIR) / "fuzz" / "corpus" / target)) {
+            if (fs::exists(regression(target, e.path().filename().string()))) continue;
             error.clear();
             EXPECT_TRUE(dhdr::detail::exrHeadersFit(e.path().string(), error))
                 << e.path() << ": " << error;
