@@ -107,17 +107,23 @@ inline void lights(const uint8_t* data, size_t size) {
 }
 
 // fuzz_gltf_json: what dhdr reads of a glTF file's JSON itself (libdeferred/src/gltf_json.h),
-// the input as a .gltf (a .glb when it starts with the binary magic).
+// the input as a .gltf (a .glb when it starts with the binary magic): the document as
+// loadScene reads it, then every reader of it, as loadScene calls them.
 inline void gltfJson(const uint8_t* data, size_t size) {
     TempInput input(data, size, isGlb(data, size) ? "input.glb" : "input.gltf");
     const std::string& path = input.path();
-    detail::gltfEmissiveStrengths(path);
-    detail::gltfMaterialTextures(path);
-    detail::gltfIgnoredFeatures(path);
-    detail::gltfEmptySceneReason(path);
+    const nlohmann::json doc = detail::gltfJson(path);
+    std::string bytes, error;
+    detail::gltfFlattenDeepNodes(path, doc, bytes, error);
+    detail::gltfEmissiveStrengths(doc);
+    detail::gltfMaterialTextures(doc);
+    detail::gltfIgnoredFeatures(doc);
+    detail::gltfEmptySceneReason(doc);
+    detail::gltfCamerasByNode(doc);
+    detail::gltfNames(doc, "nodes");
+    detail::gltfNames(doc, "meshes");
     std::map<std::string, detail::GltfLight> lights;
-    std::string error;
-    detail::gltfLightsByNode(path, lights, error);
+    detail::gltfLightsByNode(doc, lights, error);
 }
 
 // fuzz_scene: loadScene (Assimp's importer, then dhdr's scene loader) on the same file.
