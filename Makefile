@@ -2,13 +2,14 @@
 #   make demo   install what is missing, build (Release), run the pipeline on the Cornell box
 #   make test   install what is missing, build, run the test suite (ctest)
 #   make sanitize  the same suite built with AddressSanitizer + UndefinedBehaviorSanitizer
+#   make fuzz      build the libFuzzer targets (clang) and run each for FUZZ_SECONDS (60)
 #   make golden    regenerate the golden images of the demo chain (testdata/golden)
 
 BUILD ?= build
 JOBS  ?= $(shell nproc)
 BUILD_TYPE ?= Release
 
-.PHONY: all deps configure build test sanitize golden demo bench format clean
+.PHONY: all deps configure build test sanitize fuzz golden demo bench format clean
 
 all: build
 
@@ -29,6 +30,11 @@ sanitize: deps
 	@cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDHDR_SANITIZE=ON >/dev/null
 	@cmake --build build-asan -j $(JOBS)
 	@cd build-asan && ASAN_OPTIONS=detect_leaks=0:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 ctest --output-on-failure -j $(JOBS)
+
+# The libFuzzer targets of fuzz/, built with clang in build-fuzz/, FUZZ_SECONDS (60) each
+# (docs/development.md, "Fuzzing"); fails when any target crashed.
+fuzz:
+	@bash scripts/fuzz.sh
 
 # Regenerates testdata/golden from the current build: only after a change meant to alter the
 # pictures, and looked at before committing (docs/development.md).

@@ -1,3 +1,5 @@
+#include "exr_header.h"
+
 #include <Imath/ImathBox.h>
 #include <Imath/ImathMatrix.h>
 #include <Imath/ImathVec.h>
@@ -68,6 +70,7 @@ DeepScanlineReader::~DeepScanlineReader() = default;
 
 bool DeepScanlineReader::open(const std::string& path, int part, const OIIO::ImageSpec& spec,
                               std::string& error) {
+    if (!detail::exrHeadersFit(path, error)) return false;
     try {
         m_impl = std::make_unique<Impl>();
         m_impl->file = std::make_unique<Imf::MultiPartInputFile>(path.c_str());

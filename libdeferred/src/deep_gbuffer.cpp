@@ -1,3 +1,5 @@
+#include "exr_header.h"
+
 #include <Imath/half.h>
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
@@ -42,6 +44,7 @@ DeepGBufferReader::~DeepGBufferReader() = default;
 
 bool DeepGBufferReader::open(const std::string& path, int subimage, std::string& error) {
     m_file = std::make_unique<File>();
+    if (!detail::exrHeadersFit(path, error)) return false;
     m_file->in = OIIO::ImageInput::open(path);
     if (!m_file->in) {
         error = OIIO::geterror();

@@ -1,3 +1,5 @@
+#include "exr_header.h"
+
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
@@ -90,16 +92,17 @@ bool colourChannels(const OIIO::ImageSpec& spec, int rgb[3]) {
 
 bool readEnvironmentImage(const std::string& path, EnvironmentImage& env, std::string& error,
                           long long* replaced, int subimage) {
-    // The header first: its size and channels decide before any pixel is allocated.
-    OIIO::ImageSpec spec;
-    {
-        auto in = OIIO::ImageInput::open(path);
-        if (!in || !in->seek_subimage(subimage, 0)) {
-            error = "cannot read: " + (in ? in->geterror() : OIIO::geterror());
-            return false;
-        }
-        spec = in->spec();
+    // The header first: its size and channels decide before any pixel is allocated. The
+    // pixels come from the same open file: through an ImageBuf they came from OpenImageIO's
+    // shared ImageCache, whose header of a path read before (since rewritten) could be
+    // smaller than this one and was overrun (found by fuzz_ibl).
+    if (!detail::exrHeadersFit(path, error)) return false;
+    auto in = OIIO::ImageInput::open(path);
+    if (!in || !in->seek_subimage(subimage, 0)) {
+        error = "cannot read: " + (in ? in->geterror() : OIIO::geterror());
+        return false;
     }
+    const OIIO::ImageSpec spec = in->spec();
     if (spec.deep) {
         error = "a deep image is not an environment";
         return false;
@@ -119,18 +122,18 @@ bool readEnvironmentImage(const std::string& path, EnvironmentImage& env, std::s
         error = "no colour channels (R, G, B or Y)";
         return false;
     }
-    OIIO::ImageBuf img(path, subimage, 0);
-    if (!img.read(subimage, 0, true, OIIO::TypeDesc::FLOAT)) {
-        error = "cannot read: " + img.geterror();
+    const int nch = spec.nchannels;
+    const size_t texels = size_t(spec.width) * size_t(spec.height);
+    std::vector<float> src(texels * size_t(nch));
+    if (!in->read_image(subimage, 0, 0, nch, OIIO::TypeDesc::FLOAT, src.data())) {
+        error = "cannot read: " + in->geterror();
         return false;
     }
     env.width = spec.width;
     env.height = spec.height;
-    env.rgb.assign(size_t(env.width) * size_t(env.height) * 3, 0.0f);
+    env.rgb.assign(texels * 3, 0.0f);
     long long bad = 0;
-    const int nch = img.spec().nchannels;
-    const float* src = static_cast<const float*>(img.localpixels());
-    for (size_t i = 0; i < size_t(env.width) * size_t(env.height); ++i)
+    for (size_t i = 0; i < texels; ++i)
         for (int c = 0; c < 3; ++c) {
             float v = src[i * size_t(nch) + size_t(rgb[c])];
             if (!std::isfinite(v)) {

@@ -1,3 +1,5 @@
+#include "exr_header.h"
+
 #include <ImfIDManifest.h>
 #include <OpenImageIO/imageio.h>
 #include <cmath>
@@ -107,6 +109,7 @@ bool findLayout(const OIIO::ImageSpec& spec, Layout& layout, std::string& missin
 }
 
 int findGBufferPart(const std::string& path, std::string& error) {
+    if (!detail::exrHeadersFit(path, error)) return -1;
     std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
     if (!in) {
         error = OIIO::geterror();

@@ -88,11 +88,15 @@ bool readChannelMap(const std::string& path, ChannelMap& map, std::string& error
         map.backgroundDepth = doc.value("backgroundDepth", 1e9f);
         if (!(map.backgroundDepth > 0.0f))
             throw std::runtime_error("backgroundDepth must be positive");
-        for (const auto& [k, v] : doc.items())
+        for (const auto& item : doc.items()) {
+            // A named key, not a structured binding: clang 14 (the fuzz build) cannot capture
+            // a binding in a lambda.
+            const std::string& k = item.key();
             if (k != "backgroundDepth" && k != "$comment" &&
                 std::none_of(std::begin(fields), std::end(fields),
                              [&](const auto& f) { return k == f.first; }))
                 throw std::runtime_error("unknown key '" + k + "'");
+        }
     } catch (const std::exception& e) {
         error = e.what();
         return false;

@@ -1,4 +1,6 @@
 // The baked IBL as one multi-part EXR (writeIbl, loadIbl).
+#include "exr_header.h"
+
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <cmath>
@@ -75,6 +77,7 @@ bool writeIbl(const std::string& path, const Ibl& ibl, std::string& error) {
 
 bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, bool& baked,
              std::string& error, long long* replaced, int nthreads) {
+    if (!detail::exrHeadersFit(path, error)) return false;
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
         error = "cannot read: " + OIIO::geterror();

@@ -1,4 +1,6 @@
 // A probe volume as one two-part EXR (writeProbes, readProbes).
+#include "exr_header.h"
+
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <cmath>
@@ -89,6 +91,7 @@ bool writeProbes(const std::string& path, const ProbeVolume& v, std::string& err
 }
 
 bool readProbes(const std::string& path, ProbeVolume& v, std::string& error) {
+    if (!detail::exrHeadersFit(path, error)) return false;
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
         error = OIIO::geterror();
