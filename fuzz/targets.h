@@ -3,7 +3,7 @@
 // a crash found by fuzzing is reproduced through exactly the calls that found it.
 #pragma once
 
-#include "../libdeferred/src/exr_header.h"
+#include <dhdr/deferred/exr_header.h>
 #include "../libdeferred/src/gltf_json.h"
 
 #include <OpenImageIO/deepdata.h>

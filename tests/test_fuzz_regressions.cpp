@@ -4,7 +4,7 @@
 // none may make a sanitizer report. The tests after the replay say what each fixed input must
 // now give.
 #include "../fuzz/targets.h"
-#include "../libdeferred/src/exr_header.h"
+#include <dhdr/deferred/exr_header.h>
 
 #include <OpenImageIO/imagebuf.h>
 #include <dhdr/deferred/environment.h>

@@ -525,3 +525,31 @@ TEST_F(HostileInput, FloatOptionsAreCheckedAsFloats) {
                   out);
     EXPECT_EQ(run(lit + path("fl_ok.json")).status, 0);
 }
+
+// The EXR headers the fuzzers found (tests/fuzz_regressions): a string attribute claiming 2 GB
+// in a 205-byte file made every tool allocate it (2 GB of memory), and a channel of an unknown
+// pixel type aborted the process inside OpenImageIO. Every tool now refuses them by name,
+// exit 1, before OpenEXR reads them.
+TEST_F(HostileInput, ExrHeadersThatLieAreRefusedByEveryTool) {
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " + path("lit.exr"))
+                  .status,
+              0);
+    const std::string regressions = kTestdata + "/../tests/fuzz_regressions/fuzz_gbuffer/";
+    for (const char* name :
+         {"openexr-string-attribute-2gb.exr", "oiio-abort-unknown-pixel-type.exr",
+          "openexr-chlist-shorter-than-its-size.exr"}) {
+        const std::string bad = regressions + name;
+        ASSERT_TRUE(fs::exists(bad)) << bad;
+        for (const std::string& cmd : {"dhdr-bloom " + bad, "dhdr-tonemap " + bad,
+                                       "dhdr-aa " + bad + " --gbuffer " + path("g.exr"),
+                                       "dhdr-aa " + path("lit.exr") + " --gbuffer " + bad,
+                                       "dhdr-light " + bad + " --lights " + kLights}) {
+            SCOPED_TRACE(cmd);
+            const Result r = run(cmd + " -o " + path("out.exr"));
+            EXPECT_EQ(r.status, 1) << r.err;
+            EXPECT_NE(r.err.find(name), std::string::npos) << r.err;
+            EXPECT_FALSE(fs::exists(path("out.exr")));
+        }
+    }
+    EXPECT_TRUE(noTemporaries());
+}

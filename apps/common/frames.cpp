@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <dhdr/deferred/exr_header.h>
 #include <filesystem>
 #include <regex>
 
@@ -206,7 +207,15 @@ int runFrames(
         std::vector<std::string> paths;
         for (const FramePattern& in : inputs)
             paths.push_back(in.path(f));
-        if (!frame(f, paths, output.path(f))) ++failures;
+        // OpenEXR 3.1 allocates what a header claims and OpenImageIO 2.4 aborts on an unknown
+        // pixel type: every input EXR's headers are looked at before either reads it.
+        bool fits = true;
+        for (const std::string& p : paths)
+            if (std::string error; fits && !detail::exrHeadersFit(p, error)) {
+                tool.fail(p + ": " + error);
+                fits = false;
+            }
+        if (!fits || !frame(f, paths, output.path(f))) ++failures;
         if (output.isSequence()) progress.update(float(++done) / float(frames.size()));
     }
     if (failures == 0) return kExitSuccess;

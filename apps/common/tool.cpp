@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <dhdr/deferred/deep_exr.h>
+#include <dhdr/deferred/exr_header.h>
 #include <dhdr/tonemap/sanitize.h>
 #include <filesystem>
 #include <fstream>
@@ -282,6 +283,11 @@ bool findColour(const Tool& tool, const std::string& path, const std::string& la
     }
     std::vector<ColourLayer> layers;
     std::string error;
+    // Before OpenEXR allocates what its headers claim (frames.cpp does the same per frame).
+    if (!detail::exrHeadersFit(path, error)) {
+        tool.fail(path + ": " + error);
+        return false;
+    }
     if (!listColourLayers(path, layers, error)) {
         tool.fail(cannotRead(path, error));
         return false;

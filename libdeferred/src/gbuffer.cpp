@@ -1,4 +1,4 @@
-#include "exr_header.h"
+#include <dhdr/deferred/exr_header.h>
 
 #include <ImfIDManifest.h>
 #include <OpenImageIO/imageio.h>

@@ -1,5 +1,5 @@
 // The baked IBL as one multi-part EXR (writeIbl, loadIbl).
-#include "exr_header.h"
+#include <dhdr/deferred/exr_header.h>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>

@@ -1,5 +1,5 @@
 // A probe volume as one two-part EXR (writeProbes, readProbes).
-#include "exr_header.h"
+#include <dhdr/deferred/exr_header.h>
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
