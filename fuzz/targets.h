@@ -3,7 +3,6 @@
 // a crash found by fuzzing is reproduced through exactly the calls that found it.
 #pragma once
 
-#include <dhdr/deferred/exr_header.h>
 #include "../libdeferred/src/gltf_json.h"
 
 #include <OpenImageIO/deepdata.h>
@@ -16,6 +15,7 @@
 #include <cstring>
 #include <dhdr/deferred/deep_exr.h>
 #include <dhdr/deferred/deep_gbuffer.h>
+#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_import.h>
 #include <dhdr/deferred/ibl.h>

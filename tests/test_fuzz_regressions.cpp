@@ -4,10 +4,10 @@
 // none may make a sanitizer report. The tests after the replay say what each fixed input must
 // now give.
 #include "../fuzz/targets.h"
-#include <dhdr/deferred/exr_header.h>
 
 #include <OpenImageIO/imagebuf.h>
 #include <dhdr/deferred/environment.h>
+#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/probes.h>

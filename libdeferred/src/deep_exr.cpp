@@ -1,5 +1,3 @@
-#include <dhdr/deferred/exr_header.h>
-
 #include <Imath/ImathBox.h>
 #include <Imath/ImathMatrix.h>
 #include <Imath/ImathVec.h>
@@ -19,6 +17,7 @@
 #include <cstdint>
 #include <ctime>
 #include <dhdr/deferred/deep_exr.h>
+#include <dhdr/deferred/exr_header.h>
 #include <filesystem>
 #include <stdexcept>
 #include <string>

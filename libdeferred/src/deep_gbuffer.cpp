@@ -1,5 +1,3 @@
-#include <dhdr/deferred/exr_header.h>
-
 #include <Imath/half.h>
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
@@ -8,6 +6,7 @@
 #include <cstring>
 #include <dhdr/deferred/deep_exr.h>
 #include <dhdr/deferred/deep_gbuffer.h>
+#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
 #include <memory>

@@ -1,11 +1,10 @@
-#include <dhdr/deferred/exr_header.h>
-
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/environment.h>
+#include <dhdr/deferred/exr_header.h>
 
 namespace dhdr {
 

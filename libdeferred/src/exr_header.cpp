@@ -1,8 +1,7 @@
-#include <dhdr/deferred/exr_header.h>
-
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <dhdr/deferred/exr_header.h>
 #include <fstream>
 #include <vector>
 

@@ -1,10 +1,9 @@
-#include <dhdr/deferred/exr_header.h>
-
 #include <ImfIDManifest.h>
 #include <OpenImageIO/imageio.h>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <memory>
 #include <utility>

@@ -1,9 +1,8 @@
 // The baked IBL as one multi-part EXR (writeIbl, loadIbl).
-#include <dhdr/deferred/exr_header.h>
-
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <cmath>
+#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/ibl.h>
 
 namespace dhdr {

@@ -1,9 +1,8 @@
 // A probe volume as one two-part EXR (writeProbes, readProbes).
-#include <dhdr/deferred/exr_header.h>
-
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <cmath>
+#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/probes.h>
 
 namespace dhdr {
