@@ -617,3 +617,23 @@ TEST_F(SceneInput, FlatPrimitivesKeepTheirNormalMaps) {
         }
     }
 }
+
+// A texture whose EXR header lies (the fuzzers' 205-byte file claiming a 2 GB attribute, and a
+// channel of an unknown pixel type, which aborts OpenImageIO) is a texture that cannot be
+// read: the material shows magenta with a warning naming the file, nothing is allocated for
+// the claim and nothing aborts.
+TEST_F(SceneInput, TexturesWithLyingHeadersAreUnreadableTextures) {
+    const std::string regressions = kTestdata + "/../tests/fuzz_regressions/fuzz_gbuffer/";
+    for (const char* name :
+         {"openexr-string-attribute-2gb.exr", "oiio-abort-unknown-pixel-type.exr"}) {
+        fs::copy_file(regressions + name, path(name), fs::copy_options::overwrite_existing);
+        writeJson(path("lying.gltf"), texturedSquare("brick", name, "", ""));
+        const Result r = run("dhdr-gbuffer " + path("lying.gltf") +
+                             " --lookat 0,0,3,0,0,0 --size 8x8 -o " + path("lying.exr"));
+        ASSERT_EQ(r.status, 0) << r.err;
+        EXPECT_NE(r.err.find(path(name) + ": cannot read texture"), std::string::npos) << r.err;
+        const ImageBuf g = read("lying.exr");
+        const float* px = static_cast<const float*>(g.pixeladdr(4, 4));
+        EXPECT_NEAR(px[g.spec().channelindex("albedo.G")], 0.0f, 1e-3f); // magenta
+    }
+}

@@ -5,6 +5,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <algorithm>
 #include <cmath>
+#include <dhdr/deferred/exr_header.h>
 #include <memory>
 #include <vector>
 
@@ -27,7 +28,20 @@ bool loadTexture(Texture& texture, const std::string& name, const void* data, si
         OIIO::Filesystem::IOProxy* proxy = memory.get();
         config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
     }
+    // A texture file's EXR headers are looked at before OpenEXR allocates what they claim,
+    // and its size before its pixels are (as every image input of the tools).
+    if (size == 0 && !detail::exrHeadersFit(name, error)) {
+        error = name + ": cannot read texture: " + error;
+        return false;
+    }
     OIIO::ImageBuf image(name, 0, 0, nullptr, size > 0 ? &config : nullptr);
+    if (double(image.spec().width) * double(image.spec().height) > 16384.0 * 16384.0) {
+        error = name + ": cannot read texture: " + std::to_string(image.spec().width) + "x" +
+                std::to_string(image.spec().height) +
+                " is larger than a texture may be "
+                "(16384x16384)";
+        return false;
+    }
     if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
         error = name + ": cannot read texture: " + image.geterror();
         return false;
