@@ -42,22 +42,6 @@ protected:
         EXPECT_TRUE(noTemporaries());
     }
 
-    // A copy of the EXR `from` whose header claims a `size` × `size` image: its dataWindow and
-    // displayWindow rewritten in place, room for the line offset table appended, the pixels
-    // as they were (absent for most rows).
-    static void claimHugeSize(const std::string& from, const std::string& to, int size) {
-        std::string bytes = slurp(from);
-        for (const char* name : {"dataWindow", "displayWindow"}) {
-            const std::string key = std::string(name) + '\0' + "box2i" + '\0';
-            const size_t at = bytes.find(key);
-            ASSERT_NE(at, std::string::npos) << name;
-            const int box[4] = {0, 0, size - 1, size - 1};
-            std::memcpy(&bytes[at + key.size() + 4], box, sizeof box);
-        }
-        bytes.append(size_t(size) * 8, '\0');
-        std::ofstream(to, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
-    }
-
     // Starts `args` in the background; returns its process id.
     static pid_t start(const std::string& args) {
         const pid_t pid = fork();

@@ -47,21 +47,6 @@ protected:
         r.err = slurp(dir / "stderr.txt");
         return r;
     }
-
-    // Copies EXR `from` to `to` with a header that claims size × size pixels, its rows absent
-    // (as tests/test_bad_input.cpp does).
-    static void claimHugeSize(const std::string& from, const std::string& to, int size) {
-        std::string bytes = slurp(from);
-        for (const char* name : {"dataWindow", "displayWindow"}) {
-            const std::string key = std::string(name) + '\0' + "box2i" + '\0';
-            const size_t at = bytes.find(key);
-            ASSERT_NE(at, std::string::npos) << name;
-            const int box[4] = {0, 0, size - 1, size - 1};
-            std::memcpy(&bytes[at + key.size() + 4], box, sizeof box);
-        }
-        bytes.append(size_t(size) * 8, '\0');
-        std::ofstream(to, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
-    }
 };
 
 } // namespace

@@ -98,16 +98,27 @@ std::string CommandLine::Range::text() const {
     return (openLo ? "(" : "[") + number(lo) + ", " + number(hi) + (openHi ? ")" : "]");
 }
 
+namespace {
+
+// `v` as a finite number in `d`; false with the message otherwise.
+bool parseFinite(const std::string& v, double& d, std::string& err) {
+    char* end = nullptr;
+    d = std::strtod(v.c_str(), &end);
+    if (v.empty() || *end != '\0' || !std::isfinite(d)) {
+        err = "'" + v + "' is not a finite number";
+        return false;
+    }
+    return true;
+}
+
+} // namespace
+
 void CommandLine::option(const std::string& name, double& target, const std::string& metavar,
                          const std::string& help, Range range) {
     option(name, metavar, help + " " + range.text(),
            [&target, range](const std::string& v, std::string& err) {
-               char* end = nullptr;
-               const double d = std::strtod(v.c_str(), &end);
-               if (v.empty() || *end != '\0' || !std::isfinite(d)) {
-                   err = "'" + v + "' is not a finite number";
-                   return false;
-               }
+               double d = 0.0;
+               if (!parseFinite(v, d, err)) return false;
                if (!range.contains(d)) {
                    err = v + " is outside " + range.text();
                    return false;
@@ -148,12 +159,8 @@ void CommandLine::option(const std::string& name, float& target, const std::stri
     requireFloatRange(name, range);
     option(name, metavar, help + " " + range.text(),
            [&target, range](const std::string& v, std::string& err) {
-               char* end = nullptr;
-               const double d = std::strtod(v.c_str(), &end);
-               if (v.empty() || *end != '\0' || !std::isfinite(d)) {
-                   err = "'" + v + "' is not a finite number";
-                   return false;
-               }
+               double d = 0.0;
+               if (!parseFinite(v, d, err)) return false;
                if (err = checkAsFloat(v, d, range); !err.empty()) return false;
                target = float(d);
                return true;
