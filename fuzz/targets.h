@@ -13,9 +13,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <dhdr/deferred/deep_exr.h>
 #include <dhdr/deferred/deep_gbuffer.h>
-#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_import.h>
 #include <dhdr/deferred/ibl.h>
@@ -23,6 +21,8 @@
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/scene.h>
 #include <dhdr/deferred/shading_point.h>
+#include <dhdr/io/deep_exr.h>
+#include <dhdr/io/exr_header.h>
 #include <filesystem>
 #include <map>
 #include <string>

@@ -15,13 +15,13 @@
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cmath>
-#include <dhdr/deferred/deep_exr.h>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/io/deep_exr.h>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>

@@ -7,10 +7,10 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <dhdr/deferred/environment.h>
-#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/probes.h>
+#include <dhdr/io/exr_header.h>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>

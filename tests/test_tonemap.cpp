@@ -6,11 +6,11 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <dhdr/io/sanitize.h>
 #include <dhdr/tonemap/bloom.h>
 #include <dhdr/tonemap/edge_aa.h>
 #include <dhdr/tonemap/luminance.h>
 #include <dhdr/tonemap/reinhard.h>
-#include <dhdr/tonemap/sanitize.h>
 #include <gtest/gtest.h>
 #include <random>
 

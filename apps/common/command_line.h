@@ -2,6 +2,7 @@
 // `dhdr-<stage> INPUT... -o OUTPUT [options]`, --help, --version, -v, -q, --threads N.
 #pragma once
 
+#include <dhdr/io/pixel_limit.h>
 #include <functional>
 #include <optional>
 #include <string>
@@ -12,21 +13,6 @@ namespace dhdr::app {
 inline constexpr int kExitSuccess = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
-
-// The most pixels (width × height) an image a tool reads or renders may have unless
-// --max-pixels raises it: 16384 × 16384, so that a 16K frame (15360 × 8640) passes and a
-// 65536 × 65536 file (a few MB of ZIP-compressed constant pixels) is refused before it is
-// streamed for minutes. 0 lifts the limit.
-inline constexpr long long kDefaultMaxPixels = 16384LL * 16384LL;
-// The limit in force: kDefaultMaxPixels until CommandLine::parse reads --max-pixels.
-long long maxPixels();
-void setMaxPixels(long long pixels);
-// Empty when an image of width × height (× depth) pixels is within maxPixels(); else
-// "WxH pixels is more than --max-pixels N (SxS); give --max-pixels to raise it", which a
-// caller puts after the file's name.
-std::string pixelLimitError(long long width, long long height, long long depth = 1);
-// Whether `error` is one pixelLimitError made (it names the file without "cannot read").
-bool isPixelLimitError(const std::string& error);
 
 // A file that a command line names, and the option that names it ("-o", "--probes"; empty
 // for a positional input).

@@ -7,7 +7,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <dhdr/deferred/exr_header.h>
+#include <dhdr/io/exr_header.h>
 #include <filesystem>
 #include <regex>
 

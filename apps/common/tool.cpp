@@ -1,8 +1,6 @@
 #include "tool.h"
 
 #include "frames.h"
-#include "layers.h"
-#include "native_pixels.h"
 
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
@@ -13,9 +11,10 @@
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
-#include <dhdr/deferred/deep_exr.h>
-#include <dhdr/deferred/exr_header.h>
-#include <dhdr/tonemap/sanitize.h>
+#include <dhdr/io/deep_exr.h>
+#include <dhdr/io/exr_header.h>
+#include <dhdr/io/layers.h>
+#include <dhdr/io/sanitize.h>
 #include <filesystem>
 #include <fstream>
 #include <future>
@@ -28,129 +27,6 @@
 namespace fs = std::filesystem;
 
 namespace dhdr::app {
-
-namespace {
-
-// Every temporary output open in the process (frames of a sequence are written in
-// parallel), in fixed slots that a signal handler can read without locks or allocation.
-class TemporaryRegistry {
-public:
-    static TemporaryRegistry& instance() {
-        static TemporaryRegistry registry;
-        return registry;
-    }
-
-    void add(const std::string& path) {
-        std::lock_guard<std::mutex> lock(m_mutex);
-        installHandlers();
-        for (Slot& s : m_slots) {
-            if (s.used.load(std::memory_order_relaxed)) continue;
-            std::strncpy(s.path, path.c_str(), sizeof(s.path) - 1);
-            s.path[sizeof(s.path) - 1] = 0;
-            s.used.store(true, std::memory_order_release);
-            return;
-        }
-        // More outputs open at once than slots: not removed on a signal, still on failure.
-    }
-
-    void remove(const std::string& path) {
-        std::lock_guard<std::mutex> lock(m_mutex);
-        for (Slot& s : m_slots)
-            if (s.used.load(std::memory_order_relaxed) && path == s.path)
-                s.used.store(false, std::memory_order_release);
-    }
-
-    // Async-signal-safe: unlink is, and the slots are only read.
-    void unlinkAll() {
-        for (Slot& s : m_slots)
-            if (s.used.load(std::memory_order_acquire)) unlink(s.path);
-    }
-
-private:
-    struct Slot {
-        std::atomic<bool> used{false};
-        char path[4096] = {0};
-    };
-
-    static void onSignal(int signal) {
-        instance().unlinkAll();
-        std::signal(signal, SIG_DFL);
-        std::raise(signal);
-    }
-
-    // A termination signal that the process was started with ignored stays ignored, as
-    // well-behaved Unix tools do: `nohup dhdr-… &` ignores SIGHUP, and a shell without job
-    // control starts `dhdr-… &` with SIGINT and SIGQUIT ignored; such a run must go on, not
-    // die in our handler. Fatal signals (SIGABRT from abort(), and the faults) end the
-    // process whatever their disposition, so their handler is always installed to clean up.
-    void installHandlers() {
-        if (m_installed) return;
-        m_installed = true;
-        struct sigaction action {};
-        action.sa_handler = onSignal;
-        sigemptyset(&action.sa_mask);
-        action.sa_flags = SA_RESTART; // as signal() installs a handler
-        for (int s : {SIGHUP, SIGINT, SIGTERM, SIGQUIT}) {
-            struct sigaction old {};
-            if (sigaction(s, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
-            sigaction(s, &action, nullptr);
-        }
-        for (int s : {SIGABRT, SIGSEGV, SIGBUS, SIGFPE, SIGILL})
-            sigaction(s, &action, nullptr);
-    }
-
-    std::mutex m_mutex;
-    bool m_installed = false;
-    Slot m_slots[64];
-};
-
-// ".NAME.tmpPID.EXT": where a temporary of `target` written by process `pid` lives.
-fs::path temporaryFor(const fs::path& target, pid_t pid) {
-    return target.parent_path() / ("." + target.stem().string() + ".tmp" + std::to_string(pid) +
-                                   target.extension().string());
-}
-
-// Removes temporaries of `target` whose writer is gone (killed by SIGKILL, or a crash the
-// handlers could not see); a live process's are left alone.
-void removeStaleTemporaries(const fs::path& target) {
-    const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
-    const std::string head = "." + target.stem().string() + ".tmp";
-    const std::string tail = target.extension().string();
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(folder, ec)) {
-        const std::string name = entry.path().filename().string();
-        if (name.size() <= head.size() + tail.size() || name.rfind(head, 0) != 0 ||
-            name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
-            continue;
-        const std::string digits =
-            name.substr(head.size(), name.size() - head.size() - tail.size());
-        if (digits.empty() || digits.size() > 9 ||
-            digits.find_first_not_of("0123456789") != std::string::npos)
-            continue;
-        const pid_t pid = pid_t(std::stol(digits));
-        if (pid == getpid() || kill(pid, 0) == 0 || errno != ESRCH) continue;
-        fs::remove(entry.path(), ec);
-    }
-}
-
-// OIIO's messages end in newlines and sometimes repeat the file name; one line is enough.
-std::string oneLine(std::string message) {
-    while (!message.empty() && (message.back() == '\n' || message.back() == ' '))
-        message.pop_back();
-    for (char& c : message)
-        if (c == '\n') c = ' ';
-    return message.empty() ? "unknown error" : message;
-}
-
-} // namespace
-
-std::string cannotRead(const std::string& path, const std::string& error) {
-    if (path.find('?') != std::string::npos &&
-        error.find("malformed filename") != std::string::npos)
-        return path + ": cannot read: OpenImageIO takes what follows '?' in a file name for "
-                      "options (file.exr?key=value); rename the file without '?'";
-    return path + (isPixelLimitError(error) ? ": " : ": cannot read: ") + oneLine(error);
-}
 
 int Tool::fail(const std::string& message) const {
     std::fprintf(stderr, "%s: error: %s\n", m_name.c_str(), message.c_str());
@@ -361,26 +237,10 @@ void Tool::reportNonFinite(const std::string& path, const NonFiniteCount& n,
 bool Tool::writeAtomically(
     const std::string& path,
     const std::function<bool(const std::string&, std::string&)>& write) const {
-    const fs::path target(path);
-    removeStaleTemporaries(target);
-    const fs::path temporary = temporaryFor(target, getpid());
-    TemporaryRegistry::instance().add(temporary.string());
-    std::error_code ec;
     std::string error;
-    if (!write(temporary.string(), error)) {
-        fs::remove(temporary, ec);
-        TemporaryRegistry::instance().remove(temporary.string());
-        fail(path + ": cannot write" + (error.empty() ? "" : ": " + error));
-        return false;
-    }
-    fs::rename(temporary, target, ec);
-    TemporaryRegistry::instance().remove(temporary.string());
-    if (ec) {
-        fs::remove(temporary, ec);
-        fail(path + ": cannot move the output into place: " + ec.message());
-        return false;
-    }
-    return true;
+    if (writeFileAtomically(path, write, error)) return true;
+    fail(error);
+    return false;
 }
 
 bool Tool::writeText(const std::string& text, const std::string& path) const {
@@ -391,200 +251,34 @@ bool Tool::writeText(const std::string& text, const std::string& path) const {
     });
 }
 
+namespace {
+
+ImageOutputOptions outputOptions(const Tool& tool) {
+    ImageOutputOptions options;
+    options.software = tool.name() + " (dhdr " DHDR_VERSION ")";
+    options.compression = tool.commandLine().compression();
+    return options;
+}
+
+} // namespace
+
 AtomicOutput::AtomicOutput(const Tool& tool, std::string path)
-    : m_tool(tool), m_path(std::move(path)) {
-    const fs::path target(m_path);
-    removeStaleTemporaries(target);
-    // Frames of a sequence written at once by one process have different targets, so the
-    // process id keeps temporaries apart.
-    m_temporary = temporaryFor(target, getpid()).string();
-}
+    : m_tool(tool), m_file(std::move(path), outputOptions(tool)) {}
 
-AtomicOutput::~AtomicOutput() {
-    if (m_committed) return;
-    if (m_out) m_out->close();
-    m_deep.reset();
-    std::error_code ec;
-    fs::remove(m_temporary, ec);
-    TemporaryRegistry::instance().remove(m_temporary);
-}
-
-bool AtomicOutput::open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats) {
-    m_out = OIIO::ImageOutput::create(m_path);
-    if (!m_out) {
-        m_tool.fail(m_path + ": cannot write this format: " + oneLine(OIIO::geterror()));
-        return false;
-    }
-    if (formats.size() == size_t(spec.nchannels) && formats.size() > 1 &&
-        m_out->supports("channelformats")) {
-        spec.channelformats = formats;
-    } else {
-        spec.set_format(formats.empty() ? OIIO::TypeDesc::FLOAT : formats[0]);
-        spec.channelformats.clear();
-    }
-    spec.attribute("Software", m_tool.name() + " (dhdr " DHDR_VERSION ")");
-    if (!m_tool.commandLine().compression().empty())
-        spec.attribute("compression", m_tool.commandLine().compression());
-    // Scanline output whatever the input was (a tiled input's spec carries its tiling, which
-    // the scanline writes below cannot fill), one part, flat.
-    spec.tile_width = spec.tile_height = spec.tile_depth = 0;
-    spec.deep = false;
-    spec.erase_attribute("oiio:subimages");
-    bool native = true;
-    for (int c = 0; c < spec.nchannels; ++c) {
-        const OIIO::TypeDesc t = spec.channelformat(c);
-        native = native && (t == OIIO::TypeDesc::HALF || t == OIIO::TypeDesc::FLOAT ||
-                            t == OIIO::TypeDesc::UINT);
-    }
-    const int z = spec.channelindex("Z");
-    m_native = native ? std::make_unique<NativeWriter>(spec, z) : nullptr;
-    return openTemporary(spec);
-}
-
-bool AtomicOutput::openTemporary(const OIIO::ImageSpec& spec) {
-    TemporaryRegistry::instance().add(m_temporary);
-    if (!m_out->open(m_temporary, spec)) {
-        m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
-        m_out.reset();
-        return false;
-    }
-    return true;
-}
-
-bool AtomicOutput::openDeep(OIIO::ImageSpec spec) {
-    std::string ext = fs::path(m_path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-    if (ext != ".exr") {
-        m_tool.fail(m_path + ": cannot write deep images in this format (use .exr)");
-        return false;
-    }
-    spec.attribute("Software", m_tool.name() + " (dhdr " DHDR_VERSION ")");
-    spec.tile_width = spec.tile_height = spec.tile_depth = 0;
-    spec.deep = true;
-    TemporaryRegistry::instance().add(m_temporary);
-    m_deep = std::make_unique<DeepScanlineWriter>();
-    if (std::string error; !m_deep->open(m_temporary, spec, error)) {
-        m_tool.fail(m_path + ": cannot write: " + oneLine(error));
-        m_deep.reset();
-        return false;
-    }
-    return true;
-}
-
-bool AtomicOutput::writeDeepRows(int ybegin, int yend, const OIIO::DeepData& samples) {
-    // The flat output's rule for every sample: NaN becomes 0, ±Inf (a half channel's overflow
-    // included, when the value was stored) the type's largest finite value, counted.
-    std::unique_ptr<OIIO::DeepData> fixed;
-    for (int64_t p = 0; p < samples.pixels(); ++p)
-        for (int c = 0; c < samples.channels(); ++c)
-            for (int k = 0; k < samples.samples(p); ++k) {
-                const float v = samples.deep_value(p, c, k);
-                if (std::isfinite(v)) continue;
-                if (!fixed) fixed = std::make_unique<OIIO::DeepData>(samples);
-                const float largest =
-                    samples.channeltype(c) == OIIO::TypeDesc::HALF ? 65504.0f : FLT_MAX;
-                fixed->set_deep_value(p, c, k, std::isnan(v) ? 0.0f : std::copysign(largest, v));
-                ++(std::isnan(v) ? m_nonFinite : m_clamped);
-            }
-    if (std::string error; !m_deep->write(ybegin, yend, fixed ? *fixed : samples, error)) {
-        m_tool.fail(m_path + ": cannot write: " + oneLine(error));
-        return false;
-    }
-    return true;
-}
-
-bool AtomicOutput::writeRows(int ybegin, int yend, const float* pixels) {
-    const OIIO::ImageSpec& spec = m_out->spec();
-    const size_t count = size_t(yend - ybegin) * size_t(spec.width);
-    bool written = false;
-    if (m_native) {
-        // In the file's own types, so that uint channels hold integers rather than OIIO's
-        // float-to-uint scaling of [0, 1] to [0, 2^32 − 1].
-        m_buffer.resize(count * m_native->pixelBytes());
-        m_native->convert(pixels, count, m_buffer.data(), m_clamped, m_nonFinite);
-        written = m_out->write_scanlines(ybegin, yend, 0, OIIO::TypeUnknown, m_buffer.data());
-    } else {
-        // Integer formats: OIIO's conversion clamps to their range; NaN only needs replacing.
-        std::vector<float> copy(pixels, pixels + count * size_t(spec.nchannels));
-        for (float& v : copy)
-            if (std::isnan(v)) {
-                v = 0.0f;
-                ++m_nonFinite;
-            }
-        written = m_out->write_scanlines(ybegin, yend, 0, OIIO::TypeDesc::FLOAT, copy.data());
-    }
-    if (!written) {
-        m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
-        return false;
-    }
-    return true;
-}
-
-bool AtomicOutput::writeStrips(OIIO::TypeDesc type, int rows, bool overlap, const StripFill& fill) {
-    const OIIO::ImageSpec& spec = m_out->spec();
-    const int strips = (spec.height + rows - 1) / rows;
-    const size_t stripBytes =
-        size_t(rows) * size_t(spec.width) * size_t(spec.nchannels) * type.size();
-    std::vector<std::byte> buffers[2] = {std::vector<std::byte>(stripBytes),
-                                         std::vector<std::byte>(stripBytes)};
-    auto strip = [&](int k) {
-        const int y0 = spec.y + k * rows;
-        return OIIO::ROI(spec.x, spec.x + spec.width, y0, std::min(y0 + rows, spec.y + spec.height),
-                         0, 1, 0, spec.nchannels);
-    };
-    auto compute = [&](int k) {
-        return std::async(overlap ? std::launch::async : std::launch::deferred,
-                          [&, k] { return fill(strip(k), buffers[k % 2].data()); });
-    };
-    std::future<bool> next = compute(0);
-    for (int k = 0; k < strips; ++k) {
-        if (!next.get()) return false;
-        if (k + 1 < strips) next = compute(k + 1);
-        const OIIO::ROI r = strip(k);
-        if (type == OIIO::TypeDesc::FLOAT) {
-            if (!writeRows(r.ybegin, r.yend, reinterpret_cast<const float*>(buffers[k % 2].data())))
-                return false;
-            continue;
-        }
-        if (!m_out->write_scanlines(r.ybegin, r.yend, 0, type, buffers[k % 2].data())) {
-            m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
-            return false;
-        }
-    }
-    return true;
+bool AtomicOutput::report(bool ok) const {
+    if (!ok) m_tool.fail(m_file.geterror());
+    return ok;
 }
 
 bool AtomicOutput::commit() {
-    if (m_deep) {
-        if (std::string error; !m_deep->close(error)) {
-            m_tool.fail(m_path + ": cannot write: " + oneLine(error));
-            return false;
-        }
-        m_deep.reset();
-    } else if (!m_out->close()) {
-        m_tool.fail(m_path + ": cannot write: " + oneLine(m_out->geterror()));
-        return false;
-    }
-    m_out.reset();
-    std::error_code ec;
-    fs::rename(m_temporary, m_path, ec);
-    if (ec) {
-        m_tool.fail(m_path + ": cannot move the output into place: " + ec.message());
-        return false;
-    }
-    m_committed = true;
-    TemporaryRegistry::instance().remove(m_temporary);
-    if (m_nonFinite > 0)
-        m_tool.warn(m_path + ": wrote " + std::to_string(m_nonFinite) +
-                    " non-finite values as finite ones (NaN → 0, ±Inf → the largest float)");
-    if (m_clamped > 0)
-        m_tool.warn(m_path + ": " + std::to_string(m_clamped) +
-                    " values beyond half float's ±65504 were clamped to it; write float to keep "
-                    "them (dhdr-light --type float)");
+    if (!report(m_file.commit())) return false;
+    for (const std::string& w : m_file.warnings())
+        m_tool.warn(w);
     return true;
 }
 
 int guardedMain(const char* name, const std::function<int()>& body) {
+    removeTemporaryOutputsOnSignals();
     try {
         return body();
     } catch (const std::bad_alloc&) {

@@ -8,21 +8,20 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <atomic>
-#include <dhdr/deferred/deep_exr.h>
-#include <dhdr/tonemap/sanitize.h>
+#include <dhdr/io/errors.h>
+#include <dhdr/io/image_output.h>
+#include <dhdr/io/sanitize.h>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
-namespace dhdr::app {
-
+namespace dhdr {
 class ColourStripReader;
+}
 
-// "PATH: cannot read: ERROR", or "PATH: ERROR" for an image over --max-pixels
-// (pixelLimitError), whose message says what is wrong by itself.
-std::string cannotRead(const std::string& path, const std::string& error);
+namespace dhdr::app {
 
 class Tool {
 public:
@@ -74,12 +73,11 @@ public:
     void reportNonFinite(const std::string& path, const NonFiniteCount& counts,
                          bool zeroNegative) const;
 
-    // Writes a small text file (a lights file) as AtomicOutput writes images: temporary
-    // name, then rename.
     // Writes `path` through `write`, which fills the temporary it is given (keeping the
     // extension) and returns false with a reason; renamed into place only when complete.
     bool writeAtomically(const std::string& path,
                          const std::function<bool(const std::string&, std::string&)>& write) const;
+    // Writes a small text file (a lights file) the same way.
     bool writeText(const std::string& text, const std::string& path) const;
 
     const CommandLine& commandLine() const { return m_cl; }
@@ -93,58 +91,31 @@ private:
 // (channel 3, as the tools read colour) is not 0, or it has no alpha at all.
 bool hasSurface(const OIIO::ImageBuf& image, OIIO::ROI roi = {});
 
-class NativeWriter;
-
-// An output file written under a temporary name in its folder (same extension, so the
-// format is the same) and renamed into place by commit(): a failed or interrupted run never
-// leaves a partial file. Every temporary open in the process is removed on SIGHUP, SIGINT,
-// SIGTERM and fatal signals; temporaries of the same output left by a process that is gone
-// (killed with SIGKILL) are removed when it is written again. Rows can be written as they
-// are produced. Output is scanline whatever the input was, and never holds NaN or Inf:
-// NaN becomes 0, ±Inf and values past half's ±65504 in half channels the type's largest
-// value, each counted in one warning at commit() (a G-buffer's Z keeps the +Inf of its
-// background, which the contract gives it).
+// An ImageFileOutput (dhdr/io/image_output.h) that prints its errors as the tool's, and its
+// warnings once committed; the header names the tool and takes --compression.
 class AtomicOutput {
 public:
     AtomicOutput(const Tool& tool, std::string path);
-    ~AtomicOutput();
-    AtomicOutput(const AtomicOutput&) = delete;
-    AtomicOutput& operator=(const AtomicOutput&) = delete;
 
-    // Opens the temporary file for an image of `spec`; rows are then given as float pixels.
-    // `formats`: one type for all channels, or one per channel; empty keeps float. Errors
-    // are printed, naming the output.
-    bool open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats);
-    // Opens the temporary file for a deep scanline image of `spec` (its channelformats the
-    // samples' types); rows are then given as DeepData. Written through OpenEXR itself
-    // (dhdr/deferred/deep_exr.h: OpenImageIO 2.4.7 overflows on large deep frames).
-    bool openDeep(OIIO::ImageSpec spec);
-    bool writeDeepRows(int ybegin, int yend, const OIIO::DeepData& samples);
-    // Rows [ybegin, yend), contiguous float pixels of all channels. Thread-compatible: one
-    // caller at a time.
-    bool writeRows(int ybegin, int yend, const float* pixels);
-    // Computes one strip of rows (all channels) into `pixels`, contiguous, of the type given
-    // to writeStrips; false after printing an error.
-    using StripFill = std::function<bool(OIIO::ROI strip, void* pixels)>;
-    // Writes the whole image in strips of `rows` rows that `fill` computes. With `overlap`,
-    // the next strip is computed on another thread while this one is encoded, so that
-    // single-threaded encoders (PNG, JPEG) run alongside the work that feeds them.
-    bool writeStrips(OIIO::TypeDesc type, int rows, bool overlap, const StripFill& fill);
-    // Closes the file and renames it into place.
+    bool open(const OIIO::ImageSpec& spec, const std::vector<OIIO::TypeDesc>& formats) {
+        return report(m_file.open(spec, formats));
+    }
+    bool openDeep(const OIIO::ImageSpec& spec) { return report(m_file.openDeep(spec)); }
+    bool writeRows(int ybegin, int yend, const float* pixels) {
+        return report(m_file.writeRows(ybegin, yend, pixels));
+    }
+    bool writeDeepRows(int ybegin, int yend, const OIIO::DeepData& samples) {
+        return report(m_file.writeDeepRows(ybegin, yend, samples));
+    }
     bool commit();
+    // The file, for a StripPipeline (whose errors the caller prints).
+    ImageFileOutput& file() { return m_file; }
 
 private:
-    // Registers the temporary (removed on any exit) and opens it for `spec`.
-    bool openTemporary(const OIIO::ImageSpec& spec);
+    bool report(bool ok) const;
 
     const Tool& m_tool;
-    std::string m_path, m_temporary;
-    std::unique_ptr<OIIO::ImageOutput> m_out;
-    std::unique_ptr<DeepScanlineWriter> m_deep;
-    std::unique_ptr<NativeWriter> m_native; // null: OIIO converts (8/16-bit formats)
-    std::vector<std::byte> m_buffer;
-    long long m_clamped = 0, m_nonFinite = 0;
-    bool m_committed = false;
+    ImageFileOutput m_file;
 };
 
 // Runs a tool's body: an exception that escapes it (out of memory, or one from a library)
@@ -159,6 +130,10 @@ public:
     ~Progress();
     // Thread-safe; prints only when the whole percentage changes. `detail` follows it.
     void update(float fraction, const std::string& detail = {});
+    // update() for a StripPipeline, its fraction mapped onto [from, to].
+    std::function<void(float)> over(float from = 0.0f, float to = 1.0f) {
+        return [this, from, to](float f) { update(from + (to - from) * f); };
+    }
 
 private:
     std::string m_label;

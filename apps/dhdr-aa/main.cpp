@@ -1,17 +1,17 @@
 // dhdr-aa: edge-detect anti-aliasing of an image from its geometry (docs/tools.md).
 #include "../common/frames.h"
-#include "../common/layers.h"
-#include "../common/strip_reader.h"
 #include "../common/tool.h"
 
 #include <OpenImageIO/imagebufalgo.h>
 #include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/gbuffer.h>
+#include <dhdr/io/layers.h>
+#include <dhdr/io/sanitize.h>
+#include <dhdr/io/strip_pipeline.h>
+#include <dhdr/io/strip_reader.h>
 #include <dhdr/tonemap/edge_aa.h>
-#include <dhdr/tonemap/sanitize.h>
 #include <filesystem>
-#include <future>
 #include <memory>
 
 using namespace dhdr;
@@ -94,12 +94,12 @@ int run(int argc, char** argv) {
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
         const bool separate = in.size() > 1;
-        app::ColourStripReader colour;
+        ColourStripReader colour;
         if (!tool.openColour(path, layer, true, colour)) return false;
         const std::string& geometryPath = separate ? in[1] : path;
         // The geometry: the smallest run of channels of the G-buffer holding Z and N.*, or the
         // input's own channels.
-        app::StripReader gbuffer;
+        StripReader gbuffer;
         std::string error;
         if (separate) {
             if (!std::filesystem::exists(geometryPath)) {
@@ -122,8 +122,8 @@ int run(int argc, char** argv) {
                 }
             }
             probe->seek_subimage(part, 0);
-            if (const std::string e = app::pixelLimitError(
-                    probe->spec().width, probe->spec().height, probe->spec().depth);
+            if (const std::string e =
+                    pixelLimitError(probe->spec().width, probe->spec().height, probe->spec().depth);
                 !e.empty()) {
                 tool.fail(geometryPath + ": " + e);
                 return false;
@@ -137,7 +137,7 @@ int run(int argc, char** argv) {
             if (chend <= chbegin) chbegin = 0, chend = probe->spec().nchannels;
             // A deep G-buffer: the edges of its front surfaces.
             if (!gbuffer.open(geometryPath, part, chbegin, chend, tool.threads(), error, true)) {
-                tool.fail(app::cannotRead(geometryPath, error));
+                tool.fail(cannotRead(geometryPath, error));
                 return false;
             }
         }
@@ -164,65 +164,50 @@ int run(int argc, char** argv) {
         if (!file.open(frame, colour.formats())) return false;
         // Strip by strip with a halo: each output row sees the rows it would see in the whole
         // frame, so the result does not depend on the strips, and memory stays at a strip.
-        constexpr int kRows = 64;
-        OIIO::ImageBuf images[2], geometryStrips[2], normal, depth, result;
-        NonFiniteCount replacedColour, replacedNormal;
-        bool anySurface = false;
+        StripPipelineParams strips;
+        strips.halo = halo;
+        strips.nthreads = tool.threads();
         app::Progress progress(tool, "dhdr-aa: " + path);
-        // The next strip (and its geometry) is read on another thread while this one is
-        // filtered and written.
-        auto readAhead = [&](int y, int k) {
-            // The file that failed, and why; empty when both were read.
-            return std::async(std::launch::async, [&, y, k] {
-                std::string e;
-                const int yend = std::min(y + kRows, frame.y + frame.height);
-                if (!colour.read(y - halo, yend + halo, images[k], e))
-                    return std::pair<std::string, std::string>(path, e);
-                if (separate && !gbuffer.read(y - halo, yend + halo, geometryStrips[k], e))
-                    return std::pair<std::string, std::string>(geometryPath, e);
-                return std::pair<std::string, std::string>();
-            });
-        };
-        auto next = readAhead(frame.y, 0);
-        int k = 0;
-        for (int y = frame.y; y < frame.y + frame.height; y += kRows, k ^= 1) {
-            const int yend = std::min(y + kRows, frame.y + frame.height);
-            if (const auto [file, e] = next.get(); !file.empty()) {
-                tool.fail(file + ": cannot read: " + e);
-                return false;
-            }
-            if (yend < frame.y + frame.height) next = readAhead(yend, k ^ 1);
-            OIIO::ImageBuf& image = images[k];
-            OIIO::ImageBuf& geometryStrip = geometryStrips[k];
+        strips.progress = progress.over();
+        StripPipeline pipeline(OIIO::get_roi(frame), strips);
+        std::vector<std::pair<int, int>> colourChannels = {{0, ncolour}}, normalChannels;
+        if (channels.normal >= 0)
+            (separate ? normalChannels : colourChannels)
+                .emplace_back(channels.normal, channels.normal + 3);
+        pipeline.addInput({[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
+                               return colour.read(y0, y1, s, e);
+                           },
+                           path, colourChannels});
+        if (separate)
+            pipeline.addInput({[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
+                                   return gbuffer.read(y0, y1, s, e);
+                               },
+                               geometryPath, normalChannels});
+        pipeline.setOutput(file.file());
+        OIIO::ImageBuf normal, depth;
+        bool anySurface = false;
+        const bool run = pipeline.run([&](StripContext& strip) {
+            const OIIO::ImageBuf& image = *strip.inputs[0];
+            extractGeometry(separate ? *strip.inputs[1] : image, channels, normal, depth);
             OIIO::ROI core = image.roi();
-            core.ybegin = y;
-            core.yend = yend;
+            core.ybegin = strip.rows.ybegin;
+            core.yend = strip.rows.yend;
             core.chend = ncolour;
-            // Counted on the strip's own rows; the halo is cleaned too, for the filter.
-            replacedColour += replaceNonFinite(image, core, tool.threads());
-            OIIO::ROI all = image.roi();
-            all.chend = ncolour;
-            replaceNonFinite(image, all, tool.threads());
-            const OIIO::ImageBuf& geometry = separate ? geometryStrip : image;
-            extractGeometry(geometry, channels, normal, depth);
-            if (channels.normal >= 0) {
-                OIIO::ROI rows = normal.roi();
-                rows.ybegin = y;
-                rows.yend = yend;
-                replacedNormal += replaceNonFinite(normal, rows, tool.threads());
-                replaceNonFinite(normal, {}, tool.threads());
-            }
             anySurface = anySurface || app::hasSurface(image, core);
-            result.copy(image);
-            if (!edgeAA(result, image, use != "depth" ? &normal : nullptr,
+            strip.output->copy(image);
+            if (!edgeAA(*strip.output, image, use != "depth" ? &normal : nullptr,
                         use != "normal" ? &depth : nullptr, params, core, tool.threads())) {
-                tool.fail(path + ": " + result.geterror());
+                strip.error = path + ": " + strip.output->geterror();
                 return false;
             }
-            if (!file.writeRows(y, yend, static_cast<const float*>(result.pixeladdr(frame.x, y))))
-                return false;
-            progress.update(float(yend - frame.y) / float(frame.height));
+            return true;
+        });
+        if (!run) {
+            tool.fail(pipeline.error());
+            return false;
         }
+        const NonFiniteCount replacedColour = pipeline.replaced()[0];
+        const NonFiniteCount replacedNormal = separate ? pipeline.replaced()[1] : NonFiniteCount();
         if (!file.commit()) return false;
         tool.reportNonFinite(path, replacedColour, false);
         tool.reportNonFinite(geometryPath, replacedNormal, false);

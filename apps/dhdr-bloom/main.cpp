@@ -1,10 +1,11 @@
 // dhdr-bloom: linear HDR in, the same with bloom added out (docs/tools.md).
 #include "../common/frames.h"
-#include "../common/layers.h"
 #include "../common/tool.h"
 
+#include <dhdr/io/layers.h>
+#include <dhdr/io/sanitize.h>
+#include <dhdr/io/strip_pipeline.h>
 #include <dhdr/tonemap/bloom.h>
-#include <dhdr/tonemap/sanitize.h>
 
 using namespace dhdr;
 
@@ -41,59 +42,62 @@ int run(int argc, char** argv) {
     if (const int status = app::planFrames(tool, cl.inputs(), plan); status >= 0) return status;
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
         const std::string& path = in[0];
-        app::ColourStripReader reader;
+        ColourStripReader reader;
         if (!tool.openColour(path, layer, true, reader)) return false;
         const OIIO::ImageSpec& frame = reader.spec();
         // Two passes over the frame, strip by strip (BloomBuilder): meter and reduce to the
         // quarter-size copy, then add the layer. Memory: a strip and the 1/4-size copy.
         BloomBuilder builder(OIIO::get_roi(frame), params, tool.threads());
-        constexpr int kRows = 64;
-        OIIO::ImageBuf strip;
-        std::string error;
-        NonFiniteCount replaced;
-        bool anySurface = false;
-        auto readStrip = [&](int y, bool count) {
-            if (!reader.read(y, y + kRows, strip, error)) {
-                tool.fail(path + ": cannot read: " + error);
-                return false;
-            }
-            OIIO::ROI colour = strip.roi();
-            colour.chend = 3;
-            const NonFiniteCount n = replaceNonFinite(strip, colour, tool.threads());
-            if (count) replaced += n;
-            return true;
-        };
         app::Progress progress(tool, "dhdr-bloom: " + path);
-        const int rows = frame.height;
-        for (int y = frame.y; y < frame.y + rows; y += kRows) {
-            if (!readStrip(y, true)) return false;
-            anySurface = anySurface || app::hasSurface(strip);
-            if (!builder.addRows(strip)) {
-                tool.fail(path + ": " + builder.error());
-                return false;
-            }
-            progress.update(0.5f * float(y + kRows - frame.y) / float(rows));
+        StripPipelineParams strips;
+        strips.nthreads = tool.threads();
+        const StripInput input = {[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
+                                      return reader.read(y0, y1, s, e);
+                                  },
+                                  path,
+                                  {{0, 3}}};
+        bool anySurface = false;
+        strips.progress = progress.over(0.0f, 0.5f);
+        StripPipeline metering(OIIO::get_roi(frame), strips);
+        metering.addInput(input);
+        const bool metered = metering.run([&](StripContext& strip) {
+            anySurface = anySurface || app::hasSurface(*strip.inputs[0]);
+            if (builder.addRows(*strip.inputs[0])) return true;
+            strip.error = path + ": " + builder.error();
+            return false;
+        });
+        if (!metered) {
+            tool.fail(metering.error());
+            return false;
         }
         if (!builder.finish()) {
             tool.fail(path + ": " + builder.error());
             return false;
         }
         if (!anySurface) tool.warnNoSurface(path);
-        tool.reportNonFinite(path, replaced, false);
+        tool.reportNonFinite(path, metering.replaced()[0], false);
         OIIO::ImageSpec spec = frame;
         spec.attribute("dhdr:bloomStrength", params.strength);
         app::AtomicOutput file(tool, out);
         if (!file.open(spec, reader.formats())) return false;
-        for (int y = frame.y; y < frame.y + rows; y += kRows) {
-            if (!readStrip(y, false)) return false;
-            if (!builder.apply(strip, strip)) {
-                tool.fail(path + ": " + strip.geterror());
+        strips.progress = progress.over(0.5f, 1.0f);
+        StripPipeline adding(OIIO::get_roi(frame), strips);
+        adding.addInput(input);
+        adding.setOutput(file.file());
+        const bool added = adding.run([&](StripContext& strip) {
+            // In place, the strip then handed to the writer (the next one reads into the
+            // other slot).
+            OIIO::ImageBuf& rows = *strip.inputs[0];
+            if (!builder.apply(rows, rows)) {
+                strip.error = path + ": " + rows.geterror();
                 return false;
             }
-            if (!file.writeRows(strip.roi().ybegin, strip.roi().yend,
-                                static_cast<const float*>(strip.localpixels())))
-                return false;
-            progress.update(0.5f + 0.5f * float(y + kRows - frame.y) / float(rows));
+            strip.output->swap(rows);
+            return true;
+        });
+        if (!added) {
+            tool.fail(adding.error());
+            return false;
         }
         return file.commit();
     });

@@ -11,6 +11,7 @@
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/io/strip_pipeline.h>
 #include <glm/gtc/constants.hpp>
 #include <optional>
 
@@ -95,7 +96,7 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-gbuffer: usage error: --size '%s' is not WxH\n", size.c_str());
         return app::kExitUsage;
     }
-    if (const std::string e = app::pixelLimitError(params.width, params.height); !e.empty()) {
+    if (const std::string e = pixelLimitError(params.width, params.height); !e.empty()) {
         std::fprintf(stderr, "dhdr-gbuffer: usage error: --size %s: %s\n", size.c_str(), e.c_str());
         return app::kExitUsage;
     }
@@ -264,32 +265,45 @@ int run(int argc, char** argv) {
                 long long transparent = 0, samples = 0;
                 app::AtomicOutput file(tool, outPath);
                 app::Progress progress(tool, "dhdr-gbuffer: rendering layers");
-                for (int y = 0, k = 0; y < params.height; y += kStrip, ++k) {
-                    const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
+                StripPipelineParams streaming;
+                streaming.rows = kStrip;
+                streaming.progress = progress.over();
+                StripStages stages;
+                stages.process = [&](OIIO::ROI rows, int, std::string& e) {
+                    const size_t k = size_t(rows.ybegin / kStrip);
                     long long t = 0;
-                    if (size_t(k) < kept.size()) {
-                        strip = std::move(kept[size_t(k)].first);
-                        t = kept[size_t(k)].second;
+                    if (k < kept.size()) {
+                        strip = std::move(kept[k].first);
+                        t = kept[k].second;
                     } else if (!renderer.renderDeep(strip, rows, tool.threads(), &t)) {
-                        tool.fail(scenePath + ": cannot render the layers");
+                        e = scenePath + ": cannot render the layers";
                         return false;
                     }
                     transparent += t;
                     samples += (long long)strip.totalSamples();
-                    if (y == 0) {
-                        OIIO::ImageSpec deepSpec = strip.spec;
-                        deepSpec.y = 0;
-                        deepSpec.height = params.height;
-                        deepSpec.channelformats = gbuffer::deepChannelFormats();
-                        deepSpec.attribute("dhdr:source", scenePath);
-                        if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
-                            deepSpec.attribute(gbuffer::kSceneFingerprint, sha);
-                        if (!file.openDeep(deepSpec)) return false;
-                    }
+                    if (rows.ybegin > 0) return true;
+                    OIIO::ImageSpec deepSpec = strip.spec;
+                    deepSpec.y = 0;
+                    deepSpec.height = params.height;
+                    deepSpec.channelformats = gbuffer::deepChannelFormats();
+                    deepSpec.attribute("dhdr:source", scenePath);
+                    if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
+                        deepSpec.attribute(gbuffer::kSceneFingerprint, sha);
+                    if (file.file().openDeep(deepSpec)) return true;
+                    e = file.file().geterror();
+                    return false;
+                };
+                stages.write = [&](OIIO::ROI rows, int, std::string& e) {
                     OIIO::DeepData data;
                     toDeepData(strip, rows.ybegin, rows.yend, data);
-                    if (!file.writeDeepRows(rows.ybegin, rows.yend, data)) return false;
-                    progress.update(float(rows.yend) / float(params.height));
+                    if (file.file().writeDeepRows(rows.ybegin, rows.yend, data)) return true;
+                    e = file.file().geterror();
+                    return false;
+                };
+                const OIIO::ROI frameRows(0, params.width, 0, params.height);
+                if (std::string e; !runStrips(frameRows, streaming, stages, e)) {
+                    tool.fail(e);
+                    return false;
                 }
                 if (!file.commit()) return false;
                 tool.info("deep: " + std::to_string(samples) + " samples, " +
@@ -307,31 +321,32 @@ int run(int argc, char** argv) {
         }
         app::AtomicOutput file(tool, outPath);
         if (!file.open(spec, gbufferChannelFormats())) return false;
-        // Strip by strip: each strip is traced in parallel and written while it is warm in
-        // cache, and memory stays at one strip whatever the image size.
-        OIIO::ImageBuf strip;
-        double traceMs = 0.0;
+        // Strip by strip: each strip is traced in parallel and written while the next is
+        // traced, and memory stays at two strips whatever the image size.
         long long covered = 0;
-        {
-            app::Progress progress(tool, "dhdr-gbuffer: rendering");
-            for (int y = 0; y < params.height; y += kStrip) {
-                const OIIO::ROI rows(0, params.width, y, std::min(y + kStrip, params.height));
-                const auto s0 = std::chrono::steady_clock::now();
-                if (!renderer.render(strip, rows, tool.threads())) {
-                    tool.fail(scenePath + ": " + strip.geterror());
-                    return false;
-                }
-                traceMs +=
-                    std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0)
-                        .count();
-                const auto* px = static_cast<const float*>(strip.localpixels());
-                const size_t nch = size_t(strip.nchannels());
-                for (size_t i = 0, n = size_t(rows.width()) * size_t(rows.height()); i < n; ++i)
-                    covered += px[i * nch] > 0.0f;
-                if (!file.writeRows(rows.ybegin, rows.yend, px)) return false;
-                progress.update(float(rows.yend) / float(params.height));
+        StripPipelineParams streaming;
+        streaming.rows = kStrip;
+        streaming.writeBehind = tool.threads() != 1;
+        app::Progress progress(tool, "dhdr-gbuffer: rendering");
+        streaming.progress = progress.over();
+        StripPipeline pipeline(OIIO::ROI(0, params.width, 0, params.height), streaming);
+        pipeline.setOutput(file.file());
+        const bool rendered = pipeline.run([&](StripContext& strip) {
+            if (!renderer.render(*strip.output, strip.rows, tool.threads())) {
+                strip.error = scenePath + ": " + strip.output->geterror();
+                return false;
             }
+            const auto* px = static_cast<const float*>(strip.output->localpixels());
+            const size_t nch = size_t(strip.output->nchannels());
+            for (size_t i = 0, n = strip.rows.npixels(); i < n; ++i)
+                covered += px[i * nch] > 0.0f;
+            return true;
+        });
+        if (!rendered) {
+            tool.fail(pipeline.error());
+            return false;
         }
+        const double traceMs = pipeline.processMs();
         if (!file.commit()) return false;
         if (covered == 0)
             tool.warn(outPath + ": no surface in view: every pixel is background (check the "

@@ -2,7 +2,6 @@
 #include "../common/frames.h"
 #include "../common/light_options.h"
 #include "../common/param_options.h"
-#include "../common/strip_reader.h"
 #include "../common/tool.h"
 #include "whole_frame.h"
 
@@ -17,7 +16,9 @@
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
-#include <dhdr/tonemap/sanitize.h>
+#include <dhdr/io/sanitize.h>
+#include <dhdr/io/strip_pipeline.h>
+#include <dhdr/io/strip_reader.h>
 #include <filesystem>
 #include <future>
 #include <memory>
@@ -300,8 +301,8 @@ int run(int argc, char** argv) {
         plate.reset(plateArg);
         // Its header first: a plate over --max-pixels is refused before its pixels are read.
         if (plate.init_spec(plateArg, 0, 0))
-            if (const std::string e = app::pixelLimitError(plate.spec().width, plate.spec().height,
-                                                           plate.spec().depth);
+            if (const std::string e =
+                    pixelLimitError(plate.spec().width, plate.spec().height, plate.spec().depth);
                 !e.empty())
                 return tool.fail(plateArg + ": " + e);
         if (!plate.read(0, 0, true, OIIO::TypeDesc::FLOAT))
@@ -376,7 +377,7 @@ int run(int argc, char** argv) {
         const int part = gbuffer::findGBufferPart(path, error);
         if (part < 0) {
             tool.fail(error.find("G-buffer") != std::string::npos ? path + ": " + error
-                                                                  : app::cannotRead(path, error));
+                                                                  : cannotRead(path, error));
             return false;
         }
         bool deepInput = false;
@@ -384,8 +385,7 @@ int run(int argc, char** argv) {
             deepInput = probe->spec().deep;
             // Flat or deep, before any pixel is read or any output opened.
             const OIIO::ImageSpec& s = probe->spec();
-            if (const std::string e = app::pixelLimitError(s.width, s.height, s.depth);
-                !e.empty()) {
+            if (const std::string e = pixelLimitError(s.width, s.height, s.depth); !e.empty()) {
                 tool.fail(path + ": " + e);
                 return false;
             }
@@ -403,9 +403,9 @@ int run(int argc, char** argv) {
                              "is flat");
             return false;
         }
-        app::StripReader reader;
+        StripReader reader;
         if (!reader.open(path, part, 0, 1 << 20, tool.threads(), error)) {
-            tool.fail(app::cannotRead(path, error));
+            tool.fail(cannotRead(path, error));
             return false;
         }
         const OIIO::ImageSpec& gspec = reader.spec();
@@ -428,68 +428,56 @@ int run(int argc, char** argv) {
         for (size_t i = 1; i < in.size(); ++i)
             lightFiles += (i > 1 ? ", " : "") + in[i];
         app::AtomicOutput file(tool, out);
-        OIIO::ImageBuf hdr;
         LightingStats stats;
-        NonFiniteCount replaced;
-        double readMs = 0.0, shadeMs = 0.0, writeMs = 0.0;
         app::Progress progress(tool, "dhdr-light: " + path);
         // The next strip is read on another thread while this one is shaded and written:
         // decoding the G-buffer is most of the work.
-        OIIO::ImageBuf buffers[2];
-        auto readAhead = [&](int y, int k) {
-            return std::async(std::launch::async, [&, y, k] {
-                std::string e;
-                return reader.read(y, y + rows, buffers[k], e) ? std::string() : "x" + e;
-            });
-        };
-        std::future<std::string> next = readAhead(gspec.y, 0);
-        int k = 0;
-        for (int y = gspec.y; y < gspec.y + gspec.height; y += rows, k ^= 1) {
-            auto t = std::chrono::steady_clock::now();
-            if (const std::string e = next.get(); !e.empty()) {
-                tool.fail(path + ": cannot read: " + e.substr(1));
-                return false;
-            }
-            if (y + rows < gspec.y + gspec.height) next = readAhead(y + rows, k ^ 1);
-            OIIO::ImageBuf& gbuf = buffers[k];
-            // Z is +∞ on the background by contract; every other channel must be finite.
-            for (const auto& [c0, c1] :
-                 {std::pair(0, layout.depth), std::pair(layout.depth + 1, gbuf.nchannels())}) {
-                OIIO::ROI channels = gbuf.roi();
-                channels.chbegin = c0;
-                channels.chend = c1;
-                if (c1 > c0) replaced += replaceNonFinite(gbuf, channels, tool.threads());
-            }
-            readMs += since(t);
-            t = std::chrono::steady_clock::now();
-            LightingStats strip;
+        StripPipelineParams streaming;
+        streaming.rows = rows;
+        streaming.nthreads = tool.threads();
+        streaming.progress = progress.over();
+        StripPipeline pipeline(OIIO::get_roi(gspec), streaming);
+        // Z is +∞ on the background by contract; every other channel must be finite.
+        pipeline.addInput({[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
+                               return reader.read(y0, y1, s, e);
+                           },
+                           path,
+                           {{0, layout.depth}, {layout.depth + 1, gspec.nchannels}}});
+        const OIIO::TypeDesc type =
+            dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
+        pipeline.setOutput(file.file(), [&](const OIIO::ImageBuf& first, std::string& e) {
+            if (file.file().open(app::litFrameSpec(first.spec(), gspec, lightFiles), {type}))
+                return true;
+            e = file.file().geterror();
+            return false;
+        });
+        OIIO::ImageBuf ao;
+        const bool lit = pipeline.run([&](StripContext& strip) {
+            const OIIO::ImageBuf& gbuf = *strip.inputs[0];
             LightingInputs stripInputs = inputs;
-            OIIO::ImageBuf ao;
             if (aoMode == "ssao") {
                 if (!screenSpaceAO(ao, gbuf, ssao, tool.threads())) {
-                    tool.fail(path + ": " + ao.geterror());
+                    strip.error = path + ": " + ao.geterror();
                     return false;
                 }
                 stripInputs.ambientOcclusion = &ao;
             }
-            if (!shadeGBuffer(hdr, gbuf, stripInputs, strips, {}, tool.threads(), &strip)) {
-                tool.fail(path + ": " + hdr.geterror());
+            LightingStats rowStats;
+            if (!shadeGBuffer(*strip.output, gbuf, stripInputs, strips, {}, tool.threads(),
+                              &rowStats)) {
+                strip.error = path + ": " + strip.output->geterror();
                 return false;
             }
-            stats += strip;
-            shadeMs += since(t);
-            t = std::chrono::steady_clock::now();
-            if (y == gspec.y) {
-                if (!file.open(app::litFrameSpec(hdr.spec(), gspec, lightFiles),
-                               {dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT}))
-                    return false;
-            }
-            if (!file.writeRows(hdr.spec().y, hdr.spec().y + hdr.spec().height,
-                                static_cast<const float*>(hdr.localpixels())))
-                return false;
-            writeMs += since(t);
-            progress.update(float(y + rows - gspec.y) / float(gspec.height));
+            stats += rowStats;
+            return true;
+        });
+        if (!lit) {
+            tool.fail(pipeline.error());
+            return false;
         }
+        const NonFiniteCount replaced = pipeline.replaced()[0];
+        const double readMs = pipeline.readMs(), shadeMs = pipeline.processMs(),
+                     writeMs = pipeline.writeMs();
         if (!file.commit()) return false;
         tool.reportNonFinite(path, replaced, false);
         if (stats.coveredPixels == 0)

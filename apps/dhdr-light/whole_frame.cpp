@@ -5,7 +5,8 @@
 #include <chrono>
 #include <cstdio>
 #include <dhdr/deferred/deep_gbuffer.h>
-#include <dhdr/tonemap/sanitize.h>
+#include <dhdr/io/sanitize.h>
+#include <dhdr/io/strip_pipeline.h>
 #include <optional>
 
 namespace dhdr::app {
@@ -102,48 +103,68 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
     std::vector<float> sampleRGBA;
     long long replaced = 0;
     size_t samples = 0;
-    double readMs = 0.0, shadeMs = 0.0, writeMs = 0.0;
     Progress progress(tool, "dhdr-light: " + path);
-    for (int y = frame.y; y < frame.y + frame.height; y += rows) {
-        auto t = std::chrono::steady_clock::now();
-        if (!reader.read(y, y + rows, band, error, &replaced)) {
-            tool.fail(path + ": " + error);
+    // One band in memory at a time: no reading ahead, which would hold two.
+    StripPipelineParams streaming;
+    streaming.rows = rows;
+    streaming.readAhead = false;
+    streaming.progress = progress.over();
+    double readMs = 0.0, shadeMs = 0.0, writeMs = 0.0;
+    StripStages stages;
+    stages.read = [&](OIIO::ROI r, int, std::string& e) {
+        const auto t = std::chrono::steady_clock::now();
+        if (!reader.read(r.ybegin, r.yend, band, e, &replaced)) {
+            e = path + ": " + e;
             return false;
         }
         samples += band.totalSamples();
         readMs += msSince(t);
-        t = std::chrono::steady_clock::now();
+        return true;
+    };
+    stages.process = [&](OIIO::ROI r, int, std::string& e) {
+        const auto t = std::chrono::steady_clock::now();
         LightingStats bandStats;
         if (!shadeGBuffer(hdr, band, run.inputs, params, {}, tool.threads(), &bandStats,
                           deepOut.empty() ? nullptr : &sampleRGBA)) {
-            tool.fail(path + ": " + hdr.geterror());
+            e = path + ": " + hdr.geterror();
             return false;
         }
         stats += bandStats;
         shadeMs += msSince(t);
-        t = std::chrono::steady_clock::now();
-        if (y == frame.y) {
-            const OIIO::ImageSpec spec = litFrameSpec(hdr.spec(), frame, lightFiles);
-            if (!file.open(spec, {run.outputType})) return false;
-            if (!deepOut.empty()) {
-                OIIO::ImageSpec deepSpec = spec;
-                deepSpec.nchannels = 6;
-                deepSpec.channelnames = {"R", "G", "B", "A", "Z", "ZBack"};
-                deepSpec.alpha_channel = 3;
-                deepSpec.z_channel = 4;
-                deepSpec.channelformats = deepFormats;
-                if (!deepFile->openDeep(deepSpec)) return false;
-            }
+        if (r.ybegin > frame.y) return true;
+        const OIIO::ImageSpec spec = litFrameSpec(hdr.spec(), frame, lightFiles);
+        if (!file.file().open(spec, {run.outputType})) {
+            e = file.file().geterror();
+            return false;
         }
-        const OIIO::ImageSpec& lit = hdr.spec();
-        if (!file.writeRows(lit.y, lit.y + lit.height,
-                            static_cast<const float*>(hdr.localpixels())))
+        if (deepOut.empty()) return true;
+        OIIO::ImageSpec deepSpec = spec;
+        deepSpec.nchannels = 6;
+        deepSpec.channelnames = {"R", "G", "B", "A", "Z", "ZBack"};
+        deepSpec.alpha_channel = 3;
+        deepSpec.z_channel = 4;
+        deepSpec.channelformats = deepFormats;
+        if (deepFile->file().openDeep(deepSpec)) return true;
+        e = deepFile->file().geterror();
+        return false;
+    };
+    stages.write = [&](OIIO::ROI r, int, std::string& e) {
+        const auto t = std::chrono::steady_clock::now();
+        if (!file.file().writeRows(hdr, r)) {
+            e = file.file().geterror();
             return false;
-        if (!deepOut.empty() && !deepFile->writeDeepRows(lit.y, lit.y + lit.height,
-                                                         litSamples(band, sampleRGBA, deepFormats)))
+        }
+        if (!deepOut.empty() && !deepFile->file().writeDeepRows(
+                                    r.ybegin, r.yend, litSamples(band, sampleRGBA, deepFormats))) {
+            e = deepFile->file().geterror();
             return false;
+        }
         writeMs += msSince(t);
-        progress.update(float(y + rows - frame.y) / float(frame.height));
+        return true;
+    };
+    if (std::string e; !runStrips(OIIO::get_roi(frame), streaming, stages, e)) {
+        tool.fail(e);
+        return false;
     }
     if (deepFile && !deepFile->commit()) return false;
     if (!file.commit()) return false;

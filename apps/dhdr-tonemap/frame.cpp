@@ -1,14 +1,14 @@
 #include "frame.h"
 
-#include "../common/layers.h"
-
 #include <OpenImageIO/imagebufalgo.h>
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <dhdr/io/layers.h>
+#include <dhdr/io/sanitize.h>
+#include <dhdr/io/strip_pipeline.h>
 #include <dhdr/tonemap/metering.h>
 #include <dhdr/tonemap/quantize.h>
-#include <dhdr/tonemap/sanitize.h>
 #include <filesystem>
 #include <vector>
 
@@ -64,20 +64,29 @@ public:
         : m_tool(tool), m_job(job), m_path(std::move(path)), m_nthreads(nthreads) {}
     bool open() { return m_tool.openColour(m_path, m_job.layer, false, m_reader); }
     const OIIO::ImageSpec& spec() const { return m_reader.spec(); }
-    // Rows [ybegin, yend) into strip(); counts what it replaced when `count`.
-    bool read(int ybegin, int yend, bool count) {
-        std::string error;
-        if (!m_reader.read(ybegin, yend, m_strip, error)) {
-            m_tool.fail(m_path + ": cannot read: " + error);
+    const std::string& path() const { return m_path; }
+    const Tool& tool() const { return m_tool; }
+    // Rows [ybegin, yend) into `strip`; counts what it replaced when `count`. Called by one
+    // thread at a time (a StripPipeline's reads).
+    bool read(int ybegin, int yend, bool count, OIIO::ImageBuf& strip, std::string& error) {
+        if (!m_reader.read(ybegin, yend, strip, error)) return false;
+        if (count) m_surface = m_surface || hasSurface(strip);
+        NonFiniteCount replaced;
+        if (!toSceneLinear(m_job, strip, replaced, m_nthreads)) {
+            error = strip.geterror();
             return false;
         }
-        if (count) m_surface = m_surface || hasSurface(m_strip);
-        NonFiniteCount replaced;
-        if (!toSceneLinear(m_job, m_strip, replaced, m_nthreads)) return false;
         if (count) m_replaced += replaced;
         return true;
     }
-    OIIO::ImageBuf& strip() { return m_strip; }
+    // The frame as a StripPipeline's input, counting when `count`.
+    StripInput input(bool count) {
+        return {[this, count](int y0, int y1, OIIO::ImageBuf& strip, std::string& error) {
+                    return read(y0, y1, count, strip, error);
+                },
+                m_path,
+                {}};
+    }
     void report() const {
         reportInput(m_tool, m_job, m_path, m_reader.spec(), m_surface, m_replaced);
     }
@@ -88,7 +97,6 @@ private:
     std::string m_path;
     int m_nthreads;
     ColourStripReader m_reader;
-    OIIO::ImageBuf m_strip;
     bool m_surface = false;
     NonFiniteCount m_replaced;
 };
@@ -104,13 +112,21 @@ bool streamed(const FrameJob& job, const OIIO::ImageSpec& spec) {
 // Meters every row of `frame` in the passes the metering needs.
 bool meterStrips(SceneLinearStrips& frame, const MeteringParams& params, LuminanceStats& stats,
                  int nthreads) {
-    const OIIO::ImageSpec& spec = frame.spec();
     MeteringAccumulator accumulator(params);
+    StripPipelineParams strips;
+    strips.rows = kStripRows;
+    strips.nthreads = nthreads;
     do {
-        for (int y = spec.y; y < spec.y + spec.height; y += kStripRows) {
-            if (!frame.read(y, std::min(y + kStripRows, spec.y + spec.height), false) ||
-                !accumulator.add(frame.strip(), {}, nthreads))
-                return false;
+        StripPipeline pass(OIIO::get_roi(frame.spec()), strips);
+        pass.addInput(frame.input(false));
+        const bool metered = pass.run([&](StripContext& strip) {
+            if (accumulator.add(*strip.inputs[0], {}, nthreads)) return true;
+            strip.error = frame.path() + ": " + strip.inputs[0]->geterror();
+            return false;
+        });
+        if (!metered) {
+            frame.tool().fail(pass.error());
+            return false;
         }
         accumulator.endPass();
     } while (accumulator.needsAnotherPass());
@@ -228,29 +244,40 @@ bool mapFrame(const Tool& tool, const FrameJob& job, const std::string& in, cons
     if (!file.open(spec, {type})) return false;
     // EXR gets floats that OpenImageIO converts to half; the others their integer pixels.
     const OIIO::TypeDesc buffer = exr ? OIIO::TypeDesc::FLOAT : type;
-    const bool written =
-        file.writeStrips(buffer, kStripRows, nthreads != 1, [&](OIIO::ROI strip, void* pixels) {
-            if (streaming) {
-                if (!strips.read(strip.ybegin, strip.yend, true)) return false;
-                if (!toneMap(strips.strip(), strips.strip(), params, {}, nthreads)) {
-                    tool.fail(in + ": " + strips.strip().geterror());
-                    return false;
-                }
-            }
-            OIIO::ImageBuf& src = streaming ? strips.strip() : hdr;
-            job.display.toDisplay(src, strip, nthreads);
-            OIIO::ImageSpec rows(strip.width(), strip.height(), spec.nchannels, buffer);
-            rows.x = strip.xbegin;
-            rows.y = strip.ybegin;
-            OIIO::ImageBuf dst(rows, pixels);
-            const bool done =
-                exr ? OIIO::ImageBufAlgo::copy(dst, src, OIIO::TypeUnknown, strip, nthreads)
-                    : quantize(dst, src, quantizing, strip, nthreads);
-            if (!done) tool.fail(out + ": " + dst.geterror());
-            return done;
-        });
-    if (streaming && written) strips.report();
-    return written && file.commit();
+    StripPipelineParams streamingParams;
+    streamingParams.rows = kStripRows;
+    streamingParams.writeBehind = nthreads != 1;
+    streamingParams.nthreads = nthreads;
+    StripPipeline pipeline(OIIO::get_roi(spec), streamingParams);
+    if (streaming) pipeline.addInput(strips.input(true));
+    pipeline.setOutput(file.file());
+    const bool written = pipeline.run([&](StripContext& strip) {
+        if (streaming && !toneMap(*strip.inputs[0], *strip.inputs[0], params, {}, nthreads)) {
+            strip.error = in + ": " + strip.inputs[0]->geterror();
+            return false;
+        }
+        OIIO::ImageBuf& src = streaming ? *strip.inputs[0] : hdr;
+        job.display.toDisplay(src, strip.rows, nthreads);
+        OIIO::ImageSpec rows(strip.rows.width(), strip.rows.height(), spec.nchannels, buffer);
+        rows.x = strip.rows.xbegin;
+        rows.y = strip.rows.ybegin;
+        OIIO::ImageBuf& dst = *strip.output;
+        if (dst.spec().width != rows.width || dst.spec().height != rows.height ||
+            dst.spec().format != buffer)
+            dst.reset(rows);
+        dst.set_origin(rows.x, rows.y);
+        const bool done =
+            exr ? OIIO::ImageBufAlgo::copy(dst, src, OIIO::TypeUnknown, strip.rows, nthreads)
+                : quantize(dst, src, quantizing, strip.rows, nthreads);
+        if (!done) strip.error = out + ": " + dst.geterror();
+        return done;
+    });
+    if (!written) {
+        tool.fail(pipeline.error());
+        return false;
+    }
+    if (streaming) strips.report();
+    return file.commit();
 }
 
 // Everything that decides a frame's metered luminance, so that statistics metered one way

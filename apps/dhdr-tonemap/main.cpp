@@ -12,11 +12,11 @@
 #include <chrono>
 #include <cmath>
 #include <dhdr/common/parallel.h>
+#include <dhdr/io/sanitize.h>
 #include <dhdr/tonemap/adaptation.h>
 #include <dhdr/tonemap/display_transform.h>
 #include <dhdr/tonemap/quantize.h>
 #include <dhdr/tonemap/reinhard.h>
-#include <dhdr/tonemap/sanitize.h>
 #include <dhdr/tonemap/tone_map.h>
 #include <filesystem>
 #include <mutex>

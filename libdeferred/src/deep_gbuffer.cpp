@@ -4,11 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <dhdr/deferred/deep_exr.h>
 #include <dhdr/deferred/deep_gbuffer.h>
-#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/io/deep_exr.h>
+#include <dhdr/io/exr_header.h>
 #include <memory>
 #include <numeric>
 

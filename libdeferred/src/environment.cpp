@@ -4,7 +4,7 @@
 #include <cmath>
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/environment.h>
-#include <dhdr/deferred/exr_header.h>
+#include <dhdr/io/exr_header.h>
 
 namespace dhdr {
 

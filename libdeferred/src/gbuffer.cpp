@@ -3,8 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/gbuffer.h>
+#include <dhdr/io/exr_header.h>
 #include <memory>
 #include <utility>
 

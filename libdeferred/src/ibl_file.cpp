@@ -2,8 +2,8 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 #include <cmath>
-#include <dhdr/deferred/exr_header.h>
 #include <dhdr/deferred/ibl.h>
+#include <dhdr/io/exr_header.h>
 
 namespace dhdr {
 

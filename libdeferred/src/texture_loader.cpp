@@ -5,7 +5,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <algorithm>
 #include <cmath>
-#include <dhdr/deferred/exr_header.h>
+#include <dhdr/io/exr_header.h>
 #include <memory>
 #include <vector>
 

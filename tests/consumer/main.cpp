@@ -1,10 +1,18 @@
-// Uses dhdr as an installed library: one lighting call and one tone-mapping call.
+// Uses dhdr as an installed library: one lighting call, one tone-mapping call, and the
+// lit frame streamed to a file and back through the io library's strip pipeline.
 #include <cmath>
 #include <cstdio>
 #include <dhdr/deferred/gbuffer_render.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/io/image_output.h>
+#include <dhdr/io/strip_pipeline.h>
+#include <dhdr/io/strip_reader.h>
+#include <dhdr/tonemap/metering.h>
 #include <dhdr/tonemap/tone_map.h>
+#include <filesystem>
+#include <string>
+#include <unistd.h>
 
 int main() {
     // A white square facing a camera, lit by a point light in front of it.
@@ -34,7 +42,34 @@ int main() {
         std::fprintf(stderr, "%s\n", hdr.geterror().c_str());
         return 1;
     }
-    if (!dhdr::toneMap(ldr, hdr)) return 1;
+    // Metered whole, tone-mapped strip by strip into a file, then read back.
+    dhdr::LuminanceStats stats;
+    if (!dhdr::meter(stats, hdr)) return 1;
+    dhdr::ToneMapParams mapping;
+    mapping.stats = &stats;
+    const std::string path = (std::filesystem::temp_directory_path() /
+                              ("dhdr_consumer_" + std::to_string(getpid()) + ".exr"))
+                                 .string();
+    dhdr::ImageFileOutput file(path);
+    if (!file.open(hdr.spec(), {OIIO::TypeDesc::HALF})) return 1;
+    dhdr::StripPipelineParams strips;
+    strips.rows = 8;
+    dhdr::StripPipeline pipeline(hdr.roi(), strips);
+    pipeline.setOutput(file);
+    const bool streamed = pipeline.run([&](dhdr::StripContext& strip) {
+        return dhdr::toneMap(*strip.output, hdr, mapping, strip.rows);
+    });
+    if (!streamed || !file.commit()) {
+        std::fprintf(stderr, "%s %s\n", pipeline.error().c_str(), file.geterror().c_str());
+        return 1;
+    }
+    dhdr::StripReader reader;
+    std::string error;
+    if (!reader.open(path, 0, 0, 4, 0, error) || !reader.read(0, 32, ldr, error)) {
+        std::fprintf(stderr, "%s\n", error.c_str());
+        return 1;
+    }
+    std::filesystem::remove(path);
     float centre[4];
     ldr.getpixel(16, 16, centre);
     std::printf("dhdr %s: centre %.4f %.4f %.4f\n", DHDR_FOUND_VERSION, centre[0], centre[1],

@@ -1,7 +1,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
-#include <dhdr/deferred/exr_header.h>
+#include <dhdr/io/exr_header.h>
 #include <fstream>
 #include <vector>
 

@@ -1,7 +1,7 @@
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
 #include <cmath>
-#include <dhdr/tonemap/sanitize.h>
+#include <dhdr/io/sanitize.h>
 #include <vector>
 
 namespace dhdr {

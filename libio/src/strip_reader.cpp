@@ -1,7 +1,3 @@
-#include "strip_reader.h"
-
-#include "banded_read.h"
-#include "command_line.h"
 #include "native_pixels.h"
 
 #include <OpenImageIO/deepdata.h>
@@ -9,11 +5,14 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
-#include <dhdr/deferred/deep_exr.h>
+#include <dhdr/io/banded_read.h>
+#include <dhdr/io/deep_exr.h>
+#include <dhdr/io/pixel_limit.h>
+#include <dhdr/io/strip_reader.h>
 #include <mutex>
 #include <thread>
 
-namespace dhdr::app {
+namespace dhdr {
 
 namespace {
 
@@ -173,4 +172,4 @@ bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string&
     return !failed;
 }
 
-} // namespace dhdr::app
+} // namespace dhdr

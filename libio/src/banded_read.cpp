@@ -1,6 +1,3 @@
-#include "banded_read.h"
-
-#include "command_line.h"
 #include "native_pixels.h"
 
 #include <OpenImageIO/imageio.h>
@@ -10,6 +7,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <dhdr/io/banded_read.h>
+#include <dhdr/io/pixel_limit.h>
 #include <limits>
 #include <memory>
 #include <mutex>
@@ -17,7 +16,7 @@
 #include <unistd.h>
 #include <vector>
 
-namespace dhdr::app {
+namespace dhdr {
 
 namespace {
 
@@ -187,4 +186,4 @@ bool readBanded(const std::string& path, OIIO::ImageBuf& image, int chbegin, int
     return true;
 }
 
-} // namespace dhdr::app
+} // namespace dhdr

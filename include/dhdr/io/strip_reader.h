@@ -4,12 +4,12 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
-#include <dhdr/deferred/deep_exr.h>
+#include <dhdr/io/deep_exr.h>
 #include <memory>
 #include <string>
 #include <vector>
 
-namespace dhdr::app {
+namespace dhdr {
 
 class StripReader {
 public:
@@ -46,4 +46,4 @@ private:
     int m_subimage = 0, m_chbegin = 0, m_chend = 0;
 };
 
-} // namespace dhdr::app
+} // namespace dhdr

@@ -16,8 +16,8 @@
 #include <OpenEXR/ImfVecAttribute.h>
 #include <cstdint>
 #include <ctime>
-#include <dhdr/deferred/deep_exr.h>
-#include <dhdr/deferred/exr_header.h>
+#include <dhdr/io/deep_exr.h>
+#include <dhdr/io/exr_header.h>
 #include <filesystem>
 #include <stdexcept>
 #include <string>

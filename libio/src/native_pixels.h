@@ -6,7 +6,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace dhdr::app {
+namespace dhdr {
 
 // How ImageInput::read_native_scanlines packs a pixel of channels [chbegin, chend), and its
 // conversion to float: OpenImageIO's, except that uint channels (object ids) keep their
@@ -40,4 +40,4 @@ private:
     int m_infinity = -1;
 };
 
-} // namespace dhdr::app
+} // namespace dhdr

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace dhdr::app {
+namespace dhdr {
 
 // Reads channels [chbegin, chend) of subimage (EXR part) `subimage` of `path` into `image` as
 // float pixels, keeping the file's metadata. The EXR's uint channels (object ids) are read as
@@ -37,4 +37,4 @@ OIIO::ImageSpec floatChannelSpec(const OIIO::ImageSpec& file, int chbegin, int c
 // false with a message that names the size.
 bool fitsInMemory(const OIIO::ImageSpec& spec, int channels, std::string& error);
 
-} // namespace dhdr::app
+} // namespace dhdr

@@ -1,15 +1,13 @@
-#include "layers.h"
-
-#include "banded_read.h"
-
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <cctype>
+#include <dhdr/io/banded_read.h>
+#include <dhdr/io/layers.h>
 #include <map>
 #include <memory>
 
-namespace dhdr::app {
+namespace dhdr {
 
 namespace {
 
@@ -244,4 +242,4 @@ bool readColourLayer(const std::string& path, const ColourLayer& layer, bool kee
     return true;
 }
 
-} // namespace dhdr::app
+} // namespace dhdr

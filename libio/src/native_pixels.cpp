@@ -7,7 +7,7 @@
 #include <cstring>
 #include <limits>
 
-namespace dhdr::app {
+namespace dhdr {
 
 NativeReader::NativeReader(const OIIO::ImageSpec& spec, int chbegin, int chend) {
     for (int c = chbegin; c < chend; ++c) {
@@ -100,4 +100,4 @@ void NativeWriter::convert(const float* pixels, size_t count, std::byte* native,
     }
 }
 
-} // namespace dhdr::app
+} // namespace dhdr

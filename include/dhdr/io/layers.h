@@ -3,13 +3,12 @@
 // EXRs, never by channel position.
 #pragma once
 
-#include "strip_reader.h"
-
 #include <OpenImageIO/imagebuf.h>
+#include <dhdr/io/strip_reader.h>
 #include <string>
 #include <vector>
 
-namespace dhdr::app {
+namespace dhdr {
 
 // One layer holding colour: R, G, B (and maybe A) channels under one prefix, in one part.
 struct ColourLayer {
@@ -66,4 +65,4 @@ private:
     int m_alpha = -1;
 };
 
-} // namespace dhdr::app
+} // namespace dhdr

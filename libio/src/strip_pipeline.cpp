@@ -1,0 +1,147 @@
+#include <algorithm>
+#include <chrono>
+#include <dhdr/io/image_output.h>
+#include <dhdr/io/strip_pipeline.h>
+#include <future>
+
+namespace dhdr {
+
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
+
+// A stage's result: empty when it succeeded, else why not.
+using Outcome = std::future<std::string>;
+
+Outcome launch(bool async, const StripStages::Stage& stage, OIIO::ROI rows, int slot) {
+    return std::async(async ? std::launch::async : std::launch::deferred, [&stage, rows, slot] {
+        std::string error;
+        if (!stage(rows, slot, error)) return error.empty() ? std::string("failed") : error;
+        return std::string();
+    });
+}
+
+} // namespace
+
+bool runStrips(OIIO::ROI frame, const StripPipelineParams& params, const StripStages& stages,
+               std::string& error) {
+    const int rows = std::max(1, params.rows);
+    const int strips = frame.height() > 0 ? (frame.height() + rows - 1) / rows : 0;
+    auto strip = [&](int k) {
+        OIIO::ROI r = frame;
+        r.ybegin = frame.ybegin + k * rows;
+        r.yend = std::min(r.ybegin + rows, frame.yend);
+        return r;
+    };
+    auto done = [&](Outcome& f) {
+        if (!f.valid()) return true;
+        const std::string e = f.get();
+        if (!e.empty() && error.empty()) error = e;
+        return e.empty();
+    };
+    Outcome reading, writing;
+    if (stages.read && strips > 0) reading = launch(params.readAhead, stages.read, strip(0), 0);
+    bool ok = true;
+    for (int k = 0; k < strips && ok; ++k) {
+        const int slot = k % 2;
+        ok = done(reading);
+        if (!ok) break;
+        if (stages.read && k + 1 < strips)
+            reading = launch(params.readAhead, stages.read, strip(k + 1), slot ^ 1);
+        std::string e;
+        if (!stages.process(strip(k), slot, e)) {
+            error = e.empty() ? "failed" : e;
+            ok = false;
+            break;
+        }
+        // The previous strip's write has finished before this one's starts: writes stay in
+        // order, and the slot it read is free for the next process.
+        ok = done(writing);
+        if (!ok) break;
+        if (stages.write) {
+            writing = launch(params.writeBehind, stages.write, strip(k), slot);
+            if (!params.writeBehind) ok = done(writing);
+        }
+        if (ok && params.progress) params.progress(float(k + 1) / float(strips));
+    }
+    // Whatever is in flight ends before the buffers it uses go away.
+    ok = done(reading) && ok;
+    ok = done(writing) && ok;
+    return ok;
+}
+
+void StripPipeline::setOutput(
+    ImageFileOutput& output,
+    std::function<bool(const OIIO::ImageBuf& first, std::string& error)> open) {
+    m_output = &output;
+    m_open = std::move(open);
+}
+
+bool StripPipeline::run(const std::function<bool(StripContext&)>& process) {
+    const size_t n = m_inputs.size();
+    std::vector<OIIO::ImageBuf> in[2] = {std::vector<OIIO::ImageBuf>(n),
+                                         std::vector<OIIO::ImageBuf>(n)};
+    OIIO::ImageBuf out[2];
+    m_replaced.assign(n, NonFiniteCount());
+    m_error.clear();
+    const int halo = std::max(0, m_params.halo);
+    StripStages stages;
+    if (n > 0)
+        stages.read = [&](OIIO::ROI rows, int slot, std::string& error) {
+            const auto t = std::chrono::steady_clock::now();
+            for (size_t i = 0; i < n; ++i) {
+                OIIO::ImageBuf& strip = in[slot][i];
+                if (!m_inputs[i].read(rows.ybegin - halo, rows.yend + halo, strip, error)) {
+                    error = m_inputs[i].name + ": cannot read: " + error;
+                    return false;
+                }
+                // Counted on the strip's own rows; the halo is cleaned too, for the filter.
+                for (const auto& [c0, c1] : m_inputs[i].sanitize) {
+                    if (c1 <= c0) continue;
+                    OIIO::ROI own = strip.roi(), all = strip.roi();
+                    own.ybegin = std::max(own.ybegin, rows.ybegin);
+                    own.yend = std::min(own.yend, rows.yend);
+                    own.chbegin = all.chbegin = c0;
+                    own.chend = all.chend = std::min(c1, strip.nchannels());
+                    m_replaced[i] += replaceNonFinite(strip, own, m_params.nthreads);
+                    if (halo > 0) replaceNonFinite(strip, all, m_params.nthreads);
+                }
+            }
+            m_readMs += msSince(t);
+            return true;
+        };
+    stages.process = [&](OIIO::ROI rows, int slot, std::string& error) {
+        const auto t = std::chrono::steady_clock::now();
+        StripContext context;
+        context.rows = rows;
+        for (OIIO::ImageBuf& b : in[slot])
+            context.inputs.push_back(&b);
+        context.output = &out[slot];
+        const bool ok = process(context);
+        if (!ok) error = context.error.empty() ? "cannot process rows" : context.error;
+        if (ok && m_output && !m_output->isOpen()) {
+            if (!m_open) {
+                error = m_output->path() + ": the output was not opened";
+                return false;
+            }
+            if (!m_open(out[slot], error)) return false;
+        }
+        m_processMs += msSince(t);
+        return ok;
+    };
+    if (m_output)
+        stages.write = [&](OIIO::ROI rows, int slot, std::string& error) {
+            const auto t = std::chrono::steady_clock::now();
+            if (!m_output->writeRows(out[slot], rows)) {
+                error = m_output->geterror();
+                return false;
+            }
+            m_writeMs += msSince(t);
+            return true;
+        };
+    return runStrips(m_frame, m_params, stages, m_error);
+}
+
+} // namespace dhdr
