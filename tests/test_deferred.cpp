@@ -439,9 +439,24 @@ TEST(Lights, UnknownKeysAreErrors) {
     Light env;
     env.type = LightType::Environment;
     env.image = "sky.exr";
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.angle = 0.53f * 3.14159265f / 180.0f;
     std::vector<Light> again;
-    ASSERT_TRUE(parseLights(formatLights({rect, sphere, spot, env}), again, error)) << error;
-    EXPECT_EQ(again.size(), 4u);
+    ASSERT_TRUE(parseLights(formatLights({rect, sphere, spot, env, sun}), again, error)) << error;
+    ASSERT_EQ(again.size(), 5u);
+    EXPECT_NEAR(again[4].angle, sun.angle, 1e-7f);
+    // A sun's angle: degrees in [0, 180), for directional lights only.
+    ASSERT_TRUE(parseLights(R"([{"type": "directional", "direction": [0, -1, 0], "angle": 4}])",
+                            again, error))
+        << error;
+    EXPECT_NEAR(again[0].angle, 4.0f * 3.14159265f / 180.0f, 1e-7f);
+    EXPECT_FALSE(parseLights(R"([{"type": "directional", "direction": [0, -1, 0], "angle": -1}])",
+                             again, error));
+    EXPECT_NE(error.find("\"angle\" must be in [0, 180) degrees"), std::string::npos) << error;
+    EXPECT_FALSE(
+        parseLights(R"([{"type": "point", "position": [0, 0, 0], "angle": 1}])", again, error));
+    EXPECT_NE(error.find("\"angle\" does not apply to a point light"), std::string::npos) << error;
 }
 
 // ---- BRDF -------------------------------------------------------------------------------

@@ -189,18 +189,11 @@ void buildAlias(const double* weights, int n, EnvironmentSampler::Bucket* bucket
     }
 }
 
-// The bucket of an alias table for u in [0, 1), and where u falls within it, in [0, 1).
-int pickAlias(const EnvironmentSampler::Bucket* buckets, int n, float u, float& within) {
-    const float scaled = u * float(n);
-    const int i = std::min(int(scaled), n - 1);
-    const float f = scaled - float(i);
-    const float keep = float(buckets[i].keep) * (1.0f / 65535.0f);
-    if (f < keep) {
-        within = f / keep;
-        return i;
-    }
-    within = std::min((f - keep) / std::max(1.0f - keep, 1e-7f), 0x1.fffffep-1f);
-    return buckets[i].alias;
+// The bucket of an alias table for u in [0, 1): bucket ⌊u·n⌋, kept when `choice` (uniform in
+// [0, 1)) is below its keep probability, else its alias.
+int pickAlias(const EnvironmentSampler::Bucket* buckets, int n, float u, float choice) {
+    const int i = std::min(int(u * float(n)), n - 1);
+    return choice * 65535.0f < float(buckets[i].keep) ? i : buckets[i].alias;
 }
 
 } // namespace
@@ -265,12 +258,19 @@ void EnvironmentSampler::build(const EnvironmentImage& full) {
 }
 
 glm::vec3 EnvironmentSampler::sample(glm::vec2 u, float& pdf, glm::vec3& radiance) const {
-    // The row, then the texel within it, from the alias tables; where u fell within its bucket
-    // places the point within the texel, uniform in φ and cos θ (uniform in solid angle).
-    float fy = 0.0f, fx = 0.0f;
-    const int y = pickAlias(rows.data(), height, u.y, fy);
+    // The row, then the texel within it, from the alias tables: the buckets from u, stratified
+    // as the caller's sequence is. Which of a bucket's two texels, and where in the texel,
+    // come from a hash of u: the digits of u below a bucket's width are the same for every
+    // point of a stratified set (i / n and radical inverses step by whole buckets), so taking
+    // them would make every sample of a pixel the same choice (a random-digit scramble, as
+    // Owen scrambling gives pbrt-v4's samplers).
+    std::uint64_t bits = (std::uint64_t(floatBits(u.x)) << 32) | floatBits(u.y);
+    const std::uint64_t h0 = mixBits(bits), h1 = mixBits(bits ^ 0x9e3779b97f4a7c15ull);
+    const float keepRow = unitFloat(h0), keepColumn = unitFloat(h0 << 24);
+    const float fy = unitFloat(h1), fx = unitFloat(h1 << 24);
+    const int y = pickAlias(rows.data(), height, u.y, keepRow);
     const size_t first = size_t(y) * size_t(width);
-    const int x = pickAlias(&buckets[first], width, u.x, fx);
+    const int x = pickAlias(&buckets[first], width, u.x, keepColumn);
     const float c0 = rowCos[size_t(y)], c1 = rowCos[size_t(y) + 1];
     const float cosTheta = c0 + fy * (c1 - c0);
     const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
@@ -286,6 +286,15 @@ glm::vec3 EnvironmentSampler::sample(glm::vec2 u, float& pdf, glm::vec3& radianc
     pdf = t.pdf;
     radiance = t.radiance;
     return {sinTheta * cosPhi, cosTheta, sinTheta * sinPhi};
+}
+
+float EnvironmentSampler::lookup(const glm::vec3& d, glm::vec3& radiance) const {
+    const glm::vec2 uv = equirectUV(d);
+    const int x = std::clamp(int(uv.x * float(width)), 0, width - 1);
+    const int y = std::clamp(int(uv.y * float(height)), 0, height - 1);
+    const Texel& t = texels[size_t(y) * size_t(width) + size_t(x)];
+    radiance = t.radiance;
+    return t.pdf;
 }
 
 glm::vec3 Ibl::irradiance(const glm::vec3& n) const {

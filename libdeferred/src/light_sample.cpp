@@ -41,6 +41,21 @@ LightLiSample sampleLi(const Light& light, const glm::vec3& P, glm::vec2 u) {
         s.distance = INFINITY;
         return s;
     }
+    if (light.type == LightType::Directional && light.angle > 0.0f) {
+        // A disk of the sky: directions uniform in its cone (pbrt-v4 SampleUniformCone), each
+        // carrying the radiance E / Ω that spreads the light's illuminance over it.
+        const float cosMax = std::cos(0.5f * light.angle);
+        const float omega = 2.0f * kPi * (1.0f - cosMax);
+        const glm::vec3 axis = -light.direction;
+        glm::vec3 t, b;
+        orthonormalBasis(axis, t, b);
+        const glm::vec3 c = uniformCone(u, cosMax);
+        s.wi = glm::normalize(c.x * t + c.y * b + c.z * axis);
+        s.L = light.color * light.intensity / omega;
+        s.pdf = 1.0f / omega;
+        s.distance = INFINITY;
+        return s;
+    }
     if (!light.isArea()) {
         const IncidentLight in = incidentLight(light, P);
         s.L = in.illuminance;

@@ -99,6 +99,7 @@ const std::vector<LightField>& lightFields() {
         {"innerConeAngle", {T::Spot}},
         {"outerConeAngle", {T::Spot}},
         {"radius", {T::Sphere}},
+        {"angle", {T::Directional}},
         {"width", {T::Rectangle}},
         {"height", {T::Rectangle}},
         {"up", {T::Rectangle}},
@@ -229,6 +230,11 @@ Light parseLight(const json& j, size_t index) {
         const glm::vec3 d = r.vec3("direction", glm::vec3(0.0f, 0.0f, -1.0f), true);
         if (glm::length(d) == 0.0f) r.fail("direction", "must not be zero");
         light.direction = glm::normalize(d);
+    }
+    if (light.type == LightType::Directional && r.has("angle")) {
+        const float degrees = r.number("angle", 0.0f);
+        if (!(degrees >= 0.0f && degrees < 180.0f)) r.fail("angle", "must be in [0, 180) degrees");
+        light.angle = degrees * 3.14159265358979f / 180.0f;
     }
     if (light.type == LightType::Sphere) {
         light.radius = r.number("radius", 0.0f, true);
@@ -440,6 +446,8 @@ std::string formatLights(const std::vector<Light>& lights) {
             j["outerConeAngle"] = shortest(l.outerConeAngle);
         }
         if (l.type == LightType::Sphere) j["radius"] = shortest(l.radius);
+        if (l.type == LightType::Directional && l.angle > 0.0f)
+            j["angle"] = shortest(l.angle * 180.0f / 3.14159265f);
         if (l.type == LightType::Environment) {
             j["image"] = l.image;
             j["rotation"] = shortest(l.rotation * 180.0f / 3.14159265f);

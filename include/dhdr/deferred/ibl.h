@@ -53,6 +53,9 @@ struct EnvironmentSampler {
     // A direction (in the environment's frame) for u in [0, 1)², with its density per
     // steradian and the radiance of the texel it lies in.
     glm::vec3 sample(glm::vec2 u, float& pdf, glm::vec3& radiance) const;
+    // The density sample() draws direction d (unit, the environment's frame) with, and the
+    // radiance it returns there: for directions drawn another way (MIS).
+    float lookup(const glm::vec3& d, glm::vec3& radiance) const;
 };
 
 // The baked environment.

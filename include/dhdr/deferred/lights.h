@@ -43,6 +43,9 @@ struct Light {
     // exactly zero.
     float range = std::numeric_limits<float>::infinity();
     float radius = 0.0f; // sphere
+    // Directional: the angular diameter of the sun's disk, radians, [0, π) (Blender's Sun
+    // "Angle"); 0 is a point at infinity with hard shadows, more softens them.
+    float angle = 0.0f;
     // Rectangle: extent along `up` (height) and along up × direction (width); `up` is unit
     // and perpendicular to `direction`.
     float width = 0.0f, height = 0.0f;

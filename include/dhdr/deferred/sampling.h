@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <dhdr/deferred/brdf.h>
 #include <glm/glm.hpp>
 
@@ -28,6 +29,13 @@ inline std::uint64_t sampleSeed(std::int64_t a, std::int64_t b, std::int64_t c =
     h = mixBits(h ^ std::uint64_t(b));
     h = mixBits(h ^ std::uint64_t(c));
     return mixBits(h ^ std::uint64_t(d));
+}
+
+// The bits of a float, for hashing it.
+inline std::uint32_t floatBits(float f) {
+    std::uint32_t b;
+    std::memcpy(&b, &f, sizeof b);
+    return b;
 }
 
 // A float in [0, 1) from the top 24 bits.

@@ -9,9 +9,13 @@ namespace dhdr {
 
 // The visible share of `light` at the surface point `at` with shading normal N (unit, facing
 // the camera), in [0, 1]:
-// - a delta light (point, spot, directional): 0 or 1 from one ray towards it;
-// - an environment light: `samples` directions drawn by its luminance (EnvironmentSampler),
-//   weighted and summed like an area light's;
+// - a delta light (point, spot, directional without an angle): 0 or 1 from one ray towards it;
+// - a directional light with an angle: `samples` directions uniform in its cone, weighted and
+//   summed like an area light's;
+// - an environment light: `samples` directions, half drawn by its luminance
+//   (EnvironmentSampler), half cosine-weighted about N, combined by multiple importance
+//   sampling (power heuristic), each weighted by its share of the unshadowed diffuse light
+//   (luminance × cos θ); the weighted sum of the visible ones over the sum of all;
 // - an area light: `samples` points of it, a stratified set (Hammersley, rotated by `seed`),
 //   each ray weighted by its share of the unshadowed irradiance, L cos θ / pdf; the weighted
 //   sum of the visible ones over the sum of all. Exactly 1 when every ray gets through, 0 when
