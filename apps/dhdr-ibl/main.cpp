@@ -25,6 +25,11 @@ int run(int argc, char** argv) {
     cl.option("--samples", p.samples, "N", "GGX samples per texel (default 128)", 1, 65536);
     cl.option("--dfg-size", p.dfgSize, "N", "side of the DFG table (default 128)", 2, 1024);
     cl.option("--dfg-samples", p.dfgSamples, "N", "samples per DFG entry (default 1024)", 1, 65536);
+    cl.option("--sun-threshold", p.sunThreshold, "Y",
+              "luminance above which the texels around the brightest one are split off as\n"
+              "the environment's sun, a directional light of its own with its angle (default\n"
+              "10, as Blender EEVEE's world Sun Threshold; 0: keep the sun in the sky)",
+              {0.0, 1e30});
     cl.epilog("Example:\n  dhdr-ibl studio.exr -o studio.ibl.exr\n"
               "  then in a lights file: {\"type\": \"environment\", \"image\": "
               "\"studio.ibl.exr\"}");
@@ -64,6 +69,18 @@ int run(int argc, char** argv) {
                   "%d samples",
                   env.width, env.height, p.levels, p.baseWidth, p.samples, p.dfgSize, p.dfgSamples);
     tool.info(line);
+    if (ibl.sun.found()) {
+        const glm::vec3 d = ibl.sun.direction, e = ibl.sun.illuminance;
+        std::snprintf(line, sizeof line,
+                      "sun: towards (%.4f, %.4f, %.4f), %.3g° across, illuminance %.6g %.6g "
+                      "%.6g, %.1f%% of the environment's light",
+                      d.x, d.y, d.z, double(ibl.sun.angle) * 57.29577951308232, e.r, e.g, e.b,
+                      100.0 * ibl.sun.share);
+        tool.info(line);
+    } else {
+        tool.info(p.sunThreshold > 0.0f ? "sun: none above the threshold (or wider than 20°)"
+                                        : "sun: not split (--sun-threshold 0)");
+    }
     tool.info("read " + ms(t0, t1) + ", bake " + ms(t1, t2) + ", write " + ms(t2, t3));
     return app::kExitSuccess;
 }

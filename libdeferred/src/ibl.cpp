@@ -328,19 +328,22 @@ glm::vec2 Ibl::dfgAt(float NdotV, float roughness) const {
     return glm::mix(glm::mix(at(x0, y0), at(x1, y0), ax), glm::mix(at(x0, y1), at(x1, y1), ax), ay);
 }
 
-bool bakeIbl(const EnvironmentImage& env, const IblBakeParams& p, Ibl& ibl, std::string& error,
+bool bakeIbl(const EnvironmentImage& source, const IblBakeParams& p, Ibl& ibl, std::string& error,
              int nthreads) {
     if (p.levels < 2 || p.levels > 16 || p.baseWidth < 8 || p.baseWidth > 4096 || p.samples < 1 ||
         p.samples > 65536 || p.dfgSize < 2 || p.dfgSize > 1024 || p.dfgSamples < 1 ||
-        p.dfgSamples > 65536) {
+        p.dfgSamples > 65536 || !(p.sunThreshold >= 0.0f) || !std::isfinite(p.sunThreshold)) {
         error = "IBL bake parameters out of range";
         return false;
     }
-    if (env.width != 2 * env.height || env.height < 2) {
+    if (source.width != 2 * source.height || source.height < 2) {
         error = "the environment is not a 2:1 equirectangular image";
         return false;
     }
     ibl.params = p;
+    // The sky without its sun is what the rest bakes.
+    EnvironmentImage env = source;
+    ibl.sun = extractSun(env, p.sunThreshold);
     ibl.sampler.build(env);
 
     // (a) Irradiance SH: project the radiance, each texel's value times the exact integral of

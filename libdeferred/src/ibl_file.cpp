@@ -25,6 +25,50 @@ void setParams(OIIO::ImageSpec& spec, const Ibl& ibl) {
     spec.attribute("dhdr:iblSamples", ibl.params.samples);
     spec.attribute("dhdr:dfgSize", ibl.params.dfgSize);
     spec.attribute("dhdr:dfgSamples", ibl.params.dfgSamples);
+    spec.attribute("dhdr:sunThreshold", ibl.params.sunThreshold);
+    if (ibl.sun.found()) {
+        const glm::vec3 d = ibl.sun.direction, e = ibl.sun.illuminance;
+        const float direction[3] = {d.x, d.y, d.z}, illuminance[3] = {e.r, e.g, e.b};
+        spec.attribute("dhdr:sunDirection", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 3), direction);
+        spec.attribute("dhdr:sunIlluminance", OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, 3),
+                       illuminance);
+        spec.attribute("dhdr:sunAngle", ibl.sun.angle);
+        spec.attribute("dhdr:sunShare", float(ibl.sun.share));
+    }
+}
+
+// The sun a bake split off, from its header; false with `error` when what is there is not a
+// sun (not finite, not a unit direction, a negative illuminance, an angle outside [0, π)).
+bool readSun(const OIIO::ImageSpec& spec, EnvironmentSun& sun, std::string& error) {
+    sun = EnvironmentSun();
+    sun.threshold = spec.get_float_attribute("dhdr:sunThreshold", 0.0f);
+    const OIIO::ParamValue* d = spec.find_attribute("dhdr:sunDirection");
+    const OIIO::ParamValue* e = spec.find_attribute("dhdr:sunIlluminance");
+    if (!d && !e) return true;
+    // Written as float[3]; OpenEXR gives them back as V3f.
+    auto three = [](const OIIO::ParamValue* p) {
+        return p && p->type().basetype == OIIO::TypeDesc::FLOAT && p->type().basevalues() == 3 &&
+               p->nvalues() == 1;
+    };
+    if (!three(d) || !three(e)) {
+        error = "a baked IBL file with half of a sun";
+        return false;
+    }
+    const float* dv = static_cast<const float*>(d->data());
+    const float* ev = static_cast<const float*>(e->data());
+    sun.direction = {dv[0], dv[1], dv[2]};
+    sun.illuminance = {ev[0], ev[1], ev[2]};
+    sun.angle = spec.get_float_attribute("dhdr:sunAngle", -1.0f);
+    sun.share = spec.get_float_attribute("dhdr:sunShare", 0.0f);
+    const float length = glm::length(sun.direction);
+    const bool ok = std::isfinite(length) && std::abs(length - 1.0f) < 1e-3f && sun.angle >= 0.0f &&
+                    sun.angle < 3.14159265f && ev[0] >= 0.0f && ev[1] >= 0.0f && ev[2] >= 0.0f &&
+                    std::isfinite(ev[0] + ev[1] + ev[2]);
+    if (!ok) {
+        error = "a baked IBL file whose sun is not one (direction, angle or illuminance)";
+        return false;
+    }
+    return true;
 }
 
 } // namespace
@@ -108,6 +152,8 @@ bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, boo
     ibl.params.samples = first.get_int_attribute("dhdr:iblSamples");
     ibl.params.dfgSize = first.get_int_attribute("dhdr:dfgSize");
     ibl.params.dfgSamples = first.get_int_attribute("dhdr:dfgSamples");
+    ibl.params.sunThreshold = first.get_float_attribute("dhdr:sunThreshold", 0.0f);
+    if (!readSun(first, ibl.sun, error)) return false;
     in->close();
     if (ibl.params.levels < 2 || ibl.params.dfgSize < 2) {
         error = "a baked IBL file without its levels";

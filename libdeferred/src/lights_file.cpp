@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <dhdr/deferred/ibl.h>
+#include <dhdr/deferred/light_eval.h>
 #include <dhdr/deferred/lights.h>
 #include <filesystem>
 #include <fstream>
@@ -105,6 +106,7 @@ const std::vector<LightField>& lightFields() {
         {"up", {T::Rectangle}},
         {"image", {T::Environment}},
         {"rotation", {T::Environment}},
+        {"sun", {T::Environment}},
     };
     return fields;
 }
@@ -216,6 +218,16 @@ Light parseLight(const json& j, size_t index) {
             r.fail("image", "is required: the path of an equirectangular HDR image");
         light.image = j.at("image").get<std::string>();
         light.rotation = r.number("rotation", 0.0f) * 3.14159265358979f / 180.0f;
+        if (r.has("sun")) {
+            const nlohmann::json& sun = j.at("sun");
+            if (sun.is_string() && sun.get<std::string>() == "off") {
+                light.sunThreshold = 0.0f;
+            } else {
+                light.sunThreshold = r.number("sun", 0.0f);
+                if (!(light.sunThreshold > 0.0f))
+                    r.fail("sun", "must be \"off\" or a positive luminance threshold");
+            }
+        }
     }
 
     if (light.isLocal()) {
@@ -382,16 +394,32 @@ bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::st
         if (light.type != LightType::Environment) continue;
         const std::filesystem::path image(light.image);
         light.image = image.is_absolute() ? image.string() : (folder / image).string();
-        std::shared_ptr<const Ibl>& ibl = baked[light.image];
+        const std::string key = light.image + "\n" + std::to_string(light.sunThreshold);
+        std::shared_ptr<const Ibl>& ibl = baked[key];
+        const std::string which = "light " + std::to_string(i) +
+                                  (light.name.empty() ? "" : " \"" + light.name + "\"") +
+                                  ": environment image " + light.image + ": ";
         if (!ibl) {
             auto loaded = std::make_shared<Ibl>();
             bool bakedHere = false;
             std::string why;
             long long replaced = 0;
-            if (!loadIbl(light.image, IblBakeParams{}, *loaded, bakedHere, why, &replaced)) {
-                error = path + ": light " + std::to_string(i) +
-                        (light.name.empty() ? "" : " \"" + light.name + "\"") +
-                        ": environment image " + light.image + ": " + why;
+            IblBakeParams params;
+            if (light.sunThreshold >= 0.0f) params.sunThreshold = light.sunThreshold;
+            if (!loadIbl(light.image, params, *loaded, bakedHere, why, &replaced)) {
+                error = path + ": " + which + why;
+                return false;
+            }
+            // A bake split its sun (or not) when it was made; a different wish cannot be
+            // honoured from its levels.
+            if (!bakedHere && light.sunThreshold >= 0.0f &&
+                light.sunThreshold != loaded->params.sunThreshold) {
+                error = path + ": " + which + "\"sun\" applies to images baked when loaded; " +
+                        "this file was baked by dhdr-ibl with its sun " +
+                        (loaded->params.sunThreshold > 0.0f
+                             ? "split at luminance " + std::to_string(loaded->params.sunThreshold)
+                             : std::string("not split")) +
+                        ": bake it again with dhdr-ibl --sun-threshold, or drop \"sun\"";
                 return false;
             }
             if (replaced > 0)
@@ -401,7 +429,28 @@ bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::st
         }
         light.ibl = ibl;
     }
+    // Each environment's sun, a directional light after the lights of the file.
+    const size_t count = lights.size();
+    for (size_t i = 0; i < count; ++i)
+        if (lights[i].type == LightType::Environment && lights[i].ibl->sun.found())
+            lights.push_back(environmentSunLight(lights[i]));
     return true;
+}
+
+Light environmentSunLight(const Light& environment) {
+    const EnvironmentSun& sun = environment.ibl->sun;
+    const glm::vec3 E = sun.illuminance;
+    const float Y = 0.2126f * E.r + 0.7152f * E.g + 0.0722f * E.b;
+    Light light;
+    light.type = LightType::Directional;
+    light.name =
+        (environment.name.empty() ? std::string("environment") : environment.name) + " sun";
+    light.direction = -fromEnvironment(environment, sun.direction);
+    light.color = (Y > 0.0f ? E / Y : glm::vec3(1.0f)) * environment.color;
+    light.intensity = Y * environment.intensity;
+    light.angle = sun.angle;
+    light.environmentSun = true;
+    return light;
 }
 
 namespace {
@@ -427,8 +476,9 @@ nlohmann::ordered_json vec3(const glm::vec3& v) {
 std::string formatLights(const std::vector<Light>& lights) {
     nlohmann::ordered_json list = nlohmann::ordered_json::array();
     for (const Light& l : lights) {
-        // An emissive mesh comes from the scene, which dhdr-light reads itself (--scene).
-        if (l.type == LightType::Mesh) continue;
+        // An emissive mesh comes from the scene, which dhdr-light reads itself (--scene); an
+        // environment's sun from its image.
+        if (l.type == LightType::Mesh || l.environmentSun) continue;
         nlohmann::ordered_json j;
         j["type"] = lightTypeName(l.type);
         if (!l.name.empty()) j["name"] = l.name;
@@ -451,6 +501,10 @@ std::string formatLights(const std::vector<Light>& lights) {
         if (l.type == LightType::Environment) {
             j["image"] = l.image;
             j["rotation"] = shortest(l.rotation * 180.0f / 3.14159265f);
+            if (l.sunThreshold == 0.0f)
+                j["sun"] = "off";
+            else if (l.sunThreshold > 0.0f)
+                j["sun"] = shortest(l.sunThreshold);
         }
         if (l.type == LightType::Rectangle) {
             j["width"] = shortest(l.width);

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/environment.h>
+#include <dhdr/deferred/sun.h>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,9 @@ struct IblBakeParams {
     // Side of the DFG table and samples per entry.
     int dfgSize = 128;
     int dfgSamples = 1024;
+    // Luminance above which texels are split off as the environment's sun (sun.h), in the
+    // image's units; [0, ∞), 0: never.
+    float sunThreshold = kDefaultSunThreshold;
 };
 
 // Importance sampling of an environment by its luminance (pbrt-v4's piecewise-constant 2D
@@ -73,6 +77,9 @@ struct Ibl {
     std::vector<glm::vec2> dfg;
     // Built from level 0 at most 512 wide, when the IBL is baked or loaded.
     EnvironmentSampler sampler;
+    // The sun split off before the bake (not found() when there was none): the SH, the levels
+    // and the sampler hold the sky without it.
+    EnvironmentSun sun;
 
     glm::vec3 irradiance(const glm::vec3& n) const;
     // Prefiltered radiance along R at a roughness, linear between the two nearest levels.
@@ -88,8 +95,9 @@ inline float iblLevelRoughness(int k, int levels) {
 // The 9 real spherical harmonics Y_0^0 … Y_2^2 at a unit direction.
 std::array<float, 9> shBasis(const glm::vec3& d);
 
-// Bakes `env` (in its own frame; a light's rotation turns directions at shading) into `ibl`.
-// Deterministic: the same result for any `nthreads`. False with `error` on bad parameters.
+// Bakes `env` (in its own frame; a light's rotation turns directions at shading) into `ibl`,
+// its sun split off first (params.sunThreshold, ibl.sun). Deterministic: the same result for
+// any `nthreads`. False with `error` on bad parameters.
 bool bakeIbl(const EnvironmentImage& env, const IblBakeParams& params, Ibl& ibl, std::string& error,
              int nthreads = 0);
 

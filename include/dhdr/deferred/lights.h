@@ -61,6 +61,12 @@ struct Light {
     std::string image;
     float rotation = 0.0f;
     std::shared_ptr<const Ibl> ibl;
+    // Environment: the luminance above which the image's texels are split off as its sun, a
+    // directional light of its own (sun.h); 0 never; negative: the default
+    // (kDefaultSunThreshold for an image baked when loaded, the bake's own for a dhdr-ibl file).
+    float sunThreshold = -1.0f;
+    // Directional: a sun split off an environment (its intensity is the image's, not lux).
+    bool environmentSun = false;
 
     // A light with a position, bounded by its range (all but directional and ambient).
     bool isLocal() const {
@@ -92,6 +98,11 @@ bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::st
 // emissive and environment lights are radiometric already and unchanged.
 inline constexpr float kLuminousEfficacy = 683.0f;
 void toRadiometricUnits(std::vector<Light>& lights);
+
+// The directional light of an environment light's sun (environment.ibl->sun, found): its
+// direction turned as the environment is, its illuminance in the light's colour × intensity,
+// its angle; named "NAME sun".
+Light environmentSunLight(const Light& environment);
 
 // The lights file text for `lights` (what dhdr-gbuffer --lights-out writes); emissive meshes
 // are left out.
