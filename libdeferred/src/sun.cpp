@@ -56,7 +56,8 @@ EnvironmentSun extractSun(EnvironmentImage& env, float threshold) {
         const glm::dvec3 L(env.texel(x, y));
         const double omega = env.texelSolidAngle(y);
         const glm::dvec3 excess = L * (1.0 - double(threshold) / luminance(L));
-        const glm::dvec3 d(equirectDirection({(float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h)}));
+        const glm::dvec3 d(
+            equirectDirection({(float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h)}));
         E += excess * omega;
         axis += luminance(excess) * omega * d;
         given += luminance(excess) * omega;
@@ -69,7 +70,8 @@ EnvironmentSun extractSun(EnvironmentImage& env, float threshold) {
         const int x = i % w, y = i / w;
         const glm::dvec3 L(env.texel(x, y));
         const double omega = env.texelSolidAngle(y);
-        const glm::dvec3 d(equirectDirection({(float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h)}));
+        const glm::dvec3 d(
+            equirectDirection({(float(x) + 0.5f) / float(w), (float(y) + 0.5f) / float(h)}));
         const double theta = std::acos(std::clamp(glm::dot(d, axis), -1.0, 1.0));
         spread += luminance(L * (1.0 - double(threshold) / luminance(L))) * omega * theta * theta;
     }

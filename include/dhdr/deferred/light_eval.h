@@ -84,6 +84,44 @@ inline IblShading shadeEnvironment(const Light& light, const PbrSurface& s, cons
 }
 
 // Radiance reflected towards V from `light` at a surface point.
+// A sun with an angle (a disk of angular radius r = angle / 2 and illuminance E): diffuse from
+// its centre, as a point's (the disk's horizon clipping is left out); specular at the disk's
+// point closest to the mirror direction R (Karis 2013, "Real Shading in Unreal Engine 4":
+// representative point), energy-normalized with α' = α + sin r / 2 as the sphere lights are.
+inline glm::vec3 shadeSunDisk(const Light& light, const PbrSurface& s, const glm::vec3& N,
+                              const glm::vec3& V) {
+    const glm::vec3 L = -light.direction;
+    const float NdotL = glm::dot(N, L), NdotV = glm::dot(N, V);
+    if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
+    const glm::vec3 E = light.color * light.intensity;
+    const glm::vec3 Hc = glm::normalize(L + V);
+    const glm::vec3 diffuse =
+        (glm::vec3(1.0f) - schlickFresnel(s.F0(), std::max(glm::dot(V, Hc), 0.0f))) *
+        s.diffuseColor() * (1.0f / kPi) * NdotL;
+    const float cosR = std::cos(0.5f * light.angle), sinR = std::sin(0.5f * light.angle);
+    const glm::vec3 R = glm::reflect(-V, N);
+    const float LdotR = glm::dot(L, R);
+    glm::vec3 Ls = R;
+    if (LdotR < cosR) {
+        const glm::vec3 towards = R - LdotR * L;
+        const float length = glm::length(towards);
+        // R opposite the sun: any side of the disk is as close.
+        Ls = length > 0.0f ? glm::normalize(L * cosR + towards * (sinR / length)) : L;
+    }
+    const float NdotLs = glm::dot(N, Ls);
+    glm::vec3 specular(0.0f);
+    if (NdotLs > 0.0f) {
+        const glm::vec3 H = glm::normalize(Ls + V);
+        const float alpha = s.alpha();
+        const float widened = std::min(1.0f, alpha + 0.5f * sinR);
+        const float normalization = (alpha / widened) * (alpha / widened);
+        specular = schlickFresnel(s.F0(), std::max(glm::dot(V, H), 0.0f)) *
+                   (ggxDistribution(std::max(glm::dot(N, H), 0.0f), alpha) *
+                    smithGgxCorrelatedVisibility(NdotLs, NdotV, alpha) * normalization * NdotLs);
+    }
+    return (diffuse + specular) * E;
+}
+
 inline glm::vec3 shadeLight(const Light& light, const PbrSurface& s, const glm::vec3& P,
                             const glm::vec3& N, const glm::vec3& V) {
     if (light.type == LightType::Ambient) {
@@ -97,6 +135,8 @@ inline glm::vec3 shadeLight(const Light& light, const PbrSurface& s, const glm::
         return e.diffuse + e.specular;
     }
     if (light.isArea()) return shadeAreaLight(light, s, P, N, V);
+    if (light.type == LightType::Directional && light.angle > 0.0f)
+        return shadeSunDisk(light, s, N, V);
     const IncidentLight in = incidentLight(light, P);
     const float NdotL = glm::dot(N, in.L);
     if (NdotL <= 0.0f || in.illuminance == glm::vec3(0.0f)) return glm::vec3(0.0f);
