@@ -6,7 +6,7 @@ generated sky of scripts/ibl_demo.sh (a 0.4° sun of radiance 30,000): the bundl
 a shadow-catching ground plane (dhdr-gbuffer --ground-plane), lit with --scene at
 --env-samples 16, 64 and 256. Prints, per sample count, the covered pixels that are exactly
 black although the unshadowed render lights them, the RMS error against a 1024-sample render
-(idiff), and wall time.
+without denoising (idiff), and wall time; --denoise off measures the per-pixel estimates.
 
   python3 bench/env_shadows.py --bin build/apps
 """
@@ -24,7 +24,7 @@ SCENE = os.path.join(HERE, "testdata", "spheres.gltf")
 
 def pixels(path):
     """(R+G+B, A) of every pixel, from oiiotool --dumpdata."""
-    out = subprocess.run(["oiiotool", path, "--ch", "R,G,B,A", "--dumpdata"],
+    out = subprocess.run(["oiiotool", "--dumpdata", path],
                          capture_output=True, text=True, check=True).stdout
     values = []
     for line in out.splitlines():
@@ -36,7 +36,7 @@ def pixels(path):
 
 
 def rms(a, b):
-    out = subprocess.run(["idiff", "-fail", "1e9", a, b], capture_output=True, text=True).stdout
+    out = subprocess.run(["idiff", "-v", "-fail", "1e9", a, b], capture_output=True, text=True).stdout
     for line in out.splitlines():
         if "RMS error" in line:
             return float(line.split()[-1])
@@ -47,6 +47,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--bin", default="build/apps")
     ap.add_argument("--size", default="320x180")
+    ap.add_argument("--denoise", default="on", choices=["on", "off"])
     args = ap.parse_args()
     tool = lambda name: os.path.join(args.bin, name)
     with tempfile.TemporaryDirectory() as d:
@@ -74,7 +75,8 @@ def main():
             def light(samples, out):
                 t0 = time.time()
                 subprocess.run([tool("dhdr-light"), g, "--scene", SCENE, "--lights", lights,
-                                "--type", "float", "-q", "--env-samples", str(samples), "-o",
+                                "--type", "float", "-q", "--env-samples", str(samples),
+                                "--denoise", args.denoise if samples < 1024 else "off", "-o",
                                 out], check=True)
                 return time.time() - t0
 

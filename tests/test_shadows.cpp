@@ -8,6 +8,7 @@
 #include <cmath>
 #include <dhdr/deferred/ambient_occlusion.h>
 #include <dhdr/deferred/area_light.h>
+#include <dhdr/deferred/denoise.h>
 #include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
@@ -479,18 +480,22 @@ TEST(Shadows, CulledEqualsBruteForceAndThreadsDoNotMatter) {
                     << "thread count changed pixel " << x << "," << y;
             }
     EXPECT_LT(worst, 1e-5);
-    // Strips of 37 rows shade every pixel as the whole frame does.
+    // Strips of 37 rows, each read with the denoiser's reach of rows above and below (as
+    // dhdr-light reads them), shade every pixel as the whole frame does.
     LightingParams strips = p;
     strips.frame = gbuf.roi();
     for (int y = 0; y < 120; y += 37) {
-        const OIIO::ROI band(0, 160, y, std::min(120, y + 37), 0, 1, 0, gbuf.nchannels());
+        const OIIO::ROI rows(0, 160, y, std::min(120, y + 37));
+        const OIIO::ROI band(0, 160, std::max(0, y - kDenoiseReach),
+                             std::min(120, rows.yend + kDenoiseReach), 0, 1, 0, gbuf.nchannels());
         ImageBuf strip = OIIO::ImageBufAlgo::cut(gbuf, band);
         strip.set_origin(0, band.ybegin);
-        const ImageBuf lit = shade(strip, lights, &caster, strips, 2);
-        for (int yy = band.ybegin; yy < band.yend; ++yy)
+        ImageBuf lit;
+        ASSERT_TRUE(shadeGBuffer(lit, strip, {lights, &caster}, strips, rows, 2)) << lit.geterror();
+        for (int yy = rows.ybegin; yy < rows.yend; ++yy)
             for (int x = 0; x < 160; ++x)
                 for (int c = 0; c < 5; ++c)
-                    ASSERT_EQ(px(lit, x, yy)[c], px(culled, x, yy)[c]);
+                    ASSERT_EQ(px(lit, x, yy)[c], px(culled, x, yy)[c]) << x << "," << yy;
     }
 }
 
@@ -537,6 +542,8 @@ TEST(EnvironmentShadows, ASunInTheEnvironmentCastsTheBoxesShadow) {
     const RayCaster caster(scene);
     LightingParams p;
     p.environmentSamples = 16;
+    // Each pixel's own estimate: exact in both regions (the denoiser blurs across the edge).
+    p.denoise = false;
     const ImageBuf lit = shade(gbuf, {light}, &caster, p);
     const ImageBuf reference = shade(gbuf, {light}, nullptr);
     // The sun spans two texels (0.7° each): at most 2 cm of penumbra at 1 m.
@@ -640,6 +647,7 @@ ImageBuf catcherFrame(const Scene& scene, const Light& light, ImageBuf& gbuf) {
     const RayCaster caster(meshesOnly);
     LightingParams p;
     p.environmentSamples = 16;
+    p.denoise = false; // each pixel's own estimate, exact inside and outside the shadow
     return shade(gbuf, {light}, &caster, p);
 }
 
@@ -894,4 +902,68 @@ TEST(Shadows, ASunWithAnAngleCastsTheDisksPenumbra) {
     sun.angle = 0.0f;
     EXPECT_EQ(lightVisibility(sun, {{0.01f, 0.0f, 0.3f}, up, 1e-6f}, up, 1, 256, caster), 1.0f);
     EXPECT_EQ(lightVisibility(sun, {{-0.01f, 0.0f, 0.3f}, up, 1e-6f}, up, 1, 256, caster), 0.0f);
+}
+
+// The denoiser against the per-pixel estimate, both at 16 rays, on a box on a floor under a
+// sky (environment shadows and ray-traced AO), against a 1024-ray per-pixel reference: the
+// RMS error falls to under a third, the mean stays within 2 %, pixels that no ray finds
+// blocked keep the unshadowed value exactly, and the thread count does not matter.
+TEST(Denoise, CleanerThanThePerPixelEstimateAndUnbiasedInTheMean) {
+    Scene scene = emptyScene();
+    addFloor(scene, 3.0f);
+    addBox(scene, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.7f, 0.3f});
+    const RayCaster caster(scene);
+    Light light;
+    light.type = LightType::Environment;
+    light.ibl = skyWithSun(glm::normalize(glm::vec3(0.5f, 1.0f, 0.2f)), 1.0f);
+    const Camera camera = Camera::lookAt({1.5, 2.2, 2.6}, {0.0, 0.2, 0.0}, {0, 1, 0}, 0.8);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 160, 120);
+    LightingParams p;
+    p.environmentSamples = 16;
+    p.aoSamples = 16;
+    p.aoDistance = 0.5f;
+    p.writeAO = true;
+    const ImageBuf denoised = shade(gbuf, {light}, &caster, p, 2);
+    const ImageBuf oneThread = shade(gbuf, {light}, &caster, p, 1);
+    p.denoise = false;
+    const ImageBuf raw = shade(gbuf, {light}, &caster, p, 2);
+    p.environmentSamples = p.aoSamples = 1024;
+    const ImageBuf reference = shade(gbuf, {light}, &caster, p, 2);
+    double rawError = 0.0, denoisedError = 0.0, sum = 0.0, sumReference = 0.0;
+    int covered = 0;
+    for (int y = 0; y < 120; ++y)
+        for (int x = 0; x < 160; ++x) {
+            ASSERT_EQ(px(denoised, x, y)[1], px(oneThread, x, y)[1]) << x << "," << y;
+            if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f)) continue;
+            ++covered;
+            const double r = px(reference, x, y)[1];
+            rawError += std::pow(px(raw, x, y)[1] - r, 2.0);
+            denoisedError += std::pow(px(denoised, x, y)[1] - r, 2.0);
+            sum += px(denoised, x, y)[1];
+            sumReference += r;
+        }
+    ASSERT_GT(covered, 10000);
+    rawError = std::sqrt(rawError / covered);
+    denoisedError = std::sqrt(denoisedError / covered);
+    std::printf("RMS error at 16 rays: per pixel %.5f, denoised %.5f; mean %.5f vs %.5f\n",
+                rawError, denoisedError, sum / covered, sumReference / covered);
+    EXPECT_LT(denoisedError, rawError / 3.0);
+    EXPECT_NEAR(sum / sumReference, 1.0, 0.02);
+    // With nothing to block a ray, every filtered ratio is exactly 1: the unshadowed value.
+    Scene floorOnly = emptyScene();
+    addFloor(floorOnly, 3.0f);
+    const RayCaster floorCaster(floorOnly);
+    const ImageBuf floorG = gbufferOf(floorOnly, camera, 80, 60);
+    p.environmentSamples = p.aoSamples = 16;
+    p.shadows = true;
+    p.denoise = true;
+    const ImageBuf floorLit = shade(floorG, {light}, &floorCaster, p, 2);
+    p.shadows = false;
+    p.aoSamples = 0;
+    const ImageBuf floorOpen = shade(floorG, {light}, &floorCaster, p, 2);
+    for (int y = 0; y < 60; ++y)
+        for (int x = 0; x < 80; ++x) {
+            ASSERT_EQ(px(floorLit, x, y)[1], px(floorOpen, x, y)[1]) << x << "," << y;
+            ASSERT_EQ(px(floorLit, x, y)[4], 1.0f);
+        }
 }

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <dhdr/deferred/ambient_occlusion.h>
+#include <dhdr/deferred/denoise.h>
 #include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_import.h>
@@ -82,6 +83,12 @@ int run(int argc, char** argv) {
               "composite the result over a photograph of the frame's size (or the environment "
               "light as the camera sees it): objects and the shadows a --ground-plane catches, "
               "onto the plate; A is then 1");
+    std::string denoise = "on";
+    cl.option("--denoise", denoise, "on|off",
+              "filter the environments' shadow rays (--env-samples) and --ao rt over\n"
+              "neighbouring pixels of the same surface, guided by the G-buffer's normals,\n"
+              "positions and object ids (edge-avoiding a-trous, 30 pixels' reach; flat\n"
+              "G-buffers); off: each pixel's unbiased estimate (default on)");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
     cl.flag("--aovs", aovs,
             "also write the G-buffer's Z and N.X N.Y N.Z channels, AO, and the probes' "
@@ -136,6 +143,8 @@ int run(int argc, char** argv) {
         return usage("no lights: give --lights FILE, or --scene SCENE for the scene's own");
     if (emissive != "auto" && emissive != "on" && emissive != "off")
         return usage("--emissive-lights must be on or off");
+    if (denoise != "on" && denoise != "off") return usage("--denoise takes on or off");
+    params.denoise = denoise == "on";
     if (aoMode != "off" && aoMode != "rt" && aoMode != "ssao")
         return usage("--ao must be off, rt or ssao");
     if (scenePath.empty()) {
@@ -422,8 +431,12 @@ int run(int argc, char** argv) {
         LightingParams strips = params;
         strips.frame = OIIO::get_roi(gspec);
         // SSAO looks at neighbouring pixels anywhere in the frame: one strip, the whole frame.
-        const int rows =
-            aoMode == "ssao" ? gspec.height : params.tileSize * std::max(1, 128 / params.tileSize);
+        // The denoiser reads kDenoiseReach rows around each pixel: each strip is read with
+        // that halo, and taller, so that the halo's rays are a smaller share.
+        const bool halo = params.denoise && (params.environmentSamples > 0 || params.aoSamples > 0);
+        const int rows = aoMode == "ssao"
+                             ? gspec.height
+                             : params.tileSize * std::max(1, (halo ? 256 : 128) / params.tileSize);
         std::string lightFiles;
         for (size_t i = 1; i < in.size(); ++i)
             lightFiles += (i > 1 ? ", " : "") + in[i];
@@ -434,6 +447,7 @@ int run(int argc, char** argv) {
         // decoding the G-buffer is most of the work.
         StripPipelineParams streaming;
         streaming.rows = rows;
+        streaming.halo = halo && aoMode != "ssao" ? kDenoiseReach : 0;
         streaming.nthreads = tool.threads();
         streaming.progress = progress.over();
         StripPipeline pipeline(OIIO::get_roi(gspec), streaming);
@@ -463,7 +477,8 @@ int run(int argc, char** argv) {
                 stripInputs.ambientOcclusion = &ao;
             }
             LightingStats rowStats;
-            if (!shadeGBuffer(*strip.output, gbuf, stripInputs, strips, {}, tool.threads(),
+            const OIIO::ROI own(gspec.x, gspec.x + gspec.width, strip.rows.ybegin, strip.rows.yend);
+            if (!shadeGBuffer(*strip.output, gbuf, stripInputs, strips, own, tool.threads(),
                               &rowStats)) {
                 strip.error = path + ": " + strip.output->geterror();
                 return false;

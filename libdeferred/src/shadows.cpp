@@ -20,9 +20,13 @@ ShadowRay towards(const SurfacePoint& at, const LightLiSample& s) {
 // combined with the power heuristic (Veach 1997, eq. 9.13; pbrt-v4 PowerHeuristic): luminance
 // sampling alone leaves a surface facing away from a bright sky with almost no sample above
 // its horizon, and its visibility to the one or two that are (black speckles).
-float environmentVisibility(const Light& light, const SurfacePoint& at, const glm::vec3& N,
-                            std::uint64_t seed, int samples, const Visibility& visibility,
-                            long long* rays) {
+} // namespace
+
+VisibilitySums environmentVisibilitySums(const Light& light, const SurfacePoint& at,
+                                         const glm::vec3& N, std::uint64_t seed, int samples,
+                                         const Visibility& visibility, long long* rays) {
+    VisibilitySums sums;
+    if (!light.ibl || light.ibl->sampler.empty()) return sums;
     const EnvironmentSampler& sampler = light.ibl->sampler;
     const int nLight = (samples + 1) / 2, nCosine = samples / 2;
     const RotatedHammersley lightSequence(seed), cosineSequence(seed ^ 0x2545f4914f6cdd1dull);
@@ -84,11 +88,26 @@ float environmentVisibility(const Light& light, const SurfacePoint& at, const gl
             closed += transmittance[i] == 0.0f;
         }
     }
-    // As lightVisibility: no sample above the horizon leaves the unshadowed value; wholly
+    sums.seen = seen;
+    sums.total = total;
+    sums.count = count;
+    sums.open = open;
+    sums.closed = closed;
+    return sums;
+}
+
+namespace {
+
+float environmentVisibility(const Light& light, const SurfacePoint& at, const glm::vec3& N,
+                            std::uint64_t seed, int samples, const Visibility& visibility,
+                            long long* rays) {
+    const VisibilitySums s =
+        environmentVisibilitySums(light, at, N, seed, samples, visibility, rays);
+    // As for area lights: no sample above the horizon leaves the unshadowed value; wholly
     // lit or hidden points are exact.
-    if (open == count || !(total > 0.0)) return 1.0f;
-    if (closed == count) return 0.0f;
-    return float(seen / total);
+    if (s.open == s.count || !(s.total > 0.0)) return 1.0f;
+    if (s.closed == s.count) return 0.0f;
+    return float(s.seen / s.total);
 }
 
 } // namespace

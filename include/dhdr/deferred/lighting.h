@@ -63,6 +63,12 @@ struct LightingParams {
     int aoSamples = 0;
     // ... and the distance within which a hit occludes, scene units (metres), > 0 (+∞ allowed).
     float aoDistance = 1.0f;
+    // Filter the environments' shadow-ray estimates and ray-traced AO over neighbouring pixels
+    // of the same surface before use (denoise.h; flat G-buffers): clean at a few samples, and
+    // blurred across kDenoiseReach pixels at most. A strip of a frame then needs
+    // kDenoiseReach rows of G-buffer above and below the rows shaded (roi) for the result to
+    // be the whole frame's. false: the unbiased per-pixel estimates.
+    bool denoise = true;
     // Write an "AO" channel after A (1 where AO is off).
     bool writeAO = false;
     // Also write the probes' indirect light as indirect.R, indirect.G, indirect.B (after AO).

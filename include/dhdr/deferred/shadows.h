@@ -29,4 +29,16 @@ float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec
                       std::uint64_t seed, int samples, const Visibility& visibility,
                       long long* rays = nullptr);
 
+// The sums an environment light's visibility divides (above): seen = Σ w V and total = Σ w
+// over the samples traced, and how many of them there were, wholly open and wholly closed.
+// The lighting pass filters seen and total over neighbouring pixels before dividing
+// (denoise.h).
+struct VisibilitySums {
+    double seen = 0.0, total = 0.0;
+    int count = 0, open = 0, closed = 0;
+};
+VisibilitySums environmentVisibilitySums(const Light& light, const SurfacePoint& at,
+                                         const glm::vec3& N, std::uint64_t seed, int samples,
+                                         const Visibility& visibility, long long* rays = nullptr);
+
 } // namespace dhdr

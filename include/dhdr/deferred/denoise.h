@@ -1,0 +1,42 @@
+// Edge-avoiding à-trous wavelet filtering (Dammertz, Sewtz, Hanika & Lensch 2010; the spatial
+// part of Schied et al. 2017's SVGF) of per-pixel Monte Carlo estimates, guided by the
+// G-buffer: what the lighting pass filters before it divides shadowed by unshadowed light.
+#pragma once
+
+#include <glm/glm.hpp>
+#include <vector>
+
+namespace dhdr {
+
+// Iterations of the filter (steps 1, 2, 4, 8 pixels) and how far it reaches: a pixel's result
+// depends on the pixels within kDenoiseReach rows and columns of it.
+inline constexpr int kDenoiseIterations = 4;
+inline constexpr int kDenoiseReach = 2 * (1 + 2 + 4 + 8);
+
+// What tells surfaces apart, per pixel of a width × height image (row-major).
+struct DenoiseGuide {
+    int width = 0, height = 0;
+    std::vector<glm::vec3> position, normal; // world space; normal unit
+    std::vector<float> object;               // id.object; pixels of other objects never mix
+    std::vector<unsigned char> surface;      // 0: background, never read or written
+};
+
+// Filters `planes` in place: one plane (an estimate, such as AO) or two (the sums of a ratio
+// estimate, shadowed and unshadowed light, filtered alike so that their ratio stays one;
+// Heitz, Hill & McGuire 2018), width × height values each, one after the other.
+// kDenoiseIterations passes of the 5 × 5 B3-spline kernel (1/16, 1/4, 3/8, 1/4, 1/16) with
+// holes of 2^i pixels (Dammertz et al. 2010), each tap weighted by
+//   - the normals' agreement, max(0, n_p · n_q)^64;
+//   - how far q lies off p's tangent plane for its distance, exp(−(|n_p · (P_q − P_p)| /
+//     (0.05 |P_q − P_p|))²): a crease or a step in depth stops the filter, a curved surface
+//     seen at a few pixels' distance does not;
+//   - the same object;
+//   - the estimate itself (the ratio, or the value), exp(−|s_p − s_q| / (4 σ_p)), σ_p its
+//     standard deviation: first from p's 5 × 5 neighbourhood of the same surface, then
+//     filtered along with it (Schied et al. 2017, SVGF's variance guidance): noise is
+//     averaged, a real change in the estimate (a contact shadow) is kept.
+// Deterministic and independent of `nthreads`: every pass reads the previous one only.
+void atrousFilter(std::vector<float>& planes, int count, const DenoiseGuide& guide,
+                  int nthreads = 0);
+
+} // namespace dhdr
