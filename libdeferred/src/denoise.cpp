@@ -32,7 +32,8 @@ float geometryWeight(const DenoiseGuide& g, size_t p, size_t q) {
         f *= f;
     const glm::vec3 d = g.position[q] - g.position[p];
     const float distance = glm::length(d);
-    const float off = distance > 0.0f ? std::abs(glm::dot(g.normal[p], d)) / (0.05f * distance) : 0.0f;
+    const float off =
+        distance > 0.0f ? std::abs(glm::dot(g.normal[p], d)) / (0.05f * distance) : 0.0f;
     return f * std::exp(-off * off);
 }
 

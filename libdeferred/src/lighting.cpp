@@ -1,11 +1,11 @@
+#include "filtered_estimates.h"
+
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
-#include <dhdr/common/parallel.h>
 #include <dhdr/deferred/ambient_occlusion.h>
-#include <dhdr/deferred/denoise.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/light_culling.h>
@@ -187,84 +187,10 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     const Visibility* shadowRays = params.shadows ? inputs.visibility : nullptr;
     const bool rayTracedAO = !ao && inputs.visibility && params.aoSamples > 0;
     const bool aoActive = ao || rayTracedAO;
-    // Denoised estimates (flat G-buffers): every environment light's shadow-ray sums and the
-    // ray-traced AO of every pixel the source holds (a strip's halo rows included), filtered
-    // over neighbouring pixels of the same surface before the shading divides them.
-    std::vector<std::uint32_t> filteredLights; // environment lights with shadow rays
-    if (shadowRays && params.environmentSamples > 0)
-        for (std::uint32_t i = 0; i < lights.size(); ++i)
-            if (lights[i].type == LightType::Environment && lights[i].ibl &&
-                !lights[i].ibl->sampler.empty())
-                filteredLights.push_back(i);
-    const bool denoising =
-        params.denoise && !view.deep() && (rayTracedAO || !filteredLights.empty());
-    std::vector<int> filteredSlot(lights.size(), -1);
-    for (size_t j = 0; j < filteredLights.size(); ++j)
-        filteredSlot[filteredLights[j]] = int(j);
-    const OIIO::ROI whole = source.roi;
-    const size_t wholePixels = whole.npixels();
-    std::vector<float> planes;
-    std::atomic<long long> prepassShadow{0}, prepassAO{0};
-    if (denoising) {
-        DenoiseGuide guide;
-        guide.width = whole.width();
-        guide.height = whole.height();
-        guide.position.assign(wholePixels, glm::vec3(0.0f));
-        guide.normal.assign(wholePixels, glm::vec3(0.0f));
-        guide.object.assign(wholePixels, 0.0f);
-        guide.surface.assign(wholePixels, 0);
-        const size_t count = 2 * filteredLights.size() + (rayTracedAO ? 1 : 0);
-        planes.assign(count * wholePixels, 0.0f);
-        OIIO::parallel_for(
-            whole.ybegin, whole.yend,
-            [&](int64_t yy) {
-                const int y = int(yy);
-                long long shadowLocal = 0, aoLocal = 0;
-                for (int x = whole.xbegin; x < whole.xend; ++x) {
-                    if (view.samples(x, y) == 0) continue;
-                    const size_t p =
-                        size_t(y - whole.ybegin) * size_t(whole.width()) + size_t(x - whole.xbegin);
-                    const ShadingPoint sp = view.at(x, y);
-                    guide.surface[p] = 1;
-                    guide.position[p] = sp.P;
-                    guide.normal[p] = sp.N;
-                    guide.object[p] =
-                        layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
-                    for (size_t j = 0; j < filteredLights.size(); ++j) {
-                        const VisibilitySums v = environmentVisibilitySums(
-                            lights[filteredLights[j]], sp.origin, sp.N,
-                            sampleSeed(x, y, filteredLights[j], 1), params.environmentSamples,
-                            *shadowRays, &shadowLocal);
-                        planes[(2 * j) * wholePixels + p] = float(v.seen);
-                        planes[(2 * j + 1) * wholePixels + p] = float(v.total);
-                    }
-                    if (rayTracedAO)
-                        planes[(count - 1) * wholePixels + p] = rayTracedOcclusion(
-                            sp.origin, sp.N, sampleSeed(x, y, -1, 2), params.aoSamples,
-                            params.aoDistance, *inputs.visibility, &aoLocal);
-                }
-                prepassShadow += shadowLocal;
-                prepassAO += aoLocal;
-            },
-            perItem(nthreads));
-        // Each environment's pair of sums, and AO, filtered apart: each its own edges.
-        for (size_t first = 0; first < count;) {
-            const size_t planesInGroup =
-                first + 1 < 2 * filteredLights.size() + 1 && first < 2 * filteredLights.size() ? 2
-                                                                                               : 1;
-            std::vector<float> group(planes.begin() + std::ptrdiff_t(first * wholePixels),
-                                     planes.begin() +
-                                         std::ptrdiff_t((first + planesInGroup) * wholePixels));
-            atrousFilter(group, int(planesInGroup), guide, nthreads);
-            std::copy(group.begin(), group.end(),
-                      planes.begin() + std::ptrdiff_t(first * wholePixels));
-            first += planesInGroup;
-        }
-    }
-    auto filteredAt = [&](int plane, int x, int y) {
-        return planes[size_t(plane) * wholePixels +
-                      size_t(y - whole.ybegin) * size_t(whole.width()) + size_t(x - whole.xbegin)];
-    };
+    // Denoised estimates (flat G-buffers): computed for every pixel the source holds (a
+    // strip's halo rows included) and filtered before the shading reads them.
+    const FilteredEstimates filtered(view, layout, source.roi, lights, params, shadowRays,
+                                     rayTracedAO ? inputs.visibility : nullptr, nthreads);
     // The environment behind the surfaces: the view ray through each pixel's centre, from the
     // inverse of worldToNDC (the near and far planes' points).
     const Light* sky = nullptr;
@@ -314,8 +240,8 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         float occlusion = 1.0f;
         if (ao)
             occlusion = std::clamp(ao->getchannel(x, y, 0, 0), 0.0f, 1.0f);
-        else if (rayTracedAO && denoising)
-            occlusion = std::clamp(filteredAt(int(2 * filteredLights.size()), x, y), 0.0f, 1.0f);
+        else if (filtered.filtersAO() && k == 0)
+            occlusion = filtered.ambientOcclusion(x, y);
         else if (rayTracedAO)
             occlusion = rayTracedOcclusion(sp.origin, sp.N, sampleSeed(x, y, -1, 2 + purpose),
                                            params.aoSamples, params.aoDistance, *inputs.visibility,
@@ -334,12 +260,8 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                 // The visible share of the environment, from rays drawn by its luminance,
                 // scales the prefiltered result.
                 float v = 1.0f;
-                if (denoising && filteredSlot[i] >= 0) {
-                    // The filtered sums' ratio; where no neighbour saw any of the sky above
-                    // its horizon, the unshadowed value.
-                    const float seen = filteredAt(2 * filteredSlot[i], x, y);
-                    const float total = filteredAt(2 * filteredSlot[i] + 1, x, y);
-                    v = total > 0.0f ? std::clamp(seen / total, 0.0f, 1.0f) : 1.0f;
+                if (filtered.filters(i) && k == 0) {
+                    v = filtered.visibility(i, x, y);
                 } else if (shadowRays && params.environmentSamples > 0) {
                     v = lightVisibility(light, sp.origin, sp.N, sampleSeed(x, y, i, 1 + purpose),
                                         params.environmentSamples, *shadowRays, &localShadow);
@@ -472,8 +394,8 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         stats->lightsReaching = reaching;
         stats->coveredPixels = covered;
         stats->tileListEntries = (long long)tiles.totalEntries();
-        stats->shadowRays = shadowCount + prepassShadow;
-        stats->aoRays = aoCount + prepassAO;
+        stats->shadowRays = shadowCount + filtered.shadowRayCount;
+        stats->aoRays = aoCount + filtered.aoRayCount;
     }
     return true;
 }

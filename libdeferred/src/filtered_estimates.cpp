@@ -1,0 +1,91 @@
+#include "filtered_estimates.h"
+
+#include <OpenImageIO/parallel.h>
+#include <algorithm>
+#include <atomic>
+#include <dhdr/common/parallel.h>
+#include <dhdr/deferred/ambient_occlusion.h>
+#include <dhdr/deferred/denoise.h>
+#include <dhdr/deferred/ibl.h>
+#include <dhdr/deferred/sampling.h>
+#include <dhdr/deferred/shadows.h>
+
+namespace dhdr {
+
+FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout,
+                                     OIIO::ROI held, const std::vector<Light>& lights,
+                                     const LightingParams& params, const Visibility* shadowRays,
+                                     const Visibility* aoRays, int nthreads)
+    : m_held(held), m_slot(lights.size(), -1) {
+    if (!params.denoise || view.deep()) return;
+    std::vector<std::uint32_t> filtered;
+    if (shadowRays && params.environmentSamples > 0)
+        for (std::uint32_t i = 0; i < lights.size(); ++i)
+            if (lights[i].type == LightType::Environment && lights[i].ibl &&
+                !lights[i].ibl->sampler.empty()) {
+                m_slot[i] = int(filtered.size());
+                filtered.push_back(i);
+            }
+    const bool ao = aoRays && params.aoSamples > 0;
+    if (filtered.empty() && !ao) return;
+    const size_t n = held.npixels();
+    DenoiseGuide guide;
+    guide.width = held.width();
+    guide.height = held.height();
+    guide.position.assign(n, glm::vec3(0.0f));
+    guide.normal.assign(n, glm::vec3(0.0f));
+    guide.object.assign(n, 0.0f);
+    guide.surface.assign(n, 0);
+    m_sums.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
+    if (ao) m_ao.assign(n, 1.0f);
+    std::atomic<long long> shadowCount{0}, aoCount{0};
+    OIIO::parallel_for(
+        held.ybegin, held.yend,
+        [&](int64_t yy) {
+            const int y = int(yy);
+            long long shadowLocal = 0, aoLocal = 0;
+            for (int x = held.xbegin; x < held.xend; ++x) {
+                if (view.samples(x, y) == 0) continue;
+                const size_t p = index(x, y);
+                const ShadingPoint sp = view.at(x, y);
+                guide.surface[p] = 1;
+                guide.position[p] = sp.P;
+                guide.normal[p] = sp.N;
+                guide.object[p] = layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
+                // The seeds of a flat pixel's shading (lighting.cpp, purpose 0).
+                for (size_t j = 0; j < filtered.size(); ++j) {
+                    const VisibilitySums v = environmentVisibilitySums(
+                        lights[filtered[j]], sp.origin, sp.N, sampleSeed(x, y, filtered[j], 1),
+                        params.environmentSamples, *shadowRays, &shadowLocal);
+                    m_sums[j][p] = float(v.seen);
+                    m_sums[j][n + p] = float(v.total);
+                }
+                if (ao)
+                    m_ao[p] = rayTracedOcclusion(sp.origin, sp.N, sampleSeed(x, y, -1, 2),
+                                                 params.aoSamples, params.aoDistance, *aoRays,
+                                                 &aoLocal);
+            }
+            shadowCount += shadowLocal;
+            aoCount += aoLocal;
+        },
+        perItem(nthreads));
+    shadowRayCount = shadowCount;
+    aoRayCount = aoCount;
+    // Each light's pair of sums, and AO, filtered apart: each keeps its own edges.
+    for (std::vector<float>& sums : m_sums)
+        atrousFilter(sums, 2, guide, nthreads);
+    if (ao) atrousFilter(m_ao, 1, guide, nthreads);
+}
+
+float FilteredEstimates::visibility(std::uint32_t light, int x, int y) const {
+    const std::vector<float>& sums = m_sums[size_t(m_slot[light])];
+    const size_t p = index(x, y), n = sums.size() / 2;
+    const float seen = sums[p], total = sums[n + p];
+    return total > 0.0f ? std::clamp(seen / total, 0.0f, 1.0f) : 1.0f;
+}
+
+float FilteredEstimates::ambientOcclusion(int x, int y) const {
+    return std::clamp(m_ao[index(x, y)], 0.0f, 1.0f);
+}
+
+} // namespace dhdr

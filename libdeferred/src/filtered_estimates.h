@@ -1,0 +1,47 @@
+// The lighting pass's Monte Carlo estimates, denoised: each environment light's shadow-ray
+// sums and the ray-traced AO of every pixel a flat G-buffer holds, estimated first and
+// filtered over neighbouring pixels of the same surface (denoise.h), then read by the shading.
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+#include <cstdint>
+#include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/shading_point.h>
+#include <vector>
+
+namespace dhdr {
+
+class FilteredEstimates {
+public:
+    // Estimates every covered pixel of `held` (a strip's halo rows included) with the seeds
+    // the shading would use: shadow rays of each environment light through `shadowRays`
+    // (null: none), params.aoSamples AO rays through `aoRays` (null: no AO). Nothing when
+    // params.denoise is off, the view is deep, or there is nothing to estimate.
+    FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout, OIIO::ROI held,
+                      const std::vector<Light>& lights, const LightingParams& params,
+                      const Visibility* shadowRays, const Visibility* aoRays, int nthreads);
+
+    // Whether light i's visibility, or the AO, comes from here.
+    bool filters(std::uint32_t light) const {
+        return light < m_slot.size() && m_slot[light] >= 0;
+    }
+    bool filtersAO() const { return !m_ao.empty(); }
+    // The filtered ratio of light i at pixel (x, y): 1 where no neighbour saw its sky.
+    float visibility(std::uint32_t light, int x, int y) const;
+    float ambientOcclusion(int x, int y) const;
+    // The rays traced.
+    long long shadowRayCount = 0, aoRayCount = 0;
+
+private:
+    size_t index(int x, int y) const {
+        return size_t(y - m_held.ybegin) * size_t(m_held.width()) + size_t(x - m_held.xbegin);
+    }
+
+    OIIO::ROI m_held;
+    std::vector<int> m_slot;                 // per light, its pair of sums (−1: not filtered)
+    std::vector<std::vector<float>> m_sums;  // per filtered light: Σ wV, then Σ w
+    std::vector<float> m_ao;
+};
+
+} // namespace dhdr
