@@ -967,3 +967,44 @@ TEST(Denoise, CleanerThanThePerPixelEstimateAndUnbiasedInTheMean) {
             ASSERT_EQ(px(floorLit, x, y)[4], 1.0f);
         }
 }
+
+// A coarse sphere alone under a uniform sky: a convex mesh cannot hide any of the sky from
+// itself, so with smooth normals (which lean past the triangles' planes at the silhouette and
+// along the terminator) every pixel's environment visibility and AO are exactly 1. Rays
+// below a triangle's own plane used to hit the sphere and blacken pixels at its rim.
+TEST(EnvironmentShadows, AConvexMeshWithSmoothNormalsDoesNotShadowItself) {
+    Scene scene = emptyScene();
+    addSphere(scene, {0.0f, 0.0f, 0.0f}, 0.5f, 10);
+    const RayCaster caster(scene);
+    EnvironmentImage env;
+    env.width = 64;
+    env.height = 32;
+    env.rgb.assign(64 * 32 * 3, 1.0f);
+    auto ibl = std::make_shared<Ibl>();
+    std::string error;
+    ASSERT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
+    Light light;
+    light.type = LightType::Environment;
+    light.ibl = ibl;
+    const Camera camera = Camera::lookAt({0.0, 0.3, 2.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.7);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 96, 96);
+    LightingParams p;
+    p.environmentSamples = 32;
+    p.aoSamples = 32;
+    p.aoDistance = INFINITY;
+    p.writeAO = true;
+    p.denoise = false;
+    const ImageBuf lit = shade(gbuf, {light}, &caster, p);
+    p.shadows = false;
+    p.aoSamples = 0;
+    const ImageBuf open = shade(gbuf, {light}, &caster, p);
+    int covered = 0;
+    for (int y = 0; y < 96; ++y)
+        for (int x = 0; x < 96; ++x) {
+            if (!(px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f)) continue;
+            ++covered;
+            ASSERT_EQ(px(lit, x, y)[4], 1.0f) << x << "," << y;
+            ASSERT_EQ(px(lit, x, y)[1], px(open, x, y)[1]) << x << "," << y;
+        }
+    EXPECT_GT(covered, 1500);
+}

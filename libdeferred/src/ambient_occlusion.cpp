@@ -21,20 +21,25 @@ float rayTracedOcclusion(const SurfacePoint& at, const glm::vec3& N, std::uint64
     const RotatedHammersley sequence(seed);
     // Summed in sample order in double: the same for any thread count.
     double open = 0.0;
+    int traced = 0;
     for (int begin = 0; begin < samples; begin += kBatch) {
-        const int n = std::min(kBatch, samples - begin);
-        for (int i = 0; i < n; ++i) {
+        int n = 0;
+        for (int i = begin; i < std::min(samples, begin + kBatch); ++i) {
             const glm::vec3 d =
-                cosineHemisphere(sequence(std::uint32_t(begin + i), std::uint32_t(samples)));
+                cosineHemisphere(sequence(std::uint32_t(i), std::uint32_t(samples)));
             const glm::vec3 w = glm::normalize(t * d.x + b * d.y + N * d.z);
-            batch[i] = {offsetRayOrigin(at, w), w, distance};
+            // Below the triangle's own plane (a smooth normal at a silhouette or a terminator):
+            // the ray would meet the surface it leaves; such directions are not the sky's.
+            if (!(glm::dot(at.Ng, w) > 0.0f)) continue;
+            batch[n++] = {offsetRayOrigin(at, w), w, distance};
         }
         visibility.test(batch, size_t(n), transmittance);
         for (int i = 0; i < n; ++i)
             open += double(transmittance[i]);
+        traced += n;
     }
-    if (rays) *rays += samples;
-    return float(open / samples);
+    if (rays) *rays += traced;
+    return traced > 0 ? float(open / traced) : 1.0f;
 }
 
 namespace {

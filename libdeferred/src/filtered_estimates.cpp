@@ -51,7 +51,8 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                 guide.surface[p] = 1;
                 guide.position[p] = sp.P;
                 guide.normal[p] = sp.N;
-                guide.object[p] = layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
+                guide.object[p] =
+                    layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
                 // The seeds of a flat pixel's shading (lighting.cpp, purpose 0).
                 for (size_t j = 0; j < filtered.size(); ++j) {
                     const VisibilitySums v = environmentVisibilitySums(
@@ -61,9 +62,9 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                     m_sums[j][n + p] = float(v.total);
                 }
                 if (ao)
-                    m_ao[p] = rayTracedOcclusion(sp.origin, sp.N, sampleSeed(x, y, -1, 2),
-                                                 params.aoSamples, params.aoDistance, *aoRays,
-                                                 &aoLocal);
+                    m_ao[p] =
+                        rayTracedOcclusion(sp.origin, sp.N, sampleSeed(x, y, -1, 2),
+                                           params.aoSamples, params.aoDistance, *aoRays, &aoLocal);
             }
             shadowCount += shadowLocal;
             aoCount += aoLocal;

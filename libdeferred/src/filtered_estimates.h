@@ -23,9 +23,7 @@ public:
                       const Visibility* shadowRays, const Visibility* aoRays, int nthreads);
 
     // Whether light i's visibility, or the AO, comes from here.
-    bool filters(std::uint32_t light) const {
-        return light < m_slot.size() && m_slot[light] >= 0;
-    }
+    bool filters(std::uint32_t light) const { return light < m_slot.size() && m_slot[light] >= 0; }
     bool filtersAO() const { return !m_ao.empty(); }
     // The filtered ratio of light i at pixel (x, y): 1 where no neighbour saw its sky.
     float visibility(std::uint32_t light, int x, int y) const;
@@ -39,8 +37,8 @@ private:
     }
 
     OIIO::ROI m_held;
-    std::vector<int> m_slot;                 // per light, its pair of sums (−1: not filtered)
-    std::vector<std::vector<float>> m_sums;  // per filtered light: Σ wV, then Σ w
+    std::vector<int> m_slot;                // per light, its pair of sums (−1: not filtered)
+    std::vector<std::vector<float>> m_sums; // per filtered light: Σ wV, then Σ w
     std::vector<float> m_ao;
 };
 

@@ -57,7 +57,7 @@ VisibilitySums environmentVisibilitySums(const Light& light, const SurfacePoint&
                     lightSequence(std::uint32_t(i), std::uint32_t(nLight)), pdf, radiance);
                 wi = fromEnvironment(light, d);
                 const float cosTheta = glm::dot(N, wi);
-                if (!(pdf > 0.0f) || !(cosTheta > 0.0f)) continue;
+                if (!(pdf > 0.0f) || !(cosTheta > 0.0f) || !(glm::dot(at.Ng, wi) > 0.0f)) continue;
                 const float pCosine = cosTheta / kPi;
                 w = luminance(radiance * k) * cosTheta / pdf *
                     power(float(nLight), pdf, float(nCosine), pCosine) / float(nLight);
@@ -67,7 +67,7 @@ VisibilitySums environmentVisibilitySums(const Light& light, const SurfacePoint&
                     cosineHemisphere(cosineSequence(std::uint32_t(j), std::uint32_t(nCosine)));
                 wi = glm::normalize(h.x * t + h.y * b + h.z * N);
                 const float cosTheta = glm::dot(N, wi);
-                if (!(cosTheta > 0.0f)) continue;
+                if (!(cosTheta > 0.0f) || !(glm::dot(at.Ng, wi) > 0.0f)) continue;
                 const float pCosine = cosTheta / kPi;
                 const float pLight = sampler.lookup(intoEnvironment(light, wi), radiance);
                 w = luminance(radiance * k) * cosTheta / pCosine *
@@ -143,7 +143,7 @@ float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec
             const LightLiSample s =
                 sampleLi(light, at.P, sequence(std::uint32_t(i), std::uint32_t(samples)));
             const float cosTheta = glm::dot(N, s.wi);
-            if (s.pdf == 0.0f || !(cosTheta > 0.0f)) continue;
+            if (s.pdf == 0.0f || !(cosTheta > 0.0f) || !(glm::dot(at.Ng, s.wi) > 0.0f)) continue;
             weight[n] = (s.L.r + s.L.g + s.L.b) * cosTheta / s.pdf;
             batch[n++] = towards(at, s);
         }

@@ -13,7 +13,9 @@ namespace dhdr {
 // surface point `at` about its shading normal N that meet nothing within `distance` (scene
 // units; +∞: any distance). 1 on an open plane; it weighs directions as diffuse light does, so
 // a floor beside an infinite wall gets ½. Each ray starts at offsetRayOrigin(at, direction).
-// `rays` (optional) counts the rays traced.
+// Directions below the triangle's own plane (at.Ng; a smooth normal at a silhouette leans
+// past it) are left out of the share; with none left, 1. `rays` (optional) counts the rays
+// traced.
 float rayTracedOcclusion(const SurfacePoint& at, const glm::vec3& N, std::uint64_t seed,
                          int samples, float distance, const Visibility& visibility,
                          long long* rays = nullptr);

@@ -20,8 +20,9 @@ namespace dhdr {
 //   each ray weighted by its share of the unshadowed irradiance, L cos θ / pdf; the weighted
 //   sum of the visible ones over the sum of all. Exactly 1 when every ray gets through, 0 when
 //   none does.
-// Samples below the horizon weigh nothing and are not traced; with none above it the light's
-// unshadowed value stands (1).
+// Samples below the horizon, of N or of the triangle's own plane (at.Ng: a smooth normal at
+// a silhouette or a terminator leans past it), weigh nothing and are not traced; with none
+// above it the light's unshadowed value stands (1).
 // Each ray starts at offsetRayOrigin(at, its direction) and stops kShadowRayShortening short
 // of the light.
 // `rays` (optional) counts the rays traced.
