@@ -22,7 +22,10 @@ int run(int argc, char** argv) {
     cl.option("--levels", p.levels, "N", "prefiltered levels, roughness 0 to 1 (default 6)", 2, 16);
     cl.option("--base-width", p.baseWidth, "W",
               "width of level 1; each later level is half as wide (default 256)", 8, 4096);
-    cl.option("--samples", p.samples, "N", "GGX samples per texel (default 128)", 1, 65536);
+    cl.option("--samples", p.samples, "N",
+              "GGX samples per texel of level 1; each later level takes 4x as many, up to 16x\n"
+              "(default 128)",
+              1, 65536);
     cl.option("--dfg-size", p.dfgSize, "N", "side of the DFG table (default 128)", 2, 1024);
     cl.option("--dfg-samples", p.dfgSamples, "N", "samples per DFG entry (default 1024)", 1, 65536);
     cl.option("--sun-threshold", p.sunThreshold, "Y",
@@ -64,10 +67,11 @@ int run(int argc, char** argv) {
                " ms";
     };
     char line[200];
-    std::snprintf(line, sizeof line,
-                  "%dx%d environment; %d levels from %d wide, %d samples per texel; DFG %d² at "
-                  "%d samples",
-                  env.width, env.height, p.levels, p.baseWidth, p.samples, p.dfgSize, p.dfgSamples);
+    std::snprintf(
+        line, sizeof line,
+        "%dx%d environment; %d levels from %d wide, %d samples per texel at level 1; DFG %d² at "
+        "%d samples",
+        env.width, env.height, p.levels, p.baseWidth, p.samples, p.dfgSize, p.dfgSamples);
     tool.info(line);
     if (ibl.sun.found()) {
         const glm::vec3 d = ibl.sun.direction, e = ibl.sun.illuminance;

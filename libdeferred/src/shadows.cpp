@@ -14,14 +14,14 @@ ShadowRay towards(const SurfacePoint& at, const LightLiSample& s) {
     return {offsetRayOrigin(at, s.wi), s.wi, s.distance * (1.0f - kShadowRayShortening)};
 }
 
+} // namespace
+
 // The visible share of an environment's diffuse light, by the ratio estimator of Heitz, Hill
 // & McGuire (2018): Σ w V / Σ w over the same samples, w = Y(L) cos θ weighted by MIS.
 // Half the samples are drawn by the environment's luminance, half cosine-weighted about N, and
 // combined with the power heuristic (Veach 1997, eq. 9.13; pbrt-v4 PowerHeuristic): luminance
 // sampling alone leaves a surface facing away from a bright sky with almost no sample above
 // its horizon, and its visibility to the one or two that are (black speckles).
-} // namespace
-
 VisibilitySums environmentVisibilitySums(const Light& light, const SurfacePoint& at,
                                          const glm::vec3& N, std::uint64_t seed, int samples,
                                          const Visibility& visibility, long long* rays) {

@@ -2,6 +2,7 @@
 // approximation, as Filament's cmgen bakes it.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <dhdr/deferred/brdf.h>
@@ -18,7 +19,9 @@ struct IblBakeParams {
     int levels = 6;
     // Width of level 1, texels (halved at each level after it, at least 8); 8–4096.
     int baseWidth = 256;
-    // GGX importance samples per texel of levels ≥ 1; 1–65536.
+    // GGX importance samples per texel of level 1; 1–65536. Each later level has a quarter of
+    // the texels and takes 4× the samples, up to 16× (iblLevelSamples), so every level costs
+    // about the same: the rough levels, where a lobe spans much of the sky, were the noisiest.
     int samples = 128;
     // Side of the DFG table and samples per entry.
     int dfgSize = 128;
@@ -90,6 +93,15 @@ struct Ibl {
 // The roughness prefiltered level k of `levels` holds: k / (levels − 1).
 inline float iblLevelRoughness(int k, int levels) {
     return float(k) / float(levels - 1);
+}
+
+// The GGX samples per texel of prefiltered level k ≥ 1: params.samples × 4^(k−1), at most
+// 16 × params.samples (128, 512, 2048, 2048, 2048 by default).
+inline int iblLevelSamples(const IblBakeParams& params, int k) {
+    long long n = params.samples;
+    for (int i = 1; i < k && n < 16LL * params.samples; ++i)
+        n *= 4;
+    return int(std::min<long long>(n, 16LL * params.samples));
 }
 
 // The 9 real spherical harmonics Y_0^0 … Y_2^2 at a unit direction.
