@@ -31,6 +31,21 @@ namespace {
 
 [[maybe_unused]] auto* const kKernel = ::testing::AddGlobalTestEnvironment(new EmbreeKernel);
 
+// An environment light of radiance 1 from every direction (a 64 × 32 white image, baked).
+Light uniformSky() {
+    EnvironmentImage env;
+    env.width = 64;
+    env.height = 32;
+    env.rgb.assign(64 * 32 * 3, 1.0f);
+    auto ibl = std::make_shared<Ibl>();
+    std::string error;
+    EXPECT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
+    Light light;
+    light.type = LightType::Environment;
+    light.ibl = ibl;
+    return light;
+}
+
 glm::vec3 positionAt(const ImageBuf& gbuf, int x, int y) {
     const float* g = px(gbuf, x, y);
     const int c = gbuf.spec().channelindex("P.X");
@@ -579,16 +594,7 @@ TEST(EnvironmentShadows, AmbientOcclusionOccludesTheEnvironment) {
     Camera camera = Camera::lookAt({-0.5, 5.0, 0.0}, {-0.5, 0.0, 0.0}, {0, 0, -1}, 0.5);
     const ImageBuf gbuf = gbufferOf(scene, camera, 48, 48);
     const RayCaster caster(scene);
-    EnvironmentImage env;
-    env.width = 64;
-    env.height = 32;
-    env.rgb.assign(64 * 32 * 3, 1.0f);
-    auto ibl = std::make_shared<Ibl>();
-    std::string error;
-    ASSERT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
-    Light light;
-    light.type = LightType::Environment;
-    light.ibl = ibl;
+    const Light light = uniformSky();
     LightingParams p;
     p.aoSamples = 16;
     p.writeAO = true;
@@ -976,16 +982,7 @@ TEST(EnvironmentShadows, AConvexMeshWithSmoothNormalsDoesNotShadowItself) {
     Scene scene = emptyScene();
     addSphere(scene, {0.0f, 0.0f, 0.0f}, 0.5f, 10);
     const RayCaster caster(scene);
-    EnvironmentImage env;
-    env.width = 64;
-    env.height = 32;
-    env.rgb.assign(64 * 32 * 3, 1.0f);
-    auto ibl = std::make_shared<Ibl>();
-    std::string error;
-    ASSERT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
-    Light light;
-    light.type = LightType::Environment;
-    light.ibl = ibl;
+    const Light light = uniformSky();
     const Camera camera = Camera::lookAt({0.0, 0.3, 2.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.7);
     const ImageBuf gbuf = gbufferOf(scene, camera, 96, 96);
     LightingParams p;

@@ -98,10 +98,7 @@ inline float iblLevelRoughness(int k, int levels) {
 // The GGX samples per texel of prefiltered level k ≥ 1: params.samples × 4^(k−1), at most
 // 16 × params.samples (128, 512, 2048, 2048, 2048 by default).
 inline int iblLevelSamples(const IblBakeParams& params, int k) {
-    long long n = params.samples;
-    for (int i = 1; i < k && n < 16LL * params.samples; ++i)
-        n *= 4;
-    return int(std::min<long long>(n, 16LL * params.samples));
+    return int((long long)params.samples << (2 * std::clamp(k - 1, 0, 2)));
 }
 
 // The 9 real spherical harmonics Y_0^0 … Y_2^2 at a unit direction.
