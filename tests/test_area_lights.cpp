@@ -1,7 +1,7 @@
 // Sphere and rectangle lights against closed forms and numerical integration.
 #include <cmath>
-#include <dhdr/deferred/area_light.h>
-#include <dhdr/deferred/light_eval.h>
+#include <dhdr/deferred/lights/area.h>
+#include <dhdr/deferred/lights/light.h>
 #include <dhdr/deferred/sampling.h>
 #include <gtest/gtest.h>
 
@@ -193,7 +193,7 @@ TEST(SunDisk, RepresentativePointAgainstIntegrationOverTheDisk) {
                 // Views around the mirror direction of the sun's centre.
                 const glm::vec3 V =
                     glm::normalize(glm::vec3(-L.x + 0.03f * float(i), 0.03f * float(j), L.z));
-                approx += shadeSunDisk(sun, s, N, V).g;
+                approx += shadePunctual(sun, s, glm::vec3(0.0f), N, V).g;
                 double sum = 0.0;
                 constexpr int kSamples = 4096;
                 for (int k = 0; k < kSamples; ++k) {

@@ -5,9 +5,9 @@
 #include <dhdr/deferred/camera.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
-#include <dhdr/deferred/light_eval.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/lights/light.h>
 #include <dhdr/deferred/scene.h>
 #include <filesystem>
 #include <fstream>

@@ -8,8 +8,8 @@
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/environment.h>
 #include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/light_eval.h>
 #include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/lights/light.h>
 #include <dhdr/deferred/sampling.h>
 #include <filesystem>
 #include <fstream>

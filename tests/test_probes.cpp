@@ -3,7 +3,7 @@
 // each other, one bounce between plates against a Monte Carlo path tracer in double, and the
 // bake's independence of the thread count.
 #include <cmath>
-#include <dhdr/deferred/light_eval.h>
+#include <dhdr/deferred/lights/light.h>
 #include <dhdr/deferred/octahedral.h>
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/ray_caster.h>

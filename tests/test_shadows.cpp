@@ -7,15 +7,14 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
 #include <dhdr/deferred/ambient_occlusion.h>
-#include <dhdr/deferred/area_light.h>
 #include <dhdr/deferred/denoise.h>
 #include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
 #include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/light_eval.h>
-#include <dhdr/deferred/light_sample.h>
 #include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/lights/area.h>
+#include <dhdr/deferred/lights/light.h>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/scene.h>

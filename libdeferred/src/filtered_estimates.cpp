@@ -53,18 +53,20 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                 guide.normal[p] = sp.N;
                 guide.object[p] =
                     layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
-                // The seeds of a flat pixel's shading (lighting.cpp, purpose 0).
+                // The seeds of a flat pixel's shading (lighting.cpp, deep sample 0).
                 for (size_t j = 0; j < filtered.size(); ++j) {
                     const VisibilitySums v = environmentVisibilitySums(
-                        lights[filtered[j]], sp.origin, sp.N, sampleSeed(x, y, filtered[j], 1),
+                        lights[filtered[j]], sp.origin, sp.N,
+                        sampleSeed(x, y, filtered[j], streamOf(SampleStream::Shadow)),
                         params.environmentSamples, *shadowRays, &shadowLocal);
                     m_sums[j][p] = float(v.seen);
                     m_sums[j][n + p] = float(v.total);
                 }
                 if (ao)
-                    m_ao[p] =
-                        rayTracedOcclusion(sp.origin, sp.N, sampleSeed(x, y, -1, 2),
-                                           params.aoSamples, params.aoDistance, *aoRays, &aoLocal);
+                    m_ao[p] = rayTracedOcclusion(
+                        sp.origin, sp.N,
+                        sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion)),
+                        params.aoSamples, params.aoDistance, *aoRays, &aoLocal);
             }
             shadowCount += shadowLocal;
             aoCount += aoLocal;

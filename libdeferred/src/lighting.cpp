@@ -1,3 +1,4 @@
+#include "direct_lighting.h"
 #include "filtered_estimates.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
@@ -9,8 +10,8 @@
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/light_culling.h>
-#include <dhdr/deferred/light_eval.h>
 #include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/lights/environment.h>
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/shading_point.h>
@@ -46,34 +47,6 @@ struct LightReach {
     bool reaches(std::uint32_t i, const glm::vec3& P) const {
         const float dx = x[i] - P.x, dy = y[i] - P.y, dz = z[i] - P.z;
         return dx * dx + dy * dy + dz * dz < range2[i];
-    }
-};
-
-// The light of a surface point in the parts that occlusion treats apart: what shadows have
-// already scaled (`direct`), what AO scales (`ambient`: ambient lights and environments'
-// diffuse light) and what specular occlusion scales (environments' specular light).
-struct Terms {
-    glm::vec3 direct{0.0f}, ambient{0.0f}, environmentSpecular{0.0f};
-
-    void add(const glm::vec3& c, float visibility, bool occludable) {
-        const glm::vec3 v = visibility != 1.0f ? c * visibility : c;
-        if (occludable)
-            ambient += v;
-        else
-            direct += v;
-    }
-    void addEnvironment(const IblShading& e, float visibility, bool occludable) {
-        const glm::vec3 d = visibility != 1.0f ? e.diffuse * visibility : e.diffuse;
-        const glm::vec3 s = visibility != 1.0f ? e.specular * visibility : e.specular;
-        if (occludable) {
-            ambient += d;
-            environmentSpecular += s;
-        } else {
-            direct += d + s;
-        }
-    }
-    glm::vec3 total(bool occludable, float ao, float so) const {
-        return occludable ? direct + (ambient * ao + environmentSpecular * so) : direct;
     }
 };
 
@@ -187,6 +160,15 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     const Visibility* shadowRays = params.shadows ? inputs.visibility : nullptr;
     const bool rayTracedAO = !ao && inputs.visibility && params.aoSamples > 0;
     const bool aoActive = ao || rayTracedAO;
+    DirectLightingOptions directOptions;
+    directOptions.shadows = shadowRays;
+    directOptions.shadowSamples = params.shadowSamples;
+    directOptions.environmentSamples = params.environmentSamples;
+    // With probes, the environment's diffuse light comes through them (their rays see the sky
+    // where nothing blocks it); its specular light stays the IBL's.
+    directOptions.environmentDiffuse = !probes;
+    directOptions.occludable = aoActive;
+    const DirectLighting direct(lights, directOptions);
     // Denoised estimates (flat G-buffers): computed for every pixel the source holds (a
     // strip's halo rows included) and filtered before the shading reads them.
     const FilteredEstimates filtered(view, layout, source.roi, lights, params, shadowRays,
@@ -208,7 +190,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         const glm::dvec4 a = ndcToWorld * glm::dvec4(nx, ny, -1.0, 1.0);
         const glm::dvec4 b = ndcToWorld * glm::dvec4(nx, ny, 1.0, 1.0);
         const glm::vec3 d(glm::normalize(glm::dvec3(b) / b.w - glm::dvec3(a) / a.w));
-        return sky->ibl->levels[0].radiance(intoEnvironment(*sky, d)) * sky->color * sky->intensity;
+        return environmentRadiance(*sky, d);
     };
     // Composited over a plate: a photograph of the frame's pixels, or the environment.
     const OIIO::ImageBuf* plateImage = inputs.plate;
@@ -235,49 +217,27 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                            float* aovs) {
         const ShadingPoint sp = view.at(x, y, k);
         const float* g = view.channels(x, y, k);
-        // Each sample its own sequences; sample 0's are a flat pixel's.
-        const std::int64_t purpose = 4 * std::int64_t(k);
         float occlusion = 1.0f;
         if (ao)
             occlusion = std::clamp(ao->getchannel(x, y, 0, 0), 0.0f, 1.0f);
         else if (filtered.filtersAO() && k == 0)
             occlusion = filtered.ambientOcclusion(x, y);
         else if (rayTracedAO)
-            occlusion = rayTracedOcclusion(sp.origin, sp.N, sampleSeed(x, y, -1, 2 + purpose),
-                                           params.aoSamples, params.aoDistance, *inputs.visibility,
-                                           &localAO);
+            occlusion = rayTracedOcclusion(
+                sp.origin, sp.N, sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion, k)),
+                params.aoSamples, params.aoDistance, *inputs.visibility, &localAO);
         // Lo = Le + Σ V_i L_i, in the order of the lights; with AO, the ambient terms are
         // summed apart and occluded at the end. The same sums without visibility give a
         // shadow catcher its alpha.
-        Terms lit{sp.emission}, open{sp.emission};
+        DirectTerms lit{sp.emission}, open{sp.emission};
+        const LitPoint point{sp.surface, sp.P, sp.N, sp.V, sp.origin};
+        const SeedKey key{x, y, streamOf(SampleStream::Shadow, k)};
         auto addLight = [&](std::uint32_t i) {
-            const Light& light = lights[i];
-            if (light.type == LightType::Environment) {
-                IblShading e = shadeEnvironment(light, sp.surface, sp.N, sp.V);
-                // With probes, the environment's diffuse light comes through them (their rays
-                // see the sky where nothing blocks it); its specular light stays the IBL's.
-                if (probes) e.diffuse = glm::vec3(0.0f);
-                // The visible share of the environment, from rays drawn by its luminance,
-                // scales the prefiltered result.
-                float v = 1.0f;
-                if (filtered.filters(i) && k == 0) {
-                    v = filtered.visibility(i, x, y);
-                } else if (shadowRays && params.environmentSamples > 0) {
-                    v = lightVisibility(light, sp.origin, sp.N, sampleSeed(x, y, i, 1 + purpose),
-                                        params.environmentSamples, *shadowRays, &localShadow);
-                }
-                lit.addEnvironment(e, v, aoActive);
-                open.addEnvironment(e, 1.0f, aoActive);
-                return;
-            }
-            const glm::vec3 c = shadeLight(light, sp.surface, sp.P, sp.N, sp.V);
-            float v = 1.0f;
-            if (light.type != LightType::Ambient && shadowRays && c != glm::vec3(0.0f))
-                v = lightVisibility(light, sp.origin, sp.N, sampleSeed(x, y, i, 1 + purpose),
-                                    params.shadowSamples, *shadowRays, &localShadow);
-            const bool occludable = light.type == LightType::Ambient && aoActive;
-            lit.add(c, v, occludable);
-            open.add(c, 1.0f, occludable);
+            // Sample 0 of a flat pixel reads the denoised environment estimates.
+            float v;
+            const bool given = filtered.filters(i) && k == 0;
+            if (given) v = filtered.visibility(i, x, y);
+            direct.add(i, point, key, lit, &open, given ? &v : nullptr, &localShadow);
         };
         if (params.bruteForce) {
             // The reference: every light's full evaluation, which is exactly zero where it
@@ -302,14 +262,14 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         const float so = aoActive ? specularOcclusion(std::max(glm::dot(sp.N, sp.V), 0.0f),
                                                       occlusion, sp.surface.roughness)
                                   : 1.0f;
-        const glm::vec3 direct = lit.total(aoActive, occlusion, so);
+        const glm::vec3 shaded = lit.total(occlusion, so);
         // Indirect diffuse light from the probes (diffuse share of the BRDF as for
         // environments: albedo (1 − metallic) E / π), occluded by AO like the ambient terms.
         glm::vec3 indirect(0.0f);
         if (probes)
             indirect = sp.surface.baseColor * (1.0f - sp.surface.metallic) / kPi *
                        probes->irradianceAt(sp.P, sp.N, sp.V) * (aoActive ? occlusion : 1.0f);
-        const glm::vec3 Lo = direct + indirect;
+        const glm::vec3 Lo = shaded + indirect;
         if (aovs) {
             if (params.writeAO) aovs[0] = occlusion;
             if (writeIndirect)
@@ -319,10 +279,10 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         if (catcherId > 0 && layout.objectId >= 0 && g[layout.objectId] == catcherId) {
             // A shadow catcher (Blender's convention): no colour of its own, and the share of
             // light that shadows and AO take away as alpha.
-            const float unshadowed = luminance(open.total(aoActive, 1.0f, 1.0f));
+            const float unshadowed = luminance(open.total(1.0f, 1.0f));
             return glm::vec4(0.0f, 0.0f, 0.0f,
                              unshadowed > 0.0f
-                                 ? std::clamp(1.0f - luminance(direct) / unshadowed, 0.0f, 1.0f)
+                                 ? std::clamp(1.0f - luminance(shaded) / unshadowed, 0.0f, 1.0f)
                                  : 0.0f);
         }
         return view.deep() ? glm::vec4(Lo * sp.coverage, sp.coverage) : glm::vec4(Lo, sp.coverage);

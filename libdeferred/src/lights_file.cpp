@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/light_eval.h>
 #include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/lights/light.h>
 #include <filesystem>
 #include <fstream>
 #include <limits>

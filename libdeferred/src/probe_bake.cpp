@@ -1,9 +1,11 @@
 // Baking a probe volume: placing the probes, tracing their rays, bouncing the light.
+#include "direct_lighting.h"
+
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/light_eval.h>
+#include <dhdr/deferred/lights/light.h>
 #include <dhdr/deferred/octahedral.h>
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/ray_caster.h>
@@ -149,6 +151,11 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     for (int i = 0; i < R; ++i)
         directions[size_t(i)] = sphericalFibonacci(i, R);
     std::vector<RayResult> results(size_t(n) * size_t(R));
+    DirectLightingOptions directOptions;
+    directOptions.shadows = &caster;
+    directOptions.shadowSamples = params.shadowSamples;
+    directOptions.lightsAtInfinity = false;
+    const DirectLighting direct(lights, directOptions);
     OIIO::parallel_for(
         0, n,
         [&](int64_t p) {
@@ -162,10 +169,8 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                 if (!hit.hit) {
                     r.distance = maxDistance;
                     for (const Light& l : lights)
-                        if (l.type == LightType::Environment && l.ibl)
-                            r.fixed += l.ibl->levels[0].radiance(
-                                           intoEnvironment(l, directions[size_t(i)])) *
-                                       l.color * l.intensity;
+                        if (l.type == LightType::Environment)
+                            r.fixed += environmentRadiance(l, directions[size_t(i)]);
                     continue;
                 }
                 const SurfaceSample s = surfaceAt(scene, ray, hit);
@@ -186,20 +191,11 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                 surface.metallic = s.material->metallic;
                 r.diffuse = s.albedo * (1.0f - std::clamp(surface.metallic, 0.0f, 1.0f));
                 if (!emissiveAreLights) r.fixed += s.emission;
-                const glm::vec3 V = -directions[size_t(i)];
-                for (size_t l = 0; l < lights.size(); ++l) {
-                    const Light& light = lights[l];
-                    if (light.type == LightType::Environment || light.type == LightType::Ambient)
-                        continue;
-                    const glm::vec3 c = shadeLight(light, surface, r.position, r.normal, V);
-                    if (c == glm::vec3(0.0f)) continue;
-                    const SurfacePoint at{r.position, glm::vec3(s.geometric),
-                                          float(s.positionError)};
-                    const float vis =
-                        lightVisibility(light, at, r.normal, sampleSeed(p, i, std::int64_t(l), 5),
-                                        params.shadowSamples, caster, nullptr);
-                    r.fixed += c * vis;
-                }
+                const LitPoint point{
+                    surface, r.position, r.normal, -directions[size_t(i)],
+                    SurfacePoint{r.position, glm::vec3(s.geometric), float(s.positionError)}};
+                r.fixed =
+                    direct.sum(point, {p, i, streamOf(SampleStream::ProbeShadow)}, r.fixed).direct;
             }
         },
         OIIO::paropt(nthreads));

@@ -1,8 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/light_eval.h>
-#include <dhdr/deferred/light_sample.h>
+#include <dhdr/deferred/lights/light.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/shadows.h>
 

@@ -110,7 +110,7 @@ struct LightingStats {
 // `gbuffer`'s metadata. For each surface point (shading_point.h):
 //   Lo = emission + Σ_lights V_i · L_i + AO · Σ_ambient L_a
 // with L_i the light's exact unshadowed reflection (Lambert + Cook-Torrance, brdf.h; area
-// lights area_light.h; environments the split sum of ibl.h), V_i its visibility (shadows.h; 1
+// lights lights/area.h; environments the split sum of ibl.h), V_i its visibility (shadows.h; 1
 // without a Visibility) and AO the ambient occlusion (ambient_occlusion.h). AO multiplies only
 // the ambient terms (ambient lights, environments' diffuse light; their specular light by
 // specular occlusion): punctual and area lights have their shadows. Pixels of the G-buffer's

@@ -31,6 +31,19 @@ inline std::uint64_t sampleSeed(std::int64_t a, std::int64_t b, std::int64_t c =
     return mixBits(h ^ std::uint64_t(d));
 }
 
+// What a sequence is for: the last integer of sampleSeed after the point (pixel or probe ray)
+// and the light. A deep pixel's sample k draws stream + kStreamsPerDeepSample · k, so that
+// sample 0's streams are a flat pixel's.
+enum class SampleStream : std::int64_t {
+    Shadow = 1,           // shadow rays of a light at a G-buffer sample
+    AmbientOcclusion = 2, // AO rays (light −1)
+    ProbeShadow = 5,      // shadow rays of a light at a probe ray's hit (seeded by probe, ray)
+};
+inline constexpr std::int64_t kStreamsPerDeepSample = 4;
+inline std::int64_t streamOf(SampleStream s, int deepSample = 0) {
+    return std::int64_t(s) + kStreamsPerDeepSample * std::int64_t(deepSample);
+}
+
 // The bits of a float, for hashing it.
 inline std::uint32_t floatBits(float f) {
     std::uint32_t b;

@@ -1,0 +1,22 @@
+// Any light, by its type: the one place that switches on it for shading and sampling. Each
+// family answers the same questions in its own file: punctual.h (point, spot, directional),
+// area.h (sphere, rectangle, emissive mesh), environment.h (environment, ambient).
+#pragma once
+
+#include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/lights/area.h>
+#include <dhdr/deferred/lights/environment.h>
+#include <dhdr/deferred/lights/punctual.h>
+#include <dhdr/deferred/lights/sample.h>
+
+namespace dhdr {
+
+// Radiance reflected towards V from `light` at a surface point, unshadowed.
+glm::vec3 shadeLight(const Light& light, const PbrSurface& s, const glm::vec3& P,
+                     const glm::vec3& N, const glm::vec3& V);
+
+// Samples `light` from the point P with u in [0, 1)² (the family's sample function); L / pdf
+// weights agree with shadeLight's unshadowed value.
+LightLiSample sampleLi(const Light& light, const glm::vec3& P, glm::vec2 u);
+
+} // namespace dhdr

@@ -1,0 +1,70 @@
+#include "direct_lighting.h"
+
+#include <dhdr/deferred/lights/light.h>
+#include <dhdr/deferred/shadows.h>
+
+namespace dhdr {
+
+namespace {
+
+glm::vec3 scaled(const glm::vec3& c, float v) {
+    return v != 1.0f ? c * v : c;
+}
+
+} // namespace
+
+void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key, DirectTerms& lit,
+                         DirectTerms* open, const float* visibility, long long* rays) const {
+    const Light& light = m_lights[i];
+    const DirectLightingOptions& o = m_options;
+    const bool atInfinity =
+        light.type == LightType::Environment || light.type == LightType::Ambient;
+    if (atInfinity && !o.lightsAtInfinity) return;
+    auto seed = [&] { return sampleSeed(key.a, key.b, std::int64_t(i), key.stream); };
+    if (light.type == LightType::Environment) {
+        if (!light.ibl) return;
+        IblShading e = shadeEnvironment(light, p.surface, p.N, p.V);
+        if (!o.environmentDiffuse) e.diffuse = glm::vec3(0.0f);
+        // The visible share of the environment, from rays drawn by its luminance and the
+        // cosine, scales the prefiltered result.
+        float v = 1.0f;
+        if (visibility)
+            v = *visibility;
+        else if (o.shadows && o.environmentSamples > 0)
+            v = lightVisibility(light, p.origin, p.N, seed(), o.environmentSamples, *o.shadows,
+                                rays);
+        auto addTo = [&](DirectTerms& t, float w) {
+            if (o.occludable) {
+                t.ambient += scaled(e.diffuse, w);
+                t.environmentSpecular += scaled(e.specular, w);
+            } else {
+                t.direct += scaled(e.diffuse, w) + scaled(e.specular, w);
+            }
+        };
+        addTo(lit, v);
+        if (open) addTo(*open, 1.0f);
+        return;
+    }
+    const glm::vec3 c = shadeLight(light, p.surface, p.P, p.N, p.V);
+    if (c == glm::vec3(0.0f)) return;
+    float v = 1.0f;
+    if (visibility)
+        v = *visibility;
+    else if (light.type != LightType::Ambient && o.shadows)
+        v = lightVisibility(light, p.origin, p.N, seed(), o.shadowSamples, *o.shadows, rays);
+    glm::vec3& litTerm =
+        light.type == LightType::Ambient && o.occludable ? lit.ambient : lit.direct;
+    litTerm += scaled(c, v);
+    if (open)
+        (light.type == LightType::Ambient && o.occludable ? open->ambient : open->direct) += c;
+}
+
+DirectTerms DirectLighting::sum(const LitPoint& p, const SeedKey& key, const glm::vec3& emission,
+                                long long* rays) const {
+    DirectTerms t{emission};
+    for (std::uint32_t i = 0; i < m_lights.size(); ++i)
+        add(i, p, key, t, nullptr, nullptr, rays);
+    return t;
+}
+
+} // namespace dhdr

@@ -1,0 +1,45 @@
+#include <dhdr/deferred/lights/light.h>
+
+namespace dhdr {
+
+glm::vec3 shadeLight(const Light& light, const PbrSurface& s, const glm::vec3& P,
+                     const glm::vec3& N, const glm::vec3& V) {
+    switch (light.type) {
+    case LightType::Point:
+    case LightType::Spot:
+    case LightType::Directional:
+        return shadePunctual(light, s, P, N, V);
+    case LightType::Sphere:
+    case LightType::Rectangle:
+    case LightType::Mesh:
+        return shadeAreaLight(light, s, P, N, V);
+    case LightType::Ambient:
+        return shadeAmbient(light, s, N, V);
+    case LightType::Environment: {
+        if (!light.ibl) return glm::vec3(0.0f);
+        const IblShading e = shadeEnvironment(light, s, N, V);
+        return e.diffuse + e.specular;
+    }
+    }
+    return glm::vec3(0.0f);
+}
+
+LightLiSample sampleLi(const Light& light, const glm::vec3& P, glm::vec2 u) {
+    switch (light.type) {
+    case LightType::Point:
+    case LightType::Spot:
+    case LightType::Directional:
+        return samplePunctual(light, P, u);
+    case LightType::Sphere:
+    case LightType::Rectangle:
+    case LightType::Mesh:
+        return sampleAreaLight(light, P, u);
+    case LightType::Environment:
+        return sampleEnvironment(light, u);
+    case LightType::Ambient:
+        return {}; // no direction: not shadowed
+    }
+    return {};
+}
+
+} // namespace dhdr
