@@ -8,6 +8,7 @@
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/lights/light.h>
+#include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/scene.h>
 #include <filesystem>
 #include <fstream>
@@ -489,8 +490,9 @@ TEST(Brdf, GgxDistributionIsNormalized) {
 }
 
 TEST(Brdf, SpecularLobeNeverReflectsMoreThanItReceives) {
-    // White furnace on a white metal (F = 1): the single-scattering GGX lobe loses energy with
-    // roughness but never gains any.
+    // White furnace on a white metal (F = 1): the single-scattering GGX lobe (evaluateBrdf
+    // without the multiple-scattering lobe, which test_multiple_scattering checks) loses
+    // energy with roughness but never gains any.
     const glm::vec3 N(0, 0, 1);
     for (float roughness : {0.2f, 0.5f, 0.8f, 1.0f})
         for (float cosV : {1.0f, 0.7f, 0.3f}) {
@@ -499,8 +501,9 @@ TEST(Brdf, SpecularLobeNeverReflectsMoreThanItReceives) {
             s.roughness = roughness;
             s.metallic = 1.0f;
             const glm::vec3 V(std::sqrt(1 - cosV * cosV), 0.0f, cosV);
-            const double albedo = hemisphereIntegral(
-                [&](const glm::vec3& L) { return evaluateBrdf(s, N, V, L).g * L.z; });
+            const double albedo = hemisphereIntegral([&](const glm::vec3& L) {
+                return (evaluateBrdf(s, N, V, L).g - multipleScatteringBrdf(s, cosV, L.z).g) * L.z;
+            });
             EXPECT_LE(albedo, 1.0 + 2e-3) << roughness << " " << cosV;
             if (roughness <= 0.2f) {
                 EXPECT_GT(albedo, 0.97) << cosV;
@@ -510,14 +513,15 @@ TEST(Brdf, SpecularLobeNeverReflectsMoreThanItReceives) {
 
 TEST(Brdf, RoughMetalAlbedoAtNormalIncidenceIsOneMinusLnTwo) {
     // At α = 1, D = 1/π and V = 1 / (2 (N·L + N·V)); at N·V = 1 the directional albedo is
-    // ∫₀¹ μ / (μ + 1) dμ = 1 − ln 2.
+    // ∫₀¹ μ / (μ + 1) dμ = 1 − ln 2 for the single-scattering lobe.
     PbrSurface s;
     s.baseColor = glm::vec3(1.0f);
     s.roughness = 1.0f;
     s.metallic = 1.0f;
     const glm::vec3 N(0, 0, 1);
-    const double albedo =
-        hemisphereIntegral([&](const glm::vec3& L) { return evaluateBrdf(s, N, N, L).g * L.z; });
+    const double albedo = hemisphereIntegral([&](const glm::vec3& L) {
+        return (evaluateBrdf(s, N, N, L).g - multipleScatteringBrdf(s, 1.0f, L.z).g) * L.z;
+    });
     EXPECT_NEAR(albedo, 1.0 - std::log(2.0), 1e-3);
 }
 
@@ -540,7 +544,8 @@ TEST(Brdf, DielectricConservesEnergyAwayFromGrazing) {
 
 TEST(Brdf, LambertDiffuseWithoutFresnelIsAlbedoOverPi) {
     // For a dielectric the diffuse lobe is (1 − F) c / π; at normal incidence, and with
-    // L = V = N, F = F0 = 0.04 and the specular term is D(1) V F with D(1) = 1/(π α²).
+    // L = V = N, F = F0 = 0.04 and the specular term is D(1) V F with D(1) = 1/(π α²), plus
+    // the multiple-scattering lobe.
     PbrSurface s;
     s.baseColor = glm::vec3(0.5f);
     s.roughness = 1.0f;
@@ -548,14 +553,15 @@ TEST(Brdf, LambertDiffuseWithoutFresnelIsAlbedoOverPi) {
     const glm::vec3 f = evaluateBrdf(s, N, N, N);
     const double diffuse = 0.96 * 0.5 / kPiD;
     const double specular = 0.04 * (1.0 / kPiD) * 0.25; // V = 1/(4 N·L N·V) at α = 1
-    EXPECT_NEAR(f.r, diffuse + specular, 1e-6);
+    EXPECT_NEAR(f.r, diffuse + specular + multipleScatteringBrdf(s, 1.0f, 1.0f).r, 1e-6);
 }
 
 // ---- lighting ---------------------------------------------------------------------------
 
 namespace {
 
-// The glTF BRDF written out again in double precision, term by term, for the reference.
+// The glTF BRDF written out again in double precision, term by term, for the reference; the
+// multiple-scattering lobe from the library (test_multiple_scattering checks it).
 double referenceRadiance(const glm::dvec3& P, const glm::dvec3& eye, const glm::dvec3& lightPos,
                          double intensity, double range, double albedo, double roughness) {
     const glm::dvec3 N(0, 1, 0);
@@ -574,7 +580,11 @@ double referenceRadiance(const glm::dvec3& P, const glm::dvec3& eye, const glm::
     const double window = std::pow(std::max(0.0, 1.0 - std::pow(d / range, 4.0)), 2.0);
     // Irradiance from a point source on a plane at height h: E = I cos θ / d² = I h / d³.
     const double E = intensity * window * NL / (d * d);
-    return ((1.0 - F) * albedo / kPiD + D * Vis * F) * E;
+    PbrSurface s;
+    s.baseColor = glm::vec3(float(albedo));
+    s.roughness = float(roughness);
+    const double ms = multipleScatteringBrdf(s, float(NV), float(NL)).r;
+    return ((1.0 - F) * albedo / kPiD + D * Vis * F + ms) * E;
 }
 
 ImageBuf renderPlane(int w, int h, Camera& camera) {
@@ -623,8 +633,19 @@ TEST(Lighting, AmbientAndDirectionalLights) {
     ambient.intensity = 2.0f;
     ImageBuf hdr;
     ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {{ambient}}));
-    // La (c (1 − F0) + F0) for the floor's red channel, c = 0.5.
-    EXPECT_NEAR(px(hdr, 8, 10)[0], 2.0 * (0.5 * 0.96 + 0.04), 1e-6);
+    // La (c (1 − F0) + the specular albedo at N·V) for the floor's red channel, c = 0.5,
+    // roughness 0.75.
+    {
+        const glm::dvec3 P(channel(gbuf, 8, 10, "P.X"), channel(gbuf, 8, 10, "P.Y"),
+                           channel(gbuf, 8, 10, "P.Z"));
+        const float NdotV = float(glm::normalize(camera.position() - P).y);
+        PbrSurface s;
+        s.baseColor = glm::vec3(0.5f);
+        s.roughness = 0.75f;
+        const glm::vec2 e = ggxAlbedoTerms(NdotV, 0.75f);
+        const double specular = 0.04 * (e.y - e.x) + e.x + multipleScatteringAlbedo(s, NdotV).r;
+        EXPECT_NEAR(px(hdr, 8, 10)[0], 2.0 * (0.5 * 0.96 + specular), 1e-5);
+    }
 
     Light sun;
     sun.type = LightType::Directional;

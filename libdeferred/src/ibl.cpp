@@ -3,6 +3,7 @@
 #include <cmath>
 #include <dhdr/common/parallel.h>
 #include <dhdr/deferred/ibl.h>
+#include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/sampling.h>
 
 namespace dhdr {
@@ -409,13 +410,17 @@ bool bakeIbl(const EnvironmentImage& source, const IblBakeParams& p, Ibl& ibl, s
 IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, const glm::vec3& V) {
     IblShading out;
     const float NdotV = std::max(glm::dot(N, V), 1e-4f);
-    out.diffuse = s.diffuseColor() * ibl.irradiance(N) * (1.0f / kPi);
+    const glm::vec3 irradiance = ibl.irradiance(N);
+    out.diffuse = s.diffuseColor() * irradiance * (1.0f / kPi);
     const glm::vec3 R = glm::reflect(-V, N);
     const glm::vec2 dfg = ibl.dfgAt(NdotV, s.roughness);
     const glm::vec3 F0 = s.F0();
     const glm::vec3 single = F0 * (dfg.y - dfg.x) + glm::vec3(dfg.x);
-    const glm::vec3 compensation = glm::vec3(1.0f) + F0 * (1.0f / std::max(dfg.y, 1e-4f) - 1.0f);
-    out.specular = ibl.prefiltered(R, s.roughness) * single * compensation;
+    // The multiple-scattering lobe, nearly diffuse, reflects the irradiance (as for every
+    // other light; Turquin's 1 + F0 (1/y − 1) on the prefiltered value brightened coloured
+    // rough metals past Cycles' multiscatter GGX).
+    out.specular = ibl.prefiltered(R, s.roughness) * single +
+                   multipleScatteringAlbedo(s, NdotV) * irradiance * (1.0f / kPi);
     return out;
 }
 

@@ -47,8 +47,13 @@ struct PbrSurface {
     glm::vec3 diffuseColor() const { return baseColor * (1.0f - metallic); }
 };
 
+// The multiple-scattering lobe of Kulla & Conty 2017 (multiple_scattering.h).
+glm::vec3 multipleScatteringBrdf(const PbrSurface& s, float NdotV, float NdotL);
+
 // f(l, v) in 1/sr for unit vectors N, V (towards the viewer) and L (towards the light);
-// zero when either is below the surface.
+// zero when either is below the surface. The specular lobe includes the light scattered
+// between microfacets more than once (multiple_scattering.h), as Blender's multiscatter GGX
+// does; glTF's reference model leaves it out and loses up to a third of a rough metal's light.
 inline glm::vec3 evaluateBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
                               const glm::vec3& L) {
     const float NdotL = glm::dot(N, L);
@@ -60,7 +65,8 @@ inline glm::vec3 evaluateBrdf(const PbrSurface& s, const glm::vec3& N, const glm
     const float alpha = s.alpha();
     const glm::vec3 F = schlickFresnel(s.F0(), VdotH);
     const glm::vec3 specular =
-        F * (ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(NdotL, NdotV, alpha));
+        F * (ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(NdotL, NdotV, alpha)) +
+        multipleScatteringBrdf(s, NdotV, NdotL);
     // glTF's fresnel_mix: the diffuse layer gets what the specular layer does not reflect.
     const glm::vec3 diffuse = (glm::vec3(1.0f) - F) * s.diffuseColor() * (1.0f / kPi);
     return diffuse + specular;

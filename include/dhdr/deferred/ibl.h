@@ -124,8 +124,8 @@ bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, boo
              std::string& error, long long* replaced = nullptr, int nthreads = 0);
 
 // Light reflected towards V from an environment seen through `ibl`: diffuse =
-// c_diff · E(n) / π, specular = prefiltered(R, roughness) · (F0 (y − x) + x) · (1 + F0 (1/y − 1))
-// (the multiple-scattering energy compensation).
+// c_diff · E(n) / π, specular = prefiltered(R, roughness) · (F0 (y − x) + x) + the
+// multiple-scattering lobe's albedo · E(n) / π (multiple_scattering.h).
 struct IblShading {
     glm::vec3 diffuse{0.0f}, specular{0.0f};
 };

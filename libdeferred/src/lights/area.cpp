@@ -2,6 +2,7 @@
 #include <cmath>
 #include <dhdr/deferred/lights/area.h>
 #include <dhdr/deferred/lights/punctual.h>
+#include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/sampling.h>
 
 namespace dhdr {
@@ -201,6 +202,10 @@ glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec
         const glm::vec3 F =
             schlickFresnel(s.F0(), std::max(glm::dot(V, glm::normalize(Lc + V)), 0.0f));
         Lo += (glm::vec3(1.0f) - F) * s.diffuseColor() * (view.radiance * view.irradiance / kPi);
+        // The multiple-scattering lobe is nearly diffuse: the irradiance, at the centre's
+        // angle.
+        Lo += multipleScatteringBrdf(s, NdotV, std::max(glm::dot(N, Lc), 0.0f)) *
+              (view.radiance * view.irradiance);
     }
     // Specular: the lobe at the representative direction, energy-normalized.
     const glm::vec3 Ls = glm::normalize(view.closest);

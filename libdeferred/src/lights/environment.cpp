@@ -1,4 +1,6 @@
+#include <algorithm>
 #include <dhdr/deferred/lights/environment.h>
+#include <dhdr/deferred/multiple_scattering.h>
 
 namespace dhdr {
 
@@ -16,12 +18,16 @@ IblShading shadeEnvironment(const Light& light, const PbrSurface& s, const glm::
     return r;
 }
 
-glm::vec3 shadeAmbient(const Light& light, const PbrSurface& s, const glm::vec3&,
-                       const glm::vec3&) {
-    // The directional albedo approximated by its value at normal incidence,
-    // c_diff (1 − F0) + F0.
+glm::vec3 shadeAmbient(const Light& light, const PbrSurface& s, const glm::vec3& N,
+                       const glm::vec3& V) {
+    // The directional albedo: the specular lobe's from the albedo table, once and multiply
+    // scattered; the diffuse layer's c_diff (1 − F0), its value at normal incidence.
+    const float NdotV = std::max(glm::dot(N, V), 1e-4f);
+    const glm::vec2 e = ggxAlbedoTerms(NdotV, s.roughness);
     const glm::vec3 F0 = s.F0();
-    return light.color * light.intensity * (s.diffuseColor() * (glm::vec3(1.0f) - F0) + F0);
+    const glm::vec3 specular =
+        F0 * (e.y - e.x) + glm::vec3(e.x) + multipleScatteringAlbedo(s, NdotV);
+    return light.color * light.intensity * (s.diffuseColor() * (glm::vec3(1.0f) - F0) + specular);
 }
 
 LightLiSample sampleEnvironment(const Light& light, glm::vec2 u) {

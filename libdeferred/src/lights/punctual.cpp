@@ -1,4 +1,5 @@
 #include <dhdr/deferred/lights/punctual.h>
+#include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/sampling.h>
 
 namespace dhdr {
@@ -57,6 +58,8 @@ glm::vec3 shadeSunDisk(const Light& light, const PbrSurface& s, const glm::vec3&
                    (ggxDistribution(std::max(glm::dot(N, H), 0.0f), alpha) *
                     smithGgxCorrelatedVisibility(NdotLs, NdotV, alpha) * normalization * NdotLs);
     }
+    // Light scattered between microfacets more than once, from the disk's centre.
+    specular += multipleScatteringBrdf(s, NdotV, NdotL) * NdotL;
     return (diffuse + specular) * E;
 }
 
