@@ -5,6 +5,7 @@
 #include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/lights/light.h>
 #include <dhdr/deferred/multiple_scattering.h>
+#include <dhdr/deferred/sampling.h>
 #include <gtest/gtest.h>
 #include <memory>
 
@@ -106,5 +107,30 @@ TEST(MultipleScattering, OneMaterialUnderEveryLight) {
                         << "ambient, roughness " << roughness << ", N·V " << mu;
                 }
             }
+        }
+}
+
+// Directions drawn by GGX's visible normals (sampling.h) with their density give an unbiased
+// estimate of the single-scattering lobe's albedo: the mean of D · Vis · cos / pdf over 4096
+// stratified samples equals the quadrature.
+TEST(Sampling, GgxVisibleNormalsIntegrateTheLobe) {
+    for (float roughness : {0.3f, 0.6f, 1.0f})
+        for (float mu : {0.25f, 0.9f}) {
+            const PbrSurface s = metal(glm::vec3(1.0f), roughness);
+            const float alpha = s.alpha();
+            const glm::vec3 V(std::sqrt(1.0f - mu * mu), 0.0f, mu);
+            constexpr int n = 4096;
+            double sum = 0.0;
+            for (int i = 0; i < n; ++i) {
+                const glm::vec3 H =
+                    sampleGgxVisibleNormal(V, alpha, hammersley(std::uint32_t(i), n, 3));
+                const glm::vec3 L = 2.0f * glm::dot(V, H) * H - V;
+                if (L.z <= 0.0f) continue; // reflected below the surface: the lobe's loss
+                const float pdf = ggxVisibleNormalReflectionPdf(mu, H.z, alpha);
+                sum += double(ggxDistribution(H.z, alpha) *
+                              smithGgxCorrelatedVisibility(L.z, mu, alpha) * L.z / pdf);
+            }
+            EXPECT_NEAR(sum / n, albedo(s, mu, true).g, 0.01)
+                << "roughness " << roughness << ", N·V " << mu;
         }
 }

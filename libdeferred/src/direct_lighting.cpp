@@ -1,7 +1,6 @@
 #include "direct_lighting.h"
 
 #include <dhdr/deferred/lights/light.h>
-#include <dhdr/deferred/shadows.h>
 
 namespace dhdr {
 
@@ -14,7 +13,8 @@ glm::vec3 scaled(const glm::vec3& c, float v) {
 } // namespace
 
 void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key, DirectTerms& lit,
-                         DirectTerms* open, const float* visibility, long long* rays) const {
+                         DirectTerms* open, const EnvironmentVisibility* given,
+                         long long* rays) const {
     const Light& light = m_lights[i];
     const DirectLightingOptions& o = m_options;
     const bool atInfinity =
@@ -25,31 +25,34 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
         if (!light.ibl) return;
         IblShading e = shadeEnvironment(light, p.surface, p.N, p.V);
         if (!o.environmentDiffuse) e.diffuse = glm::vec3(0.0f);
-        // The visible share of the environment, from rays drawn by its luminance and the
-        // cosine, scales the prefiltered result.
-        float v = 1.0f;
-        if (visibility)
-            v = *visibility;
-        else if (o.shadows && o.environmentSamples > 0)
-            v = lightVisibility(light, p.origin, p.N, seed(), o.environmentSamples, *o.shadows,
-                                rays);
-        auto addTo = [&](DirectTerms& t, float w) {
+        // The visible shares of the environment's diffuse and specular light, from the same
+        // rays, scale the prefiltered results.
+        EnvironmentVisibility v;
+        if (given) {
+            v = *given;
+        } else if (o.shadows && o.environmentSamples > 0) {
+            const SpecularLobe lobe{p.V, p.surface.alpha()};
+            v = ratios(environmentVisibilitySums(light, p.origin, p.N, &lobe, seed(),
+                                                 o.environmentSamples, *o.shadows, rays));
+        }
+        auto addTo = [&](DirectTerms& t, const EnvironmentVisibility& w) {
+            const glm::vec3 d = scaled(e.diffuse, w.diffuse), sp = scaled(e.specular, w.specular);
             if (o.occludable) {
-                t.ambient += scaled(e.diffuse, w);
-                t.environmentSpecular += scaled(e.specular, w);
+                t.ambient += d;
+                t.environmentSpecular += sp;
             } else {
-                t.direct += scaled(e.diffuse, w) + scaled(e.specular, w);
+                t.direct += d + sp;
             }
         };
         addTo(lit, v);
-        if (open) addTo(*open, 1.0f);
+        if (open) addTo(*open, EnvironmentVisibility{});
         return;
     }
     const glm::vec3 c = shadeLight(light, p.surface, p.P, p.N, p.V);
     if (c == glm::vec3(0.0f)) return;
     float v = 1.0f;
-    if (visibility)
-        v = *visibility;
+    if (given)
+        v = given->diffuse;
     else if (light.type != LightType::Ambient && o.shadows)
         v = lightVisibility(light, p.origin, p.N, seed(), o.shadowSamples, *o.shadows, rays);
     glm::vec3& litTerm =

@@ -8,6 +8,7 @@
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/sampling.h>
+#include <dhdr/deferred/shadows.h>
 #include <dhdr/deferred/visibility.h>
 #include <vector>
 
@@ -57,11 +58,14 @@ public:
     DirectLighting(const std::vector<Light>& lights, const DirectLightingOptions& options)
         : m_lights(lights), m_options(options) {}
 
-    // Adds light i at p: shadowed to `lit`, unshadowed to `open` (optional). `visibility`
-    // (optional) replaces the light's shadow rays by a visibility estimated beforehand (the
-    // denoised environment estimates). `rays` (optional) counts the shadow rays traced.
+    // Adds light i at p: shadowed to `lit`, unshadowed to `open` (optional). An environment
+    // light's diffuse and specular light are scaled by their own visibility
+    // (environmentVisibilitySums with p's lobe); `given` (optional) replaces its shadow rays by
+    // visibilities estimated beforehand (the denoised estimates). `rays` (optional) counts the
+    // shadow rays traced.
     void add(std::uint32_t i, const LitPoint& p, const SeedKey& key, DirectTerms& lit,
-             DirectTerms* open, const float* visibility = nullptr, long long* rays = nullptr) const;
+             DirectTerms* open, const EnvironmentVisibility* given = nullptr,
+             long long* rays = nullptr) const;
 
     // Le + Σ V_i L_i over every light in order, shadowed (the probe bake's hits).
     DirectTerms sum(const LitPoint& p, const SeedKey& key, const glm::vec3& emission,

@@ -36,7 +36,8 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     guide.normal.assign(n, glm::vec3(0.0f));
     guide.object.assign(n, 0.0f);
     guide.surface.assign(n, 0);
-    m_sums.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
+    m_diffuse.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
+    m_specular.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
     if (ao) m_ao.assign(n, 1.0f);
     std::atomic<long long> shadowCount{0}, aoCount{0};
     OIIO::parallel_for(
@@ -54,13 +55,16 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                 guide.object[p] =
                     layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
                 // The seeds of a flat pixel's shading (lighting.cpp, deep sample 0).
+                const SpecularLobe lobe{sp.V, sp.surface.alpha()};
                 for (size_t j = 0; j < filtered.size(); ++j) {
-                    const VisibilitySums v = environmentVisibilitySums(
-                        lights[filtered[j]], sp.origin, sp.N,
+                    const EnvironmentVisibilitySums v = environmentVisibilitySums(
+                        lights[filtered[j]], sp.origin, sp.N, &lobe,
                         sampleSeed(x, y, filtered[j], streamOf(SampleStream::Shadow)),
                         params.environmentSamples, *shadowRays, &shadowLocal);
-                    m_sums[j][p] = float(v.seen);
-                    m_sums[j][n + p] = float(v.total);
+                    m_diffuse[j][p] = float(v.diffuse.seen);
+                    m_diffuse[j][n + p] = float(v.diffuse.total);
+                    m_specular[j][p] = float(v.specular.seen);
+                    m_specular[j][n + p] = float(v.specular.total);
                 }
                 if (ao)
                     m_ao[p] = rayTracedOcclusion(
@@ -74,17 +78,21 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
         perItem(nthreads));
     shadowRayCount = shadowCount;
     aoRayCount = aoCount;
-    // Each light's pair of sums, and AO, filtered apart: each keeps its own edges.
-    for (std::vector<float>& sums : m_sums)
-        atrousFilter(sums, 2, guide, nthreads);
+    // Each pair of sums, and AO, filtered apart: each keeps its own edges.
+    for (auto* parts : {&m_diffuse, &m_specular})
+        for (std::vector<float>& sums : *parts)
+            atrousFilter(sums, 2, guide, nthreads);
     if (ao) atrousFilter(m_ao, 1, guide, nthreads);
 }
 
-float FilteredEstimates::visibility(std::uint32_t light, int x, int y) const {
-    const std::vector<float>& sums = m_sums[size_t(m_slot[light])];
-    const size_t p = index(x, y), n = sums.size() / 2;
-    const float seen = sums[p], total = sums[n + p];
-    return total > 0.0f ? std::clamp(seen / total, 0.0f, 1.0f) : 1.0f;
+EnvironmentVisibility FilteredEstimates::visibility(std::uint32_t light, int x, int y) const {
+    const size_t p = index(x, y), slot = size_t(m_slot[light]);
+    auto ratio = [&](const std::vector<float>& sums) {
+        const size_t n = sums.size() / 2;
+        const float seen = sums[p], total = sums[n + p];
+        return total > 0.0f ? std::clamp(seen / total, 0.0f, 1.0f) : 1.0f;
+    };
+    return {ratio(m_diffuse[slot]), ratio(m_specular[slot])};
 }
 
 float FilteredEstimates::ambientOcclusion(int x, int y) const {

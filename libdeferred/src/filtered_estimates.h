@@ -8,6 +8,7 @@
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/shading_point.h>
+#include <dhdr/deferred/shadows.h>
 #include <vector>
 
 namespace dhdr {
@@ -25,8 +26,9 @@ public:
     // Whether light i's visibility, or the AO, comes from here.
     bool filters(std::uint32_t light) const { return light < m_slot.size() && m_slot[light] >= 0; }
     bool filtersAO() const { return !m_ao.empty(); }
-    // The filtered ratio of light i at pixel (x, y): 1 where no neighbour saw its sky.
-    float visibility(std::uint32_t light, int x, int y) const;
+    // The filtered ratios of light i at pixel (x, y), diffuse and specular: 1 where no
+    // neighbour saw its sky.
+    EnvironmentVisibility visibility(std::uint32_t light, int x, int y) const;
     float ambientOcclusion(int x, int y) const;
     // The rays traced.
     long long shadowRayCount = 0, aoRayCount = 0;
@@ -37,8 +39,9 @@ private:
     }
 
     OIIO::ROI m_held;
-    std::vector<int> m_slot;                // per light, its pair of sums (−1: not filtered)
-    std::vector<std::vector<float>> m_sums; // per filtered light: Σ wV, then Σ w
+    std::vector<int> m_slot; // per light, its pair of sums (−1: not filtered)
+    // Per filtered light and part (diffuse, specular): Σ wV, then Σ w.
+    std::vector<std::vector<float>> m_diffuse, m_specular;
     std::vector<float> m_ao;
 };
 

@@ -234,7 +234,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         const SeedKey key{x, y, streamOf(SampleStream::Shadow, k)};
         auto addLight = [&](std::uint32_t i) {
             // Sample 0 of a flat pixel reads the denoised environment estimates.
-            float v;
+            EnvironmentVisibility v;
             const bool given = filtered.filters(i) && k == 0;
             if (given) v = filtered.visibility(i, x, y);
             direct.add(i, point, key, lit, &open, given ? &v : nullptr, &localShadow);

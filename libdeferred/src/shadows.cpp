@@ -15,110 +15,119 @@ ShadowRay towards(const SurfacePoint& at, const LightLiSample& s) {
 
 } // namespace
 
-// The visible share of an environment's diffuse light, by the ratio estimator of Heitz, Hill
-// & McGuire (2018): Σ w V / Σ w over the same samples, w = Y(L) cos θ weighted by MIS.
-// Half the samples are drawn by the environment's luminance, half cosine-weighted about N, and
-// combined with the power heuristic (Veach 1997, eq. 9.13; pbrt-v4 PowerHeuristic): luminance
-// sampling alone leaves a surface facing away from a bright sky with almost no sample above
-// its horizon, and its visibility to the one or two that are (black speckles).
-VisibilitySums environmentVisibilitySums(const Light& light, const SurfacePoint& at,
-                                         const glm::vec3& N, std::uint64_t seed, int samples,
-                                         const Visibility& visibility, long long* rays) {
-    VisibilitySums sums;
+// The visible share of an environment's light, by the ratio estimator of Heitz, Hill &
+// McGuire (2018): Σ w V / Σ w over the same samples, w the part's integrand weighted by MIS.
+// Luminance sampling alone leaves a surface facing away from a bright sky with almost no
+// sample above its horizon, and its visibility to the one or two that are (black speckles):
+// cosine samples cover the hemisphere, GGX samples the glossy lobe.
+EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const SurfacePoint& at,
+                                                    const glm::vec3& N, const SpecularLobe* lobe,
+                                                    std::uint64_t seed, int samples,
+                                                    const Visibility& visibility, long long* rays) {
+    EnvironmentVisibilitySums sums;
     if (!light.ibl || light.ibl->sampler.empty()) return sums;
     const EnvironmentSampler& sampler = light.ibl->sampler;
-    const int nLight = (samples + 1) / 2, nCosine = samples / 2;
-    const RotatedHammersley lightSequence(seed), cosineSequence(seed ^ 0x2545f4914f6cdd1dull);
+    const float NdotV = lobe ? glm::dot(N, lobe->V) : 0.0f;
+    const bool glossy = lobe && NdotV > 0.0f;
+    // Techniques: luminance (half), then cosine and GGX sharing the rest.
+    const int nLight = (samples + 1) / 2, rest = samples - nLight;
+    const int nGgx = glossy ? (rest + 1) / 2 : 0, nCosine = rest - nGgx;
+    const RotatedHammersley lightSequence(seed), cosineSequence(seed ^ 0x2545f4914f6cdd1dull),
+        ggxSequence(seed ^ 0x9e3779b97f4a7c15ull);
     glm::vec3 t, b;
     orthonormalBasis(N, t, b);
+    const float alpha = lobe ? lobe->alpha : 1.0f;
+    const glm::vec3 Vlocal = lobe ? glm::vec3(glm::dot(lobe->V, t), glm::dot(lobe->V, b), NdotV)
+                                  : glm::vec3(0.0f, 0.0f, 1.0f);
     const glm::vec3 k = light.color * light.intensity;
     auto luminance = [](const glm::vec3& c) {
         return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
     };
-    // Power heuristic of technique a against b, with n samples each and densities p.
-    auto power = [](float na, float pa, float nb, float pb) {
-        const float a = na * pa, bb = nb * pb;
-        return a * a / (a * a + bb * bb);
+    // The GGX technique's density of wi and the lobe's D · Vis there (0 below the surface).
+    auto ggx = [&](const glm::vec3& wi, float cosTheta, float& lobeValue) {
+        lobeValue = 0.0f;
+        if (!glossy) return 0.0f;
+        const glm::vec3 H = glm::normalize(wi + lobe->V);
+        const float NdotH = glm::dot(N, H);
+        if (!(NdotH > 0.0f)) return 0.0f;
+        lobeValue =
+            ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(cosTheta, NdotV, alpha);
+        return ggxVisibleNormalReflectionPdf(NdotV, NdotH, alpha);
     };
     constexpr int kBatch = 64;
     thread_local ShadowRay batch[kBatch];
-    float weight[kBatch], transmittance[kBatch];
-    double total = 0.0, seen = 0.0;
-    int count = 0, open = 0, closed = 0;
+    float diffuseWeight[kBatch], specularWeight[kBatch], transmittance[kBatch];
     for (int begin = 0; begin < samples; begin += kBatch) {
         int n = 0;
         for (int i = begin; i < std::min(samples, begin + kBatch); ++i) {
             glm::vec3 wi, radiance;
-            float w = 0.0f;
+            float pLight = 0.0f;
+            int technique; // 0 luminance, 1 cosine, 2 GGX
             if (i < nLight) {
-                float pdf = 0.0f;
+                technique = 0;
                 const glm::vec3 d = sampler.sample(
-                    lightSequence(std::uint32_t(i), std::uint32_t(nLight)), pdf, radiance);
+                    lightSequence(std::uint32_t(i), std::uint32_t(nLight)), pLight, radiance);
                 wi = fromEnvironment(light, d);
-                const float cosTheta = glm::dot(N, wi);
-                if (!(pdf > 0.0f) || !(cosTheta > 0.0f) || !(glm::dot(at.Ng, wi) > 0.0f)) continue;
-                const float pCosine = cosTheta / kPi;
-                w = luminance(radiance * k) * cosTheta / pdf *
-                    power(float(nLight), pdf, float(nCosine), pCosine) / float(nLight);
-            } else {
+            } else if (i < nLight + nCosine) {
+                technique = 1;
                 const int j = i - nLight;
                 const glm::vec3 h =
                     cosineHemisphere(cosineSequence(std::uint32_t(j), std::uint32_t(nCosine)));
                 wi = glm::normalize(h.x * t + h.y * b + h.z * N);
-                const float cosTheta = glm::dot(N, wi);
-                if (!(cosTheta > 0.0f) || !(glm::dot(at.Ng, wi) > 0.0f)) continue;
-                const float pCosine = cosTheta / kPi;
-                const float pLight = sampler.lookup(intoEnvironment(light, wi), radiance);
-                w = luminance(radiance * k) * cosTheta / pCosine *
-                    power(float(nCosine), pCosine, float(nLight), pLight) / float(nCosine);
+            } else {
+                technique = 2;
+                const int j = i - nLight - nCosine;
+                const glm::vec3 h = sampleGgxVisibleNormal(
+                    Vlocal, alpha, ggxSequence(std::uint32_t(j), std::uint32_t(nGgx)));
+                const glm::vec3 H = glm::normalize(h.x * t + h.y * b + h.z * N);
+                wi = 2.0f * glm::dot(lobe->V, H) * H - lobe->V;
             }
+            const float cosTheta = glm::dot(N, wi);
+            if (!(cosTheta > 0.0f) || !(glm::dot(at.Ng, wi) > 0.0f)) continue;
+            if (technique != 0) pLight = sampler.lookup(intoEnvironment(light, wi), radiance);
+            if (technique == 0 && !(pLight > 0.0f)) continue;
+            const float pCosine = cosTheta / kPi;
+            float lobeValue;
+            const float pGgx = ggx(wi, cosTheta, lobeValue);
+            // Power heuristic over the three techniques: (n_t p_t)² / Σ (n_k p_k)², divided
+            // by the technique's n_t p_t.
+            const float a = float(nLight) * pLight, c = float(nCosine) * pCosine,
+                        g = float(nGgx) * pGgx;
+            const float own = technique == 0 ? a : technique == 1 ? c : g;
+            if (!(own > 0.0f)) continue;
+            const float mis = own / (a * a + c * c + g * g);
+            const float y = luminance(radiance * k);
+            diffuseWeight[n] = y * cosTheta * mis;
+            specularWeight[n] = y * lobeValue * cosTheta * mis;
             // Black sky weighs nothing either way: not traced.
-            if (!(w > 0.0f)) continue;
-            weight[n] = w;
+            if (!(diffuseWeight[n] > 0.0f) && !(specularWeight[n] > 0.0f)) continue;
             batch[n++] = {offsetRayOrigin(at, wi), wi, INFINITY};
         }
         visibility.test(batch, size_t(n), transmittance);
         if (rays) *rays += n;
         for (int i = 0; i < n; ++i) {
-            total += weight[i];
-            seen += weight[i] * double(transmittance[i]);
-            ++count;
-            open += transmittance[i] == 1.0f;
-            closed += transmittance[i] == 0.0f;
+            const auto add = [&](RatioSums& r, float w) {
+                if (!(w > 0.0f) || !std::isfinite(w)) return;
+                r.total += w;
+                r.seen += w * double(transmittance[i]);
+                ++r.count;
+                r.open += transmittance[i] == 1.0f;
+                r.closed += transmittance[i] == 0.0f;
+            };
+            add(sums.diffuse, diffuseWeight[i]);
+            if (glossy) add(sums.specular, specularWeight[i]);
         }
     }
-    sums.seen = seen;
-    sums.total = total;
-    sums.count = count;
-    sums.open = open;
-    sums.closed = closed;
     return sums;
 }
-
-namespace {
-
-float environmentVisibility(const Light& light, const SurfacePoint& at, const glm::vec3& N,
-                            std::uint64_t seed, int samples, const Visibility& visibility,
-                            long long* rays) {
-    const VisibilitySums s =
-        environmentVisibilitySums(light, at, N, seed, samples, visibility, rays);
-    // As for area lights: no sample above the horizon leaves the unshadowed value; wholly
-    // lit or hidden points are exact.
-    if (s.open == s.count || !(s.total > 0.0)) return 1.0f;
-    if (s.closed == s.count) return 0.0f;
-    return float(s.seen / s.total);
-}
-
-} // namespace
 
 float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec3& N,
                       std::uint64_t seed, int samples, const Visibility& visibility,
                       long long* rays) {
     if (light.type == LightType::Ambient) return 1.0f;
-    if (light.type == LightType::Environment) {
-        if (!light.ibl || light.ibl->sampler.empty()) return 1.0f;
-        return environmentVisibility(light, at, N, seed, samples, visibility, rays);
-    }
+    if (light.type == LightType::Environment)
+        return environmentVisibilitySums(light, at, N, nullptr, seed, samples, visibility, rays)
+            .diffuse.ratio();
     const bool disk = light.type == LightType::Directional && light.angle > 0.0f;
     if (!light.isArea() && !disk) {
         const LightLiSample s = sampleLi(light, at.P, {0.0f, 0.0f});

@@ -118,6 +118,38 @@ inline glm::vec3 uniformCone(glm::vec2 u, float cosMax) {
     return {std::cos(phi) * sinTheta, std::sin(phi) * sinTheta, cosTheta};
 }
 
+// Smith's masking G1 of the GGX distribution for a direction at cos θ = NdotW to the normal
+// (Heitz 2014, eq. 72 with Λ of GGX).
+inline float smithGgxMasking(float NdotW, float alpha) {
+    const float a2 = alpha * alpha;
+    return 2.0f * NdotW / (NdotW + std::sqrt(a2 + (1.0f - a2) * NdotW * NdotW));
+}
+
+// A microfacet normal of the GGX distribution of roughness α seen from V (both in the
+// frame whose +Z is the surface normal; V above it), distributed as the visible normals
+// D_V(h) = G1(V) max(0, V·h) D(h) / (N·V) (Heitz 2018, "Sampling the GGX Distribution of
+// Visible Normals", listing 1).
+inline glm::vec3 sampleGgxVisibleNormal(const glm::vec3& V, float alpha, glm::vec2 u) {
+    const glm::vec3 Vh = glm::normalize(glm::vec3(alpha * V.x, alpha * V.y, V.z));
+    const float lensq = Vh.x * Vh.x + Vh.y * Vh.y;
+    const glm::vec3 T1 = lensq > 0.0f ? glm::vec3(-Vh.y, Vh.x, 0.0f) / std::sqrt(lensq)
+                                      : glm::vec3(1.0f, 0.0f, 0.0f);
+    const glm::vec3 T2 = glm::cross(Vh, T1);
+    const float r = std::sqrt(u.x), phi = 2.0f * kPi * u.y;
+    const float t1 = r * std::cos(phi);
+    const float s = 0.5f * (1.0f + Vh.z);
+    const float t2 = (1.0f - s) * std::sqrt(std::max(0.0f, 1.0f - t1 * t1)) + s * r * std::sin(phi);
+    const glm::vec3 Nh =
+        t1 * T1 + t2 * T2 + std::sqrt(std::max(0.0f, 1.0f - t1 * t1 - t2 * t2)) * Vh;
+    return glm::normalize(glm::vec3(alpha * Nh.x, alpha * Nh.y, std::max(0.0f, Nh.z)));
+}
+
+// The density per steradian of L = reflect(−V, h) with h drawn by sampleGgxVisibleNormal:
+// D_V(h) / (4 V·h) = G1(V) D(h) / (4 N·V) (Heitz 2018, eq. 17).
+inline float ggxVisibleNormalReflectionPdf(float NdotV, float NdotH, float alpha) {
+    return smithGgxMasking(NdotV, alpha) * ggxDistribution(NdotH, alpha) / (4.0f * NdotV);
+}
+
 // Barycentrics (b0, b1) of a point uniform on a triangle, b2 = 1 − b0 − b1 (Heitz 2019,
 // "A Low-Distortion Map Between Triangle and Square").
 inline glm::vec2 uniformTriangle(glm::vec2 u) {

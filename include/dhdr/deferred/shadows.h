@@ -12,10 +12,8 @@ namespace dhdr {
 // - a delta light (point, spot, directional without an angle): 0 or 1 from one ray towards it;
 // - a directional light with an angle: `samples` directions uniform in its cone, weighted and
 //   summed like an area light's;
-// - an environment light: `samples` directions, half drawn by its luminance
-//   (EnvironmentSampler), half cosine-weighted about N, combined by multiple importance
-//   sampling (power heuristic), each weighted by its share of the unshadowed diffuse light
-//   (luminance × cos θ); the weighted sum of the visible ones over the sum of all;
+// - an environment light: the diffuse ratio of environmentVisibilitySums (below) without a
+//   specular lobe: `samples` directions, half drawn by its luminance, half cosine-weighted;
 // - an area light: `samples` points of it, a stratified set (Hammersley, rotated by `seed`),
 //   each ray weighted by its share of the unshadowed irradiance, L cos θ / pdf; the weighted
 //   sum of the visible ones over the sum of all. Exactly 1 when every ray gets through, 0 when
@@ -30,16 +28,53 @@ float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec
                       std::uint64_t seed, int samples, const Visibility& visibility,
                       long long* rays = nullptr);
 
-// The sums an environment light's visibility divides (above): seen = Σ w V and total = Σ w
-// over the samples traced, and how many of them there were, wholly open and wholly closed.
-// The lighting pass filters seen and total over neighbouring pixels before dividing
-// (denoise.h).
-struct VisibilitySums {
+// The sums a ratio estimator divides (Heitz, Hill & McGuire 2018): seen = Σ w V and
+// total = Σ w over the samples traced, and how many of them there were, wholly open and
+// wholly closed. The lighting pass filters seen and total over neighbouring pixels before
+// dividing (denoise.h).
+struct RatioSums {
     double seen = 0.0, total = 0.0;
     int count = 0, open = 0, closed = 0;
+
+    // seen / total; 1 where no sample weighed anything or every one got through (the
+    // unshadowed value stands), 0 where none did.
+    float ratio() const {
+        if (open == count || !(total > 0.0)) return 1.0f;
+        if (closed == count) return 0.0f;
+        return float(seen / total);
+    }
 };
-VisibilitySums environmentVisibilitySums(const Light& light, const SurfacePoint& at,
-                                         const glm::vec3& N, std::uint64_t seed, int samples,
-                                         const Visibility& visibility, long long* rays = nullptr);
+
+// The glossy lobe whose share of an environment a surface sees: towards the viewer V (unit)
+// with GGX roughness α.
+struct SpecularLobe {
+    glm::vec3 V{0.0f};
+    float alpha = 1.0f;
+};
+
+// An environment light's visibility at a surface point, for its diffuse and its specular
+// light apart: the same samples, each weighted by the integrand of the part (luminance × cos θ
+// for the diffuse, luminance × D · Vis · cos θ for the specular lobe; Fresnel, nearly constant
+// over the lobe, left out).
+// Samples: half drawn by the environment's luminance (EnvironmentSampler), the rest
+// cosine-weighted about N and, with a lobe, a half of them by GGX's visible normals
+// (Heitz 2018); combined by multiple importance sampling with the power heuristic (Veach 1997,
+// eq. 9.13). Without a lobe the specular sums stay empty.
+struct EnvironmentVisibilitySums {
+    RatioSums diffuse, specular;
+};
+EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const SurfacePoint& at,
+                                                    const glm::vec3& N, const SpecularLobe* lobe,
+                                                    std::uint64_t seed, int samples,
+                                                    const Visibility& visibility,
+                                                    long long* rays = nullptr);
+
+// The two ratios of environmentVisibilitySums, each 1 where its sums are empty.
+struct EnvironmentVisibility {
+    float diffuse = 1.0f, specular = 1.0f;
+};
+inline EnvironmentVisibility ratios(const EnvironmentVisibilitySums& s) {
+    return {s.diffuse.ratio(), s.specular.ratio()};
+}
 
 } // namespace dhdr
