@@ -597,6 +597,7 @@ TEST(EnvironmentShadows, AmbientOcclusionOccludesTheEnvironment) {
     LightingParams p;
     p.aoSamples = 16;
     p.writeAO = true;
+    p.environmentSamples = 0; // AO alone occludes here
     const ImageBuf occluded = shade(gbuf, {light}, &caster, p);
     const GBufferPixels g = [&] {
         GBufferPixels out;

@@ -44,7 +44,7 @@ int run(int argc, char** argv) {
         "radiance past 65504 (and says how many values); --type float keeps it.");
     std::vector<std::string> lightsPaths;
     std::string plateArg, background, dataType = "half", scenePath, emissive = "auto",
-                                      aoMode = "off";
+                                      aoMode = "off", envSpecular = "auto";
     bool bruteForce = false, aovs = false, noShadows = false;
     // The counts' options, ranges and defaults come from the library's table.
     LightingParams params;
@@ -84,6 +84,11 @@ int run(int argc, char** argv) {
               "light as the camera sees it): objects and the shadows a --ground-plane catches, "
               "onto the plate; A is then 1");
     std::string denoise = "on";
+    cl.option("--env-specular", envSpecular, "auto|split-sum|quadrature",
+              "how environments' specular light is integrated: the split sum (prefiltered\n"
+              "levels), a 32-sample quadrature of the exact lobe (right at grazing angles on\n"
+              "rough surfaces, where the split sum is 10-15 % dark), or auto: the quadrature\n"
+              "from roughness 0.3 up (docs/ibl.md; default auto)");
     cl.option("--denoise", denoise, "on|off",
               "filter the environments' shadow rays (--env-samples) and --ao rt over\n"
               "neighbouring pixels of the same surface, guided by the G-buffer's normals,\n"
@@ -144,6 +149,14 @@ int run(int argc, char** argv) {
     if (emissive != "auto" && emissive != "on" && emissive != "off")
         return usage("--emissive-lights must be on or off");
     if (denoise != "on" && denoise != "off") return usage("--denoise takes on or off");
+    if (envSpecular == "auto")
+        params.environmentSpecular = IblSpecular::Auto;
+    else if (envSpecular == "split-sum")
+        params.environmentSpecular = IblSpecular::SplitSum;
+    else if (envSpecular == "quadrature")
+        params.environmentSpecular = IblSpecular::Quadrature;
+    else
+        return usage("--env-specular must be auto, split-sum or quadrature");
     params.denoise = denoise == "on";
     if (aoMode != "off" && aoMode != "rt" && aoMode != "ssao")
         return usage("--ao must be off, rt or ssao");
@@ -151,7 +164,7 @@ int run(int argc, char** argv) {
         if (aoMode == "rt") return usage("--ao rt traces rays in the scene: give --scene SCENE");
         if (noShadows) return usage("--no-shadows needs --scene (without it nothing is shadowed)");
         if (emissive != "auto") return usage("--emissive-lights needs --scene");
-        if (params.environmentSamples > 0)
+        if (params.environmentSamples != LightingParams{}.environmentSamples)
             return usage("--env-samples traces rays in the scene: give --scene");
     }
     if (dataType != "half" && dataType != "float") {

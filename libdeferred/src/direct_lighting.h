@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <dhdr/deferred/brdf.h>
+#include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/shadows.h>
@@ -40,6 +41,8 @@ struct DirectLightingOptions {
     int environmentSamples = 0;          // rays per environment light; 0: unshadowed
     // Environments' diffuse light; off when probes bring it (their rays see the sky).
     bool environmentDiffuse = true;
+    // How environments' specular light is integrated (ibl.h).
+    IblSpecular environmentSpecular = IblSpecular::Auto;
     // Ambient and environment lights (off for the probe bake: its rays meet the environment
     // where they miss, and ambient light is added where the probes are read).
     bool lightsAtInfinity = true;

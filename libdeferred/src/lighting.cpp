@@ -167,6 +167,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     // With probes, the environment's diffuse light comes through them (their rays see the sky
     // where nothing blocks it); its specular light stays the IBL's.
     directOptions.environmentDiffuse = !probes;
+    directOptions.environmentSpecular = params.environmentSpecular;
     directOptions.occludable = aoActive;
     const DirectLighting direct(lights, directOptions);
     // Denoised estimates (flat G-buffers): computed for every pixel the source holds (a

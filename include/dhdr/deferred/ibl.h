@@ -80,12 +80,16 @@ struct Ibl {
     std::vector<glm::vec2> dfg;
     // Built from level 0 at most 512 wide, when the IBL is baked or loaded.
     EnvironmentSampler sampler;
+    // Level 0 halved again and again down to 32 × 16 (mips[0] is half of level 0), when the
+    // IBL is baked or loaded: what the specular quadrature reads by a sample's solid angle.
+    std::vector<EnvironmentImage> mips;
     // The sun split off before the bake (not found() when there was none): the SH, the levels
     // and the sampler hold the sky without it.
     EnvironmentSun sun;
 
     glm::vec3 irradiance(const glm::vec3& n) const;
-    // Prefiltered radiance along R at a roughness, linear between the two nearest levels.
+    // Prefiltered radiance along R at a roughness, between the two nearest levels by lobe
+    // width (α = roughness²).
     glm::vec3 prefiltered(const glm::vec3& R, float roughness) const;
     glm::vec2 dfgAt(float NdotV, float roughness) const;
 };
@@ -123,13 +127,38 @@ bool writeIbl(const std::string& path, const Ibl& ibl, std::string& error);
 bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, bool& baked,
              std::string& error, long long* replaced = nullptr, int nthreads = 0);
 
+// The radiance along d (the environment's frame) of the environment blurred to level of
+// detail `lod` (0: level 0; each step halves it; trilinear between the mips).
+glm::vec3 environmentAtLod(const Ibl& ibl, const glm::vec3& d, float lod);
+
+// How an environment's specular light is computed: the split sum (prefiltered levels × DFG;
+// Karis 2013), which assumes N = V = R and misses the stretched, off-specular lobe of rough
+// surfaces seen at grazing angles; a quadrature of the exact single-scattering lobe; or
+// (Auto) the quadrature from kIblQuadratureRoughness up and the split sum below, where it is
+// accurate.
+enum class IblSpecular { Auto, SplitSum, Quadrature };
+inline constexpr float kIblQuadratureRoughness = 0.3f;
+inline constexpr int kIblQuadratureSamples = 32;
+
+// The single-scattering GGX reflection of the environment towards V, F0 (y − x) + x's
+// counterpart: filtered importance sampling (Křivánek & Colbert 2008) as a deterministic
+// stratified sum: `samples` directions from GGX's visible normals (Heitz 2018) on a fixed
+// Hammersley set, each weighted by F · G2 / G1 (the exact f cos / pdf) and reading the
+// environment at the mip whose texels match the sample's solid angle 1 / (samples · pdf); the
+// weighted mean radiance times the lobe's albedo from the DFG table, F0 (y − x) + x.
+glm::vec3 specularQuadrature(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N,
+                             const glm::vec3& V, int samples = kIblQuadratureSamples);
+
 // Light reflected towards V from an environment seen through `ibl`: diffuse =
 // c_diff · E(n) / π, specular = prefiltered(R, roughness) · (F0 (y − x) + x) + the
 // multiple-scattering lobe's albedo · E(n) / π (multiple_scattering.h).
 struct IblShading {
     glm::vec3 diffuse{0.0f}, specular{0.0f};
 };
-IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, const glm::vec3& V);
+// With IblSpecular::Quadrature (or Auto at high roughness) the first specular term is
+// specularQuadrature's.
+IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
+                    IblSpecular method = IblSpecular::Auto);
 
 // Specular occlusion from ambient occlusion (Lagarde & de Rousiers 2014, "Moving Frostbite to
 // PBR", eq. 51): saturate((N·V + ao)^(2^(−16 roughness − 1)) − 1 + ao); 1 where ao is 1.

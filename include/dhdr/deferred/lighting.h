@@ -2,6 +2,7 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/param_table.h>
 #include <dhdr/deferred/visibility.h>
@@ -57,8 +58,12 @@ struct LightingParams {
     // shadow. The counts' ranges are kLightingParamTable's (below), checked by validate().
     int shadowSamples = 16;
     // With a Visibility: directions drawn from each environment light per pixel for its
-    // shadows (0: none, the environment is unshadowed).
-    int environmentSamples = 0;
+    // shadows (0: none, the environment is unshadowed). 16, denoised, is clean
+    // (docs/ibl.md, "Denoising").
+    int environmentSamples = 16;
+    // How environments' specular light is integrated (ibl.h): the split sum, a quadrature of
+    // the exact lobe, or each where it is accurate (Auto).
+    IblSpecular environmentSpecular = IblSpecular::Auto;
     // Ray-traced AO with a Visibility: cosine-weighted rays per pixel (0: no AO) ...
     int aoSamples = 0;
     // ... and the distance within which a hit occludes, scene units (metres), > 0 (+∞ allowed).
@@ -81,7 +86,7 @@ inline constexpr IntParam<LightingParams> kLightingParamTable[] = {
      "points per pixel on each sphere, rectangle or emissive light, for soft shadows"},
     {"--env-samples", &LightingParams::environmentSamples, 0, 4096, "N",
      "with --scene, shadow rays per pixel drawn from each environment light by its luminance, "
-     "so that a sun in the HDRI casts shadows (0: none)"},
+     "the cosine and the glossy lobe, so that the sky casts soft shadows (0: none)"},
     {"--ao-samples", &LightingParams::aoSamples, 0, 4096, "N",
      "--ao rt: ambient-occlusion rays per pixel (0: no AO)"},
     {"--tile", &LightingParams::tileSize, 1, 1024, "N", "tile size of the light lists, in pixels"},

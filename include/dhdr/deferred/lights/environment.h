@@ -33,7 +33,7 @@ glm::vec3 environmentRadiance(const Light& light, const glm::vec3& d);
 // The diffuse and specular light an environment light reflects towards V (ibl.h), in the
 // light's colour and intensity.
 IblShading shadeEnvironment(const Light& light, const PbrSurface& s, const glm::vec3& N,
-                            const glm::vec3& V);
+                            const glm::vec3& V, IblSpecular method = IblSpecular::Auto);
 
 // Radiance reflected towards V under an ambient light: uniform incident radiance La,
 // Lo = La · ∫ f cos dω.
