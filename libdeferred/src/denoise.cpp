@@ -39,23 +39,37 @@ float geometryWeight(const DenoiseGuide& g, size_t p, size_t q) {
 
 } // namespace
 
-void atrousFilter(std::vector<float>& planes, int count, const DenoiseGuide& guide, int nthreads) {
+void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGuide& guide,
+                  int nthreads) {
     const int w = guide.width, h = guide.height;
     const size_t n = size_t(w) * size_t(h);
-    if ((count != 1 && count != 2) || n == 0 || planes.size() < n * size_t(count)) return;
-    // The estimate's variance per pixel, from the 5 × 5 neighbourhood of the same surface
-    // (SVGF's spatial estimate where no history is), then filtered along with it.
-    std::vector<float> signal(n), variance(n, 0.0f), nextVariance(n);
-    for (size_t p = 0; p < n; ++p)
-        signal[p] = signalAt(planes, count, n, p);
+    if (n == 0) return;
+    for (const DenoiseEstimate& e : estimates)
+        if (!e.planes || (e.count != 1 && e.count != 2) || e.planes->size() < n * size_t(e.count))
+            return;
+    const size_t m = estimates.size();
+    // Per estimate: its signal, and its variance per pixel from the 5 × 5 neighbourhood of the
+    // same surface (SVGF's spatial estimate where no history is), then filtered along with it.
+    std::vector<std::vector<float>> signal(m, std::vector<float>(n)),
+        variance(m, std::vector<float>(n, 0.0f)), nextVariance(m, std::vector<float>(n));
+    auto refreshSignals = [&] {
+        for (size_t e = 0; e < m; ++e)
+            for (size_t p = 0; p < n; ++p)
+                signal[e][p] = signalAt(*estimates[e].planes, estimates[e].count, n, p);
+    };
+    refreshSignals();
+    // Each tap's geometry weight is computed once and serves every estimate.
     OIIO::parallel_for(
         0, h,
         [&](int64_t yy) {
             const int y = int(yy);
+            std::vector<double> s(m), s2(m);
             for (int x = 0; x < w; ++x) {
                 const size_t p = size_t(y) * size_t(w) + size_t(x);
                 if (!guide.surface[p]) continue;
-                double s = 0.0, s2 = 0.0, weights = 0.0;
+                std::fill(s.begin(), s.end(), 0.0);
+                std::fill(s2.begin(), s2.end(), 0.0);
+                double weights = 0.0;
                 for (int j = -2; j <= 2; ++j)
                     for (int i = -2; i <= 2; ++i) {
                         const int qx = x + i, qy = y + j;
@@ -63,32 +77,46 @@ void atrousFilter(std::vector<float>& planes, int count, const DenoiseGuide& gui
                         const size_t q = size_t(qy) * size_t(w) + size_t(qx);
                         const double wq = geometryWeight(guide, p, q);
                         if (!(wq > 0.0)) continue;
-                        s += wq * signal[q];
-                        s2 += wq * double(signal[q]) * signal[q];
+                        for (size_t e = 0; e < m; ++e) {
+                            s[e] += wq * signal[e][q];
+                            s2[e] += wq * double(signal[e][q]) * signal[e][q];
+                        }
                         weights += wq;
                     }
-                const double mean = s / weights;
-                variance[p] = float(std::max(0.0, s2 / weights - mean * mean));
+                for (size_t e = 0; e < m; ++e) {
+                    const double mean = s[e] / weights;
+                    variance[e][p] = float(std::max(0.0, s2[e] / weights - mean * mean));
+                }
             }
         },
         perItem(nthreads));
-    std::vector<float> next(planes.size());
+    std::vector<std::vector<float>> next(m);
+    for (size_t e = 0; e < m; ++e)
+        next[e].resize(estimates[e].planes->size());
     for (int pass = 0; pass < kDenoiseIterations; ++pass) {
         const int step = 1 << pass;
         OIIO::parallel_for(
             0, h,
             [&](int64_t yy) {
                 const int y = int(yy);
+                std::vector<double> sum(2 * m), weights(m), var(m);
+                std::vector<float> spread(m);
                 for (int x = 0; x < w; ++x) {
                     const size_t p = size_t(y) * size_t(w) + size_t(x);
                     if (!guide.surface[p]) {
-                        for (int c = 0; c < count; ++c)
-                            next[size_t(c) * n + p] = planes[size_t(c) * n + p];
-                        nextVariance[p] = variance[p];
+                        for (size_t e = 0; e < m; ++e) {
+                            for (int c = 0; c < estimates[e].count; ++c)
+                                next[e][size_t(c) * n + p] =
+                                    (*estimates[e].planes)[size_t(c) * n + p];
+                            nextVariance[e][p] = variance[e][p];
+                        }
                         continue;
                     }
-                    const float spread = kSignalSigma * std::sqrt(variance[p]) + 1e-4f;
-                    double sum[2] = {0.0, 0.0}, weights = 0.0, var = 0.0;
+                    for (size_t e = 0; e < m; ++e)
+                        spread[e] = kSignalSigma * std::sqrt(variance[e][p]) + 1e-4f;
+                    std::fill(sum.begin(), sum.end(), 0.0);
+                    std::fill(weights.begin(), weights.end(), 0.0);
+                    std::fill(var.begin(), var.end(), 0.0);
                     // Taps in a fixed order: the same sums whatever the threads.
                     for (int j = -2; j <= 2; ++j) {
                         const int qy = y + j * step;
@@ -97,27 +125,42 @@ void atrousFilter(std::vector<float>& planes, int count, const DenoiseGuide& gui
                             const int qx = x + i * step;
                             if (qx < 0 || qx >= w) continue;
                             const size_t q = size_t(qy) * size_t(w) + size_t(qx);
-                            float weight = geometryWeight(guide, p, q);
-                            if (!(weight > 0.0f)) continue;
-                            weight *= kKernel[i + 2] * kKernel[j + 2] *
-                                      std::exp(-std::abs(signal[q] - signal[p]) / spread);
-                            weights += weight;
-                            var += double(weight) * weight * variance[q];
-                            for (int c = 0; c < count; ++c)
-                                sum[c] += double(weight) * planes[size_t(c) * n + q];
+                            const float geometry = geometryWeight(guide, p, q);
+                            if (!(geometry > 0.0f)) continue;
+                            const float kernel = kKernel[i + 2] * kKernel[j + 2];
+                            for (size_t e = 0; e < m; ++e) {
+                                // exp(0) = 1 spared where the estimates agree (open sky).
+                                const float difference = std::abs(signal[e][q] - signal[e][p]);
+                                const float weight =
+                                    geometry * kernel *
+                                    (difference > 0.0f ? std::exp(-difference / spread[e]) : 1.0f);
+                                weights[e] += weight;
+                                var[e] += double(weight) * weight * variance[e][q];
+                                const std::vector<float>& planes = *estimates[e].planes;
+                                for (int c = 0; c < estimates[e].count; ++c)
+                                    sum[2 * e + size_t(c)] +=
+                                        double(weight) * planes[size_t(c) * n + q];
+                            }
                         }
                     }
-                    for (int c = 0; c < count; ++c)
-                        next[size_t(c) * n + p] = float(sum[c] / weights);
-                    nextVariance[p] = float(var / (weights * weights));
+                    for (size_t e = 0; e < m; ++e) {
+                        for (int c = 0; c < estimates[e].count; ++c)
+                            next[e][size_t(c) * n + p] = float(sum[2 * e + size_t(c)] / weights[e]);
+                        nextVariance[e][p] = float(var[e] / (weights[e] * weights[e]));
+                    }
                 }
             },
             perItem(nthreads));
-        planes.swap(next);
-        variance.swap(nextVariance);
-        for (size_t p = 0; p < n; ++p)
-            signal[p] = signalAt(planes, count, n, p);
+        for (size_t e = 0; e < m; ++e) {
+            estimates[e].planes->swap(next[e]);
+            variance[e].swap(nextVariance[e]);
+        }
+        refreshSignals();
     }
+}
+
+void atrousFilter(std::vector<float>& planes, int count, const DenoiseGuide& guide, int nthreads) {
+    atrousFilter({DenoiseEstimate{&planes, count}}, guide, nthreads);
 }
 
 } // namespace dhdr

@@ -78,11 +78,14 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
         perItem(nthreads));
     shadowRayCount = shadowCount;
     aoRayCount = aoCount;
-    // Each pair of sums, and AO, filtered apart: each keeps its own edges.
+    // Each pair of sums, and AO, keeps its own edges (its own variance guidance); the guide's
+    // weights are shared.
+    std::vector<DenoiseEstimate> estimates;
     for (auto* parts : {&m_diffuse, &m_specular})
         for (std::vector<float>& sums : *parts)
-            atrousFilter(sums, 2, guide, nthreads);
-    if (ao) atrousFilter(m_ao, 1, guide, nthreads);
+            estimates.push_back({&sums, 2});
+    if (ao) estimates.push_back({&m_ao, 1});
+    atrousFilter(estimates, guide, nthreads);
 }
 
 EnvironmentVisibility FilteredEstimates::visibility(std::uint32_t light, int x, int y) const {

@@ -39,4 +39,14 @@ struct DenoiseGuide {
 void atrousFilter(std::vector<float>& planes, int count, const DenoiseGuide& guide,
                   int nthreads = 0);
 
+// Several estimates filtered in one go, each exactly as atrousFilter above filters it alone:
+// the guide's weights (normals, plane, object; most of the cost) are computed once a tap for
+// all of them, the variance guidance per estimate.
+struct DenoiseEstimate {
+    std::vector<float>* planes = nullptr;
+    int count = 1; // 1 or 2 planes, as above
+};
+void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGuide& guide,
+                  int nthreads = 0);
+
 } // namespace dhdr
