@@ -3,6 +3,7 @@
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <dhdr/common/parallel.h>
 #include <dhdr/deferred/ambient_occlusion.h>
 #include <dhdr/deferred/denoise.h>
@@ -90,12 +91,13 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
 
 EnvironmentVisibility FilteredEstimates::visibility(std::uint32_t light, int x, int y) const {
     const size_t p = index(x, y), slot = size_t(m_slot[light]);
-    auto ratio = [&](const std::vector<float>& sums) {
+    // The specular ratio counts occluders' light and may pass 1 (shadows.h).
+    auto ratio = [&](const std::vector<float>& sums, float most) {
         const size_t n = sums.size() / 2;
         const float seen = sums[p], total = sums[n + p];
-        return total > 0.0f ? std::clamp(seen / total, 0.0f, 1.0f) : 1.0f;
+        return total > 0.0f ? std::clamp(seen / total, 0.0f, most) : 1.0f;
     };
-    return {ratio(m_diffuse[slot]), ratio(m_specular[slot])};
+    return {ratio(m_diffuse[slot], 1.0f), ratio(m_specular[slot], INFINITY)};
 }
 
 float FilteredEstimates::ambientOcclusion(int x, int y) const {

@@ -56,7 +56,8 @@ EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const Su
     };
     constexpr int kBatch = 64;
     thread_local ShadowRay batch[kBatch];
-    float diffuseWeight[kBatch], specularWeight[kBatch], transmittance[kBatch];
+    float diffuseWeight[kBatch], specularWeight[kBatch], occluderShare[kBatch],
+        transmittance[kBatch];
     for (int begin = 0; begin < samples; begin += kBatch) {
         int n = 0;
         for (int i = begin; i < std::min(samples, begin + kBatch); ++i) {
@@ -99,6 +100,12 @@ EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const Su
             const float y = luminance(radiance * k);
             diffuseWeight[n] = y * cosTheta * mis;
             specularWeight[n] = y * lobeValue * cosTheta * mis;
+            // A blocked glossy sample's occluder: luminance ρ E(−l) / π against the sky's y.
+            occluderShare[n] = 0.0f;
+            if (glossy && lobe->occluderAlbedo > 0.0f && specularWeight[n] > 0.0f)
+                occluderShare[n] =
+                    lobe->occluderAlbedo / kPi *
+                    luminance(light.ibl->irradiance(intoEnvironment(light, -wi)) * k) / y;
             // Black sky weighs nothing either way: not traced.
             if (!(diffuseWeight[n] > 0.0f) && !(specularWeight[n] > 0.0f)) continue;
             batch[n++] = {offsetRayOrigin(at, wi), wi, INFINITY};
@@ -106,16 +113,17 @@ EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const Su
         visibility.test(batch, size_t(n), transmittance);
         if (rays) *rays += n;
         for (int i = 0; i < n; ++i) {
-            const auto add = [&](RatioSums& r, float w) {
+            const auto add = [&](RatioSums& r, float w, float blocked) {
                 if (!(w > 0.0f) || !std::isfinite(w)) return;
+                const double v = transmittance[i];
                 r.total += w;
-                r.seen += w * double(transmittance[i]);
+                r.seen += w * (v + (1.0 - v) * double(blocked));
                 ++r.count;
                 r.open += transmittance[i] == 1.0f;
                 r.closed += transmittance[i] == 0.0f;
             };
-            add(sums.diffuse, diffuseWeight[i]);
-            if (glossy) add(sums.specular, specularWeight[i]);
+            add(sums.diffuse, diffuseWeight[i], 0.0f);
+            if (glossy) add(sums.specular, specularWeight[i], occluderShare[i]);
         }
     }
     return sums;

@@ -37,25 +37,33 @@ struct RatioSums {
     int count = 0, open = 0, closed = 0;
 
     // seen / total; 1 where no sample weighed anything or every one got through (the
-    // unshadowed value stands), 0 where none did.
+    // unshadowed value stands).
     float ratio() const {
         if (open == count || !(total > 0.0)) return 1.0f;
-        if (closed == count) return 0.0f;
         return float(seen / total);
     }
 };
 
+// What a blocked glossy sample sees until the scene is traced into reflections: a grey
+// surface of this albedo (photography's middle grey) lit by the sky, radiance
+// ρ · E(−l) / π with E the environment's irradiance facing back along the ray.
+inline constexpr float kOccluderAlbedo = 0.18f;
+
 // The glossy lobe whose share of an environment a surface sees: towards the viewer V (unit)
-// with GGX roughness α.
+// with GGX roughness α; a blocked direction brings the light of a grey occluder of
+// `occluderAlbedo` (0: none, a pure visibility).
 struct SpecularLobe {
     glm::vec3 V{0.0f};
     float alpha = 1.0f;
+    float occluderAlbedo = kOccluderAlbedo;
 };
 
 // An environment light's visibility at a surface point, for its diffuse and its specular
 // light apart: the same samples, each weighted by the integrand of the part (luminance × cos θ
 // for the diffuse, luminance × D · Vis · cos θ for the specular lobe; Fresnel, nearly constant
-// over the lobe, left out).
+// over the lobe, left out). The specular sums count a blocked sample's occluder light
+// (SpecularLobe::occluderAlbedo), so their ratio is the share of the unshadowed reflection
+// that arrives, and may exceed 1 where the sky behind the occluder is darker than it.
 // Samples: half drawn by the environment's luminance (EnvironmentSampler), the rest
 // cosine-weighted about N and, with a lobe, a half of them by GGX's visible normals
 // (Heitz 2018); combined by multiple importance sampling with the power heuristic (Veach 1997,
