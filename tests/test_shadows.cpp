@@ -661,6 +661,85 @@ ImageBuf catcherFrame(const Scene& scene, const Light& light, ImageBuf& gbuf) {
 
 } // namespace
 
+// A mirror sphere under a sky of fine checks (32 × 16 cells, 10:1): each pixel covers many
+// checks near the rim, and shows their mean, not the one its centre's mirror direction hits.
+// The reference: the G-buffer at 8 × 8 the resolution, each fine pixel's mirror direction
+// read from the sky, averaged over the pixel. Filtered over the footprint, the absolute error
+// over the covered pixels (the checks are 0.1 and 1) is under 0.6 of reading the sky at the
+// centre's direction, in the mean and at the 95th percentile (measured 0.106 and 0.229
+// against 0.238 and 0.487).
+TEST(EnvironmentReflections, AMirrorShowsTheSkyFilteredOverItsPixel) {
+    Scene scene = emptyScene();
+    scene.materials[0].baseColor = glm::vec3(1.0f);
+    scene.materials[0].roughness = 0.0f;
+    scene.materials[0].metallic = 1.0f;
+    addSphere(scene, {0.0f, 0.0f, 0.0f}, 1.0f, 128);
+    const Camera camera = Camera::lookAt({0.0, 0.3, 4.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.6);
+    EnvironmentImage env;
+    env.width = 1024;
+    env.height = 512;
+    env.rgb.resize(size_t(1024) * 512 * 3);
+    for (int y = 0; y < 512; ++y)
+        for (int x = 0; x < 1024; ++x)
+            for (int c = 0; c < 3; ++c)
+                env.rgb[3 * (size_t(y) * 1024 + size_t(x)) + size_t(c)] =
+                    ((x / 32 + y / 32) % 2) ? 1.0f : 0.1f;
+    IblBakeParams bake;
+    bake.sunThreshold = 0.0f;
+    auto ibl = std::make_shared<Ibl>();
+    std::string error;
+    ASSERT_TRUE(bakeIbl(env, bake, *ibl, error)) << error;
+    Light sky;
+    sky.type = LightType::Environment;
+    sky.ibl = ibl;
+    constexpr int W = 48, S = 8;
+    const ImageBuf gbuf = gbufferOf(scene, camera, W, W);
+    const ImageBuf fine = gbufferOf(scene, camera, W * S, W * S);
+    const ImageBuf lit = shade(gbuf, {sky}, nullptr);
+    GBufferPixels g, f;
+    ImageBuf errors;
+    ASSERT_TRUE(openGBuffer(gbuf, g, errors));
+    ASSERT_TRUE(openGBuffer(fine, f, errors));
+    const GBufferView view(*g.pixels, g.layout, g.camera), fineView(*f.pixels, f.layout, f.camera);
+    std::vector<double> filtered, point;
+    for (int y = 0; y < W; ++y)
+        for (int x = 0; x < W; ++x) {
+            double sum = 0.0;
+            bool covered = view.samples(x, y) > 0;
+            for (int j = 0; j < S && covered; ++j)
+                for (int i = 0; i < S && covered; ++i) {
+                    if (fineView.samples(x * S + i, y * S + j) == 0) {
+                        covered = false;
+                        break;
+                    }
+                    const ShadingPoint q = fineView.at(x * S + i, y * S + j);
+                    sum += env.radiance(glm::reflect(-q.V, q.N)).g;
+                }
+            if (!covered) continue;
+            const ShadingPoint p = view.at(x, y);
+            // The lobe's albedo (a white mirror: the DFG's y at N·V, about 1).
+            const float albedo = ibl->dfgAt(std::max(glm::dot(p.N, p.V), 1e-4f), 0.0f).y;
+            const double reference = sum / (S * S) * albedo;
+            filtered.push_back(std::abs(px(lit, x, y)[1] - reference));
+            point.push_back(std::abs(env.radiance(glm::reflect(-p.V, p.N)).g * albedo - reference));
+        }
+    ASSERT_GT(filtered.size(), 800u);
+    auto stats = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        double mean = 0.0;
+        for (double e : v)
+            mean += e;
+        return std::pair<double, double>(mean / double(v.size()), v[v.size() * 95 / 100]);
+    };
+    const auto [filteredMean, filteredP95] = stats(filtered);
+    const auto [pointMean, pointP95] = stats(point);
+    std::printf("mirror against the supersampled sky: filtered mean %.3f p95 %.3f, point mean "
+                "%.3f p95 %.3f\n",
+                filteredMean, filteredP95, pointMean, pointP95);
+    EXPECT_LT(filteredP95, 0.6 * pointP95);
+    EXPECT_LT(filteredMean, 0.6 * pointMean);
+}
+
 TEST(ShadowCatcher, WithNoObjectsTheCatcherIsClear) {
     Scene scene = emptyScene();
     addGroundPlane(scene, 0.0f);

@@ -460,7 +460,14 @@ int run(int argc, char** argv) {
         // decoding the G-buffer is most of the work.
         StripPipelineParams streaming;
         streaming.rows = rows;
-        streaming.halo = halo && aoMode != "ssao" ? kDenoiseReach : 0;
+        // An environment's specular light reads the next row's normals (the pixel's
+        // footprint, lighting.h): one row at least.
+        const bool environment = std::any_of(lights.begin(), lights.end(), [](const Light& l) {
+            return l.type == LightType::Environment;
+        });
+        streaming.halo = aoMode == "ssao" ? 0
+                         : halo           ? kDenoiseReach
+                                          : (environment ? kFootprintReach : 0);
         streaming.nthreads = tool.threads();
         streaming.progress = progress.over();
         StripPipeline pipeline(OIIO::get_roi(gspec), streaming);

@@ -23,7 +23,8 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
     auto seed = [&] { return sampleSeed(key.a, key.b, std::int64_t(i), key.stream); };
     if (light.type == LightType::Environment) {
         if (!light.ibl) return;
-        IblShading e = shadeEnvironment(light, p.surface, p.N, p.V, o.environmentSpecular);
+        IblShading e =
+            shadeEnvironment(light, p.surface, p.N, p.V, o.environmentSpecular, p.reflectionSpread);
         if (!o.environmentDiffuse) e.diffuse = glm::vec3(0.0f);
         // The visible shares of the environment's diffuse and specular light, from the same
         // rays, scale the prefiltered results.

@@ -21,6 +21,9 @@ struct LitPoint {
     const PbrSurface& surface;
     glm::vec3 P, N, V;
     SurfacePoint origin;
+    // The angle the mirror directions of the point's pixel span (radians; 0: a point), for
+    // environments' specular light (shadeIbl).
+    float reflectionSpread = 0.0f;
 };
 
 // The light of a surface point in the parts that occlusion treats apart: what shadows have

@@ -468,7 +468,7 @@ glm::vec3 specularQuadrature(const Ibl& ibl, const PbrSurface& s, const glm::vec
 }
 
 IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
-                    IblSpecular method) {
+                    IblSpecular method, float spread) {
     IblShading out;
     const float NdotV = std::max(glm::dot(N, V), 1e-4f);
     const glm::vec3 irradiance = ibl.irradiance(N);
@@ -478,10 +478,17 @@ IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, con
     const glm::vec3 F0 = s.F0();
     const bool quadrature = method == IblSpecular::Quadrature ||
                             (method == IblSpecular::Auto && s.roughness >= kIblQuadratureRoughness);
+    // The footprint widens the lobe the levels are read at, added in quadrature as two blurs
+    // are (kFootprintAlpha, ibl.h).
+    float lookup = s.roughness;
+    if (spread > 0.0f) {
+        const float a = s.roughness * s.roughness, af = kFootprintAlpha * spread;
+        lookup = std::min(1.0f, std::sqrt(std::sqrt(a * a + af * af)));
+    }
     const glm::vec3 single =
         quadrature && !ibl.mips.empty()
             ? specularQuadrature(ibl, s, N, V)
-            : ibl.prefiltered(R, s.roughness) * (F0 * (dfg.y - dfg.x) + glm::vec3(dfg.x));
+            : ibl.prefiltered(R, lookup) * (F0 * (dfg.y - dfg.x) + glm::vec3(dfg.x));
     // The multiple-scattering lobe, nearly diffuse, reflects the irradiance (as for every
     // other light; Turquin's 1 + F0 (1/y − 1) on the prefiltered value brightened coloured
     // rough metals past Cycles' multiscatter GGX).

@@ -54,6 +54,32 @@ float luminance(const glm::vec3& c) {
     return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
 }
 
+// The angle the mirror directions of flat pixel (x, y) span: across and down, the angle
+// between its mirror direction and its neighbour's (the next pixel, else the previous),
+// the larger of the two; neighbours of another object or whose normal turns by more than 60°
+// are another surface and do not count (0 when none does). Ray cones (Akenine-Möller et al.
+// 2019) measure the same spread from the curvature; the G-buffer has the neighbours instead.
+float reflectionSpread(const GBufferView& view, const gbuffer::Layout& layout, OIIO::ROI held,
+                       int x, int y, const ShadingPoint& sp) {
+    const glm::vec3 R = glm::reflect(-sp.V, sp.N);
+    const float object = layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
+    float spread = 0.0f;
+    for (const glm::ivec2 axis : {glm::ivec2(1, 0), glm::ivec2(0, 1)})
+        for (const int side : {1, -1}) {
+            const int qx = x + side * axis.x, qy = y + side * axis.y;
+            if (qx < held.xbegin || qx >= held.xend || qy < held.ybegin || qy >= held.yend ||
+                view.samples(qx, qy) == 0)
+                continue;
+            if (layout.objectId >= 0 && view.channels(qx, qy)[layout.objectId] != object) continue;
+            const ShadingPoint q = view.at(qx, qy);
+            if (!(glm::dot(q.N, sp.N) > 0.5f)) continue;
+            const float c = std::clamp(glm::dot(R, glm::reflect(-q.V, q.N)), -1.0f, 1.0f);
+            spread = std::max(spread, std::acos(c));
+            break;
+        }
+    return spread;
+}
+
 } // namespace
 
 LightingStats& LightingStats::operator+=(const LightingStats& o) {
@@ -170,6 +196,10 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     directOptions.environmentSpecular = params.environmentSpecular;
     directOptions.occludable = aoActive;
     const DirectLighting direct(lights, directOptions);
+    // Environments' specular light is filtered over each flat pixel's footprint.
+    const bool footprint = std::any_of(lights.begin(), lights.end(), [](const Light& l) {
+        return l.type == LightType::Environment && l.ibl;
+    });
     // Denoised estimates (flat G-buffers): computed for every pixel the source holds (a
     // strip's halo rows included) and filtered before the shading reads them.
     const FilteredEstimates filtered(view, layout, source.roi, lights, params, shadowRays,
@@ -231,7 +261,14 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         // summed apart and occluded at the end. The same sums without visibility give a
         // shadow catcher its alpha.
         DirectTerms lit{sp.emission}, open{sp.emission};
-        const LitPoint point{sp.surface, sp.P, sp.N, sp.V, sp.origin};
+        const LitPoint point{sp.surface,
+                             sp.P,
+                             sp.N,
+                             sp.V,
+                             sp.origin,
+                             footprint && !view.deep()
+                                 ? reflectionSpread(view, layout, source.roi, x, y, sp)
+                                 : 0.0f};
         const SeedKey key{x, y, streamOf(SampleStream::Shadow, k)};
         auto addLight = [&](std::uint32_t i) {
             // Sample 0 of a flat pixel reads the denoised environment estimates.

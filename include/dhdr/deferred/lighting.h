@@ -92,6 +92,11 @@ inline constexpr IntParam<LightingParams> kLightingParamTable[] = {
     {"--tile", &LightingParams::tileSize, 1, 1024, "N", "tile size of the light lists, in pixels"},
 };
 
+// The rows around a strip of a frame that its environments' specular light reads (a flat
+// pixel's mirror directions are compared with its neighbours' to filter the sky over its
+// footprint; ibl.h, shadeIbl): a strip shaded with them gives the whole frame's pixels.
+inline constexpr int kFootprintReach = 1;
+
 // Whether `params` are within their ranges (kLightingParamTable, and the AO distance > 0);
 // false with `error` naming the first that is not.
 bool validate(const LightingParams& params, std::string& error);

@@ -10,9 +10,9 @@ glm::vec3 environmentRadiance(const Light& light, const glm::vec3& d) {
 }
 
 IblShading shadeEnvironment(const Light& light, const PbrSurface& s, const glm::vec3& N,
-                            const glm::vec3& V, IblSpecular method) {
-    IblShading r =
-        shadeIbl(*light.ibl, s, intoEnvironment(light, N), intoEnvironment(light, V), method);
+                            const glm::vec3& V, IblSpecular method, float spread) {
+    IblShading r = shadeIbl(*light.ibl, s, intoEnvironment(light, N), intoEnvironment(light, V),
+                            method, spread);
     const glm::vec3 k = light.color * light.intensity;
     r.diffuse *= k;
     r.specular *= k;

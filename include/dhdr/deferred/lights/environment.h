@@ -30,10 +30,11 @@ inline glm::vec3 fromEnvironment(const Light& light, const glm::vec3& d) {
 // off), in the light's colour and intensity; 0 without a bake.
 glm::vec3 environmentRadiance(const Light& light, const glm::vec3& d);
 
-// The diffuse and specular light an environment light reflects towards V (ibl.h), in the
-// light's colour and intensity.
+// The diffuse and specular light an environment light reflects towards V (ibl.h, shadeIbl:
+// `method`, and the pixel footprint's `spread`), in the light's colour and intensity.
 IblShading shadeEnvironment(const Light& light, const PbrSurface& s, const glm::vec3& N,
-                            const glm::vec3& V, IblSpecular method = IblSpecular::Auto);
+                            const glm::vec3& V, IblSpecular method = IblSpecular::Auto,
+                            float spread = 0.0f);
 
 // Radiance reflected towards V under an ambient light: uniform incident radiance La,
 // Lo = La · ∫ f cos dω.
