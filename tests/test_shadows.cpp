@@ -1096,6 +1096,59 @@ TEST(Shadows, ASunWithAnAngleCastsTheDisksPenumbra) {
 // sky (environment shadows and ray-traced AO), against a 1024-ray per-pixel reference: the
 // RMS error falls to under a third, the mean stays within 2 %, pixels that no ray finds
 // blocked keep the unshadowed value exactly, and the thread count does not matter.
+// A plane whose left half looks one way and right half another (as a glossy surface's
+// pixels do where its mirror directions turn fast): a lobe-direction guide keeps the two
+// halves' estimates apart for a narrow lobe, and lets them mix for a wide one; without it
+// they mix across the whole 30-pixel reach.
+TEST(Denoise, ADirectionGuideKeepsNarrowLobesApart) {
+    constexpr int W = 64, H = 16;
+    const size_t n = size_t(W) * H;
+    DenoiseGuide guide;
+    guide.width = W;
+    guide.height = H;
+    guide.position.resize(n);
+    guide.normal.assign(n, glm::vec3(0.0f, 1.0f, 0.0f));
+    guide.object.assign(n, 1.0f);
+    guide.surface.assign(n, 1);
+    std::vector<glm::vec3> direction(n);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const size_t p = size_t(y) * W + size_t(x);
+            guide.position[p] = glm::vec3(0.01f * float(x), 0.0f, 0.01f * float(y));
+            direction[p] = x < W / 2 ? glm::normalize(glm::vec3(0.3f, 1.0f, 0.0f))
+                                     : glm::normalize(glm::vec3(-0.3f, 1.0f, 0.0f));
+        }
+    // A ratio of 0.2 on the left half and 0.9 on the right, each pixel a little noisy.
+    auto sums = [&] {
+        std::vector<float> v(2 * n);
+        for (size_t p = 0; p < n; ++p) {
+            const float ratio = (p % W) < W / 2 ? 0.2f : 0.9f;
+            const float noise = 0.05f * (float(mixBits(p) >> 40) * 0x1p-24f - 0.5f);
+            v[p] = ratio + noise;
+            v[n + p] = 1.0f;
+        }
+        return v;
+    };
+    auto edgeError = [&](const std::vector<float>& v) {
+        // The pixels next to the edge, against their own half's ratio.
+        double e = 0.0;
+        for (int y = 0; y < H; ++y)
+            e += std::abs(v[size_t(y) * W + W / 2 - 1] - 0.2) +
+                 std::abs(v[size_t(y) * W + W / 2] - 0.9);
+        return e / (2 * H);
+    };
+    std::vector<float> narrow = sums(), wide = sums(), plain = sums();
+    const std::vector<float> narrowWidth(n, 0.05f), wideWidth(n, 2.0f);
+    atrousFilter({DenoiseEstimate{&narrow, 2, &direction, &narrowWidth}}, guide);
+    atrousFilter({DenoiseEstimate{&wide, 2, &direction, &wideWidth}}, guide);
+    atrousFilter(plain, 2, guide);
+    std::printf("edge error: narrow lobe %.4f, wide lobe %.4f, no direction guide %.4f\n",
+                edgeError(narrow), edgeError(wide), edgeError(plain));
+    EXPECT_LT(edgeError(narrow), 0.03);
+    EXPECT_GT(edgeError(wide), 0.1);
+    EXPECT_NEAR(edgeError(wide), edgeError(plain), 0.02);
+}
+
 TEST(Denoise, CleanerThanThePerPixelEstimateAndUnbiasedInTheMean) {
     Scene scene = emptyScene();
     addFloor(scene, 3.0f);

@@ -45,7 +45,8 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
     const size_t n = size_t(w) * size_t(h);
     if (n == 0) return;
     for (const DenoiseEstimate& e : estimates)
-        if (!e.planes || (e.count != 1 && e.count != 2) || e.planes->size() < n * size_t(e.count))
+        if (!e.planes || (e.count != 1 && e.count != 2) || e.planes->size() < n * size_t(e.count) ||
+            (e.direction && (!e.width || e.direction->size() < n || e.width->size() < n)))
             return;
     const size_t m = estimates.size();
     // Per estimate: its signal, and its variance per pixel from the 5 × 5 neighbourhood of the
@@ -131,9 +132,16 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                             for (size_t e = 0; e < m; ++e) {
                                 // exp(0) = 1 spared where the estimates agree (open sky).
                                 const float difference = std::abs(signal[e][q] - signal[e][p]);
-                                const float weight =
+                                float weight =
                                     geometry * kernel *
                                     (difference > 0.0f ? std::exp(-difference / spread[e]) : 1.0f);
+                                if (estimates[e].direction && q != p) {
+                                    const float width = (*estimates[e].width)[p];
+                                    const float turn =
+                                        1.0f - glm::dot((*estimates[e].direction)[p],
+                                                        (*estimates[e].direction)[q]);
+                                    weight *= std::exp(-std::max(turn, 0.0f) / (width * width));
+                                }
                                 weights[e] += weight;
                                 var[e] += double(weight) * weight * variance[e][q];
                                 const std::vector<float>& planes = *estimates[e].planes;

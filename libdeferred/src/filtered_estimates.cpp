@@ -37,6 +37,10 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     guide.normal.assign(n, glm::vec3(0.0f));
     guide.object.assign(n, 0.0f);
     guide.surface.assign(n, 0);
+    // The glossy lobe of each pixel: its mirror direction and angular width (2α, the reflected
+    // lobe being about twice the microfacets'; at least 0.02), for the specular sums.
+    std::vector<glm::vec3> mirror(n, glm::vec3(0.0f, 0.0f, 1.0f));
+    std::vector<float> lobeWidth(n, 1.0f);
     m_diffuse.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
     m_specular.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
     if (ao) m_ao.assign(n, 1.0f);
@@ -57,6 +61,8 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                     layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
                 // The seeds of a flat pixel's shading (lighting.cpp, deep sample 0).
                 const SpecularLobe lobe{sp.V, sp.surface.alpha()};
+                mirror[p] = glm::reflect(-sp.V, sp.N);
+                lobeWidth[p] = std::max(2.0f * lobe.alpha, 0.02f);
                 for (size_t j = 0; j < filtered.size(); ++j) {
                     const EnvironmentVisibilitySums v = environmentVisibilitySums(
                         lights[filtered[j]], sp.origin, sp.N, &lobe,
@@ -82,9 +88,10 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     // Each pair of sums, and AO, keeps its own edges (its own variance guidance); the guide's
     // weights are shared.
     std::vector<DenoiseEstimate> estimates;
-    for (auto* parts : {&m_diffuse, &m_specular})
-        for (std::vector<float>& sums : *parts)
-            estimates.push_back({&sums, 2});
+    for (std::vector<float>& sums : m_diffuse)
+        estimates.push_back({&sums, 2});
+    for (std::vector<float>& sums : m_specular)
+        estimates.push_back({&sums, 2, &mirror, &lobeWidth});
     if (ao) estimates.push_back({&m_ao, 1});
     atrousFilter(estimates, guide, nthreads);
 }

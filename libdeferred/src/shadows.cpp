@@ -120,7 +120,6 @@ EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const Su
                 r.seen += w * (v + (1.0 - v) * double(blocked));
                 ++r.count;
                 r.open += transmittance[i] == 1.0f;
-                r.closed += transmittance[i] == 0.0f;
             };
             add(sums.diffuse, diffuseWeight[i], 0.0f);
             if (glossy) add(sums.specular, specularWeight[i], occluderShare[i]);

@@ -45,6 +45,12 @@ void atrousFilter(std::vector<float>& planes, int count, const DenoiseGuide& gui
 struct DenoiseEstimate {
     std::vector<float>* planes = nullptr;
     int count = 1; // 1 or 2 planes, as above
+    // Optional, for an estimate that depends on a direction per pixel (a glossy lobe's
+    // visibility): the direction (unit) and its angular width σ (radians) per pixel; a tap
+    // is further weighted by exp(−(1 − d_p · d_q) / σ_p²) ≈ exp(−θ² / (2 σ_p²)), so that a
+    // narrow lobe mixes only pixels that look the same way.
+    const std::vector<glm::vec3>* direction = nullptr;
+    const std::vector<float>* width = nullptr;
 };
 void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGuide& guide,
                   int nthreads = 0);

@@ -29,12 +29,12 @@ float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec
                       long long* rays = nullptr);
 
 // The sums a ratio estimator divides (Heitz, Hill & McGuire 2018): seen = Σ w V and
-// total = Σ w over the samples traced, and how many of them there were, wholly open and
-// wholly closed. The lighting pass filters seen and total over neighbouring pixels before
+// total = Σ w over the samples traced, how many of them there were and how many got through
+// wholly. The lighting pass filters seen and total over neighbouring pixels before
 // dividing (denoise.h).
 struct RatioSums {
     double seen = 0.0, total = 0.0;
-    int count = 0, open = 0, closed = 0;
+    int count = 0, open = 0;
 
     // seen / total; 1 where no sample weighed anything or every one got through (the
     // unshadowed value stands).
