@@ -5,10 +5,13 @@
 #include <OpenImageIO/imagebuf.h>
 #include <dhdr/deferred/camera.h>
 #include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
 #include <gtest/gtest.h>
+#include <memory>
+#include <string>
 #include <vector>
 
 namespace dhdr::test {
@@ -17,6 +20,21 @@ using OIIO::ImageBuf;
 
 inline const float* px(const ImageBuf& img, int x, int y) {
     return static_cast<const float*>(img.pixeladdr(x, y));
+}
+
+// An environment light of radiance 1 from every direction (a 64 × 32 white image, baked).
+inline Light uniformSky() {
+    EnvironmentImage env;
+    env.width = 64;
+    env.height = 32;
+    env.rgb.assign(64 * 32 * 3, 1.0f);
+    auto ibl = std::make_shared<Ibl>();
+    std::string error;
+    EXPECT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
+    Light light;
+    light.type = LightType::Environment;
+    light.ibl = ibl;
+    return light;
 }
 
 // A quad a b c d (counter-clockwise seen from where its normal points) as one flat mesh.

@@ -1,5 +1,7 @@
 // The multiple-scattering lobe (multiple_scattering.h) against closed forms: energy
 // conservation of a white metal, and one material under every light.
+#include "scene_builder.h"
+
 #include <cmath>
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/ibl.h>
@@ -7,7 +9,6 @@
 #include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/sampling.h>
 #include <gtest/gtest.h>
-#include <memory>
 
 using namespace dhdr;
 
@@ -75,16 +76,7 @@ TEST(MultipleScattering, AverageAlbedoIsTheMeanOverViews) {
 // every direction reflect the same light whether it comes as many directional lights (the
 // quadrature of evaluateBrdf), as an ambient light or as a baked environment.
 TEST(MultipleScattering, OneMaterialUnderEveryLight) {
-    EnvironmentImage env;
-    env.width = 64;
-    env.height = 32;
-    env.rgb.assign(64 * 32 * 3, 1.0f);
-    auto ibl = std::make_shared<Ibl>();
-    std::string error;
-    ASSERT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
-    Light sky;
-    sky.type = LightType::Environment;
-    sky.ibl = ibl;
+    const Light sky = dhdr::test::uniformSky();
     Light ambient;
     ambient.type = LightType::Ambient;
     const glm::vec3 N(0.0f, 0.0f, 1.0f);

@@ -30,21 +30,6 @@ namespace {
 
 [[maybe_unused]] auto* const kKernel = ::testing::AddGlobalTestEnvironment(new EmbreeKernel);
 
-// An environment light of radiance 1 from every direction (a 64 × 32 white image, baked).
-Light uniformSky() {
-    EnvironmentImage env;
-    env.width = 64;
-    env.height = 32;
-    env.rgb.assign(64 * 32 * 3, 1.0f);
-    auto ibl = std::make_shared<Ibl>();
-    std::string error;
-    EXPECT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
-    Light light;
-    light.type = LightType::Environment;
-    light.ibl = ibl;
-    return light;
-}
-
 glm::vec3 positionAt(const ImageBuf& gbuf, int x, int y) {
     const float* g = px(gbuf, x, y);
     const int c = gbuf.spec().channelindex("P.X");
