@@ -81,6 +81,18 @@ glm::vec3 sampleGgxHalf(glm::vec2 u, float alpha) {
 // assumption), the GGX-weighted mean of the environment, Σ L(l) N·l / Σ N·l over importance
 // samples, each read from the source mip whose texels match the sample's solid angle
 // (Křivánek & Colbert 2008: lod = ½ log₂(Ωs / Ωp) + 1).
+// The radiance along d of a chain of mips, level(0) … level(last), at a fractional level of
+// detail (clamped to the chain): bilinear in each of the two nearest, linear between them.
+template <class Level>
+glm::vec3 trilinear(const Level& level, int last, const glm::vec3& d, float lod) {
+    lod = std::clamp(lod, 0.0f, float(last));
+    const int l0 = std::min(int(lod), last), l1 = std::min(l0 + 1, last);
+    const glm::vec2 uv = equirectUV(d);
+    const glm::vec3 a = level(l0).bilinear(uv);
+    if (l1 == l0) return a;
+    return glm::mix(a, level(l1).bilinear(uv), lod - float(l0));
+}
+
 EnvironmentImage prefilter(const std::vector<EnvironmentImage>& mips, int width, float roughness,
                            int samples, int nthreads) {
     EnvironmentImage out;
@@ -109,13 +121,8 @@ EnvironmentImage prefilter(const std::vector<EnvironmentImage>& mips, int width,
         const float lod = std::max(0.0f, float(0.5 * std::log2(omegaS / texelOmega)));
         lobe.push_back({l, l.z, std::min(lod, float(mips.size() - 1))});
     }
-    auto lookup = [&](const glm::vec3& d, float lod) {
-        const int l0 = int(lod);
-        const int l1 = std::min(l0 + 1, int(mips.size()) - 1);
-        const glm::vec2 uv = equirectUV(d);
-        return glm::mix(mips[size_t(l0)].bilinear(uv), mips[size_t(l1)].bilinear(uv),
-                        lod - float(l0));
-    };
+    auto level = [&](int l) -> const EnvironmentImage& { return mips[size_t(l)]; };
+    const int last = int(mips.size()) - 1;
     OIIO::parallel_for(
         0, out.height,
         [&](int64_t y) {
@@ -128,7 +135,7 @@ EnvironmentImage prefilter(const std::vector<EnvironmentImage>& mips, int width,
                 double weight = 0.0;
                 for (const Sample& s : lobe) {
                     const glm::vec3 d = t * s.l.x + b * s.l.y + R * s.l.z;
-                    sum += glm::dvec3(lookup(d, s.lod)) * double(s.weight);
+                    sum += glm::dvec3(trilinear(level, last, d, s.lod)) * double(s.weight);
                     weight += s.weight;
                 }
                 const glm::vec3 v(sum / std::max(weight, 1e-300));
@@ -414,16 +421,10 @@ bool bakeIbl(const EnvironmentImage& source, const IblBakeParams& p, Ibl& ibl, s
 }
 
 glm::vec3 environmentAtLod(const Ibl& ibl, const glm::vec3& d, float lod) {
-    const int last = int(ibl.mips.size());
-    lod = std::clamp(lod, 0.0f, float(last));
-    const int l0 = std::min(int(lod), last), l1 = std::min(l0 + 1, last);
     auto level = [&](int l) -> const EnvironmentImage& {
         return l == 0 ? ibl.levels[0] : ibl.mips[size_t(l - 1)];
     };
-    const glm::vec2 uv = equirectUV(d);
-    const glm::vec3 a = level(l0).bilinear(uv);
-    if (l1 == l0) return a;
-    return glm::mix(a, level(l1).bilinear(uv), lod - float(l0));
+    return trilinear(level, int(ibl.mips.size()), d, lod);
 }
 
 glm::vec3 specularQuadrature(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N,
