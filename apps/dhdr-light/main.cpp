@@ -449,7 +449,7 @@ int run(int argc, char** argv) {
         const bool halo = params.denoise && (params.environmentSamples > 0 || params.aoSamples > 0);
         const int rows = aoMode == "ssao"
                              ? gspec.height
-                             : params.tileSize * std::max(1, (halo ? 256 : 128) / params.tileSize);
+                             : params.tileSize * std::max(1, (halo ? 512 : 128) / params.tileSize);
         std::string lightFiles;
         for (size_t i = 1; i < in.size(); ++i)
             lightFiles += (i > 1 ? ", " : "") + in[i];

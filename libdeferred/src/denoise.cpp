@@ -1,6 +1,6 @@
 #include <OpenImageIO/parallel.h>
+#include <OpenImageIO/simd.h>
 #include <algorithm>
-#include <cmath>
 #include <dhdr/common/parallel.h>
 #include <dhdr/deferred/denoise.h>
 
@@ -8,40 +8,132 @@ namespace dhdr {
 
 namespace {
 
+using OIIO::simd::vbool4;
+using OIIO::simd::vfloat4;
+using OIIO::simd::vint4;
+
 constexpr float kKernel[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
 // SVGF's σ_l: how many standard deviations of the estimate a difference may be and still mix.
 constexpr float kSignalSigma = 4.0f;
+// The filter runs on four pixels of a row at once; rows are padded with pixels without a
+// surface by the widest step's reach on either side, so that no tap needs a bounds check.
+constexpr int kLanes = 4;
+constexpr int kPad = 2 << (kDenoiseIterations - 1);
 
-// The quantity whose edges the filter keeps: the ratio of a pair of planes (shadowed over
-// unshadowed light; 1 where nothing was seen) or the one plane's value.
-float signalAt(const std::vector<float>& planes, int count, size_t n, size_t p) {
-    if (count == 2) {
-        const float total = planes[n + p];
-        return total > 0.0f ? planes[p] / total : 1.0f;
-    }
-    return planes[p];
+// Cephes' expf on four lanes: x = z ln 2 + r with ln 2 in two parts (z ln 2 exact for the
+// reduction), |r| ≤ ½ ln 2, e^r by its polynomial, times 2^z from the exponent bits. Plain
+// SSE2 arithmetic without fused multiply-adds, so the same bits on every x86-64 CPU (libm's
+// expf has FMA and non-FMA variants that may differ in the last bit).
+OIIO_FORCEINLINE vfloat4 expNegative4(const vfloat4& x) {
+    const vfloat4 inRange = max(x, vfloat4(-87.0f));
+    const vfloat4 u = min(inRange, vfloat4(0.0f)) * vfloat4(1.44269504088896341f) + vfloat4(0.5f);
+    vfloat4 z = vfloat4(vint4(u)); // truncation, then down to the floor for negative u
+    z = select(z > u, z - vfloat4(1.0f), z);
+    vfloat4 r = min(inRange, vfloat4(0.0f)) - z * vfloat4(0.693359375f);
+    r = r - z * vfloat4(-2.12194440e-4f);
+    vfloat4 p(1.9875691500e-4f);
+    p = p * r + vfloat4(1.3981999507e-3f);
+    p = p * r + vfloat4(8.3334519073e-3f);
+    p = p * r + vfloat4(4.1665795894e-2f);
+    p = p * r + vfloat4(1.6666665459e-1f);
+    p = p * r + vfloat4(5.0000001201e-1f);
+    p = p * (r * r) + r + vfloat4(1.0f);
+    const vfloat4 scale = bitcast_to_float((vint4(z) + vint4(127)) << 23);
+    return select(x > vfloat4(-87.0f), select(x < vfloat4(0.0f), p * scale, vfloat4(1.0f)),
+                  vfloat4(0.0f));
 }
 
-// The guide's weight of tap q for pixel p: normals, tangent plane, object.
-float geometryWeight(const DenoiseGuide& g, size_t p, size_t q) {
-    if (!g.surface[q] || g.object[q] != g.object[p]) return 0.0f;
-    if (q == p) return 1.0f;
-    const float facing = std::max(0.0f, glm::dot(g.normal[p], g.normal[q]));
-    float f = facing * facing; // facing^64 by squaring
+// One plane of floats per quantity, rows padded (kPad each side, width rounded up to lanes).
+struct Planes {
+    int stride = 0;
+    std::vector<float> values;
+    float* row(int y) { return values.data() + size_t(y) * size_t(stride) + kPad; }
+    const float* row(int y) const { return values.data() + size_t(y) * size_t(stride) + kPad; }
+};
+
+// The guide laid out for four lanes: positions, normals, object and surface as planes.
+struct Guide {
+    int width = 0, height = 0, stride = 0;
+    Planes px, py, pz, nx, ny, nz, object, surface;
+    explicit Guide(const DenoiseGuide& g) : width(g.width), height(g.height) {
+        stride = kPad + (width + kLanes - 1) / kLanes * kLanes + kPad;
+        for (Planes* p : {&px, &py, &pz, &nx, &ny, &nz, &object, &surface}) {
+            p->stride = stride;
+            p->values.assign(size_t(stride) * size_t(height), 0.0f);
+        }
+        for (int y = 0; y < height; ++y)
+            for (int x = 0; x < width; ++x) {
+                const size_t i = size_t(y) * size_t(width) + size_t(x);
+                px.row(y)[x] = g.position[i].x;
+                py.row(y)[x] = g.position[i].y;
+                pz.row(y)[x] = g.position[i].z;
+                nx.row(y)[x] = g.normal[i].x;
+                ny.row(y)[x] = g.normal[i].y;
+                nz.row(y)[x] = g.normal[i].z;
+                object.row(y)[x] = g.object[i];
+                surface.row(y)[x] = g.surface[i] ? 1.0f : 0.0f;
+            }
+    }
+};
+
+// Pixel p's side of the guide's weight, for four pixels of a row.
+struct GuideCentre {
+    vfloat4 px, py, pz, nx, ny, nz, object;
+    GuideCentre(const Guide& g, int y, int x)
+        : px(g.px.row(y) + x), py(g.py.row(y) + x), pz(g.pz.row(y) + x), nx(g.nx.row(y) + x),
+          ny(g.ny.row(y) + x), nz(g.nz.row(y) + x), object(g.object.row(y) + x) {}
+};
+
+// The guide's weight of taps q for pixels p (q ≠ p): normals' agreement max(0, n_p·n_q)^64,
+// distance off p's tangent plane exp(−(n_p·d)² / (0.05 |d|)²), the same object.
+OIIO_FORCEINLINE vfloat4 geometryWeight(const Guide& g, const GuideCentre& c, int qy, int qx) {
+    const vfloat4 facing =
+        max(vfloat4(0.0f), c.nx * vfloat4(g.nx.row(qy) + qx) + c.ny * vfloat4(g.ny.row(qy) + qx) +
+                               c.nz * vfloat4(g.nz.row(qy) + qx));
+    vfloat4 f = facing * facing; // facing^64 by squaring
     for (int k = 0; k < 5; ++k)
-        f *= f;
-    const glm::vec3 d = g.position[q] - g.position[p];
-    const float distance = glm::length(d);
-    const float off =
-        distance > 0.0f ? std::abs(glm::dot(g.normal[p], d)) / (0.05f * distance) : 0.0f;
-    return f * std::exp(-off * off);
+        f = f * f;
+    const vfloat4 dx = vfloat4(g.px.row(qy) + qx) - c.px, dy = vfloat4(g.py.row(qy) + qx) - c.py,
+                  dz = vfloat4(g.pz.row(qy) + qx) - c.pz;
+    const vfloat4 d2 = dx * dx + dy * dy + dz * dz;
+    const vfloat4 along = c.nx * dx + c.ny * dy + c.nz * dz;
+    const vbool4 apart = d2 > vfloat4(0.0f);
+    const vfloat4 off = along * along / select(apart, vfloat4(0.0025f) * d2, vfloat4(1.0f));
+    const vfloat4 weight = f * select(apart, expNegative4(vfloat4(0.0f) - off), vfloat4(1.0f));
+    const vbool4 keep = (vfloat4(g.surface.row(qy) + qx) > vfloat4(0.0f)) &
+                        (vfloat4(g.object.row(qy) + qx) == c.object);
+    return select(keep, weight, vfloat4(0.0f));
+}
+
+// Per estimate: its signal (the ratio of a pair of planes, shadowed over unshadowed light, 1
+// where nothing was seen; or the one plane's value), its variance and its planes.
+struct EstimateState {
+    Planes signal, variance, plane[2];
+    const Planes* direction[3] = {nullptr, nullptr, nullptr};
+    const Planes* width = nullptr;
+};
+
+void newPlanes(Planes& p, const Guide& g) {
+    p.stride = g.stride;
+    p.values.assign(size_t(g.stride) * size_t(g.height), 0.0f);
+}
+
+float signalOf(float shadowed, float total, int count) {
+    if (count == 2) return total > 0.0f ? shadowed / total : 1.0f;
+    return shadowed;
 }
 
 } // namespace
 
-void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGuide& guide,
+float expNegative(float x) {
+    float lanes[kLanes];
+    expNegative4(vfloat4(x)).store(lanes);
+    return lanes[0];
+}
+
+void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGuide& dg,
                   int nthreads) {
-    const int w = guide.width, h = guide.height;
+    const int w = dg.width, h = dg.height;
     const size_t n = size_t(w) * size_t(h);
     if (n == 0) return;
     for (const DenoiseEstimate& e : estimates)
@@ -49,122 +141,170 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
             (e.direction && (!e.width || e.direction->size() < n || e.width->size() < n)))
             return;
     const size_t m = estimates.size();
-    // Per estimate: its signal, and its variance per pixel from the 5 × 5 neighbourhood of the
-    // same surface (SVGF's spatial estimate where no history is), then filtered along with it.
-    std::vector<std::vector<float>> signal(m, std::vector<float>(n)),
-        variance(m, std::vector<float>(n, 0.0f)), nextVariance(m, std::vector<float>(n));
-    auto refreshSignals = [&] {
-        for (size_t e = 0; e < m; ++e)
-            for (size_t p = 0; p < n; ++p)
-                signal[e][p] = signalAt(*estimates[e].planes, estimates[e].count, n, p);
-    };
-    refreshSignals();
-    // Each tap's geometry weight is computed once and serves every estimate.
+    const Guide guide(dg);
+    // Directions and widths of the estimates that have them, padded like the guide.
+    std::vector<Planes> lobes;
+    lobes.reserve(4 * m);
+    std::vector<EstimateState> state(m), next(m);
+    for (size_t e = 0; e < m; ++e) {
+        const DenoiseEstimate& in = estimates[e];
+        for (EstimateState* s : {&state[e], &next[e]}) {
+            newPlanes(s->signal, guide);
+            newPlanes(s->variance, guide);
+            newPlanes(s->plane[0], guide);
+            newPlanes(s->plane[1], guide);
+        }
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                const size_t i = size_t(y) * size_t(w) + size_t(x);
+                for (int c = 0; c < in.count; ++c)
+                    state[e].plane[c].row(y)[x] = (*in.planes)[size_t(c) * n + i];
+                state[e].signal.row(y)[x] =
+                    signalOf(state[e].plane[0].row(y)[x], state[e].plane[1].row(y)[x], in.count);
+            }
+        if (!in.direction) continue;
+        for (int k = 0; k < 4; ++k) {
+            lobes.emplace_back();
+            newPlanes(lobes.back(), guide);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x) {
+                    const size_t i = size_t(y) * size_t(w) + size_t(x);
+                    lobes.back().row(y)[x] = k < 3 ? (*in.direction)[i][k] : (*in.width)[i];
+                }
+            if (k < 3)
+                state[e].direction[k] = next[e].direction[k] = &lobes.back();
+            else
+                state[e].width = next[e].width = &lobes.back();
+        }
+    }
+    // The variance per pixel from the 5 × 5 neighbourhood of the same surface (SVGF's spatial
+    // estimate where no history is); each tap's geometry weight serves every estimate.
     OIIO::parallel_for(
         0, h,
         [&](int64_t yy) {
             const int y = int(yy);
-            std::vector<double> s(m), s2(m);
-            for (int x = 0; x < w; ++x) {
-                const size_t p = size_t(y) * size_t(w) + size_t(x);
-                if (!guide.surface[p]) continue;
-                std::fill(s.begin(), s.end(), 0.0);
-                std::fill(s2.begin(), s2.end(), 0.0);
-                double weights = 0.0;
-                for (int j = -2; j <= 2; ++j)
+            std::vector<vfloat4> s(m), s2(m);
+            for (int x = 0; x < w; x += kLanes) {
+                const GuideCentre centre(guide, y, x);
+                const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
+                if (none(surface)) continue;
+                std::fill(s.begin(), s.end(), vfloat4(0.0f));
+                std::fill(s2.begin(), s2.end(), vfloat4(0.0f));
+                vfloat4 weights(0.0f);
+                for (int j = -2; j <= 2; ++j) {
+                    const int qy = y + j;
+                    if (qy < 0 || qy >= h) continue;
                     for (int i = -2; i <= 2; ++i) {
-                        const int qx = x + i, qy = y + j;
-                        if (qx < 0 || qx >= w || qy < 0 || qy >= h) continue;
-                        const size_t q = size_t(qy) * size_t(w) + size_t(qx);
-                        const double wq = geometryWeight(guide, p, q);
-                        if (!(wq > 0.0)) continue;
+                        const vfloat4 wq = i == 0 && j == 0
+                                               ? select(surface, vfloat4(1.0f), vfloat4(0.0f))
+                                               : geometryWeight(guide, centre, qy, x + i);
                         for (size_t e = 0; e < m; ++e) {
-                            s[e] += wq * signal[e][q];
-                            s2[e] += wq * double(signal[e][q]) * signal[e][q];
+                            const vfloat4 v(state[e].signal.row(qy) + x + i);
+                            s[e] += wq * v;
+                            s2[e] += wq * v * v;
                         }
                         weights += wq;
                     }
+                }
+                const vfloat4 safe = select(surface, weights, vfloat4(1.0f));
                 for (size_t e = 0; e < m; ++e) {
-                    const double mean = s[e] / weights;
-                    variance[e][p] = float(std::max(0.0, s2[e] / weights - mean * mean));
+                    const vfloat4 mean = s[e] / safe;
+                    const vfloat4 v = max(vfloat4(0.0f), s2[e] / safe - mean * mean);
+                    select(surface, v, vfloat4(0.0f)).store(state[e].variance.row(y) + x);
                 }
             }
         },
         perItem(nthreads));
-    std::vector<std::vector<float>> next(m);
-    for (size_t e = 0; e < m; ++e)
-        next[e].resize(estimates[e].planes->size());
     for (int pass = 0; pass < kDenoiseIterations; ++pass) {
         const int step = 1 << pass;
         OIIO::parallel_for(
             0, h,
             [&](int64_t yy) {
                 const int y = int(yy);
-                std::vector<double> sum(2 * m), weights(m), var(m);
-                std::vector<float> spread(m);
-                for (int x = 0; x < w; ++x) {
-                    const size_t p = size_t(y) * size_t(w) + size_t(x);
-                    if (!guide.surface[p]) {
-                        for (size_t e = 0; e < m; ++e) {
-                            for (int c = 0; c < estimates[e].count; ++c)
-                                next[e][size_t(c) * n + p] =
-                                    (*estimates[e].planes)[size_t(c) * n + p];
-                            nextVariance[e][p] = variance[e][p];
-                        }
-                        continue;
+                std::vector<vfloat4> sum(2 * m), weights(m), var(m), inverseSpread(m), centre(m);
+                for (int x = 0; x < w; x += kLanes) {
+                    const GuideCentre c(guide, y, x);
+                    const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
+                    for (size_t e = 0; e < m; ++e) {
+                        centre[e] = vfloat4(state[e].signal.row(y) + x);
+                        inverseSpread[e] =
+                            vfloat4(1.0f) /
+                            (vfloat4(kSignalSigma) * sqrt(vfloat4(state[e].variance.row(y) + x)) +
+                             vfloat4(1e-4f));
                     }
-                    for (size_t e = 0; e < m; ++e)
-                        spread[e] = kSignalSigma * std::sqrt(variance[e][p]) + 1e-4f;
-                    std::fill(sum.begin(), sum.end(), 0.0);
-                    std::fill(weights.begin(), weights.end(), 0.0);
-                    std::fill(var.begin(), var.end(), 0.0);
-                    // Taps in a fixed order: the same sums whatever the threads.
-                    for (int j = -2; j <= 2; ++j) {
-                        const int qy = y + j * step;
-                        if (qy < 0 || qy >= h) continue;
-                        for (int i = -2; i <= 2; ++i) {
-                            const int qx = x + i * step;
-                            if (qx < 0 || qx >= w) continue;
-                            const size_t q = size_t(qy) * size_t(w) + size_t(qx);
-                            const float geometry = geometryWeight(guide, p, q);
-                            if (!(geometry > 0.0f)) continue;
-                            const float kernel = kKernel[i + 2] * kKernel[j + 2];
-                            for (size_t e = 0; e < m; ++e) {
-                                // exp(0) = 1 spared where the estimates agree (open sky).
-                                const float difference = std::abs(signal[e][q] - signal[e][p]);
-                                float weight =
-                                    geometry * kernel *
-                                    (difference > 0.0f ? std::exp(-difference / spread[e]) : 1.0f);
-                                if (estimates[e].direction && q != p) {
-                                    const float width = (*estimates[e].width)[p];
-                                    const float turn =
-                                        1.0f - glm::dot((*estimates[e].direction)[p],
-                                                        (*estimates[e].direction)[q]);
-                                    weight *= std::exp(-std::max(turn, 0.0f) / (width * width));
+                    std::fill(sum.begin(), sum.end(), vfloat4(0.0f));
+                    std::fill(weights.begin(), weights.end(), vfloat4(0.0f));
+                    std::fill(var.begin(), var.end(), vfloat4(0.0f));
+                    if (any(surface)) {
+                        // Taps in a fixed order: the same sums whatever the threads.
+                        for (int j = -2; j <= 2; ++j) {
+                            const int qy = y + j * step;
+                            if (qy < 0 || qy >= h) continue;
+                            for (int i = -2; i <= 2; ++i) {
+                                const int qx = x + i * step;
+                                const bool same = i == 0 && j == 0;
+                                const vfloat4 geometry =
+                                    same ? select(surface, vfloat4(1.0f), vfloat4(0.0f))
+                                         : geometryWeight(guide, c, qy, qx);
+                                if (none(geometry > vfloat4(0.0f))) continue;
+                                const vfloat4 kernel =
+                                    geometry * vfloat4(kKernel[i + 2] * kKernel[j + 2]);
+                                for (size_t e = 0; e < m; ++e) {
+                                    const EstimateState& s = state[e];
+                                    const vfloat4 difference =
+                                        abs(vfloat4(s.signal.row(qy) + qx) - centre[e]);
+                                    vfloat4 weight =
+                                        kernel *
+                                        expNegative4(vfloat4(0.0f) - difference * inverseSpread[e]);
+                                    if (s.width && !same) {
+                                        // A lobe's direction: exp(−(1 − d_p·d_q) / σ_p²).
+                                        vfloat4 dot(0.0f);
+                                        for (int k = 0; k < 3; ++k)
+                                            dot += vfloat4(s.direction[k]->row(y) + x) *
+                                                   vfloat4(s.direction[k]->row(qy) + qx);
+                                        const vfloat4 width(s.width->row(y) + x);
+                                        weight = weight * expNegative4(vfloat4(0.0f) -
+                                                                       max(vfloat4(1.0f) - dot,
+                                                                           vfloat4(0.0f)) /
+                                                                           (width * width));
+                                    }
+                                    weights[e] += weight;
+                                    var[e] += weight * weight * vfloat4(s.variance.row(qy) + qx);
+                                    sum[2 * e] += weight * vfloat4(s.plane[0].row(qy) + qx);
+                                    sum[2 * e + 1] += weight * vfloat4(s.plane[1].row(qy) + qx);
                                 }
-                                weights[e] += weight;
-                                var[e] += double(weight) * weight * variance[e][q];
-                                const std::vector<float>& planes = *estimates[e].planes;
-                                for (int c = 0; c < estimates[e].count; ++c)
-                                    sum[2 * e + size_t(c)] +=
-                                        double(weight) * planes[size_t(c) * n + q];
                             }
                         }
                     }
+                    // Pixels without a surface keep what they had.
                     for (size_t e = 0; e < m; ++e) {
-                        for (int c = 0; c < estimates[e].count; ++c)
-                            next[e][size_t(c) * n + p] = float(sum[2 * e + size_t(c)] / weights[e]);
-                        nextVariance[e][p] = float(var[e] / (weights[e] * weights[e]));
+                        const EstimateState& s = state[e];
+                        EstimateState& o = next[e];
+                        const vfloat4 safe = select(surface, weights[e], vfloat4(1.0f));
+                        const vfloat4 a =
+                            select(surface, sum[2 * e] / safe, vfloat4(s.plane[0].row(y) + x));
+                        const vfloat4 b =
+                            select(surface, sum[2 * e + 1] / safe, vfloat4(s.plane[1].row(y) + x));
+                        a.store(o.plane[0].row(y) + x);
+                        b.store(o.plane[1].row(y) + x);
+                        select(surface, var[e] / (safe * safe), vfloat4(s.variance.row(y) + x))
+                            .store(o.variance.row(y) + x);
+                        for (int l = 0; l < kLanes; ++l)
+                            o.signal.row(y)[x + l] =
+                                signalOf(o.plane[0].row(y)[x + l], o.plane[1].row(y)[x + l],
+                                         estimates[e].count);
                     }
                 }
             },
             perItem(nthreads));
-        for (size_t e = 0; e < m; ++e) {
-            estimates[e].planes->swap(next[e]);
-            variance[e].swap(nextVariance[e]);
-        }
-        refreshSignals();
+        state.swap(next);
     }
+    for (size_t e = 0; e < m; ++e)
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x)
+                for (int c = 0; c < estimates[e].count; ++c)
+                    (*estimates[e].planes)[size_t(c) * n + size_t(y) * size_t(w) + size_t(x)] =
+                        state[e].plane[c].row(y)[x];
 }
 
 void atrousFilter(std::vector<float>& planes, int count, const DenoiseGuide& guide, int nthreads) {

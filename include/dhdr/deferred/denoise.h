@@ -55,4 +55,8 @@ struct DenoiseEstimate {
 void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGuide& guide,
                   int nthreads = 0);
 
+// exp(x) for x ≤ 0 (1 above, 0 below −87) within 3·10⁻⁷ relative: the filter's weights, in
+// plain float arithmetic so that every CPU computes the same bits.
+float expNegative(float x);
+
 } // namespace dhdr
