@@ -23,7 +23,7 @@ def shade_seconds(err):
 
 
 def rays(err):
-    m = re.search(r"([0-9]+) shadow rays .* ([0-9]+) AO rays; ([0-9.]+) M rays/s per thread", err)
+    m = re.search(r"([0-9]+) shadow rays .* ([0-9]+) AO rays[^;]*; ([0-9.]+) M rays/s per thread", err)
     return (int(m.group(1)), int(m.group(2)), float(m.group(3))) if m else (0, 0, 0.0)
 
 

@@ -787,6 +787,78 @@ TEST(ShadowCatcher, SphereShadowMatchesItsAnalyticProjection) {
     EXPECT_GT(outside, 5000);
 }
 
+// The light objects bounce onto the catcher, against the view factor of a glowing wall: the
+// G-buffer holds only the ground plane (seen from straight above), and the lighting scene a
+// roof at height H that hides the sun and a wall at x = d of radiance Le beneath it, both
+// 2 km long. A floor point at x sees the wall over the view factor of a differential
+// horizontal area to an infinitely long strip, F = ½ (1 − (d − x) / √((d − x)² + H²)), so it
+// receives E = π Le F and reflects the luminance ρ Le F (ρ = 0.8, the plane's white), and its
+// alpha is 1 − ρ Le F / L_open (L_open: the sun unshadowed, shadeLight). Without the bounce
+// alpha is 1.
+TEST(ShadowCatcher, CountsTheLightAGlowingWallBouncesOntoIt) {
+    Scene floor = emptyScene();
+    addGroundPlane(floor, 0.0f);
+    const glm::dvec3 eye(0.0, 5.0, 0.0);
+    const Camera camera = Camera::lookAt(eye, {0.0, 0.0, 0.0}, {0, 0, -1}, 0.5);
+    const ImageBuf gbuf = gbufferOf(floor, camera, 64, 64);
+    const float d = 1.5f, H = 1.0f, Z = 1000.0f, Le = 0.5f;
+    Scene room = emptyScene();
+    Material glow = room.materials[0];
+    glow.name = "glow";
+    glow.emission = glm::vec3(Le);
+    room.materials.push_back(glow);
+    addQuad(room, {-Z, H, -Z}, {Z, H, -Z}, {Z, H, Z}, {-Z, H, Z});
+    addQuad(room, {d, 0, -Z}, {d, 0, Z}, {d, H, Z}, {d, H, -Z}, 1); // facing −x
+    const RayCaster caster(room);
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::vec3(0.0f, -1.0f, 0.0f);
+    PbrSurface white;
+    white.baseColor = glm::vec3(0.8f);
+    auto run = [&](int samples, bool denoise) {
+        LightingParams p;
+        p.catcherBounceSamples = samples;
+        p.denoise = denoise;
+        ImageBuf out;
+        LightingInputs inputs{{sun}, &caster};
+        inputs.scene = &caster;
+        EXPECT_TRUE(shadeGBuffer(out, gbuf, inputs, p)) << out.geterror();
+        return out;
+    };
+    auto errors = [&](const ImageBuf& lit) {
+        double sum = 0.0, worst = 0.0;
+        int n = 0;
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < 64; ++x) {
+                const glm::vec3 P = positionAt(gbuf, x, y);
+                const glm::vec3 V = glm::normalize(glm::vec3(eye) - P);
+                const float open =
+                    luminance(shadeLight(sun, white, P, glm::vec3(0.0f, 1.0f, 0.0f), V));
+                const double along = double(d) - P.x;
+                const double F = 0.5 * (1.0 - along / std::sqrt(along * along + H * H));
+                const double expected = 1.0 - 0.8 * Le * F / open;
+                const double e = std::abs(px(lit, x, y)[3] - expected);
+                sum += e;
+                worst = std::max(worst, e);
+                ++n;
+            }
+        return std::make_pair(sum / n, worst);
+    };
+    const ImageBuf none = run(0, true);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x)
+            ASSERT_EQ(px(none, x, y)[3], 1.0f);
+    const auto [exactMean, exactWorst] = errors(run(256, false));
+    const auto [defaultMean, defaultWorst] =
+        errors(run(LightingParams{}.catcherBounceSamples, true));
+    std::printf("catcher alpha against the view factor: 256 rays per pixel mean %.4f max %.4f; "
+                "16 rays denoised mean %.4f max %.4f\n",
+                exactMean, exactWorst, defaultMean, defaultWorst);
+    EXPECT_LT(exactMean, 0.01);
+    EXPECT_LT(exactWorst, 0.05);
+    EXPECT_LT(defaultMean, 0.02);
+}
+
 namespace {
 
 // A dim uniform sky of `sky` nits and a sun of 2×2 texels around `sun` holding about as much

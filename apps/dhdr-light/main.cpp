@@ -166,6 +166,8 @@ int run(int argc, char** argv) {
         if (emissive != "auto") return usage("--emissive-lights needs --scene");
         if (params.environmentSamples != LightingParams{}.environmentSamples)
             return usage("--env-samples traces rays in the scene: give --scene");
+        if (params.catcherBounceSamples != LightingParams{}.catcherBounceSamples)
+            return usage("--catcher-bounce traces rays in the scene: give --scene");
     }
     if (dataType != "half" && dataType != "float") {
         std::fprintf(stderr, "dhdr-light: usage error: --type must be half or float\n");
@@ -271,6 +273,7 @@ int run(int argc, char** argv) {
     if (animatedLights && radiometric)
         return usage("--radiometric works with lights files that hold every frame's lights");
     LightingInputs inputs{lights, caster.get()};
+    inputs.scene = caster.get();
     // Another renderer's passes: the channel map, and the camera they were rendered with.
     ChannelMap channelMap;
     if (!channelsArg.empty()) {
@@ -528,16 +531,17 @@ int run(int argc, char** argv) {
                       double(stats.lightsReaching) / pixels, bruteForce ? " (brute force)" : "",
                       stats.tileListEntries);
         tool.info(line);
-        if (stats.shadowRays + stats.aoRays > 0) {
+        const long long traced = stats.shadowRays + stats.aoRays + stats.bounceRays;
+        if (traced > 0) {
             const double seconds = std::max(shadeMs, 1e-3) / 1000.0;
-            std::snprintf(line, sizeof line,
-                          "%lld shadow rays (%.2f per covered pixel), %lld AO rays; "
-                          "%.2f M rays/s per thread over the shading time",
-                          stats.shadowRays, double(stats.shadowRays) / pixels, stats.aoRays,
-                          double(stats.shadowRays + stats.aoRays) / seconds / 1e6 /
-                              double(tool.threads() > 0
-                                         ? tool.threads()
-                                         : int(std::thread::hardware_concurrency())));
+            std::snprintf(
+                line, sizeof line,
+                "%lld shadow rays (%.2f per covered pixel), %lld AO rays, %lld "
+                "catcher bounce rays; %.2f M rays/s per thread over the shading time",
+                stats.shadowRays, double(stats.shadowRays) / pixels, stats.aoRays, stats.bounceRays,
+                double(traced) / seconds / 1e6 /
+                    double(tool.threads() > 0 ? tool.threads()
+                                              : int(std::thread::hardware_concurrency())));
             tool.info(line);
         }
         tool.info("total " + ms(since(start)) + ": read " + ms(readMs) + ", shade " + ms(shadeMs) +

@@ -1,5 +1,7 @@
 #include "filtered_estimates.h"
 
+#include "bounce_light.h"
+
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
 #include <atomic>
@@ -16,7 +18,8 @@ namespace dhdr {
 FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout,
                                      OIIO::ROI held, const std::vector<Light>& lights,
                                      const LightingParams& params, const Visibility* shadowRays,
-                                     const Visibility* aoRays, int nthreads)
+                                     const Visibility* aoRays, const CatcherBounce& bounce,
+                                     int nthreads)
     : m_held(held), m_slot(lights.size(), -1) {
     if (!params.denoise || view.deep()) return;
     std::vector<std::uint32_t> filtered;
@@ -28,7 +31,8 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                 filtered.push_back(i);
             }
     const bool ao = aoRays && params.aoSamples > 0;
-    if (filtered.empty() && !ao) return;
+    const bool bouncing = bounce.light && params.catcherBounceSamples > 0 && layout.objectId >= 0;
+    if (filtered.empty() && !ao && !bouncing) return;
     const size_t n = held.npixels();
     DenoiseGuide guide;
     guide.width = held.width();
@@ -44,12 +48,13 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     m_diffuse.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
     m_specular.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
     if (ao) m_ao.assign(n, 1.0f);
-    std::atomic<long long> shadowCount{0}, aoCount{0};
+    if (bouncing) m_bounce.assign(n, 0.0f);
+    std::atomic<long long> shadowCount{0}, aoCount{0}, bounceCount{0};
     OIIO::parallel_for(
         held.ybegin, held.yend,
         [&](int64_t yy) {
             const int y = int(yy);
-            long long shadowLocal = 0, aoLocal = 0;
+            long long shadowLocal = 0, aoLocal = 0, bounceLocal = 0;
             for (int x = held.xbegin; x < held.xend; ++x) {
                 if (view.samples(x, y) == 0) continue;
                 const size_t p = index(x, y);
@@ -78,13 +83,20 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                         sp.origin, sp.N,
                         sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion)),
                         params.aoSamples, params.aoDistance, *aoRays, &aoLocal);
+                if (bouncing && guide.object[p] == bounce.catcher)
+                    m_bounce[p] = luminance(sp.surface.diffuseColor() / kPi *
+                                            bounce.light->irradianceAt(sp.origin, sp.N, x, y, 0,
+                                                                       params.catcherBounceSamples,
+                                                                       &bounceLocal));
             }
             shadowCount += shadowLocal;
             aoCount += aoLocal;
+            bounceCount += bounceLocal;
         },
         perItem(nthreads));
     shadowRayCount = shadowCount;
     aoRayCount = aoCount;
+    bounceRayCount = bounceCount;
     // Each pair of sums, and AO, keeps its own edges (its own variance guidance); the guide's
     // weights are shared.
     std::vector<DenoiseEstimate> estimates;
@@ -93,6 +105,7 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     for (std::vector<float>& sums : m_specular)
         estimates.push_back({&sums, 2, &mirror, &lobeWidth});
     if (ao) estimates.push_back({&m_ao, 1});
+    if (bouncing) estimates.push_back({&m_bounce, 1});
     atrousFilter(estimates, guide, nthreads);
 }
 

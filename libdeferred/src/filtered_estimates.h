@@ -1,5 +1,6 @@
 // The lighting pass's Monte Carlo estimates, denoised: each environment light's shadow-ray
-// sums and the ray-traced AO of every pixel a flat G-buffer holds, estimated first and
+// sums, the ray-traced AO and a shadow catcher's bounce light of every pixel a flat G-buffer
+// holds, estimated first and
 // filtered over neighbouring pixels of the same surface (denoise.h), then read by the shading.
 #pragma once
 
@@ -13,15 +14,26 @@
 
 namespace dhdr {
 
+class BounceLighting;
+
+// A shadow catcher's bounce light to estimate: on the pixels of object `catcher` (id.object),
+// params.catcherBounceSamples rays through `light`.
+struct CatcherBounce {
+    const BounceLighting* light = nullptr;
+    float catcher = 0.0f;
+};
+
 class FilteredEstimates {
 public:
     // Estimates every covered pixel of `held` (a strip's halo rows included) with the seeds
     // the shading would use: shadow rays of each environment light through `shadowRays`
     // (null: none), params.aoSamples AO rays through `aoRays` (null: no AO). Nothing when
-    // params.denoise is off, the view is deep, or there is nothing to estimate.
+    // params.denoise is off, the view is deep, or there is nothing to estimate. With
+    // `bounce.light`, the catcher's bounce light too (catcherBounce).
     FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout, OIIO::ROI held,
                       const std::vector<Light>& lights, const LightingParams& params,
-                      const Visibility* shadowRays, const Visibility* aoRays, int nthreads);
+                      const Visibility* shadowRays, const Visibility* aoRays,
+                      const CatcherBounce& bounce, int nthreads);
 
     // Whether light i's visibility, or the AO, comes from here.
     bool filters(std::uint32_t light) const { return light < m_slot.size() && m_slot[light] >= 0; }
@@ -30,8 +42,12 @@ public:
     // neighbour saw its sky.
     EnvironmentVisibility visibility(std::uint32_t light, int x, int y) const;
     float ambientOcclusion(int x, int y) const;
+    bool filtersBounce() const { return !m_bounce.empty(); }
+    // The luminance of the light a catcher pixel reflects from the bounce: its diffuse albedo
+    // (1 − metallic) × E / π, E the bounce irradiance (bounce_light.h).
+    float catcherBounce(int x, int y) const { return m_bounce[index(x, y)]; }
     // The rays traced.
-    long long shadowRayCount = 0, aoRayCount = 0;
+    long long shadowRayCount = 0, aoRayCount = 0, bounceRayCount = 0;
 
 private:
     size_t index(int x, int y) const {
@@ -42,7 +58,7 @@ private:
     std::vector<int> m_slot; // per light, its pair of sums (−1: not filtered)
     // Per filtered light and part (diffuse, specular): Σ wV, then Σ w.
     std::vector<std::vector<float>> m_diffuse, m_specular;
-    std::vector<float> m_ao;
+    std::vector<float> m_ao, m_bounce;
 };
 
 } // namespace dhdr

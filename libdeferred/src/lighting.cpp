@@ -1,9 +1,9 @@
+#include "bounce_light.h"
 #include "direct_lighting.h"
 #include "filtered_estimates.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <dhdr/deferred/ambient_occlusion.h>
@@ -16,6 +16,8 @@
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/shading_point.h>
 #include <dhdr/deferred/shadows.h>
+#include <mutex>
+#include <optional>
 
 namespace dhdr {
 
@@ -49,10 +51,6 @@ struct LightReach {
         return dx * dx + dy * dy + dz * dz < range2[i];
     }
 };
-
-float luminance(const glm::vec3& c) {
-    return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
-}
 
 // The angle the mirror directions of flat pixel (x, y) span: across and down, the angle
 // between its mirror direction and its neighbour's (the next pixel, else the previous),
@@ -89,6 +87,7 @@ LightingStats& LightingStats::operator+=(const LightingStats& o) {
     tileListEntries += o.tileListEntries;
     shadowRays += o.shadowRays;
     aoRays += o.aoRays;
+    bounceRays += o.bounceRays;
     return *this;
 }
 
@@ -202,8 +201,22 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     });
     // Denoised estimates (flat G-buffers): computed for every pixel the source holds (a
     // strip's halo rows included) and filtered before the shading reads them.
-    const FilteredEstimates filtered(view, layout, source.roi, lights, params, shadowRays,
-                                     rayTracedAO ? inputs.visibility : nullptr, nthreads);
+    // A shadow catcher's bounce light: the objects it reflects lit by every light (each
+    // shadowed by one ray; environments unshadowed, their specular light by the split sum).
+    const float catcherId = float(in.get_int_attribute(gbuffer::kShadowCatcher, 0));
+    DirectLightingOptions hitOptions;
+    hitOptions.shadows = shadowRays;
+    hitOptions.environmentSpecular = IblSpecular::SplitSum;
+    const DirectLighting atHits(lights, hitOptions);
+    const bool emissionAtHits = std::none_of(
+        lights.begin(), lights.end(), [](const Light& l) { return l.type == LightType::Mesh; });
+    std::optional<BounceLighting> bounceLight;
+    if (inputs.scene && shadowRays && catcherId > 0 && params.catcherBounceSamples > 0)
+        bounceLight.emplace(*inputs.scene, atHits, emissionAtHits);
+    const FilteredEstimates filtered(
+        view, layout, source.roi, lights, params, shadowRays,
+        rayTracedAO ? inputs.visibility : nullptr,
+        CatcherBounce{bounceLight ? &*bounceLight : nullptr, catcherId}, nthreads);
     // The environment behind the surfaces: the view ray through each pixel's centre, from the
     // inverse of worldToNDC (the near and far planes' points).
     const Light* sky = nullptr;
@@ -214,7 +227,6 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                 break;
             }
     const glm::dmat4 ndcToWorld = glm::inverse(camera.worldToNDC);
-    const float catcherId = float(in.get_int_attribute(gbuffer::kShadowCatcher, 0));
     auto skyRadiance = [&](int px, int py) {
         const double nx = (px + 0.5) / frameWidth * 2.0 - 1.0;
         const double ny = 1.0 - (py + 0.5) / frameHeight * 2.0;
@@ -243,9 +255,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     // One surface sample lit: RGBA, premultiplied by the sample's alpha in a deep G-buffer (a
     // flat pixel keeps its RGB and its coverage as A); `aovs` receives its AO and indirect
     // light.
-    auto shadeSample = [&](int x, int y, int k, long long& localEvaluations,
-                           long long& localReaching, long long& localShadow, long long& localAO,
-                           float* aovs) {
+    auto shadeSample = [&](int x, int y, int k, LightingStats& local, float* aovs) {
         const ShadingPoint sp = view.at(x, y, k);
         const float* g = view.channels(x, y, k);
         float occlusion = 1.0f;
@@ -256,7 +266,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         else if (rayTracedAO)
             occlusion = rayTracedOcclusion(
                 sp.origin, sp.N, sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion, k)),
-                params.aoSamples, params.aoDistance, *inputs.visibility, &localAO);
+                params.aoSamples, params.aoDistance, *inputs.visibility, &local.aoRays);
         // Lo = Le + Σ V_i L_i, in the order of the lights; with AO, the ambient terms are
         // summed apart and occluded at the end. The same sums without visibility give a
         // shadow catcher its alpha.
@@ -275,25 +285,25 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
             EnvironmentVisibility v;
             const bool given = filtered.filters(i) && k == 0;
             if (given) v = filtered.visibility(i, x, y);
-            direct.add(i, point, key, lit, &open, given ? &v : nullptr, &localShadow);
+            direct.add(i, point, key, lit, &open, given ? &v : nullptr, &local.shadowRays);
         };
         if (params.bruteForce) {
             // The reference: every light's full evaluation, which is exactly zero where it
             // does not reach.
             for (std::uint32_t i = 0; i < lights.size(); ++i) {
-                localReaching += reach.reaches(i, sp.P);
+                local.lightsReaching += reach.reaches(i, sp.P);
                 addLight(i);
             }
-            localEvaluations += (long long)lights.size();
+            local.lightEvaluations += (long long)lights.size();
         } else {
             const int px = x - frame.xbegin, py = y - frame.ybegin;
             const std::uint32_t slice = tiles.sliceBit(px, py, sp.depth);
             for (const TileLightLists::Entry& e : tiles.at(px, py)) {
                 if (!(e.depthMask & slice)) continue;
-                ++localEvaluations;
+                ++local.lightEvaluations;
                 // Out of range, the window is exactly zero: skip before reading more.
                 if (!reach.reaches(e.light, sp.P)) continue;
-                ++localReaching;
+                ++local.lightsReaching;
                 addLight(e.light);
             }
         }
@@ -316,19 +326,29 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         }
         if (catcherId > 0 && layout.objectId >= 0 && g[layout.objectId] == catcherId) {
             // A shadow catcher (Blender's convention): no colour of its own, and the share of
-            // light that shadows and AO take away as alpha.
+            // light that shadows and AO take away, less what the objects bounce back onto it
+            // (its diffuse reflection of the bounce irradiance), as alpha.
+            float bounce = 0.0f;
+            if (filtered.filtersBounce() && k == 0)
+                bounce = filtered.catcherBounce(x, y);
+            else if (bounceLight)
+                bounce = luminance(sp.surface.diffuseColor() / kPi *
+                                   bounceLight->irradianceAt(sp.origin, sp.N, x, y, k,
+                                                             params.catcherBounceSamples,
+                                                             &local.bounceRays));
             const float unshadowed = luminance(open.total(1.0f, 1.0f));
-            return glm::vec4(0.0f, 0.0f, 0.0f,
-                             unshadowed > 0.0f
-                                 ? std::clamp(1.0f - luminance(shaded) / unshadowed, 0.0f, 1.0f)
-                                 : 0.0f);
+            return glm::vec4(
+                0.0f, 0.0f, 0.0f,
+                unshadowed > 0.0f
+                    ? std::clamp(1.0f - (luminance(shaded) + bounce) / unshadowed, 0.0f, 1.0f)
+                    : 0.0f);
         }
         return view.deep() ? glm::vec4(Lo * sp.coverage, sp.coverage) : glm::vec4(Lo, sp.coverage);
     };
-    std::atomic<long long> evaluations{0}, reaching{0}, covered{0}, shadowCount{0}, aoCount{0};
+    LightingStats total;
+    std::mutex totalMutex;
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
-        long long localEvaluations = 0, localReaching = 0, localCovered = 0, localShadow = 0,
-                  localAO = 0;
+        LightingStats local;
         for (int y = r.ybegin; y < r.yend; ++y)
             for (int x = r.xbegin; x < r.xend; ++x) {
                 float* out = static_cast<float*>(dst.pixeladdr(x, y));
@@ -355,8 +375,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                 glm::vec4 sum(0.0f);
                 for (int k = 0; k < samples; ++k) {
                     const glm::vec4 c =
-                        shadeSample(x, y, k, localEvaluations, localReaching, localShadow, localAO,
-                                    k == 0 && extra ? out + 4 : nullptr);
+                        shadeSample(x, y, k, local, k == 0 && extra ? out + 4 : nullptr);
                     if (sampleRGBA)
                         std::copy(&c[0], &c[0] + 4, &(*sampleRGBA)[4 * view.sampleIndex(x, y, k)]);
                     if (!view.deep()) {
@@ -365,7 +384,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                     }
                     sum += (1.0f - sum.a) * c;
                 }
-                ++localCovered;
+                ++local.coveredPixels;
                 out[0] = sum.r;
                 out[1] = sum.g;
                 out[2] = sum.b;
@@ -381,19 +400,15 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                 }
                 if (plate) overPlate(out, x, y);
             }
-        evaluations += localEvaluations;
-        reaching += localReaching;
-        covered += localCovered;
-        shadowCount += localShadow;
-        aoCount += localAO;
+        const std::lock_guard<std::mutex> lock(totalMutex);
+        total += local;
     });
     if (stats) {
-        stats->lightEvaluations = evaluations;
-        stats->lightsReaching = reaching;
-        stats->coveredPixels = covered;
+        *stats = total;
         stats->tileListEntries = (long long)tiles.totalEntries();
-        stats->shadowRays = shadowCount + filtered.shadowRayCount;
-        stats->aoRays = aoCount + filtered.aoRayCount;
+        stats->shadowRays += filtered.shadowRayCount;
+        stats->aoRays += filtered.aoRayCount;
+        stats->bounceRays += filtered.bounceRayCount;
     }
     return true;
 }

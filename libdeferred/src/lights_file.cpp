@@ -440,7 +440,7 @@ bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::st
 Light environmentSunLight(const Light& environment) {
     const EnvironmentSun& sun = environment.ibl->sun;
     const glm::vec3 E = sun.illuminance;
-    const float Y = 0.2126f * E.r + 0.7152f * E.g + 0.0722f * E.b;
+    const float Y = luminance(E);
     Light light;
     light.type = LightType::Directional;
     light.name =

@@ -138,6 +138,10 @@ RayCaster::RayCaster(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
 
 RayCaster::~RayCaster() = default;
 
+const Scene& RayCaster::scene() const {
+    return *m_impl->source;
+}
+
 RayHit RayCaster::intersect(const Ray& ray, double tnear) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);

@@ -40,9 +40,6 @@ EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const Su
     const glm::vec3 Vlocal = lobe ? glm::vec3(glm::dot(lobe->V, t), glm::dot(lobe->V, b), NdotV)
                                   : glm::vec3(0.0f, 0.0f, 1.0f);
     const glm::vec3 k = light.color * light.intensity;
-    auto luminance = [](const glm::vec3& c) {
-        return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
-    };
     // The GGX technique's density of wi and the lobe's D · Vis there (0 below the surface).
     auto ggx = [&](const glm::vec3& wi, float cosTheta, float& lobeValue) {
         lobeValue = 0.0f;

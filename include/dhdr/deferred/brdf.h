@@ -35,6 +35,11 @@ inline glm::vec3 schlickFresnel(const glm::vec3& F0, float VdotH) {
     return F0 + (glm::vec3(1.0f) - F0) * (m2 * m2 * m);
 }
 
+// The luminance of linear Rec. 709 RGB (Y of CIE XYZ).
+inline float luminance(const glm::vec3& c) {
+    return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
+
 // The surface a BRDF is evaluated for, in glTF's parameters.
 struct PbrSurface {
     glm::vec3 baseColor{1.0f};

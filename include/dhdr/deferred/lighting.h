@@ -13,6 +13,7 @@ namespace dhdr {
 
 struct DeepGBuffer;
 struct ProbeVolume;
+class RayCaster;
 
 // What lights the G-buffer, besides its own emission.
 struct LightingInputs {
@@ -30,6 +31,9 @@ struct LightingInputs {
     // interpolated from the probes around each point, times AO when AO is on. Environments'
     // diffuse light then comes through the probes; their specular light stays the IBL's.
     const ProbeVolume* probes = nullptr;
+    // The scene's closest hits (usually the same RayCaster as `visibility`): a shadow catcher
+    // then counts the light the objects bounce onto it (params.catcherBounceSamples).
+    const RayCaster* scene = nullptr;
 };
 
 struct LightingParams {
@@ -68,6 +72,10 @@ struct LightingParams {
     int aoSamples = 0;
     // ... and the distance within which a hit occludes, scene units (metres), > 0 (+∞ allowed).
     float aoDistance = 1.0f;
+    // With LightingInputs::scene: rays per shadow-catcher pixel that gather the light the
+    // objects bounce onto it, counted in its alpha as Cycles' catcher counts it (0: the
+    // catcher's direct light only).
+    int catcherBounceSamples = 16;
     // Filter the environments' shadow-ray estimates and ray-traced AO over neighbouring pixels
     // of the same surface before use (denoise.h; flat G-buffers): clean at a few samples, and
     // blurred across kDenoiseReach pixels at most. A strip of a frame then needs
@@ -87,6 +95,9 @@ inline constexpr IntParam<LightingParams> kLightingParamTable[] = {
     {"--env-samples", &LightingParams::environmentSamples, 0, 4096, "N",
      "with --scene, shadow rays per pixel drawn from each environment light by its luminance, "
      "the cosine and the glossy lobe, so that the sky casts soft shadows (0: none)"},
+    {"--catcher-bounce", &LightingParams::catcherBounceSamples, 0, 4096, "N",
+     "with --scene, rays per shadow-catcher pixel that gather the light the objects bounce "
+     "onto it, which lightens their shadow as in Cycles (0: direct light only)"},
     {"--ao-samples", &LightingParams::aoSamples, 0, 4096, "N",
      "--ao rt: ambient-occlusion rays per pixel (0: no AO)"},
     {"--tile", &LightingParams::tileSize, 1, 1024, "N", "tile size of the light lists, in pixels"},
@@ -111,6 +122,8 @@ struct LightingStats {
     // Entries of all the tile lists.
     long long tileListEntries = 0;
     long long shadowRays = 0, aoRays = 0;
+    // Rays of a shadow catcher's bounce light: to the objects, and their shadow rays.
+    long long bounceRays = 0;
 
     LightingStats& operator+=(const LightingStats& o);
 };

@@ -39,6 +39,8 @@ public:
     // False with a message when Embree could not be set up.
     bool ok() const { return m_error.empty(); }
     const std::string& error() const { return m_error; }
+    // The scene whose triangles the caster traces (surfaceAt of its hits).
+    const Scene& scene() const;
 
     // Closest hit along `ray` in (tnear, ∞), the scene's ground plane included. Safe to call
     // from many threads.

@@ -37,6 +37,8 @@ inline std::uint64_t sampleSeed(std::int64_t a, std::int64_t b, std::int64_t c =
 enum class SampleStream : std::int64_t {
     Shadow = 1,           // shadow rays of a light at a G-buffer sample
     AmbientOcclusion = 2, // AO rays (light −1)
+    Bounce = 3,           // rays gathering the light objects bounce onto a point (light −2)
+    BounceShadow = 4,     // shadow rays at a bounce ray's hit (seeded by point, ray)
     ProbeShadow = 5,      // shadow rays of a light at a probe ray's hit (seeded by probe, ray)
 };
 inline constexpr std::int64_t kStreamsPerDeepSample = 4;

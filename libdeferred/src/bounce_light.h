@@ -1,0 +1,45 @@
+// Light that the scene's surfaces reflect onto a point: one bounce of indirect light, gathered
+// by tracing rays to the surfaces around the point and lighting what they hit as the camera's
+// pixels are lit (DirectLighting). A shadow catcher counts it, as Cycles' catcher does, so
+// that the light objects bounce onto the ground lightens their shadow.
+#pragma once
+
+#include "direct_lighting.h"
+
+#include <cstdint>
+#include <dhdr/deferred/ray_caster.h>
+#include <dhdr/deferred/sampling.h>
+
+namespace dhdr {
+
+class BounceLighting {
+public:
+    // `atHits` lights the surfaces the rays hit (with its own shadow rays); a hit's emission
+    // counts only with `emissionAtHits` (when emissive meshes are not lights already: their
+    // light then reaches the point as direct light).
+    BounceLighting(const RayCaster& caster, const DirectLighting& atHits, bool emissionAtHits)
+        : m_caster(caster), m_atHits(atHits), m_emissionAtHits(emissionAtHits) {}
+
+    // The irradiance at `at` (unit shading normal N) of the light leaving the surfaces that
+    // `samples` cosine-weighted rays hit: E = ∫ L(x(ω)) cos θ dω ≈ π/n Σ L(x(ω_i)) (misses
+    // add nothing: lights and the environment are the point's direct light). The directions
+    // follow `directions` (a rotated Hammersley set); hit i's shadow rays draw
+    // SeedKey{hits, i, BounceShadow}. `rays` (optional) counts every ray traced.
+    glm::vec3 irradiance(const SurfacePoint& at, const glm::vec3& N, std::uint64_t directions,
+                         std::int64_t hits, int samples, long long* rays = nullptr) const;
+
+    // The same for G-buffer sample k of pixel (x, y), with that sample's own sequences.
+    glm::vec3 irradianceAt(const SurfacePoint& at, const glm::vec3& N, int x, int y, int k,
+                           int samples, long long* rays = nullptr) const {
+        return irradiance(at, N, sampleSeed(x, y, -2, streamOf(SampleStream::Bounce, k)),
+                          std::int64_t(sampleSeed(x, y, -3, streamOf(SampleStream::Bounce, k))),
+                          samples, rays);
+    }
+
+private:
+    const RayCaster& m_caster;
+    const DirectLighting& m_atHits;
+    bool m_emissionAtHits;
+};
+
+} // namespace dhdr
