@@ -1,12 +1,15 @@
-// Occlusion rays per second per thread on the Cornell box: one rtcOccluded1 call per ray
-// against batches through rtcOccluded1M (RayCaster::occluded and RayCaster::test), for
-// incoherent rays like soft-shadow and AO rays. Usage: dhdr-bench-occlusion SCENE [RAYS]
+// Occlusion rays per second per thread: one rtcOccluded1 call per ray against batches through
+// rtcOccluded1M (RayCaster::transmittance and RayCaster::test), for incoherent rays like
+// soft-shadow and AO rays; then hard-shadow rays from a 1920x1080 frame's first hits towards
+// one point light, tile by tile (16x16), one at a time, in batches and in coherent packets of
+// 16 (RayCaster::testCoherent). Usage: dhdr-bench-occlusion SCENE [RAYS]
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/surface.h>
 #include <string>
 #include <vector>
 
@@ -58,5 +61,57 @@ int main(int argc, char** argv) {
     std::printf("rtcOccluded1:  %.2f M rays/s\n", double(count) / s1 / 1e6);
     std::printf("rtcOccluded1M: %.2f M rays/s (batches of 64)\n", double(count) / sm / 1e6);
     std::printf("answers that differ: %zu\n", disagree);
-    return disagree ? 1 : 0;
+
+    // Hard shadows: the scene's first camera (or one looking at its bounds from +z), each
+    // pixel's first hit, a ray to a light near the top of the bounds; tile by tile.
+    const int W = 1920, H = 1080, T = 16;
+    Camera camera =
+        scene.cameras.empty()
+            ? Camera::lookAt(glm::dvec3((lo + hi) * 0.5f) + glm::dvec3(0.0, 0.0, 1.5 * diagonal),
+                             glm::dvec3((lo + hi) * 0.5f), {0, 1, 0}, 0.7)
+            : scene.cameras[0].camera;
+    const glm::vec3 light = lo + (hi - lo) * glm::vec3(0.5f, 0.9f, 0.5f);
+    std::vector<ShadowRay> hard;
+    for (int ty = 0; ty < H; ty += T)
+        for (int tx = 0; tx < W; tx += T)
+            for (int y = ty; y < std::min(H, ty + T); ++y)
+                for (int x = tx; x < std::min(W, tx + T); ++x) {
+                    const Ray ray = camera.primaryRay(x, y, W, H);
+                    const RayHit hit = caster.intersect(ray);
+                    if (!hit.hit || hit.mesh < 0) continue;
+                    const SurfaceSample s = surfaceAt(scene, ray, hit);
+                    const SurfacePoint at{glm::vec3(s.position), glm::vec3(s.geometric),
+                                          float(s.positionError)};
+                    const glm::vec3 to = light - at.P;
+                    const float distance = glm::length(to);
+                    const glm::vec3 d = to / distance;
+                    if (!(glm::dot(d, at.Ng) > 0.0f)) continue;
+                    hard.push_back({offsetRayOrigin(at, d), d, distance * 0.999f});
+                }
+    const size_t nh = hard.size();
+    std::vector<float> single(nh), batched(nh), packets(nh);
+    auto h0 = std::chrono::steady_clock::now();
+    for (size_t i = 0; i < nh; ++i)
+        single[i] = caster.transmittance(hard[i].origin, hard[i].direction, hard[i].tmax);
+    auto h1 = std::chrono::steady_clock::now();
+    caster.test(hard.data(), nh, batched.data());
+    auto h2 = std::chrono::steady_clock::now();
+    caster.testCoherent(hard.data(), nh, packets.data());
+    auto h3 = std::chrono::steady_clock::now();
+    size_t differ = 0, lit = 0;
+    for (size_t i = 0; i < nh; ++i) {
+        differ += single[i] != batched[i] || single[i] != packets[i];
+        lit += single[i] == 1.0f;
+    }
+    auto rate = [&](auto a, auto b) {
+        return double(nh) / std::chrono::duration<double>(b - a).count() / 1e6;
+    };
+    std::printf("%zu hard-shadow rays of a %dx%d frame to one point light, tile by tile, "
+                "%.1f %% unoccluded\n",
+                nh, W, H, 100.0 * double(lit) / double(nh));
+    std::printf("rtcOccluded1:  %.2f M rays/s\n", rate(h0, h1));
+    std::printf("rtcOccluded1M: %.2f M rays/s (incoherent batches of 64)\n", rate(h1, h2));
+    std::printf("rtcOccluded16: %.2f M rays/s (coherent packets)\n", rate(h2, h3));
+    std::printf("answers that differ: %zu\n", differ);
+    return disagree || differ ? 1 : 0;
 }

@@ -1149,6 +1149,38 @@ TEST(Shadows, ASunWithAnAngleCastsTheDisksPenumbra) {
     EXPECT_EQ(lightVisibility(sun, {{-0.01f, 0.0f, 0.3f}, up, 1e-6f}, up, 1, 256, caster), 0.0f);
 }
 
+// Coherent packets (rtcOccluded16) answer as single rays do: a box in a room, rays from a
+// grid of points on its floor towards a point light, in tile order and one at a time.
+TEST(Occlusion, CoherentPacketsAnswerAsSingleRays) {
+    Scene scene = emptyScene();
+    addFloor(scene, 2.0f);
+    addBox(scene, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.6f, 0.3f});
+    const RayCaster caster(scene);
+    const glm::vec3 light(0.2f, 1.5f, 0.1f), up(0.0f, 1.0f, 0.0f);
+    std::vector<ShadowRay> rays;
+    for (int ty = 0; ty < 64; ty += 16)
+        for (int tx = 0; tx < 64; tx += 16)
+            for (int y = ty; y < ty + 16; ++y)
+                for (int x = tx; x < tx + 16; ++x) {
+                    const SurfacePoint at{
+                        {-1.5f + 3.0f * x / 63.0f, 0.0f, -1.5f + 3.0f * y / 63.0f}, up, 1e-6f};
+                    const glm::vec3 to = light - at.P;
+                    rays.push_back({offsetRayOrigin(at, glm::normalize(to)), glm::normalize(to),
+                                    glm::length(to)});
+                }
+    rays.resize(rays.size() - 5); // a last packet that is not full
+    std::vector<float> packets(rays.size());
+    caster.testCoherent(rays.data(), rays.size(), packets.data());
+    int blocked = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+        ASSERT_EQ(packets[i], caster.transmittance(rays[i].origin, rays[i].direction, rays[i].tmax))
+            << i;
+        blocked += packets[i] == 0.0f;
+    }
+    EXPECT_GT(blocked, 100);
+    EXPECT_LT(blocked, int(rays.size()) - 100);
+}
+
 // The filter's own exp against the library's in double, over the whole range it is used on.
 TEST(Denoise, ExpNegativeIsExpWithinItsBound) {
     double worst = 0.0;

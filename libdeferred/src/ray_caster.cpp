@@ -247,4 +247,45 @@ void RayCaster::test(const ShadowRay* rays, size_t count, float* transmittance) 
     }
 }
 
+void RayCaster::testCoherent(const ShadowRay* rays, size_t count, float* transmittance) const {
+    if (m_impl->transparent) {
+        test(rays, count, transmittance);
+        return;
+    }
+    for (size_t begin = 0; begin < count; begin += 16) {
+        const size_t n = std::min<size_t>(16, count - begin);
+        alignas(64) RTCRay16 packet;
+        alignas(64) int valid[16];
+        for (size_t i = 0; i < 16; ++i) {
+            const ShadowRay& r = rays[begin + std::min(i, n - 1)];
+            valid[i] = i < n ? -1 : 0;
+            packet.org_x[i] = r.origin.x;
+            packet.org_y[i] = r.origin.y;
+            packet.org_z[i] = r.origin.z;
+            packet.tnear[i] = 0.0f;
+            packet.dir_x[i] = r.direction.x;
+            packet.dir_y[i] = r.direction.y;
+            packet.dir_z[i] = r.direction.z;
+            packet.time[i] = 0.0f;
+            packet.tfar[i] = r.tmax;
+            packet.mask[i] = ~0u;
+            packet.id[i] = unsigned(i);
+            packet.flags[i] = 0;
+        }
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        rtcOccluded16(valid, m_impl->scene, &context, &packet);
+        for (size_t i = 0; i < n; ++i) {
+            bool open = !(packet.tfar[i] < 0.0f);
+            const ShadowRay& r = rays[begin + i];
+            if (m_plane && open && r.direction.y != 0.0f) {
+                const float t = (m_planeY - r.origin.y) / r.direction.y;
+                if (t > 0.0f && t < r.tmax) open = false;
+            }
+            transmittance[begin + i] = open ? 1.0f : 0.0f;
+        }
+    }
+}
+
 } // namespace dhdr

@@ -57,6 +57,10 @@ public:
     // both: 16 vs 12 M rays/s here), else one at a time.
     void test(const ShadowRay* rays, size_t count, float* transmittance) const override;
 
+    // The same for rays that run side by side (a tile's rays towards one light), in packets
+    // of 16 (rtcOccluded16, coherent); bench/occlusion.cpp compares it with test().
+    void testCoherent(const ShadowRay* rays, size_t count, float* transmittance) const;
+
 private:
     struct Impl;
     std::unique_ptr<Impl> m_impl;
