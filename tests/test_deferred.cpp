@@ -633,8 +633,8 @@ TEST(Lighting, AmbientAndDirectionalLights) {
     ambient.intensity = 2.0f;
     ImageBuf hdr;
     ASSERT_TRUE(shadeGBuffer(hdr, gbuf, {{ambient}}));
-    // La (c (1 − F0) + the specular albedo at N·V) for the floor's red channel, c = 0.5,
-    // roughness 0.75.
+    // La (c (1 − F0) T(N·V) + the specular albedo at N·V) for the floor's red channel,
+    // c = 0.5, roughness 0.75 (T: the diffuse layer's Fresnel transmission).
     {
         const glm::dvec3 P(channel(gbuf, 8, 10, "P.X"), channel(gbuf, 8, 10, "P.Y"),
                            channel(gbuf, 8, 10, "P.Z"));
@@ -644,7 +644,8 @@ TEST(Lighting, AmbientAndDirectionalLights) {
         s.roughness = 0.75f;
         const glm::vec2 e = ggxAlbedoTerms(NdotV, 0.75f);
         const double specular = 0.04 * (e.y - e.x) + e.x + multipleScatteringAlbedo(s, NdotV).r;
-        EXPECT_NEAR(px(hdr, 8, 10)[0], 2.0 * (0.5 * 0.96 + specular), 1e-5);
+        EXPECT_NEAR(px(hdr, 8, 10)[0],
+                    2.0 * (0.5 * 0.96 * diffuseFresnelTransmission(NdotV) + specular), 1e-5);
     }
 
     Light sun;

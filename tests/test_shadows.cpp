@@ -15,6 +15,7 @@
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/lights/area.h>
 #include <dhdr/deferred/lights/light.h>
+#include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/scene.h>
@@ -792,9 +793,9 @@ TEST(ShadowCatcher, SphereShadowMatchesItsAnalyticProjection) {
 // roof at height H that hides the sun and a wall at x = d of radiance Le beneath it, both
 // 2 km long. A floor point at x sees the wall over the view factor of a differential
 // horizontal area to an infinitely long strip, F = ½ (1 − (d − x) / √((d − x)² + H²)), so it
-// receives E = π Le F and reflects the luminance ρ Le F (ρ = 0.8, the plane's white), and its
-// alpha is 1 − ρ Le F / L_open (L_open: the sun unshadowed, shadeLight). Without the bounce
-// alpha is 1.
+// receives E = π Le F and reflects the luminance ρ Le F (ρ: the diffuse albedo of the plane's
+// white 0.8, multiple_scattering.h), and its alpha is 1 − ρ Le F / L_open (L_open: the sun
+// unshadowed, shadeLight). Without the bounce alpha is 1.
 TEST(ShadowCatcher, CountsTheLightAGlowingWallBouncesOntoIt) {
     Scene floor = emptyScene();
     addGroundPlane(floor, 0.0f);
@@ -836,7 +837,9 @@ TEST(ShadowCatcher, CountsTheLightAGlowingWallBouncesOntoIt) {
                     luminance(shadeLight(sun, white, P, glm::vec3(0.0f, 1.0f, 0.0f), V));
                 const double along = double(d) - P.x;
                 const double F = 0.5 * (1.0 - along / std::sqrt(along * along + H * H));
-                const double expected = 1.0 - 0.8 * Le * F / open;
+                const double albedo =
+                    luminance(diffuseAlbedo(white, glm::dot(glm::vec3(0.0f, 1.0f, 0.0f), V)));
+                const double expected = 1.0 - albedo * Le * F / open;
                 const double e = std::abs(px(lit, x, y)[3] - expected);
                 sum += e;
                 worst = std::max(worst, e);

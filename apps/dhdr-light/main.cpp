@@ -44,7 +44,7 @@ int run(int argc, char** argv) {
         "radiance past 65504 (and says how many values); --type float keeps it.");
     std::vector<std::string> lightsPaths;
     std::string plateArg, background, dataType = "half", scenePath, emissive = "auto",
-                                      aoMode = "off", envSpecular = "auto";
+                                      aoMode = "off", envSpecular = "auto", gi = "direct";
     bool bruteForce = false, aovs = false, noShadows = false;
     // The counts' options, ranges and defaults come from the library's table.
     LightingParams params;
@@ -94,6 +94,11 @@ int run(int argc, char** argv) {
               "neighbouring pixels of the same surface, guided by the G-buffer's normals,\n"
               "positions and object ids (edge-avoiding a-trous, 30 pixels' reach; flat\n"
               "G-buffers); off: each pixel's unbiased estimate (default on)");
+    cl.option("--gi", gi, "direct|path",
+              "direct: deferred shading (indirect light from --probes when given); path: the\n"
+              "reference, unbiased path tracing from each pixel's first hit (needs --scene;\n"
+              "--spp paths a pixel, --path-bounces; no denoiser, probes or AO; slow: use it\n"
+              "on a small frame or a crop to check a fast render; docs/gi.md; default direct)");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
     cl.flag("--aovs", aovs,
             "also write the G-buffer's Z and N.X N.Y N.Z channels, AO, and the probes' "
@@ -160,6 +165,18 @@ int run(int argc, char** argv) {
     params.denoise = denoise == "on";
     if (aoMode != "off" && aoMode != "rt" && aoMode != "ssao")
         return usage("--ao must be off, rt or ssao");
+    if (gi != "direct" && gi != "path") return usage("--gi must be direct or path");
+    params.pathTrace = gi == "path";
+    if (!params.pathTrace && (params.pathSamples != LightingParams{}.pathSamples ||
+                              params.pathBounces != LightingParams{}.pathBounces))
+        return usage("--spp and --path-bounces are for --gi path");
+    if (params.pathTrace) {
+        if (scenePath.empty()) return usage("--gi path traces the scene: give --scene SCENE");
+        if (!probesPath.empty())
+            return usage("--gi path computes the indirect light itself: drop --probes");
+        if (aoMode != "off") return usage("--gi path has no AO: drop --ao");
+        params.denoise = false; // the reference is each pixel's own estimate
+    }
     if (scenePath.empty()) {
         if (aoMode == "rt") return usage("--ao rt traces rays in the scene: give --scene SCENE");
         if (noShadows) return usage("--no-shadows needs --scene (without it nothing is shadowed)");
@@ -531,14 +548,16 @@ int run(int argc, char** argv) {
                       double(stats.lightsReaching) / pixels, bruteForce ? " (brute force)" : "",
                       stats.tileListEntries);
         tool.info(line);
-        const long long traced = stats.shadowRays + stats.aoRays + stats.bounceRays;
+        const long long traced =
+            stats.shadowRays + stats.aoRays + stats.bounceRays + stats.pathRays;
         if (traced > 0) {
             const double seconds = std::max(shadeMs, 1e-3) / 1000.0;
             std::snprintf(
                 line, sizeof line,
-                "%lld shadow rays (%.2f per covered pixel), %lld AO rays, %lld "
-                "catcher bounce rays; %.2f M rays/s per thread over the shading time",
+                "%lld shadow rays (%.2f per covered pixel), %lld AO rays, %lld catcher bounce "
+                "rays, %lld path rays; %.2f M rays/s per thread over the shading time",
                 stats.shadowRays, double(stats.shadowRays) / pixels, stats.aoRays, stats.bounceRays,
+                stats.pathRays,
                 double(traced) / seconds / 1e6 /
                     double(tool.threads() > 0 ? tool.threads()
                                               : int(std::thread::hardware_concurrency())));

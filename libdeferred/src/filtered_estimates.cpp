@@ -10,6 +10,7 @@
 #include <dhdr/deferred/ambient_occlusion.h>
 #include <dhdr/deferred/denoise.h>
 #include <dhdr/deferred/ibl.h>
+#include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/shadows.h>
 
@@ -84,10 +85,10 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                         sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion)),
                         params.aoSamples, params.aoDistance, *aoRays, &aoLocal);
                 if (bouncing && guide.object[p] == bounce.catcher)
-                    m_bounce[p] = luminance(sp.surface.diffuseColor() / kPi *
-                                            bounce.light->irradianceAt(sp.origin, sp.N, x, y, 0,
-                                                                       params.catcherBounceSamples,
-                                                                       &bounceLocal));
+                    m_bounce[p] = luminance(
+                        diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
+                        bounce.light->irradianceAt(sp.origin, sp.N, x, y, 0,
+                                                   params.catcherBounceSamples, &bounceLocal));
             }
             shadowCount += shadowLocal;
             aoCount += aoLocal;

@@ -473,7 +473,7 @@ IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, con
     IblShading out;
     const float NdotV = std::max(glm::dot(N, V), 1e-4f);
     const glm::vec3 irradiance = ibl.irradiance(N);
-    out.diffuse = s.diffuseColor() * irradiance * (1.0f / kPi);
+    out.diffuse = diffuseAlbedo(s, NdotV) * irradiance * (1.0f / kPi);
     const glm::vec3 R = glm::reflect(-V, N);
     const glm::vec2 dfg = ibl.dfgAt(NdotV, s.roughness);
     const glm::vec3 F0 = s.F0();

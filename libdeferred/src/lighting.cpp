@@ -1,6 +1,7 @@
 #include "bounce_light.h"
 #include "direct_lighting.h"
 #include "filtered_estimates.h"
+#include "path_tracer.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <dhdr/deferred/light_culling.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/lights/environment.h>
+#include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/shading_point.h>
@@ -88,6 +90,7 @@ LightingStats& LightingStats::operator+=(const LightingStats& o) {
     shadowRays += o.shadowRays;
     aoRays += o.aoRays;
     bounceRays += o.bounceRays;
+    pathRays += o.pathRays;
     return *this;
 }
 
@@ -122,6 +125,10 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     }
     if (std::string error; !validate(params, error)) {
         dst.errorfmt("{}", error);
+        return false;
+    }
+    if (params.pathTrace && !inputs.scene) {
+        dst.errorfmt("path tracing needs the scene (LightingInputs::scene)");
         return false;
     }
     roi = roi.defined() ? OIIO::roi_intersection(roi, source.roi) : source.roi;
@@ -211,10 +218,18 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     const bool emissionAtHits = std::none_of(
         lights.begin(), lights.end(), [](const Light& l) { return l.type == LightType::Mesh; });
     std::optional<BounceLighting> bounceLight;
-    if (inputs.scene && shadowRays && catcherId > 0 && params.catcherBounceSamples > 0)
+    if (inputs.scene && shadowRays && catcherId > 0 && params.catcherBounceSamples > 0 &&
+        !params.pathTrace)
         bounceLight.emplace(*inputs.scene, atHits, emissionAtHits);
+    // The reference replaces all of the above at every sample.
+    std::optional<PathTracer> tracer;
+    if (params.pathTrace)
+        tracer.emplace(lights, *inputs.scene,
+                       PathTracerOptions{params.pathSamples, params.pathBounces});
+    LightingParams estimated = params;
+    estimated.denoise = params.denoise && !params.pathTrace;
     const FilteredEstimates filtered(
-        view, layout, source.roi, lights, params, shadowRays,
+        view, layout, source.roi, lights, estimated, shadowRays,
         rayTracedAO ? inputs.visibility : nullptr,
         CatcherBounce{bounceLight ? &*bounceLight : nullptr, catcherId}, nthreads);
     // The environment behind the surfaces: the view ray through each pixel's centre, from the
@@ -258,6 +273,17 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     auto shadeSample = [&](int x, int y, int k, LightingStats& local, float* aovs) {
         const ShadingPoint sp = view.at(x, y, k);
         const float* g = view.channels(x, y, k);
+        if (tracer) {
+            const glm::vec3 Lo =
+                sp.emission + tracer->radiance({sp.surface, sp.P, sp.N, sp.V, sp.origin}, x, y, k,
+                                               &local.pathRays);
+            if (aovs) {
+                if (params.writeAO) aovs[0] = 1.0f;
+                if (writeIndirect) std::fill(aovs + indirectAt, aovs + indirectAt + 3, 0.0f);
+            }
+            return view.deep() ? glm::vec4(Lo * sp.coverage, sp.coverage)
+                               : glm::vec4(Lo, sp.coverage);
+        }
         float occlusion = 1.0f;
         if (ao)
             occlusion = std::clamp(ao->getchannel(x, y, 0, 0), 0.0f, 1.0f);
@@ -312,10 +338,10 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                                   : 1.0f;
         const glm::vec3 shaded = lit.total(occlusion, so);
         // Indirect diffuse light from the probes (diffuse share of the BRDF as for
-        // environments: albedo (1 − metallic) E / π), occluded by AO like the ambient terms.
+        // environments: diffuseAlbedo × E / π), occluded by AO like the ambient terms.
         glm::vec3 indirect(0.0f);
         if (probes)
-            indirect = sp.surface.baseColor * (1.0f - sp.surface.metallic) / kPi *
+            indirect = diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
                        probes->irradianceAt(sp.P, sp.N, sp.V) * (aoActive ? occlusion : 1.0f);
         const glm::vec3 Lo = shaded + indirect;
         if (aovs) {
@@ -332,10 +358,10 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
             if (filtered.filtersBounce() && k == 0)
                 bounce = filtered.catcherBounce(x, y);
             else if (bounceLight)
-                bounce = luminance(sp.surface.diffuseColor() / kPi *
-                                   bounceLight->irradianceAt(sp.origin, sp.N, x, y, k,
-                                                             params.catcherBounceSamples,
-                                                             &local.bounceRays));
+                bounce = luminance(
+                    diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
+                    bounceLight->irradianceAt(sp.origin, sp.N, x, y, k, params.catcherBounceSamples,
+                                              &local.bounceRays));
             const float unshadowed = luminance(open.total(1.0f, 1.0f));
             return glm::vec4(
                 0.0f, 0.0f, 0.0f,

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/multiple_scattering.h>
 #include <vector>
@@ -64,7 +65,42 @@ MsFactors factors(const PbrSurface& s, float NdotV) {
     return m;
 }
 
+// T(μ) at kViews view angles (texel centres): a midpoint quadrature of 256 × 256 cells over
+// the hemisphere of l (θ, and φ from v's azimuth by symmetry), in double.
+struct DiffuseTable {
+    std::array<float, kViews> transmission{};
+
+    DiffuseTable() {
+        constexpr int kTheta = 256, kPhi = 256;
+        constexpr double pi = 3.14159265358979323846;
+        for (int i = 0; i < kViews; ++i) {
+            const double mu = (i + 0.5) / kViews, sinV = std::sqrt(1.0 - mu * mu);
+            double sum = 0.0;
+            for (int a = 0; a < kTheta; ++a) {
+                const double theta = (a + 0.5) / kTheta * (pi / 2.0);
+                const double cosL = std::cos(theta), sinL = std::sin(theta);
+                for (int b = 0; b < kPhi; ++b) {
+                    const double phi = (b + 0.5) / kPhi * pi; // [0, π], doubled below
+                    const double LdotV = cosL * mu + sinL * sinV * std::cos(phi);
+                    const double VdotH = std::sqrt(std::max(0.0, 0.5 * (1.0 + LdotV)));
+                    sum += (1.0 - std::pow(1.0 - VdotH, 5.0)) * cosL * sinL;
+                }
+            }
+            // dω = sin θ dθ dφ over φ ∈ [0, 2π]: twice the half range.
+            transmission[size_t(i)] = float(2.0 * sum * (pi / 2.0 / kTheta) * (pi / kPhi) / pi);
+        }
+    }
+};
+
 } // namespace
+
+float diffuseFresnelTransmission(float NdotV) {
+    static const DiffuseTable t;
+    int i0, i1;
+    float a;
+    cell(NdotV, kViews, true, i0, i1, a);
+    return t.transmission[size_t(i0)] * (1.0f - a) + t.transmission[size_t(i1)] * a;
+}
 
 glm::vec2 ggxAlbedoTerms(float NdotV, float roughness) {
     const AlbedoTable& t = table();

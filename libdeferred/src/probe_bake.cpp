@@ -6,6 +6,7 @@
 #include <cmath>
 #include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/lights/light.h>
+#include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/octahedral.h>
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/ray_caster.h>
@@ -26,7 +27,8 @@ constexpr int kPlacementRays = 128;
 struct RayResult {
     bool hit = false, backFace = false;
     float distance = 0.0f;
-    glm::vec3 position{0.0f}, normal{0.0f}, diffuse{0.0f}; // diffuse: albedo (1 − metallic)
+    glm::vec3 position{0.0f}, normal{0.0f},
+        diffuse{0.0f};     // diffuse: diffuseAlbedo towards the probe
     glm::vec3 fixed{0.0f}; // radiance that does not change between bounces: direct + emission
 };
 
@@ -189,7 +191,9 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                 surface.baseColor = s.albedo;
                 surface.roughness = s.material->roughness;
                 surface.metallic = s.material->metallic;
-                r.diffuse = s.albedo * (1.0f - std::clamp(surface.metallic, 0.0f, 1.0f));
+                // What the hit reflects diffusely of the irradiance there, towards the probe.
+                r.diffuse = diffuseAlbedo(
+                    surface, std::max(0.0f, -glm::dot(r.normal, directions[size_t(i)])));
                 if (!emissiveAreLights) r.fixed += s.emission;
                 const LitPoint point{
                     surface, r.position, r.normal, -directions[size_t(i)],

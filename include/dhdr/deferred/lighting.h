@@ -27,7 +27,7 @@ struct LightingInputs {
     // A photograph (RGB, the frame's pixels) the result is composited over ("over": RGB +
     // plate × (1 − A), A = 1): objects and their caught shadows onto the real place.
     const OIIO::ImageBuf* plate = nullptr;
-    // Light probes (probes.h): indirect diffuse light, albedo (1 − metallic) E / π with E
+    // Light probes (probes.h): indirect diffuse light, diffuseAlbedo × E / π with E
     // interpolated from the probes around each point, times AO when AO is on. Environments'
     // diffuse light then comes through the probes; their specular light stays the IBL's.
     const ProbeVolume* probes = nullptr;
@@ -76,6 +76,14 @@ struct LightingParams {
     // objects bounce onto it, counted in its alpha as Cycles' catcher counts it (0: the
     // catcher's direct light only).
     int catcherBounceSamples = 16;
+    // The reference instead of the deferred shading (needs LightingInputs::scene): every
+    // sample's light by unbiased path tracing (path_tracer.h) — pathSamples paths of at most
+    // pathBounces bounces after the first hit (0: direct light only) — plus its emission.
+    // Probes, AO, the denoiser and the prefiltered environment are not used; a shadow
+    // catcher is shaded as the surface it is.
+    bool pathTrace = false;
+    int pathSamples = 16;
+    int pathBounces = 8;
     // Filter the environments' shadow-ray estimates and ray-traced AO over neighbouring pixels
     // of the same surface before use (denoise.h; flat G-buffers): clean at a few samples, and
     // blurred across kDenoiseReach pixels at most. A strip of a frame then needs
@@ -98,6 +106,11 @@ inline constexpr IntParam<LightingParams> kLightingParamTable[] = {
     {"--catcher-bounce", &LightingParams::catcherBounceSamples, 0, 4096, "N",
      "with --scene, rays per shadow-catcher pixel that gather the light the objects bounce "
      "onto it, which lightens their shadow as in Cycles (0: direct light only)"},
+    {"--spp", &LightingParams::pathSamples, 1, 65536, "N",
+     "--gi path: paths per pixel (per sample of a deep pixel)"},
+    {"--path-bounces", &LightingParams::pathBounces, 0, 1024, "N",
+     "--gi path: bounces after the first hit, ended earlier by Russian roulette (0: direct "
+     "light only)"},
     {"--ao-samples", &LightingParams::aoSamples, 0, 4096, "N",
      "--ao rt: ambient-occlusion rays per pixel (0: no AO)"},
     {"--tile", &LightingParams::tileSize, 1, 1024, "N", "tile size of the light lists, in pixels"},
@@ -124,6 +137,8 @@ struct LightingStats {
     long long shadowRays = 0, aoRays = 0;
     // Rays of a shadow catcher's bounce light: to the objects, and their shadow rays.
     long long bounceRays = 0;
+    // Rays of the reference path tracer (--gi path): its paths' and their shadow rays.
+    long long pathRays = 0;
 
     LightingStats& operator+=(const LightingStats& o);
 };

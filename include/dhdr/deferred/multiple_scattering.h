@@ -30,4 +30,15 @@ glm::vec3 multipleScatteringBrdf(const PbrSurface& s, float NdotV, float NdotL);
 // f_ms's share as this × E_irr / π (exact for a uniform sky, the lobe being nearly diffuse).
 glm::vec3 multipleScatteringAlbedo(const PbrSurface& s, float NdotV);
 
+// The diffuse layer under light from every direction. glTF's Fresnel mix gives it 1 − F(v·h)
+// of the light, and with Schlick's F, 1 − F = (1 − F0)(1 − (1 − v·h)⁵): its albedo is
+// c_diff (1 − F0) T(μo), T(μ) = ∫ (1 − (1 − v·h)⁵) cos θ / π dω (0.94 at normal incidence,
+// from a table over μ computed once per process). So environments, ambient light and the
+// probes' irradiance E reflect c_diff (1 − F0) T(N·V) E / π, exact for uniform light, as a
+// directional light's evaluateBrdf does.
+float diffuseFresnelTransmission(float NdotV);
+inline glm::vec3 diffuseAlbedo(const PbrSurface& s, float NdotV) {
+    return s.diffuseColor() * (glm::vec3(1.0f) - s.F0()) * diffuseFresnelTransmission(NdotV);
+}
+
 } // namespace dhdr

@@ -88,7 +88,7 @@ glm::vec3 sphericalFibonacci(int i, int n);
 // then `bounces` rounds of rays from every probe. A ray's hit is lit by `lights` (punctual and
 // area lights with shadow rays through `caster`; environments and ambient lights are not
 // direct light here), plus its emission when no light stands for it (`emissiveAreLights`
-// false), plus the previous round's probe irradiance × albedo (1 − metallic) / π; a miss sees
+// false), plus the previous round's probe irradiance × diffuseAlbedo / π; a miss sees
 // the environment lights' radiance. The result does not depend on `nthreads`. False with
 // `error` on bad parameters or an empty scene.
 bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<Light>& lights,

@@ -22,13 +22,13 @@ IblShading shadeEnvironment(const Light& light, const PbrSurface& s, const glm::
 glm::vec3 shadeAmbient(const Light& light, const PbrSurface& s, const glm::vec3& N,
                        const glm::vec3& V) {
     // The directional albedo: the specular lobe's from the albedo table, once and multiply
-    // scattered; the diffuse layer's c_diff (1 − F0), its value at normal incidence.
+    // scattered; the diffuse layer's from its Fresnel transmission (multiple_scattering.h).
     const float NdotV = std::max(glm::dot(N, V), 1e-4f);
     const glm::vec2 e = ggxAlbedoTerms(NdotV, s.roughness);
     const glm::vec3 F0 = s.F0();
     const glm::vec3 specular =
         F0 * (e.y - e.x) + glm::vec3(e.x) + multipleScatteringAlbedo(s, NdotV);
-    return light.color * light.intensity * (s.diffuseColor() * (glm::vec3(1.0f) - F0) + specular);
+    return light.color * light.intensity * (diffuseAlbedo(s, NdotV) + specular);
 }
 
 LightLiSample sampleEnvironment(const Light& light, glm::vec2 u) {

@@ -1,0 +1,242 @@
+// The reference path tracer (--gi path) against independent answers: a white furnace, one
+// bounce between a lit wall and a floor against a quadrature of the same two BRDFs, and the
+// deferred direct pass where both compute the same thing.
+#include "scene_builder.h"
+
+#include <cmath>
+#include <dhdr/deferred/brdf.h>
+#include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/ray_caster.h>
+#include <dhdr/deferred/scene.h>
+#include <glm/gtc/type_ptr.hpp>
+#include <gtest/gtest.h>
+
+using namespace dhdr;
+using namespace dhdr::test;
+
+namespace {
+
+ImageBuf pathTraced(const ImageBuf& gbuf, const std::vector<Light>& lights, const RayCaster& caster,
+                    int samples, int bounces, int nthreads = 0) {
+    LightingParams p;
+    p.pathTrace = true;
+    p.pathSamples = samples;
+    p.pathBounces = bounces;
+    LightingInputs inputs{lights, &caster};
+    inputs.scene = &caster;
+    ImageBuf out;
+    EXPECT_TRUE(shadeGBuffer(out, gbuf, inputs, p, {}, nthreads)) << out.geterror();
+    return out;
+}
+
+glm::vec3 positionOf(const ImageBuf& gbuf, int x, int y) {
+    const OIIO::ImageSpec& s = gbuf.spec();
+    return {px(gbuf, x, y)[s.channelindex("P.X")], px(gbuf, x, y)[s.channelindex("P.Y")],
+            px(gbuf, x, y)[s.channelindex("P.Z")]};
+}
+
+bool covered(const ImageBuf& gbuf, int x, int y) {
+    return px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f;
+}
+
+} // namespace
+
+// A white furnace: every surface a white metal (F0 = 1, whose reflectance with multiple
+// scattering is 1 within 1.2 %, MultipleScattering tests) under a sky of radiance 1, in a
+// concave arrangement (a box on a floor before a wall) where paths bounce many times. Every
+// pixel sees radiance 1, whatever the geometry: at 1024 paths a pixel the mean within 1 %
+// (measured 1.001) and every pixel within 0.2 (the noise: measured 0.10 at worst, 0.36 at 64
+// paths).
+TEST(PathTracer, WhiteFurnaceIsOneEverywhere) {
+    Scene scene = emptyScene();
+    scene.materials[0].baseColor = glm::vec3(1.0f);
+    scene.materials[0].metallic = 1.0f;
+    scene.materials[0].roughness = 0.6f;
+    addFloor(scene, 2.0f);
+    addBox(scene, {-0.4f, 0.0f, -0.4f}, {0.4f, 0.8f, 0.4f});
+    addQuad(scene, {-2, 0, -1}, {2, 0, -1}, {2, 2, -1}, {-2, 2, -1}); // a wall facing +z
+    const Camera camera = Camera::lookAt({0.5, 1.2, 2.5}, {0.0, 0.4, 0.0}, {0, 1, 0}, 0.9);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 48, 36);
+    const RayCaster caster(scene);
+    const ImageBuf lit = pathTraced(gbuf, {uniformSky()}, caster, 1024, 32);
+    double sum = 0.0, worst = 0.0;
+    int n = 0;
+    for (int y = 0; y < 36; ++y)
+        for (int x = 0; x < 48; ++x) {
+            if (!covered(gbuf, x, y)) continue;
+            for (int c = 0; c < 3; ++c) {
+                sum += px(lit, x, y)[c];
+                worst = std::max(worst, double(std::abs(px(lit, x, y)[c] - 1.0f)));
+                ++n;
+            }
+        }
+    std::printf("white furnace: mean %.4f, worst pixel off by %.4f\n", sum / n, worst);
+    EXPECT_GT(n, 3 * 1000);
+    EXPECT_NEAR(sum / n, 1.0, 0.01);
+    EXPECT_LT(worst, 0.2);
+}
+
+// One bounce: a wall at x = d (2 × 4 m, facing −x) lit head-on by a sun travelling +x, which
+// grazes the floor and lights it not at all. A floor point's radiance towards the camera is
+// then ∫_wall f_floor(V, ω) L_wall(−ω) cos θ dω with L_wall(−ω) = f_wall(−ω, −sun) E: a
+// quadrature of that integral over the floor point's hemisphere (1024 × 2048 cells, in
+// double, the wall intersected analytically) against 4096 paths of one bounce: the mean
+// relative error over 64 pixels within 1 % (measured −0.3 %), its RMS within 4 % (the
+// paths' noise, about 2.5 % a pixel).
+TEST(PathTracer, OneBounceBetweenAWallAndTheFloorMatchesAQuadrature) {
+    const float d = 0.6f, H = 2.0f, W = 2.0f;
+    Scene scene = emptyScene();
+    addFloor(scene, 2.0f);
+    addQuad(scene, {d, 0, -W}, {d, 0, W}, {d, H, W}, {d, H, -W}); // facing −x
+    const glm::dvec3 eye(0.0, 3.0, 0.5);
+    const Camera camera = Camera::lookAt(eye, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.25);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 8, 8);
+    const RayCaster caster(scene);
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::vec3(1.0f, 0.0f, 0.0f);
+    const ImageBuf lit = pathTraced(gbuf, {sun}, caster, 4096, 1);
+    PbrSurface white;
+    white.baseColor = glm::vec3(0.8f);
+    const glm::vec3 up(0.0f, 1.0f, 0.0f), wallNormal(-1.0f, 0.0f, 0.0f), toSun(-1.0f, 0.0f, 0.0f);
+    double sumRelative = 0.0, sumSquares = 0.0;
+    int n = 0;
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x) {
+            ASSERT_TRUE(covered(gbuf, x, y));
+            const glm::vec3 P = positionOf(gbuf, x, y);
+            const glm::vec3 V = glm::normalize(glm::vec3(eye) - P);
+            constexpr int kTheta = 1024, kPhi = 2048;
+            double expected = 0.0;
+            for (int i = 0; i < kTheta; ++i) {
+                const double theta = (i + 0.5) / kTheta * (kPi / 2.0);
+                const double dOmega = std::sin(theta) * (kPi / 2.0 / kTheta) * (2.0 * kPi / kPhi);
+                for (int j = 0; j < kPhi; ++j) {
+                    const double phi = (j + 0.5) / kPhi * 2.0 * kPi;
+                    const glm::dvec3 w(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                       std::sin(theta) * std::sin(phi));
+                    if (!(w.x > 0.0)) continue;
+                    const double t = (d - P.x) / w.x, hy = t * w.y, hz = P.z + t * w.z;
+                    if (!(hy < H) || !(std::abs(hz) < W)) continue;
+                    const glm::vec3 wi(w);
+                    const double wall = luminance(evaluateBrdf(white, wallNormal, -wi, toSun));
+                    const double floor = luminance(evaluateBrdf(white, up, V, wi));
+                    expected += floor * wall * std::cos(theta) * dOmega;
+                }
+            }
+            const double got =
+                luminance(glm::vec3(px(lit, x, y)[0], px(lit, x, y)[1], px(lit, x, y)[2]));
+            const double relative = got / expected - 1.0;
+            sumRelative += relative;
+            sumSquares += relative * relative;
+            ++n;
+        }
+    const double rms = std::sqrt(sumSquares / n);
+    std::printf("one bounce against the quadrature: mean %+.4f, RMS %.4f\n", sumRelative / n, rms);
+    EXPECT_LT(std::abs(sumRelative / n), 0.01);
+    EXPECT_LT(rms, 0.04);
+}
+
+// With no bounce, the path tracer and the deferred pass compute the same direct light of
+// point, spot and directional lights with their shadows (the same shadow rays): equal within
+// float rounding on every pixel. Bit for bit across thread counts.
+TEST(PathTracer, WithoutBouncesItIsTheDirectPassForDeltaLights) {
+    Scene scene = emptyScene();
+    scene.materials[0].roughness = 0.4f;
+    Material red = scene.materials[0];
+    red.baseColor = glm::vec3(0.8f, 0.1f, 0.1f);
+    red.metallic = 1.0f;
+    scene.materials.push_back(red);
+    addFloor(scene, 2.0f);
+    addBox(scene, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.6f, 0.3f});
+    scene.meshes.back().material = 1;
+    const Camera camera = Camera::lookAt({0.8, 1.5, 2.0}, {0.0, 0.3, 0.0}, {0, 1, 0}, 0.9);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 64, 48);
+    const RayCaster caster(scene);
+    std::vector<Light> lights(3);
+    lights[0].type = LightType::Point;
+    lights[0].position = glm::vec3(0.6f, 1.2f, 0.4f);
+    lights[0].range = 10.0f;
+    lights[1].type = LightType::Spot;
+    lights[1].position = glm::vec3(-0.8f, 1.0f, 0.5f);
+    lights[1].direction = glm::normalize(glm::vec3(0.8f, -1.0f, -0.5f));
+    lights[1].range = 10.0f;
+    lights[1].innerConeAngle = 0.3f;
+    lights[1].outerConeAngle = 0.6f;
+    lights[2].type = LightType::Directional;
+    lights[2].direction = glm::normalize(glm::vec3(-0.3f, -1.0f, -0.4f));
+    lights[2].intensity = 0.5f;
+    const ImageBuf direct = shade(gbuf, lights, &caster);
+    const ImageBuf path = pathTraced(gbuf, lights, caster, 1, 0, 1);
+    const ImageBuf path2 = pathTraced(gbuf, lights, caster, 1, 0, 2);
+    int lit = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x)
+            for (int c = 0; c < 4; ++c) {
+                const float a = px(direct, x, y)[c], b = px(path, x, y)[c];
+                ASSERT_NEAR(a, b, 1e-5f + 1e-5f * std::abs(a)) << x << "," << y << " " << c;
+                ASSERT_EQ(b, px(path2, x, y)[c]);
+                lit += c == 0 && a > 0.0f;
+            }
+    EXPECT_GT(lit, 1500);
+}
+
+// With no bounce, the path tracer's light samples and BRDF samples (MIS) against the deferred
+// pass's closed forms, both at many samples, over rough surfaces: area lights (a sphere and a
+// rectangle; analytic, times their ray-traced visibility) with a box's shadows, and a sky
+// (prefiltered) over the floor alone. The frames' mean luminance within 1 % (measured +0.03 %
+// and −0.11 %; the sky was +4.4 % before the diffuse layer's Fresnel transmission,
+// multiple_scattering.h), the RMS of the difference per pixel within 3 % of the mean. (With
+// the box the deferred sky is brighter by design: its specular visibility counts a grey
+// occluder's light for the blocked directions, docs/ibl.md, which a path of no bounce does
+// not see.)
+TEST(PathTracer, WithoutBouncesItAgreesWithTheDirectPassForAreaLightsAndTheSky) {
+    const Camera camera = Camera::lookAt({0.8, 1.5, 2.0}, {0.0, 0.3, 0.0}, {0, 1, 0}, 0.9);
+    std::vector<Light> areas(2);
+    areas[0].type = LightType::Sphere;
+    areas[0].position = glm::vec3(0.7f, 1.0f, 0.5f);
+    areas[0].radius = 0.15f;
+    areas[0].range = 10.0f;
+    areas[1].type = LightType::Rectangle;
+    areas[1].position = glm::vec3(-0.6f, 1.2f, 0.2f);
+    areas[1].direction = glm::vec3(0.0f, -1.0f, 0.0f);
+    areas[1].up = glm::vec3(0.0f, 0.0f, 1.0f);
+    areas[1].width = 0.4f;
+    areas[1].height = 0.3f;
+    areas[1].range = 10.0f;
+    auto compare = [&](bool box, const std::vector<Light>& lights, const char* what) {
+        Scene scene = emptyScene();
+        addFloor(scene, 2.0f);
+        if (box) addBox(scene, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.6f, 0.3f});
+        const ImageBuf gbuf = gbufferOf(scene, camera, 48, 36);
+        const RayCaster caster(scene);
+        LightingParams p;
+        p.shadowSamples = 256;
+        p.environmentSamples = 256;
+        p.denoise = false;
+        const ImageBuf direct = shade(gbuf, lights, &caster, p);
+        const ImageBuf path = pathTraced(gbuf, lights, caster, 256, 0);
+        double a = 0.0, b = 0.0, squares = 0.0;
+        int n = 0;
+        for (int y = 0; y < 36; ++y)
+            for (int x = 0; x < 48; ++x) {
+                if (!covered(gbuf, x, y)) continue;
+                const double la = luminance(glm::make_vec3(px(direct, x, y)));
+                const double lb = luminance(glm::make_vec3(px(path, x, y)));
+                a += la;
+                b += lb;
+                squares += (la - lb) * (la - lb);
+                ++n;
+            }
+        const double rms = std::sqrt(squares / n) / (a / n);
+        std::printf("%s: direct pass %.5f, path traced %.5f (%+.2f %%), RMS of the difference "
+                    "%.2f %%\n",
+                    what, a / n, b / n, 100.0 * (b / a - 1.0), 100.0 * rms);
+        EXPECT_NEAR(b / a, 1.0, 0.01) << what;
+        EXPECT_LT(rms, 0.03) << what;
+    };
+    compare(true, areas, "sphere and rectangle lights, box");
+    Light sky = uniformSky();
+    sky.intensity = 0.2f;
+    compare(false, {sky}, "sky, floor");
+}
