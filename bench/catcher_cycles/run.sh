@@ -26,4 +26,5 @@ light --catcher-bounce 256 -o "$work/c256d.exr"
 # dhdr's "rotation": 200 is a Mapping node (Point) turning the lookup by -200 degrees.
 blender -b --python "$here/cycles_render.py" -- "$work/cycles_1024.exr" -200 1024 0 >"$work/cycles.log"
 blender -b --python "$here/cycles_render.py" -- "$work/cy_m200_s64.exr" -200 64 0 >>"$work/cycles.log"
-python3 "$here/analyze.py" "$work"
+# Debian's python3 (apt's numpy and OpenImageIO), not another one first on PATH.
+/usr/bin/python3 "$here/analyze.py" "$work"
