@@ -240,3 +240,70 @@ TEST(PathTracer, WithoutBouncesItAgreesWithTheDirectPassForAreaLightsAndTheSky) 
     sky.intensity = 0.2f;
     compare(false, {sky}, "sky, floor");
 }
+
+// The room in the metal: a white metal box (roughness 0.3) in a room with a red and a green
+// wall under a point light. Over the box's pixels the deferred pass with its specular indirect
+// light (64 rays a pixel, undenoised) gathers what a path of one bounce gathers: the mean of
+// each channel within 3 % of the path tracer's (256 paths; measured 0.4 %; the issue asks for
+// 10 %), which the direct light alone misses ninefold.
+TEST(PathTracer, TheSpecularIndirectLightIsTheRoomInTheMetal) {
+    Scene scene = emptyScene();
+    Material red = scene.materials[0], green = red, metal = red;
+    red.baseColor = glm::vec3(0.7f, 0.05f, 0.05f);
+    green.baseColor = glm::vec3(0.1f, 0.6f, 0.1f);
+    metal.baseColor = glm::vec3(1.0f);
+    metal.metallic = 1.0f;
+    metal.roughness = 0.3f;
+    scene.materials.insert(scene.materials.end(), {red, green, metal});
+    const float s = 1.0f;
+    addQuad(scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s});                 // floor
+    addQuad(scene, {-s, 2 * s, -s}, {s, 2 * s, -s}, {s, 2 * s, s}, {-s, 2 * s, s}); // ceiling
+    addQuad(scene, {-s, 0, -s}, {s, 0, -s}, {s, 2 * s, -s}, {-s, 2 * s, -s});       // back
+    addQuad(scene, {-s, 0, -s}, {-s, 2 * s, -s}, {-s, 2 * s, s}, {-s, 0, s}, 1);    // left, red
+    addQuad(scene, {s, 0, -s}, {s, 0, s}, {s, 2 * s, s}, {s, 2 * s, -s}, 2);        // right, green
+    const size_t before = scene.meshes.size();
+    addBox(scene, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.9f, 0.3f});
+    for (size_t m = before; m < scene.meshes.size(); ++m)
+        scene.meshes[m].material = 3;
+    const Camera camera = Camera::lookAt({0.3, 1.0, 0.95}, {0.0, 0.45, 0.0}, {0, 1, 0}, 1.1);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 48, 48);
+    const RayCaster caster(scene);
+    Light light;
+    light.type = LightType::Point;
+    light.position = glm::vec3(0.2f, 1.8f, 0.4f);
+    light.intensity = 2.0f;
+    light.range = 20.0f;
+    auto deferred = [&](int samples) {
+        LightingParams p;
+        p.specularSamples = samples;
+        p.denoise = false;
+        LightingInputs inputs{{light}, &caster};
+        inputs.scene = &caster;
+        ImageBuf out;
+        EXPECT_TRUE(shadeGBuffer(out, gbuf, inputs, p)) << out.geterror();
+        return out;
+    };
+    const ImageBuf with = deferred(64), without = deferred(0);
+    const ImageBuf path = pathTraced(gbuf, {light}, caster, 256, 1);
+    glm::dvec3 a(0.0), b(0.0), c(0.0);
+    int n = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 48; ++x) {
+            const glm::vec3 P = positionOf(gbuf, x, y);
+            if (!covered(gbuf, x, y) || std::abs(P.x) > 0.301f || std::abs(P.z) > 0.301f ||
+                P.y > 0.901f)
+                continue;
+            a += glm::dvec3(glm::make_vec3(px(with, x, y)));
+            b += glm::dvec3(glm::make_vec3(px(path, x, y)));
+            c += glm::dvec3(glm::make_vec3(px(without, x, y)));
+            ++n;
+        }
+    std::printf("the metal box over %d pixels: with specular indirect %.4f %.4f %.4f, path "
+                "traced %.4f %.4f %.4f, direct only %.4f %.4f %.4f\n",
+                n, a.r / n, a.g / n, a.b / n, b.r / n, b.g / n, b.b / n, c.r / n, c.g / n, c.b / n);
+    ASSERT_GT(n, 300);
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(a[k] / b[k], 1.0, 0.03) << "channel " << k;
+        EXPECT_LT(c[k] / b[k], 0.8) << "channel " << k;
+    }
+}

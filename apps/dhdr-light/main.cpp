@@ -101,8 +101,8 @@ int run(int argc, char** argv) {
               "on a small frame or a crop to check a fast render; docs/gi.md; default direct)");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
     cl.flag("--aovs", aovs,
-            "also write the G-buffer's Z and N.X N.Y N.Z channels, AO, and the probes' "
-            "indirect.R/G/B");
+            "also write the G-buffer's Z and N.X N.Y N.Z channels, AO, the probes' "
+            "indirect.R/G/B and the specular indirect light specular.R/G/B");
     cl.option("--type", dataType, "half|float", "pixel type of the output EXR (default half)");
     std::string deepOut, probesPath, channelsArg, cameraFrom;
     bool radiometric = false;
@@ -185,6 +185,8 @@ int run(int argc, char** argv) {
             return usage("--env-samples traces rays in the scene: give --scene");
         if (params.catcherBounceSamples != LightingParams{}.catcherBounceSamples)
             return usage("--catcher-bounce traces rays in the scene: give --scene");
+        if (params.specularSamples != LightingParams{}.specularSamples)
+            return usage("--specular-samples traces rays in the scene: give --scene");
     }
     if (dataType != "half" && dataType != "float") {
         std::fprintf(stderr, "dhdr-light: usage error: --type must be half or float\n");
@@ -213,6 +215,7 @@ int run(int argc, char** argv) {
     params.aoDistance = aoDistance;
     params.writeAO = aovs && aoMode != "off";
     params.writeIndirect = aovs && !probesPath.empty();
+    params.writeSpecular = aovs && !scenePath.empty();
     ssao.radius = aoDistance;
     if (aoMode == "ssao")
         if (const std::string e = checkRanges(ssao, kSsaoParamTable); !e.empty())
@@ -466,7 +469,10 @@ int run(int argc, char** argv) {
         // SSAO looks at neighbouring pixels anywhere in the frame: one strip, the whole frame.
         // The denoiser reads kDenoiseReach rows around each pixel: each strip is read with
         // that halo, and taller, so that the halo's rays are a smaller share.
-        const bool halo = params.denoise && (params.environmentSamples > 0 || params.aoSamples > 0);
+        const bool halo =
+            params.denoise &&
+            (params.environmentSamples > 0 || params.aoSamples > 0 ||
+             (caster && (params.catcherBounceSamples > 0 || params.specularSamples > 0)));
         const int rows = aoMode == "ssao"
                              ? gspec.height
                              : params.tileSize * std::max(1, (halo ? 512 : 128) / params.tileSize);
@@ -548,16 +554,17 @@ int run(int argc, char** argv) {
                       double(stats.lightsReaching) / pixels, bruteForce ? " (brute force)" : "",
                       stats.tileListEntries);
         tool.info(line);
-        const long long traced =
-            stats.shadowRays + stats.aoRays + stats.bounceRays + stats.pathRays;
+        const long long traced = stats.shadowRays + stats.aoRays + stats.bounceRays +
+                                 stats.pathRays + stats.specularRays;
         if (traced > 0) {
             const double seconds = std::max(shadeMs, 1e-3) / 1000.0;
             std::snprintf(
                 line, sizeof line,
                 "%lld shadow rays (%.2f per covered pixel), %lld AO rays, %lld catcher bounce "
-                "rays, %lld path rays; %.2f M rays/s per thread over the shading time",
+                "rays, %lld specular rays, %lld path rays; %.2f M rays/s per thread over the "
+                "shading time",
                 stats.shadowRays, double(stats.shadowRays) / pixels, stats.aoRays, stats.bounceRays,
-                stats.pathRays,
+                stats.specularRays, stats.pathRays,
                 double(traced) / seconds / 1e6 /
                     double(tool.threads() > 0 ? tool.threads()
                                               : int(std::thread::hardware_concurrency())));

@@ -4,7 +4,7 @@
 // that the light objects bounce onto the ground lightens their shadow.
 #pragma once
 
-#include "direct_lighting.h"
+#include "hit_shading.h"
 
 #include <cstdint>
 #include <dhdr/deferred/ray_caster.h>
@@ -14,11 +14,8 @@ namespace dhdr {
 
 class BounceLighting {
 public:
-    // `atHits` lights the surfaces the rays hit (with its own shadow rays); a hit's emission
-    // counts only with `emissionAtHits` (when emissive meshes are not lights already: their
-    // light then reaches the point as direct light).
-    BounceLighting(const RayCaster& caster, const DirectLighting& atHits, bool emissionAtHits)
-        : m_caster(caster), m_atHits(atHits), m_emissionAtHits(emissionAtHits) {}
+    // `hits` gives the light of the surfaces the rays hit.
+    explicit BounceLighting(const HitShading& hits) : m_hits(hits) {}
 
     // The irradiance at `at` (unit shading normal N) of the light leaving the surfaces that
     // `samples` cosine-weighted rays hit: E = ∫ L(x(ω)) cos θ dω ≈ π/n Σ L(x(ω_i)) (misses
@@ -37,9 +34,7 @@ public:
     }
 
 private:
-    const RayCaster& m_caster;
-    const DirectLighting& m_atHits;
-    bool m_emissionAtHits;
+    const HitShading& m_hits;
 };
 
 } // namespace dhdr

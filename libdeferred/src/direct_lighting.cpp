@@ -32,7 +32,8 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
         if (given) {
             v = *given;
         } else if (o.shadows && o.environmentSamples > 0) {
-            const SpecularLobe lobe{p.V, p.surface.alpha()};
+            const SpecularLobe lobe{p.V, p.surface.alpha(),
+                                    p.tracedSpecular ? 0.0f : kOccluderAlbedo};
             v = ratios(environmentVisibilitySums(light, p.origin, p.N, &lobe, seed(),
                                                  o.environmentSamples, *o.shadows, rays));
         }

@@ -24,6 +24,9 @@ struct LitPoint {
     // The angle the mirror directions of the point's pixel span (radians; 0: a point), for
     // environments' specular light (shadeIbl).
     float reflectionSpread = 0.0f;
+    // The scene's light in the point's glossy lobe is traced (specular_indirect.h): an
+    // environment's blocked glossy samples then count nothing, not a grey occluder's light.
+    bool tracedSpecular = false;
 };
 
 // The light of a surface point in the parts that occlusion treats apart: what shadows have

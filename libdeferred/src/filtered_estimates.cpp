@@ -1,6 +1,7 @@
 #include "filtered_estimates.h"
 
 #include "bounce_light.h"
+#include "specular_indirect.h"
 
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
@@ -19,7 +20,7 @@ namespace dhdr {
 FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout,
                                      OIIO::ROI held, const std::vector<Light>& lights,
                                      const LightingParams& params, const Visibility* shadowRays,
-                                     const Visibility* aoRays, const CatcherBounce& bounce,
+                                     const Visibility* aoRays, const TracedEstimates& traced,
                                      int nthreads)
     : m_held(held), m_slot(lights.size(), -1) {
     if (!params.denoise || view.deep()) return;
@@ -32,8 +33,9 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                 filtered.push_back(i);
             }
     const bool ao = aoRays && params.aoSamples > 0;
-    const bool bouncing = bounce.light && params.catcherBounceSamples > 0 && layout.objectId >= 0;
-    if (filtered.empty() && !ao && !bouncing) return;
+    const bool bouncing = traced.bounce && params.catcherBounceSamples > 0 && layout.objectId >= 0;
+    const bool specular = traced.specular && params.specularSamples > 0;
+    if (filtered.empty() && !ao && !bouncing && !specular) return;
     const size_t n = held.npixels();
     DenoiseGuide guide;
     guide.width = held.width();
@@ -47,15 +49,18 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     std::vector<glm::vec3> mirror(n, glm::vec3(0.0f, 0.0f, 1.0f));
     std::vector<float> lobeWidth(n, 1.0f);
     m_diffuse.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
-    m_specular.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
+    m_specularRatio.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
+    if (specular)
+        for (std::vector<float>& c : m_specular)
+            c.assign(n, 0.0f);
     if (ao) m_ao.assign(n, 1.0f);
     if (bouncing) m_bounce.assign(n, 0.0f);
-    std::atomic<long long> shadowCount{0}, aoCount{0}, bounceCount{0};
+    std::atomic<long long> shadowCount{0}, aoCount{0}, bounceCount{0}, specularCount{0};
     OIIO::parallel_for(
         held.ybegin, held.yend,
         [&](int64_t yy) {
             const int y = int(yy);
-            long long shadowLocal = 0, aoLocal = 0, bounceLocal = 0;
+            long long shadowLocal = 0, aoLocal = 0, bounceLocal = 0, specularLocal = 0;
             for (int x = held.xbegin; x < held.xend; ++x) {
                 if (view.samples(x, y) == 0) continue;
                 const size_t p = index(x, y);
@@ -66,7 +71,10 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                 guide.object[p] =
                     layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
                 // The seeds of a flat pixel's shading (lighting.cpp, deep sample 0).
-                const SpecularLobe lobe{sp.V, sp.surface.alpha()};
+                const LitPoint point{sp.surface, sp.P, sp.N, sp.V, sp.origin};
+                const bool traceSpecular = specular && SpecularIndirect::applies(point);
+                const SpecularLobe lobe{sp.V, sp.surface.alpha(),
+                                        traceSpecular ? 0.0f : kOccluderAlbedo};
                 mirror[p] = glm::reflect(-sp.V, sp.N);
                 lobeWidth[p] = std::max(2.0f * lobe.alpha, 0.02f);
                 for (size_t j = 0; j < filtered.size(); ++j) {
@@ -76,37 +84,49 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                         params.environmentSamples, *shadowRays, &shadowLocal);
                     m_diffuse[j][p] = float(v.diffuse.seen);
                     m_diffuse[j][n + p] = float(v.diffuse.total);
-                    m_specular[j][p] = float(v.specular.seen);
-                    m_specular[j][n + p] = float(v.specular.total);
+                    m_specularRatio[j][p] = float(v.specular.seen);
+                    m_specularRatio[j][n + p] = float(v.specular.total);
                 }
                 if (ao)
                     m_ao[p] = rayTracedOcclusion(
                         sp.origin, sp.N,
                         sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion)),
                         params.aoSamples, params.aoDistance, *aoRays, &aoLocal);
-                if (bouncing && guide.object[p] == bounce.catcher)
+                if (bouncing && guide.object[p] == traced.catcher)
                     m_bounce[p] = luminance(
                         diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
-                        bounce.light->irradianceAt(sp.origin, sp.N, x, y, 0,
-                                                   params.catcherBounceSamples, &bounceLocal));
+                        traced.bounce->irradianceAt(sp.origin, sp.N, x, y, 0,
+                                                    params.catcherBounceSamples, &bounceLocal));
+                if (traceSpecular) {
+                    const glm::vec3 L = traced.specular->radiance(
+                        point, x, y, 0, params.specularSamples, &specularLocal);
+                    for (int c = 0; c < 3; ++c)
+                        m_specular[c][p] = L[c];
+                }
             }
             shadowCount += shadowLocal;
             aoCount += aoLocal;
             bounceCount += bounceLocal;
+            specularCount += specularLocal;
         },
         perItem(nthreads));
     shadowRayCount = shadowCount;
     aoRayCount = aoCount;
     bounceRayCount = bounceCount;
+    specularRayCount = specularCount;
     // Each pair of sums, and AO, keeps its own edges (its own variance guidance); the guide's
     // weights are shared.
     std::vector<DenoiseEstimate> estimates;
     for (std::vector<float>& sums : m_diffuse)
         estimates.push_back({&sums, 2});
-    for (std::vector<float>& sums : m_specular)
+    for (std::vector<float>& sums : m_specularRatio)
         estimates.push_back({&sums, 2, &mirror, &lobeWidth});
     if (ao) estimates.push_back({&m_ao, 1});
     if (bouncing) estimates.push_back({&m_bounce, 1});
+    // The reflected scene, per channel, guided like the specular ratios by the lobe.
+    if (specular)
+        for (std::vector<float>& c : m_specular)
+            estimates.push_back({&c, 1, &mirror, &lobeWidth});
     atrousFilter(estimates, guide, nthreads);
 }
 
@@ -118,7 +138,7 @@ EnvironmentVisibility FilteredEstimates::visibility(std::uint32_t light, int x, 
         const float seen = sums[p], total = sums[n + p];
         return total > 0.0f ? std::clamp(seen / total, 0.0f, most) : 1.0f;
     };
-    return {ratio(m_diffuse[slot], 1.0f), ratio(m_specular[slot], INFINITY)};
+    return {ratio(m_diffuse[slot], 1.0f), ratio(m_specularRatio[slot], INFINITY)};
 }
 
 float FilteredEstimates::ambientOcclusion(int x, int y) const {

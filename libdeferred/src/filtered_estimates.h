@@ -15,12 +15,15 @@
 namespace dhdr {
 
 class BounceLighting;
+class SpecularIndirect;
 
-// A shadow catcher's bounce light to estimate: on the pixels of object `catcher` (id.object),
-// params.catcherBounceSamples rays through `light`.
-struct CatcherBounce {
-    const BounceLighting* light = nullptr;
+// The estimates that trace the scene: a shadow catcher's bounce light on the pixels of object
+// `catcher` (id.object), params.catcherBounceSamples rays through `bounce`; the specular
+// indirect light where it applies, params.specularSamples rays through `specular`.
+struct TracedEstimates {
+    const BounceLighting* bounce = nullptr;
     float catcher = 0.0f;
+    const SpecularIndirect* specular = nullptr;
 };
 
 class FilteredEstimates {
@@ -29,11 +32,11 @@ public:
     // the shading would use: shadow rays of each environment light through `shadowRays`
     // (null: none), params.aoSamples AO rays through `aoRays` (null: no AO). Nothing when
     // params.denoise is off, the view is deep, or there is nothing to estimate. With
-    // `bounce.light`, the catcher's bounce light too (catcherBounce).
+    // `traced`, the catcher's bounce light and the specular indirect light too.
     FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout, OIIO::ROI held,
                       const std::vector<Light>& lights, const LightingParams& params,
                       const Visibility* shadowRays, const Visibility* aoRays,
-                      const CatcherBounce& bounce, int nthreads);
+                      const TracedEstimates& traced, int nthreads);
 
     // Whether light i's visibility, or the AO, comes from here.
     bool filters(std::uint32_t light) const { return light < m_slot.size() && m_slot[light] >= 0; }
@@ -46,8 +49,14 @@ public:
     // The luminance of the light a catcher pixel reflects from the bounce: its diffuse albedo
     // (1 − metallic) × E / π, E the bounce irradiance (bounce_light.h).
     float catcherBounce(int x, int y) const { return m_bounce[index(x, y)]; }
+    bool filtersSpecular() const { return !m_specular[0].empty(); }
+    // The specular indirect light of a flat pixel (0 where it does not apply).
+    glm::vec3 specularIndirect(int x, int y) const {
+        const size_t p = index(x, y);
+        return {m_specular[0][p], m_specular[1][p], m_specular[2][p]};
+    }
     // The rays traced.
-    long long shadowRayCount = 0, aoRayCount = 0, bounceRayCount = 0;
+    long long shadowRayCount = 0, aoRayCount = 0, bounceRayCount = 0, specularRayCount = 0;
 
 private:
     size_t index(int x, int y) const {
@@ -57,7 +66,8 @@ private:
     OIIO::ROI m_held;
     std::vector<int> m_slot; // per light, its pair of sums (−1: not filtered)
     // Per filtered light and part (diffuse, specular): Σ wV, then Σ w.
-    std::vector<std::vector<float>> m_diffuse, m_specular;
+    std::vector<std::vector<float>> m_diffuse, m_specularRatio;
+    std::vector<float> m_specular[3]; // the specular indirect light, R, G, B
     std::vector<float> m_ao, m_bounce;
 };
 

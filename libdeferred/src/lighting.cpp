@@ -2,6 +2,7 @@
 #include "direct_lighting.h"
 #include "filtered_estimates.h"
 #include "path_tracer.h"
+#include "specular_indirect.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
@@ -91,6 +92,7 @@ LightingStats& LightingStats::operator+=(const LightingStats& o) {
     aoRays += o.aoRays;
     bounceRays += o.bounceRays;
     pathRays += o.pathRays;
+    specularRays += o.specularRays;
     return *this;
 }
 
@@ -144,11 +146,15 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         return false;
     }
 
-    // AOVs after RGBA: AO, then the probes' indirect light, then the channels passed through.
+    // AOVs after RGBA: AO, then the probes' indirect light, then the specular indirect light,
+    // then the channels passed through.
     const ProbeVolume* probes = inputs.probes;
     const bool writeIndirect = params.writeIndirect && probes;
+    const bool specularActive = inputs.scene && params.specularSamples > 0 && !params.pathTrace;
+    const bool writeSpecular = params.writeSpecular && specularActive;
     const int indirectAt = params.writeAO ? 1 : 0;
-    const int extra = indirectAt + (writeIndirect ? 3 : 0);
+    const int specularAt = indirectAt + (writeIndirect ? 3 : 0);
+    const int extra = specularAt + (writeSpecular ? 3 : 0);
     OIIO::ImageSpec spec = in;
     spec.x = roi.xbegin;
     spec.y = roi.ybegin;
@@ -160,6 +166,9 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     if (writeIndirect)
         spec.channelnames.insert(spec.channelnames.end(),
                                  {"indirect.R", "indirect.G", "indirect.B"});
+    if (writeSpecular)
+        spec.channelnames.insert(spec.channelnames.end(),
+                                 {"specular.R", "specular.G", "specular.B"});
     for (const std::string& name : params.passThrough)
         spec.channelnames.push_back(name);
     spec.alpha_channel = 3;
@@ -208,8 +217,9 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     });
     // Denoised estimates (flat G-buffers): computed for every pixel the source holds (a
     // strip's halo rows included) and filtered before the shading reads them.
-    // A shadow catcher's bounce light: the objects it reflects lit by every light (each
-    // shadowed by one ray; environments unshadowed, their specular light by the split sum).
+    // What secondary rays see (a shadow catcher's bounce light, the specular indirect light):
+    // the surfaces they hit lit by every light (each shadowed by one ray; environments
+    // unshadowed, their specular light by the split sum) and the probes.
     const float catcherId = float(in.get_int_attribute(gbuffer::kShadowCatcher, 0));
     DirectLightingOptions hitOptions;
     hitOptions.shadows = shadowRays;
@@ -217,10 +227,14 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     const DirectLighting atHits(lights, hitOptions);
     const bool emissionAtHits = std::none_of(
         lights.begin(), lights.end(), [](const Light& l) { return l.type == LightType::Mesh; });
+    std::optional<HitShading> hitShading;
+    if (inputs.scene && !params.pathTrace)
+        hitShading.emplace(*inputs.scene, atHits, probes, emissionAtHits, kHitMinRoughness);
     std::optional<BounceLighting> bounceLight;
-    if (inputs.scene && shadowRays && catcherId > 0 && params.catcherBounceSamples > 0 &&
-        !params.pathTrace)
-        bounceLight.emplace(*inputs.scene, atHits, emissionAtHits);
+    if (hitShading && shadowRays && catcherId > 0 && params.catcherBounceSamples > 0)
+        bounceLight.emplace(*hitShading);
+    std::optional<SpecularIndirect> specularLight;
+    if (hitShading && specularActive) specularLight.emplace(*hitShading);
     // The reference replaces all of the above at every sample.
     std::optional<PathTracer> tracer;
     if (params.pathTrace)
@@ -228,10 +242,12 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                        PathTracerOptions{params.pathSamples, params.pathBounces});
     LightingParams estimated = params;
     estimated.denoise = params.denoise && !params.pathTrace;
-    const FilteredEstimates filtered(
-        view, layout, source.roi, lights, estimated, shadowRays,
-        rayTracedAO ? inputs.visibility : nullptr,
-        CatcherBounce{bounceLight ? &*bounceLight : nullptr, catcherId}, nthreads);
+    const FilteredEstimates filtered(view, layout, source.roi, lights, estimated, shadowRays,
+                                     rayTracedAO ? inputs.visibility : nullptr,
+                                     TracedEstimates{bounceLight ? &*bounceLight : nullptr,
+                                                     catcherId,
+                                                     specularLight ? &*specularLight : nullptr},
+                                     nthreads);
     // The environment behind the surfaces: the view ray through each pixel's centre, from the
     // inverse of worldToNDC (the near and far planes' points).
     const Light* sky = nullptr;
@@ -280,6 +296,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
             if (aovs) {
                 if (params.writeAO) aovs[0] = 1.0f;
                 if (writeIndirect) std::fill(aovs + indirectAt, aovs + indirectAt + 3, 0.0f);
+                if (writeSpecular) std::fill(aovs + specularAt, aovs + specularAt + 3, 0.0f);
             }
             return view.deep() ? glm::vec4(Lo * sp.coverage, sp.coverage)
                                : glm::vec4(Lo, sp.coverage);
@@ -297,14 +314,15 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         // summed apart and occluded at the end. The same sums without visibility give a
         // shadow catcher its alpha.
         DirectTerms lit{sp.emission}, open{sp.emission};
-        const LitPoint point{sp.surface,
-                             sp.P,
-                             sp.N,
-                             sp.V,
-                             sp.origin,
-                             footprint && !view.deep()
-                                 ? reflectionSpread(view, layout, source.roi, x, y, sp)
-                                 : 0.0f};
+        LitPoint point{sp.surface,
+                       sp.P,
+                       sp.N,
+                       sp.V,
+                       sp.origin,
+                       footprint && !view.deep()
+                           ? reflectionSpread(view, layout, source.roi, x, y, sp)
+                           : 0.0f};
+        point.tracedSpecular = specularLight && SpecularIndirect::applies(point);
         const SeedKey key{x, y, streamOf(SampleStream::Shadow, k)};
         auto addLight = [&](std::uint32_t i) {
             // Sample 0 of a flat pixel reads the denoised environment estimates.
@@ -343,12 +361,22 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         if (probes)
             indirect = diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
                        probes->irradianceAt(sp.P, sp.N, sp.V) * (aoActive ? occlusion : 1.0f);
-        const glm::vec3 Lo = shaded + indirect;
+        // The scene in the glossy lobe, traced (not occluded by AO: its rays see the occluders).
+        glm::vec3 reflected(0.0f);
+        if (point.tracedSpecular)
+            reflected = filtered.filtersSpecular() && k == 0
+                            ? filtered.specularIndirect(x, y)
+                            : specularLight->radiance(point, x, y, k, params.specularSamples,
+                                                      &local.specularRays);
+        const glm::vec3 Lo = shaded + indirect + reflected;
         if (aovs) {
             if (params.writeAO) aovs[0] = occlusion;
             if (writeIndirect)
                 for (int c = 0; c < 3; ++c)
                     aovs[indirectAt + c] = indirect[c];
+            if (writeSpecular)
+                for (int c = 0; c < 3; ++c)
+                    aovs[specularAt + c] = reflected[c];
         }
         if (catcherId > 0 && layout.objectId >= 0 && g[layout.objectId] == catcherId) {
             // A shadow catcher (Blender's convention): no colour of its own, and the share of
@@ -393,6 +421,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                     }
                     if (params.writeAO) out[4] = 1.0f;
                     if (writeIndirect) std::fill(out + 4 + indirectAt, out + 7 + indirectAt, 0.0f);
+                    if (writeSpecular) std::fill(out + 4 + specularAt, out + 7 + specularAt, 0.0f);
                     if (plate) overPlate(out, x, y);
                     continue;
                 }
@@ -435,6 +464,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         stats->shadowRays += filtered.shadowRayCount;
         stats->aoRays += filtered.aoRayCount;
         stats->bounceRays += filtered.bounceRayCount;
+        stats->specularRays += filtered.specularRayCount;
     }
     return true;
 }

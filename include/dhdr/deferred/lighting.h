@@ -84,6 +84,10 @@ struct LightingParams {
     bool pathTrace = false;
     int pathSamples = 16;
     int pathBounces = 8;
+    // With LightingInputs::scene: rays per pixel that gather the lit scene in glossy and
+    // metallic surfaces (specular_indirect.h; where the lobe reflects at least 10 % of uniform
+    // light), denoised (0: none; their environment's specular light alone).
+    int specularSamples = 8;
     // Filter the environments' shadow-ray estimates and ray-traced AO over neighbouring pixels
     // of the same surface before use (denoise.h; flat G-buffers): clean at a few samples, and
     // blurred across kDenoiseReach pixels at most. A strip of a frame then needs
@@ -94,6 +98,9 @@ struct LightingParams {
     bool writeAO = false;
     // Also write the probes' indirect light as indirect.R, indirect.G, indirect.B (after AO).
     bool writeIndirect = false;
+    // Also write the specular indirect light as specular.R, specular.G, specular.B (after
+    // indirect), when it is traced.
+    bool writeSpecular = false;
 };
 
 // The ranges of LightingParams' counts, and the options of dhdr-light that set them.
@@ -111,6 +118,9 @@ inline constexpr IntParam<LightingParams> kLightingParamTable[] = {
     {"--path-bounces", &LightingParams::pathBounces, 0, 1024, "N",
      "--gi path: bounces after the first hit, ended earlier by Russian roulette (0: direct "
      "light only)"},
+    {"--specular-samples", &LightingParams::specularSamples, 0, 4096, "N",
+     "with --scene, rays per pixel that gather the lit scene in metallic and glossy surfaces "
+     "(the room in a gold sphere; 0: none)"},
     {"--ao-samples", &LightingParams::aoSamples, 0, 4096, "N",
      "--ao rt: ambient-occlusion rays per pixel (0: no AO)"},
     {"--tile", &LightingParams::tileSize, 1, 1024, "N", "tile size of the light lists, in pixels"},
@@ -139,6 +149,8 @@ struct LightingStats {
     long long bounceRays = 0;
     // Rays of the reference path tracer (--gi path): its paths' and their shadow rays.
     long long pathRays = 0;
+    // Rays of the specular indirect light, and their hits' shadow rays.
+    long long specularRays = 0;
 
     LightingStats& operator+=(const LightingStats& o);
 };

@@ -41,6 +41,7 @@ enum class SampleStream : std::int64_t {
     BounceShadow = 4,     // shadow rays at a bounce ray's hit (seeded by point, ray)
     ProbeShadow = 5,      // shadow rays of a light at a probe ray's hit (seeded by probe, ray)
     Path = 6,             // the reference path tracer's paths (seeded by pixel, path index)
+    SpecularIndirect = 7, // rays gathering the scene's light in a glossy lobe (light −4)
 };
 inline constexpr std::int64_t kStreamsPerDeepSample = 4;
 inline std::int64_t streamOf(SampleStream s, int deepSample = 0) {
