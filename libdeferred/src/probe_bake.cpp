@@ -107,7 +107,6 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
         v.origin[a] = lo[a] + 0.5 * (extent[a] - (v.counts[a] - 1) * v.spacing[a]);
     }
     v.rays = params.rays;
-    v.bounces = params.bounces;
     const int n = v.probeCount();
     if (n > 1 << 20) {
         error = "too many probes (" + std::to_string(n) + "); use a larger spacing";
@@ -211,7 +210,12 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     v.irradiance.assign(size_t(n) * size_t(wi * wi), glm::vec3(0.0f));
     v.distance.assign(size_t(n) * size_t(wd * wd), glm::vec2(0.0f));
     std::vector<glm::vec3> radiance(results.size());
-    for (int bounce = 0; bounce < params.bounces; ++bounce) {
+    // Until the irradiance converges (bounces 0), or the bounces asked for.
+    const bool converge = params.bounces == 0;
+    const int rounds = converge ? kProbeMaxBounces : params.bounces;
+    double lastTotal = 0.0, lastStep = 0.0;
+    v.bounces = 0;
+    for (int bounce = 0; bounce < rounds; ++bounce) {
         const ProbeVolume previous = v; // the last round's irradiance (zero at first)
         OIIO::parallel_for(
             0, n,
@@ -277,8 +281,23 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                 fillBorders(dist, nd);
             },
             OIIO::paropt(nthreads));
+        v.bounces = bounce + 1;
+        // The whole field's irradiance, summed in double in probe and texel order.
+        double total = 0.0;
+        for (const glm::vec3& e : v.irradiance)
+            total += double(e.r) + double(e.g) + double(e.b);
+        // Each bounce adds about r times what the last one added (r < 1: the scene's mean
+        // albedo as the light sees it), so what the bounces to come would still add is
+        // step · r / (1 − r): stop when that is within kProbeConvergence of the total.
+        const double step = total - lastTotal;
+        const double r = lastStep > 0.0 ? step / lastStep : 1.0;
+        const bool converged = converge && bounce > 1 && r < 1.0 &&
+                               std::abs(step) * r / (1.0 - r) <= kProbeConvergence * total;
+        lastTotal = total;
+        lastStep = step;
         if (params.progress)
-            params.progress(0.5f + 0.5f * float(bounce + 1) / float(params.bounces));
+            params.progress(converged ? 1.0f : 0.5f + 0.5f * float(bounce + 1) / float(rounds));
+        if (converged) break;
     }
     return true;
 }

@@ -22,7 +22,7 @@ struct ProbeBakeParams {
     glm::ivec3 counts{0};  // probes along X, Y, Z (each 1–256); 0: from `spacing`
     // The counts: their meaning and ranges are kProbeBakeParamTable's (validated by bakeProbes).
     int rays = 256;
-    int bounces = 3;
+    int bounces = 0; // 0: until the irradiance converges (kProbeConvergence)
     int shadowSamples = 4;
     float backfaceLimit = 0.25f; // a probe seeing more back faces than this share is inside
     float minDistance = 0.1f;    // … or nearer a surface than this × spacing: moved or off
@@ -34,10 +34,17 @@ struct ProbeBakeParams {
 // ProbeBakeParams' counts, and the options of dhdr-probes that set them.
 inline constexpr IntParam<ProbeBakeParams> kProbeBakeParamTable[] = {
     {"--rays", &ProbeBakeParams::rays, 16, 65536, "N", "rays per probe: a spherical Fibonacci set"},
-    {"--bounces", &ProbeBakeParams::bounces, 1, 16, "K", "light bounces"},
+    {"--bounces", &ProbeBakeParams::bounces, 0, 64, "K",
+     "light bounces (0: until what further bounces would add is under 0.5 % of the light)"},
     {"--shadow-samples", &ProbeBakeParams::shadowSamples, 1, 256, "N",
      "shadow rays per area light at each ray's hit"},
 };
+
+// Bounces until the light the bounces to come would still add to the sum of every probe's
+// irradiance (each adding the same share of the last one's, geometrically) is at most this
+// share of it (ProbeBakeParams::bounces 0), and at most kProbeMaxBounces.
+inline constexpr double kProbeConvergence = 0.005;
+inline constexpr int kProbeMaxBounces = 64;
 
 enum class ProbeState : int {
     Active = 0,    // at its grid point
