@@ -215,8 +215,6 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     const bool footprint = std::any_of(lights.begin(), lights.end(), [](const Light& l) {
         return l.type == LightType::Environment && l.ibl;
     });
-    // Denoised estimates (flat G-buffers): computed for every pixel the source holds (a
-    // strip's halo rows included) and filtered before the shading reads them.
     // What secondary rays see (a shadow catcher's bounce light, the specular indirect light):
     // the surfaces they hit lit by every light (each shadowed by one ray; environments
     // unshadowed, their specular light by the split sum) and the probes.
@@ -240,6 +238,8 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     if (params.pathTrace)
         tracer.emplace(lights, *inputs.scene,
                        PathTracerOptions{params.pathSamples, params.pathBounces});
+    // Denoised estimates (flat G-buffers): computed for every pixel the source holds (a
+    // strip's halo rows included) and filtered before the shading reads them.
     LightingParams estimated = params;
     estimated.denoise = params.denoise && !params.pathTrace;
     const FilteredEstimates filtered(view, layout, source.roi, lights, estimated, shadowRays,
