@@ -1199,6 +1199,44 @@ TEST(Denoise, ExpNegativeIsExpWithinItsBound) {
     EXPECT_EQ(expNegative(-std::numeric_limits<float>::infinity()), 0.0f);
 }
 
+// An estimate that exists on one object only (the specular light of a metal): filtered with
+// its mask, the object's pixels get exactly what the unmasked filter gives them (other
+// objects never mix with them), and the other pixels keep their values untouched.
+TEST(Denoise, AMaskSkipsThePixelsWithoutTheEstimate) {
+    constexpr int W = 37, H = 23; // not a multiple of the four lanes
+    const size_t n = size_t(W) * H;
+    DenoiseGuide guide;
+    guide.width = W;
+    guide.height = H;
+    guide.position.resize(n);
+    guide.normal.assign(n, glm::vec3(0.0f, 1.0f, 0.0f));
+    guide.object.resize(n);
+    guide.surface.assign(n, 1);
+    std::vector<unsigned char> mask(n);
+    std::vector<float> plain(n);
+    for (size_t p = 0; p < n; ++p) {
+        const int x = int(p % W), y = int(p / W);
+        guide.position[p] = glm::vec3(0.01f * float(x), 0.0f, 0.01f * float(y));
+        const bool metal = (x - 18) * (x - 18) + (y - 11) * (y - 11) < 64;
+        guide.object[p] = metal ? 2.0f : 1.0f;
+        mask[p] = metal;
+        plain[p] = float(mixBits(p) >> 40) * 0x1p-24f + (metal ? 1.0f : 0.0f);
+    }
+    std::vector<float> masked = plain, unmasked = plain;
+    atrousFilter({DenoiseEstimate{&masked, 1, nullptr, nullptr, &mask}}, guide);
+    atrousFilter(unmasked, 1, guide);
+    int changed = 0;
+    for (size_t p = 0; p < n; ++p) {
+        if (mask[p]) {
+            ASSERT_EQ(masked[p], unmasked[p]) << p;
+            changed += masked[p] != plain[p];
+        } else {
+            ASSERT_EQ(masked[p], plain[p]) << p;
+        }
+    }
+    EXPECT_GT(changed, 100);
+}
+
 // A plane whose left half looks one way and right half another (as a glossy surface's
 // pixels do where its mirror directions turn fast): a lobe-direction guide keeps the two
 // halves' estimates apart for a narrow lobe, and lets them mix for a wide one; without it

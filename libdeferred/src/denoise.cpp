@@ -111,11 +111,25 @@ struct EstimateState {
     Planes signal, variance, plane[2];
     const Planes* direction[3] = {nullptr, nullptr, nullptr};
     const Planes* width = nullptr;
+    const Planes* active = nullptr; // 1 where the estimate exists; null: wherever a surface is
 };
 
 void newPlanes(Planes& p, const Guide& g) {
     p.stride = g.stride;
     p.values.assign(size_t(g.stride) * size_t(g.height), 0.0f);
+}
+
+// Per estimate, the lanes of pixels (y, x…x+3) it is filtered at: a surface, and where it
+// exists; whether any lane of any estimate is.
+bool liveLanes(const std::vector<EstimateState>& state, const vbool4& surface, int y, int x,
+               std::vector<vbool4>& live) {
+    bool any = false;
+    for (size_t e = 0; e < state.size(); ++e) {
+        live[e] = state[e].active ? surface & (vfloat4(state[e].active->row(y) + x) > vfloat4(0.0f))
+                                  : surface;
+        any = any || OIIO::simd::any(live[e]);
+    }
+    return any;
 }
 
 float signalOf(float shadowed, float total, int count) {
@@ -138,13 +152,14 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
     if (n == 0) return;
     for (const DenoiseEstimate& e : estimates)
         if (!e.planes || (e.count != 1 && e.count != 2) || e.planes->size() < n * size_t(e.count) ||
-            (e.direction && (!e.width || e.direction->size() < n || e.width->size() < n)))
+            (e.direction && (!e.width || e.direction->size() < n || e.width->size() < n)) ||
+            (e.active && e.active->size() < n))
             return;
     const size_t m = estimates.size();
     const Guide guide(dg);
     // Directions and widths of the estimates that have them, padded like the guide.
     std::vector<Planes> lobes;
-    lobes.reserve(4 * m);
+    lobes.reserve(5 * m);
     std::vector<EstimateState> state(m), next(m);
     for (size_t e = 0; e < m; ++e) {
         const DenoiseEstimate& in = estimates[e];
@@ -162,6 +177,15 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                 state[e].signal.row(y)[x] =
                     signalOf(state[e].plane[0].row(y)[x], state[e].plane[1].row(y)[x], in.count);
             }
+        if (in.active) {
+            lobes.emplace_back();
+            newPlanes(lobes.back(), guide);
+            for (int y = 0; y < h; ++y)
+                for (int x = 0; x < w; ++x)
+                    lobes.back().row(y)[x] =
+                        (*in.active)[size_t(y) * size_t(w) + size_t(x)] ? 1.0f : 0.0f;
+            state[e].active = next[e].active = &lobes.back();
+        }
         if (!in.direction) continue;
         for (int k = 0; k < 4; ++k) {
             lobes.emplace_back();
@@ -184,10 +208,11 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
         [&](int64_t yy) {
             const int y = int(yy);
             std::vector<vfloat4> s(m), s2(m);
+            std::vector<vbool4> live(m);
             for (int x = 0; x < w; x += kLanes) {
                 const GuideCentre centre(guide, y, x);
                 const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
-                if (none(surface)) continue;
+                if (!liveLanes(state, surface, y, x, live)) continue;
                 std::fill(s.begin(), s.end(), vfloat4(0.0f));
                 std::fill(s2.begin(), s2.end(), vfloat4(0.0f));
                 vfloat4 weights(0.0f);
@@ -199,6 +224,7 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                                                ? select(surface, vfloat4(1.0f), vfloat4(0.0f))
                                                : geometryWeight(guide, centre, qy, x + i);
                         for (size_t e = 0; e < m; ++e) {
+                            if (none(live[e])) continue;
                             const vfloat4 v(state[e].signal.row(qy) + x + i);
                             s[e] += wq * v;
                             s2[e] += wq * v * v;
@@ -208,9 +234,10 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                 }
                 const vfloat4 safe = select(surface, weights, vfloat4(1.0f));
                 for (size_t e = 0; e < m; ++e) {
+                    if (none(live[e])) continue;
                     const vfloat4 mean = s[e] / safe;
                     const vfloat4 v = max(vfloat4(0.0f), s2[e] / safe - mean * mean);
-                    select(surface, v, vfloat4(0.0f)).store(state[e].variance.row(y) + x);
+                    select(live[e], v, vfloat4(0.0f)).store(state[e].variance.row(y) + x);
                 }
             }
         },
@@ -222,9 +249,11 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
             [&](int64_t yy) {
                 const int y = int(yy);
                 std::vector<vfloat4> sum(2 * m), weights(m), var(m), inverseSpread(m), centre(m);
+                std::vector<vbool4> live(m);
                 for (int x = 0; x < w; x += kLanes) {
                     const GuideCentre c(guide, y, x);
                     const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
+                    const bool any = liveLanes(state, surface, y, x, live);
                     for (size_t e = 0; e < m; ++e) {
                         centre[e] = vfloat4(state[e].signal.row(y) + x);
                         inverseSpread[e] =
@@ -235,7 +264,7 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                     std::fill(sum.begin(), sum.end(), vfloat4(0.0f));
                     std::fill(weights.begin(), weights.end(), vfloat4(0.0f));
                     std::fill(var.begin(), var.end(), vfloat4(0.0f));
-                    if (any(surface)) {
+                    if (any) {
                         // Taps in a fixed order: the same sums whatever the threads.
                         for (int j = -2; j <= 2; ++j) {
                             const int qy = y + j * step;
@@ -250,6 +279,7 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                                 const vfloat4 kernel =
                                     geometry * vfloat4(kKernel[i + 2] * kKernel[j + 2]);
                                 for (size_t e = 0; e < m; ++e) {
+                                    if (none(live[e])) continue;
                                     const EstimateState& s = state[e];
                                     const vfloat4 difference =
                                         abs(vfloat4(s.signal.row(qy) + qx) - centre[e]);
@@ -276,18 +306,19 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                             }
                         }
                     }
-                    // Pixels without a surface keep what they had.
+                    // Pixels without a surface, or without the estimate, keep what they had.
                     for (size_t e = 0; e < m; ++e) {
                         const EstimateState& s = state[e];
                         EstimateState& o = next[e];
-                        const vfloat4 safe = select(surface, weights[e], vfloat4(1.0f));
+                        const vbool4 on = live[e];
+                        const vfloat4 safe = select(on, weights[e], vfloat4(1.0f));
                         const vfloat4 a =
-                            select(surface, sum[2 * e] / safe, vfloat4(s.plane[0].row(y) + x));
+                            select(on, sum[2 * e] / safe, vfloat4(s.plane[0].row(y) + x));
                         const vfloat4 b =
-                            select(surface, sum[2 * e + 1] / safe, vfloat4(s.plane[1].row(y) + x));
+                            select(on, sum[2 * e + 1] / safe, vfloat4(s.plane[1].row(y) + x));
                         a.store(o.plane[0].row(y) + x);
                         b.store(o.plane[1].row(y) + x);
-                        select(surface, var[e] / (safe * safe), vfloat4(s.variance.row(y) + x))
+                        select(on, var[e] / (safe * safe), vfloat4(s.variance.row(y) + x))
                             .store(o.variance.row(y) + x);
                         for (int l = 0; l < kLanes; ++l)
                             o.signal.row(y)[x + l] =

@@ -55,6 +55,8 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
             c.assign(n, 0.0f);
     if (ao) m_ao.assign(n, 1.0f);
     if (bouncing) m_bounce.assign(n, 0.0f);
+    // Where the bounce and the specular estimates exist: the filter skips the other pixels.
+    std::vector<unsigned char> catcherPixels(bouncing ? n : 0), specularPixels(specular ? n : 0);
     std::atomic<long long> shadowCount{0}, aoCount{0}, bounceCount{0}, specularCount{0};
     OIIO::parallel_for(
         held.ybegin, held.yend,
@@ -97,7 +99,9 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                         diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
                         traced.bounce->irradianceAt(sp.origin, sp.N, x, y, 0,
                                                     params.catcherBounceSamples, &bounceLocal));
+                if (bouncing) catcherPixels[p] = guide.object[p] == traced.catcher;
                 if (traceSpecular) {
+                    specularPixels[p] = 1;
                     const glm::vec3 L = traced.specular->radiance(
                         point, x, y, 0, params.specularSamples, &specularLocal);
                     for (int c = 0; c < 3; ++c)
@@ -122,11 +126,11 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     for (std::vector<float>& sums : m_specularRatio)
         estimates.push_back({&sums, 2, &mirror, &lobeWidth});
     if (ao) estimates.push_back({&m_ao, 1});
-    if (bouncing) estimates.push_back({&m_bounce, 1});
+    if (bouncing) estimates.push_back({&m_bounce, 1, nullptr, nullptr, &catcherPixels});
     // The reflected scene, per channel, guided like the specular ratios by the lobe.
     if (specular)
         for (std::vector<float>& c : m_specular)
-            estimates.push_back({&c, 1, &mirror, &lobeWidth});
+            estimates.push_back({&c, 1, &mirror, &lobeWidth, &specularPixels});
     atrousFilter(estimates, guide, nthreads);
 }
 

@@ -51,6 +51,9 @@ struct DenoiseEstimate {
     // narrow lobe mixes only pixels that look the same way.
     const std::vector<glm::vec3>* direction = nullptr;
     const std::vector<float>* width = nullptr;
+    // Optional: the pixels where the estimate exists (non-zero); the others keep their values
+    // and the filter spends nothing on them (an estimate of a few objects' pixels).
+    const std::vector<unsigned char>* active = nullptr;
 };
 void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGuide& guide,
                   int nthreads = 0);
