@@ -608,6 +608,34 @@ TEST(EnvironmentShadows, AmbientOcclusionOccludesTheEnvironment) {
     EXPECT_GT(partial, 500);
 }
 
+// With shadow rays, an environment's visibility is traced: AO (which stands in for it) does
+// not darken it a second time. The corner of the test above under the same sky, 16 rays:
+// the picture with --ao rt (its AO written, and < 0.9 along the corner) is the picture
+// without, bit for bit.
+TEST(EnvironmentShadows, TracedVisibilityIsNotOccludedAgainByAO) {
+    Scene scene = emptyScene();
+    addQuad(scene, {-1000, 0, -1000}, {-1000, 0, 1000}, {0, 0, 1000}, {0, 0, -1000});
+    addQuad(scene, {0, 0, -1000}, {0, 0, 1000}, {0, 1000, 1000}, {0, 1000, -1000});
+    Camera camera = Camera::lookAt({-0.5, 5.0, 0.0}, {-0.5, 0.0, 0.0}, {0, 0, -1}, 0.5);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 48, 48);
+    const RayCaster caster(scene);
+    LightingParams p;
+    p.environmentSamples = 16;
+    p.aoSamples = 0;
+    const ImageBuf plain = shade(gbuf, {uniformSky()}, &caster, p);
+    p.aoSamples = 16;
+    p.writeAO = true;
+    const ImageBuf withAO = shade(gbuf, {uniformSky()}, &caster, p);
+    int occluded = 0;
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 48; ++x) {
+            for (int c = 0; c < 4; ++c)
+                ASSERT_EQ(px(withAO, x, y)[c], px(plain, x, y)[c]) << x << "," << y;
+            occluded += px(withAO, x, y)[4] < 0.9f;
+        }
+    EXPECT_GT(occluded, 50);
+}
+
 namespace {
 
 // A UV sphere of `segments` × `segments / 2` quads.
@@ -1235,6 +1263,64 @@ TEST(Denoise, AMaskSkipsThePixelsWithoutTheEstimate) {
         }
     }
     EXPECT_GT(changed, 100);
+}
+
+// Far from any shadow a ratio estimate is settled (shadowed = unshadowed sums) and so is a
+// bounce estimate of 0: the filter skips what lies beyond its reach of the unsettled pixels,
+// and the ratios and values are the same bits as filtering everywhere. A curved floor of two
+// objects, sums of varied size, a few noisy shadows; a lobe direction on one estimate.
+TEST(Denoise, SettledNeighbourhoodsAreSkippedWithTheSameResult) {
+    constexpr int W = 203, H = 150;
+    const size_t n = size_t(W) * H;
+    DenoiseGuide guide;
+    guide.width = W;
+    guide.height = H;
+    guide.position.resize(n);
+    guide.normal.resize(n);
+    guide.object.resize(n);
+    guide.surface.resize(n);
+    std::vector<glm::vec3> direction(n);
+    std::vector<float> ratio(2 * n), value(n, 0.0f);
+    const std::vector<float> width(n, 0.3f);
+    auto noise = [](size_t p, int k) { return float(mixBits(p * 4 + size_t(k)) >> 40) * 0x1p-24f; };
+    for (size_t p = 0; p < n; ++p) {
+        const int x = int(p % W), y = int(p / W);
+        const float u = 0.01f * float(x);
+        guide.position[p] = glm::vec3(u, 0.2f * u * u, 0.01f * float(y));
+        guide.normal[p] = glm::normalize(glm::vec3(-0.4f * u, 1.0f, 0.0f));
+        guide.object[p] = x < 120 ? 1.0f : 2.0f;
+        guide.surface[p] = (x + y) % 37 != 0; // a few pixels without a surface
+        direction[p] = glm::normalize(glm::vec3(float(x - W / 2), 100.0f, float(y)));
+        const float total = 0.5f + noise(p, 0);
+        const bool shadowed = (x - 40) * (x - 40) + (y - 30) * (y - 30) < 100 ||
+                              (x > 150 && x < 160 && y > 110 && y < 118);
+        ratio[p] = shadowed ? total * noise(p, 1) : total;
+        ratio[n + p] = total;
+        if ((x - 170) * (x - 170) + (y - 20) * (y - 20) < 50) value[p] = noise(p, 2);
+    }
+    auto filter = [&](bool skip, std::vector<float>& r, std::vector<float>& v) {
+        r = ratio;
+        v = value;
+        DenoiseEstimate a{&r, 2, &direction, &width}, b{&v, 1};
+        a.skipSettled = b.skipSettled = skip;
+        atrousFilter({a, b}, guide);
+    };
+    std::vector<float> r0, v0, r1, v1;
+    filter(false, r0, v0);
+    filter(true, r1, v1);
+    int untouched = 0, filtered = 0;
+    for (size_t p = 0; p < n; ++p) {
+        if (!guide.surface[p]) continue;
+        auto q = [&](const std::vector<float>& r) {
+            return r[n + p] > 0.0f ? r[p] / r[n + p] : 1.0f;
+        };
+        ASSERT_EQ(q(r1), q(r0)) << p;
+        ASSERT_EQ(v1[p], v0[p]) << p;
+        untouched += r1[n + p] == ratio[n + p];
+        filtered += q(r0) != 1.0f;
+    }
+    EXPECT_GT(untouched, int(n / 4)); // skipped
+    EXPECT_GT(filtered, 1000);        // the shadows spread over their reach
 }
 
 // A plane whose left half looks one way and right half another (as a glossy surface's

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <dhdr/common/parallel.h>
 #include <dhdr/deferred/denoise.h>
+#include <optional>
 
 namespace dhdr {
 
@@ -105,6 +106,56 @@ OIIO_FORCEINLINE vfloat4 geometryWeight(const Guide& g, const GuideCentre& c, in
     return select(keep, weight, vfloat4(0.0f));
 }
 
+// Where an estimate is unsettled. It is settled where it says nothing is there to filter: a
+// pair whose shadowed and unshadowed sums are equal (nothing blocked: ratio 1), or a single
+// value of 0. A pass over a neighbourhood that is settled everywhere gives exactly that ratio
+// or value again (every tap adds equal sums, or zeros), so each pass is computed only within
+// the reach, through the passes still to come, of an unsettled pixel: the result is the same
+// bits as filtering everywhere, the pairs' ratios and the single values.
+class Unsettled {
+public:
+    Unsettled(const DenoiseEstimate& e, const DenoiseGuide& g) : m_w(g.width), m_h(g.height) {
+        const size_t n = size_t(m_w) * size_t(m_h);
+        const std::vector<float>& v = *e.planes;
+        m_table.assign(size_t(m_w + 1) * size_t(m_h + 1), 0);
+        for (int y = 0; y < m_h; ++y) {
+            int row = 0;
+            for (int x = 0; x < m_w; ++x) {
+                const size_t i = size_t(y) * size_t(m_w) + size_t(x);
+                row += g.surface[i] && (e.count == 2 ? v[i] != v[n + i] : v[i] != 0.0f);
+                at(y + 1, x + 1) = at(y, x + 1) + row;
+            }
+        }
+    }
+
+    // Whether an unsettled pixel lies within r rows and columns of (x + l, y), per lane l.
+    vbool4 near(int y, int x, int r) const {
+        const int y0 = std::max(y - r, 0), y1 = std::min(y + r + 1, m_h);
+        int lanes[kLanes];
+        for (int l = 0; l < kLanes; ++l) {
+            const int x0 = std::clamp(x + l - r, 0, m_w), x1 = std::clamp(x + l + r + 1, 0, m_w);
+            lanes[l] = at(y1, x1) - at(y0, x1) - at(y1, x0) + at(y0, x0) > 0 ? -1 : 0;
+        }
+        return vbool4(lanes[0], lanes[1], lanes[2], lanes[3]);
+    }
+
+private:
+    int& at(int y, int x) { return m_table[size_t(y) * size_t(m_w + 1) + size_t(x)]; }
+    int at(int y, int x) const { return m_table[size_t(y) * size_t(m_w + 1) + size_t(x)]; }
+    int m_w, m_h;
+    std::vector<int> m_table; // summed-area table of the unsettled pixels
+};
+
+// How far from an unsettled pixel pass `pass` must be computed: the reach of the passes after
+// it (their taps read this pass's results) plus the final result's reach; the variance
+// estimate (pass −1) two pixels further.
+constexpr int reachBefore(int pass) {
+    int r = kDenoiseReach;
+    for (int later = pass + 1; later < kDenoiseIterations; ++later)
+        r += 2 << later;
+    return r;
+}
+
 // Per estimate: its signal (the ratio of a pair of planes, shadowed over unshadowed light, 1
 // where nothing was seen; or the one plane's value), its variance and its planes.
 struct EstimateState {
@@ -112,6 +163,7 @@ struct EstimateState {
     const Planes* direction[3] = {nullptr, nullptr, nullptr};
     const Planes* width = nullptr;
     const Planes* active = nullptr; // 1 where the estimate exists; null: wherever a surface is
+    const Unsettled* unsettled = nullptr; // null: filtered wherever it exists
 };
 
 void newPlanes(Planes& p, const Guide& g) {
@@ -122,11 +174,13 @@ void newPlanes(Planes& p, const Guide& g) {
 // Per estimate, the lanes of pixels (y, x…x+3) it is filtered at: a surface, and where it
 // exists; whether any lane of any estimate is.
 bool liveLanes(const std::vector<EstimateState>& state, const vbool4& surface, int y, int x,
-               std::vector<vbool4>& live) {
+               int pass, std::vector<vbool4>& live) {
     bool any = false;
     for (size_t e = 0; e < state.size(); ++e) {
         live[e] = state[e].active ? surface & (vfloat4(state[e].active->row(y) + x) > vfloat4(0.0f))
                                   : surface;
+        if (state[e].unsettled && OIIO::simd::any(live[e]))
+            live[e] &= state[e].unsettled->near(y, x, reachBefore(pass));
         any = any || OIIO::simd::any(live[e]);
     }
     return any;
@@ -161,8 +215,13 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
     std::vector<Planes> lobes;
     lobes.reserve(5 * m);
     std::vector<EstimateState> state(m), next(m);
+    std::vector<std::optional<Unsettled>> unsettled(m);
     for (size_t e = 0; e < m; ++e) {
         const DenoiseEstimate& in = estimates[e];
+        if (in.skipSettled) {
+            unsettled[e].emplace(in, dg);
+            state[e].unsettled = next[e].unsettled = &*unsettled[e];
+        }
         for (EstimateState* s : {&state[e], &next[e]}) {
             newPlanes(s->signal, guide);
             newPlanes(s->variance, guide);
@@ -212,7 +271,7 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
             for (int x = 0; x < w; x += kLanes) {
                 const GuideCentre centre(guide, y, x);
                 const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
-                if (!liveLanes(state, surface, y, x, live)) continue;
+                if (!liveLanes(state, surface, y, x, -1, live)) continue;
                 std::fill(s.begin(), s.end(), vfloat4(0.0f));
                 std::fill(s2.begin(), s2.end(), vfloat4(0.0f));
                 vfloat4 weights(0.0f);
@@ -253,7 +312,7 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                 for (int x = 0; x < w; x += kLanes) {
                     const GuideCentre c(guide, y, x);
                     const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
-                    const bool any = liveLanes(state, surface, y, x, live);
+                    const bool any = liveLanes(state, surface, y, x, pass, live);
                     for (size_t e = 0; e < m; ++e) {
                         centre[e] = vfloat4(state[e].signal.row(y) + x);
                         inverseSpread[e] =

@@ -29,17 +29,19 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
         // The visible shares of the environment's diffuse and specular light, from the same
         // rays, scale the prefiltered results.
         EnvironmentVisibility v;
+        const bool traced = given || (o.shadows && o.environmentSamples > 0);
         if (given) {
             v = *given;
-        } else if (o.shadows && o.environmentSamples > 0) {
+        } else if (traced) {
             const SpecularLobe lobe{p.V, p.surface.alpha(),
                                     p.tracedSpecular ? 0.0f : kOccluderAlbedo};
             v = ratios(environmentVisibilitySums(light, p.origin, p.N, &lobe, seed(),
                                                  o.environmentSamples, *o.shadows, rays));
         }
+        // Traced visibility is the occlusion AO stands in for: AO scales only untraced light.
         auto addTo = [&](DirectTerms& t, const EnvironmentVisibility& w) {
             const glm::vec3 d = scaled(e.diffuse, w.diffuse), sp = scaled(e.specular, w.specular);
-            if (o.occludable) {
+            if (o.occludable && !traced) {
                 t.ambient += d;
                 t.environmentSpecular += sp;
             } else {

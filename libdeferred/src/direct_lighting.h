@@ -52,8 +52,9 @@ struct DirectLightingOptions {
     // Ambient and environment lights (off for the probe bake: its rays meet the environment
     // where they miss, and ambient light is added where the probes are read).
     bool lightsAtInfinity = true;
-    // Ambient lights and environments' light go to DirectTerms::ambient and
-    // environmentSpecular, to be occluded by AO later; otherwise to `direct`.
+    // Ambient lights and the light of environments without shadow rays go to
+    // DirectTerms::ambient and environmentSpecular, to be occluded by AO later; otherwise to
+    // `direct`.
     bool occludable = false;
 };
 

@@ -199,7 +199,15 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                     roi.ybegin - frame.ybegin, roi.yend - frame.ybegin);
     const LightReach reach(lights);
     const Visibility* shadowRays = params.shadows ? inputs.visibility : nullptr;
-    const bool rayTracedAO = !ao && inputs.visibility && params.aoSamples > 0;
+    // AO scales ambient lights, probes and environments without shadow rays; where nothing
+    // reads it (and no AOV asks for it), its rays are not traced.
+    const bool environmentsTraced = shadowRays && params.environmentSamples > 0;
+    const bool aoRead =
+        params.writeAO || probes || std::any_of(lights.begin(), lights.end(), [&](const Light& l) {
+            return l.type == LightType::Ambient ||
+                   (l.type == LightType::Environment && !environmentsTraced);
+        });
+    const bool rayTracedAO = !ao && inputs.visibility && params.aoSamples > 0 && aoRead;
     const bool aoActive = ao || rayTracedAO;
     DirectLightingOptions directOptions;
     directOptions.shadows = shadowRays;

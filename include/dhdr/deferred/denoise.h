@@ -54,6 +54,10 @@ struct DenoiseEstimate {
     // Optional: the pixels where the estimate exists (non-zero); the others keep their values
     // and the filter spends nothing on them (an estimate of a few objects' pixels).
     const std::vector<unsigned char>* active = nullptr;
+    // Filter only within reach of where the estimate is unsettled (a pair's sums differ, a
+    // single value is not 0); elsewhere it is left as it is. The pairs' ratios and the single
+    // values are the same bits either way (a pair's sums there are not: read its ratio).
+    bool skipSettled = true;
 };
 void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGuide& guide,
                   int nthreads = 0);
