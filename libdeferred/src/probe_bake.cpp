@@ -27,10 +27,32 @@ constexpr int kPlacementRays = 128;
 struct RayResult {
     bool hit = false, backFace = false;
     float distance = 0.0f;
-    glm::vec3 position{0.0f}, normal{0.0f},
-        diffuse{0.0f};     // diffuse: diffuseAlbedo towards the probe
+    // What the hit reflects of the irradiance there, towards the probe: diffuseAlbedo, plus
+    // the specular lobe's directional albedo where it is rough (kBakeGlossyRoughness).
+    glm::vec3 position{0.0f}, normal{0.0f}, reflectance{0.0f};
     glm::vec3 fixed{0.0f}; // radiance that does not change between bounces: direct + emission
+    int glossy = -1;       // a glossy hit's continuation (index among its probe's), or none
 };
+
+// Where a glossy hit's lobe leads: one GGX visible-normal sample, traced once. Its radiance
+// at each bounce is weight × (fixed + reflectance × E / π at the next hit).
+struct Continuation {
+    glm::vec3 weight{0.0f}; // f cos / pdf of the sample
+    bool hit = false;
+    glm::vec3 position{0.0f}, normal{0.0f}, towards{0.0f}, reflectance{0.0f}, fixed{0.0f};
+};
+
+// Below this roughness a hit's specular lobe is followed along a sampled direction (metals
+// show the room); above it the lobe reflects the irradiance there as its albedo does, which
+// is exact for uniform light and close for a lobe that wide (kHitMinRoughness' regularisation).
+constexpr float kBakeGlossyRoughness = 0.5f;
+
+// The specular lobe's directional albedo at N·V: the split sum's F0 (y − x) + x, plus the
+// multiple-scattering lobe's.
+glm::vec3 specularAlbedo(const PbrSurface& s, float NdotV) {
+    const glm::vec2 e = ggxAlbedoTerms(NdotV, s.roughness);
+    return s.F0() * (e.y - e.x) + glm::vec3(e.x) + multipleScatteringAlbedo(s, NdotV);
+}
 
 // Would a probe at `p` see the inside of a mesh, or stand too near a surface?
 bool freeSpace(const RayCaster& caster, const glm::dvec3& p, double nearest, float backfaceLimit,
@@ -152,11 +174,35 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     for (int i = 0; i < R; ++i)
         directions[size_t(i)] = sphericalFibonacci(i, R);
     std::vector<RayResult> results(size_t(n) * size_t(R));
+    std::vector<std::vector<Continuation>> glossy(static_cast<size_t>(n));
     DirectLightingOptions directOptions;
     directOptions.shadows = &caster;
     directOptions.shadowSamples = params.shadowSamples;
     directOptions.lightsAtInfinity = false;
     const DirectLighting direct(lights, directOptions);
+    // A surface a ray meets, seen from `towards`: its direct light with shadows and the
+    // emission no light stands for (fixed), and what it reflects of the irradiance there.
+    struct LitHit {
+        PbrSurface surface;
+        glm::vec3 reflectance{0.0f}, fixed{0.0f};
+    };
+    auto lightHit = [&](const SurfaceSample& s, const glm::vec3& towards, SeedKey key) {
+        LitHit h;
+        h.surface.baseColor = s.albedo;
+        h.surface.roughness = s.material->roughness;
+        h.surface.metallic = s.material->metallic;
+        const glm::vec3 P(s.position), N(s.normal);
+        const float NdotV = std::max(0.0f, glm::dot(N, towards));
+        h.reflectance =
+            diffuseAlbedo(h.surface, NdotV) + (h.surface.roughness >= kBakeGlossyRoughness
+                                                   ? specularAlbedo(h.surface, NdotV)
+                                                   : multipleScatteringAlbedo(h.surface, NdotV));
+        key.stream = streamOf(SampleStream::ProbeShadow);
+        const LitPoint point{h.surface, P, N, towards,
+                             SurfacePoint{P, glm::vec3(s.geometric), float(s.positionError)}};
+        h.fixed = direct.sum(point, key, emissiveAreLights ? glm::vec3(0.0f) : s.emission).direct;
+        return h;
+    };
     OIIO::parallel_for(
         0, n,
         [&](int64_t p) {
@@ -186,19 +232,53 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                 }
                 r.position = glm::vec3(s.position);
                 r.normal = glm::vec3(s.normal);
-                PbrSurface surface;
-                surface.baseColor = s.albedo;
-                surface.roughness = s.material->roughness;
-                surface.metallic = s.material->metallic;
-                // What the hit reflects diffusely of the irradiance there, towards the probe.
-                r.diffuse = diffuseAlbedo(
-                    surface, std::max(0.0f, -glm::dot(r.normal, directions[size_t(i)])));
-                if (!emissiveAreLights) r.fixed += s.emission;
-                const LitPoint point{
-                    surface, r.position, r.normal, -directions[size_t(i)],
-                    SurfacePoint{r.position, glm::vec3(s.geometric), float(s.positionError)}};
-                r.fixed =
-                    direct.sum(point, {p, i, streamOf(SampleStream::ProbeShadow)}, r.fixed).direct;
+                const LitHit lit = lightHit(s, -directions[size_t(i)], {p, i});
+                r.reflectance = lit.reflectance;
+                r.fixed = lit.fixed;
+                if (lit.surface.roughness >= kBakeGlossyRoughness) continue;
+                // A glossy hit: its lobe's sample, traced now, is lit at every bounce.
+                const glm::vec3 V = -directions[size_t(i)], N = r.normal;
+                const float NdotV = glm::dot(N, V);
+                if (!(NdotV > 0.0f)) continue;
+                glm::vec3 t, b;
+                orthonormalBasis(N, t, b);
+                const std::uint64_t seed = sampleSeed(p, i, 0, streamOf(SampleStream::ProbeGlossy));
+                const glm::vec3 h = sampleGgxVisibleNormal(
+                    glm::vec3(glm::dot(V, t), glm::dot(V, b), NdotV), lit.surface.alpha(),
+                    {unitFloat(mixBits(seed)), unitFloat(mixBits(seed + 1))});
+                const glm::vec3 H = glm::normalize(h.x * t + h.y * b + h.z * N);
+                const glm::vec3 wi = 2.0f * glm::dot(V, H) * H - V;
+                const float NdotL = glm::dot(N, wi);
+                const SurfacePoint from{r.position, glm::vec3(s.geometric), float(s.positionError)};
+                if (!(NdotL > 0.0f) || !(glm::dot(from.Ng, wi) > 0.0f)) continue;
+                const float pdf = ggxVisibleNormalReflectionPdf(
+                    NdotV, std::max(glm::dot(N, H), 0.0f), lit.surface.alpha());
+                if (!(pdf > 0.0f)) continue;
+                Continuation c;
+                // The single-scattering lobe: the diffuse layer's share and the nearly diffuse
+                // multiple scattering's (whose albedo it is) are in `reflectance`.
+                c.weight = singleScatteringBrdf(lit.surface, N, V, wi) * (NdotL / pdf);
+                const Ray next{glm::dvec3(offsetRayOrigin(from, wi)), glm::dvec3(wi)};
+                const RayHit nextHit = caster.intersect(next);
+                if (!nextHit.hit) {
+                    for (const Light& l : lights)
+                        if (l.type == LightType::Environment) c.fixed += environmentRadiance(l, wi);
+                } else if (const SurfaceSample n2 = surfaceAt(scene, next, nextHit); !n2.backFace) {
+                    const LitHit there = lightHit(n2, -wi, {p, i + R});
+                    c.hit = true;
+                    c.position = glm::vec3(n2.position);
+                    c.normal = glm::vec3(n2.normal);
+                    c.towards = -wi;
+                    // One level only: a glossy surface seen in a glossy one reflects by its
+                    // albedo.
+                    c.reflectance = diffuseAlbedo(there.surface,
+                                                  std::max(0.0f, glm::dot(c.normal, c.towards))) +
+                                    specularAlbedo(there.surface,
+                                                   std::max(0.0f, glm::dot(c.normal, c.towards)));
+                    c.fixed = there.fixed;
+                }
+                r.glossy = int(glossy[size_t(p)].size());
+                glossy[size_t(p)].push_back(c);
             }
         },
         OIIO::paropt(nthreads));
@@ -224,8 +304,16 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                     const RayResult& r = results[size_t(p) * size_t(R) + size_t(i)];
                     glm::vec3 L = r.fixed;
                     if (r.hit && !r.backFace && bounce > 0)
-                        L += r.diffuse / float(kPiD) *
+                        L += r.reflectance / float(kPiD) *
                              previous.irradianceAt(r.position, r.normal, -directions[size_t(i)]);
+                    if (r.glossy >= 0) {
+                        const Continuation& c = glossy[size_t(p)][size_t(r.glossy)];
+                        glm::vec3 next = c.fixed;
+                        if (c.hit && bounce > 0)
+                            next += c.reflectance / float(kPiD) *
+                                    previous.irradianceAt(c.position, c.normal, c.towards);
+                        L += c.weight * next;
+                    }
                     radiance[size_t(p) * size_t(R) + size_t(i)] = L;
                 }
             },

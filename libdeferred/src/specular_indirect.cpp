@@ -23,7 +23,6 @@ glm::vec3 SpecularIndirect::radiance(const LitPoint& p, int x, int y, int k, int
     orthonormalBasis(p.N, t, b);
     const glm::vec3 Vlocal(glm::dot(p.V, t), glm::dot(p.V, b), NdotV);
     const float alpha = p.surface.alpha();
-    const glm::vec3 F0 = p.surface.F0();
     const RotatedHammersley sequence(
         sampleSeed(x, y, -4, streamOf(SampleStream::SpecularIndirect, k)));
     const std::int64_t hits =
@@ -39,10 +38,7 @@ glm::vec3 SpecularIndirect::radiance(const LitPoint& p, int x, int y, int k, int
         const float NdotH = std::max(glm::dot(p.N, H), 0.0f);
         const float pdf = ggxVisibleNormalReflectionPdf(NdotV, NdotH, alpha);
         if (!(pdf > 0.0f)) continue;
-        const glm::vec3 f = schlickFresnel(F0, std::max(glm::dot(p.V, H), 0.0f)) *
-                                (ggxDistribution(NdotH, alpha) *
-                                 smithGgxCorrelatedVisibility(NdotL, NdotV, alpha)) +
-                            multipleScatteringBrdf(p.surface, NdotV, NdotL);
+        const glm::vec3 f = specularBrdf(p.surface, p.N, p.V, wi);
         const Ray ray{glm::dvec3(offsetRayOrigin(p.origin, wi)), glm::dvec3(wi)};
         const glm::vec3 L =
             m_hits.trace(ray, SeedKey{hits, i, streamOf(SampleStream::BounceShadow, k)}, rays);

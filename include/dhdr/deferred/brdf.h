@@ -77,4 +77,25 @@ inline glm::vec3 evaluateBrdf(const PbrSurface& s, const glm::vec3& N, const glm
     return diffuse + specular;
 }
 
+// evaluateBrdf's specular lobe alone, for light that follows the lobe, in 1/sr, zero below
+// the surface: the single-scattering GGX lobe F D V, and with it the multiple scattering.
+inline glm::vec3 singleScatteringBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
+                                      const glm::vec3& L) {
+    const float NdotL = glm::dot(N, L);
+    const float NdotV = glm::dot(N, V);
+    if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
+    const glm::vec3 H = glm::normalize(L + V);
+    const float NdotH = std::max(glm::dot(N, H), 0.0f);
+    const float alpha = s.alpha();
+    return schlickFresnel(s.F0(), std::max(glm::dot(V, H), 0.0f)) *
+           (ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(NdotL, NdotV, alpha));
+}
+inline glm::vec3 specularBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
+                              const glm::vec3& L) {
+    const float NdotL = glm::dot(N, L);
+    const float NdotV = glm::dot(N, V);
+    if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
+    return singleScatteringBrdf(s, N, V, L) + multipleScatteringBrdf(s, NdotV, NdotL);
+}
+
 } // namespace dhdr

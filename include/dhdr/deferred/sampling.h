@@ -42,6 +42,7 @@ enum class SampleStream : std::int64_t {
     ProbeShadow = 5,      // shadow rays of a light at a probe ray's hit (seeded by probe, ray)
     Path = 6,             // the reference path tracer's paths (seeded by pixel, path index)
     SpecularIndirect = 7, // rays gathering the scene's light in a glossy lobe (light −4)
+    ProbeGlossy = 8,      // a probe ray's continuation along a glossy hit's lobe
 };
 inline constexpr std::int64_t kStreamsPerDeepSample = 4;
 inline std::int64_t streamOf(SampleStream s, int deepSample = 0) {
