@@ -454,6 +454,37 @@ TEST_F(LightTools, ProbesTakeTheLightUnitsOfDhdrLight) {
     EXPECT_GT(compared, 100);
 }
 
+// The lights options come from one place: dhdr-light and dhdr-probes explain them in the same
+// words and refuse the same values with the same message.
+TEST_F(LightTools, ProbesAndLightShareTheirLightsOptions) {
+    auto helpOf = [&](const std::string& tool, const std::string& option) {
+        const Result r = run(tool + " --help");
+        EXPECT_EQ(r.status, 0);
+        const std::string text = r.out + r.err;
+        const size_t at = text.find("\n  " + option);
+        EXPECT_NE(at, std::string::npos) << tool << " " << option;
+        // The option's line and its continuation lines, up to the next option.
+        const size_t end = text.find("\n  -", at + 1);
+        return text.substr(at, end - at);
+    };
+    for (const char* option : {"--lights", "--radiometric", "--emissive-lights"}) {
+        const std::string a = helpOf("dhdr-light", option), b = helpOf("dhdr-probes", option);
+        EXPECT_FALSE(a.empty());
+        EXPECT_EQ(a, b) << option;
+    }
+    const std::string scene = kTestdata + "/spheres.gltf";
+    const Result light = run("dhdr-light " + path("none.exr") + " --scene " + scene +
+                             " --emissive-lights maybe -o " + path("x.exr"));
+    const Result probes =
+        run("dhdr-probes " + scene + " --emissive-lights maybe -o " + path("x.probes.exr"));
+    EXPECT_EQ(light.status, 2);
+    EXPECT_EQ(probes.status, 2);
+    EXPECT_NE(probes.err.find("--emissive-lights must be on or off"), std::string::npos)
+        << probes.err;
+    EXPECT_NE(light.err.find("--emissive-lights must be on or off"), std::string::npos)
+        << light.err;
+}
+
 TEST_F(LightTools, ProbesAddIndirectLightAndTheirAOV) {
     // dhdr-probes bakes the Cornell box; dhdr-light --probes lights what faces away from every
     // light (the bounce off the walls), --aovs writes that light as indirect.R/G/B, and the

@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <dhdr/deferred/ambient_occlusion.h>
 #include <dhdr/deferred/denoise.h>
-#include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_import.h>
 #include <dhdr/deferred/lighting.h>
@@ -42,21 +41,15 @@ int run(int argc, char** argv) {
         "shadow rays make lights cast hard and soft shadows, glowing surfaces light the\n"
         "scene, and --ao rt traces ambient occlusion (docs/lighting.md). Half output clamps\n"
         "radiance past 65504 (and says how many values); --type float keeps it.");
-    std::vector<std::string> lightsPaths;
-    std::string plateArg, background, dataType = "half", scenePath, emissive = "auto",
-                                      aoMode = "off", envSpecular = "auto", gi = "direct";
+    app::LightOptions lightOptions;
+    std::string plateArg, background, dataType = "half", scenePath, aoMode = "off",
+                                      envSpecular = "auto", gi = "direct";
     bool bruteForce = false, aovs = false, noShadows = false;
     // The counts' options, ranges and defaults come from the library's table.
     LightingParams params;
     params.aoSamples = 16; // with --ao rt or ssao; 0 when AO is off
     float aoDistance = 1.0f;
-    cl.option("--lights", "FILE",
-              "lights file (JSON, docs/lights.md); repeat to add the lights of several; "
-              "replaces the scene's own punctual lights; needed without --scene",
-              [&](const std::string& v, std::string&) {
-                  lightsPaths.push_back(v);
-                  return true;
-              });
+    app::addLightOptions(cl, lightOptions);
     cl.option("--scene", scenePath, "FILE",
               "the scene the G-buffer was rendered from: shadows, emissive lights, --ao rt, and "
               "its own lights when no --lights is given");
@@ -67,8 +60,6 @@ int run(int argc, char** argv) {
     cl.flag("--no-shadows", noShadows,
             "with --scene, trace no shadow rays (the unshadowed reference; AO is still traced)");
     app::addParamOptions(cl, params, kLightingParamTable);
-    cl.option("--emissive-lights", emissive, "on|off",
-              "with --scene, make every emissive mesh an area light (default: on)");
     cl.option("--ao", aoMode, "off|rt|ssao",
               "ambient occlusion of the ambient light: rt traces rays in the scene (needs "
               "--scene), ssao works from the G-buffer alone (default off)");
@@ -105,7 +96,6 @@ int run(int argc, char** argv) {
             "indirect.R/G/B and the specular indirect light specular.R/G/B");
     cl.option("--type", dataType, "half|float", "pixel type of the output EXR (default half)");
     std::string deepOut, probesPath, channelsArg, cameraFrom;
-    bool radiometric = false;
     cl.option("--channels", channelsArg, "MAP|blender",
               "read another renderer's passes through a channel map (JSON, docs/interop.md); "
               "blender: Cycles' Depth, Position, Normal and the BaseColor, Roughness, Metallic "
@@ -113,7 +103,6 @@ int run(int argc, char** argv) {
     cl.option("--camera-from", cameraFrom, "SCENE[:CAMERA]",
               "with --channels, the camera of the scene file the passes were rendered from "
               "(default its first camera)");
-    app::addLightUnitsOption(cl, radiometric);
     cl.option("--probes", probesPath, "FILE",
               "light probes baked by dhdr-probes for this scene: indirect diffuse light "
               "(docs/gi.md)");
@@ -126,7 +115,7 @@ int run(int argc, char** argv) {
               "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --ao rt "
               "-o frame.hdr.exr");
     // Every file an option reads is an input that no output may overwrite.
-    for (const char* option : {"--lights", "--scene", "--probes"})
+    for (const char* option : {"--scene", "--probes"})
         cl.namesFile(option, app::FileRole::Input);
     cl.namesFile("--plate", app::FileRole::Input,
                  [](const std::string& v) { return v == "env" ? std::string() : v; });
@@ -149,10 +138,12 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-light: usage error: %s\n", message.c_str());
         return app::kExitUsage;
     };
+    const std::vector<std::string>& lightsPaths = lightOptions.files;
     if (lightsPaths.empty() && scenePath.empty())
         return usage("no lights: give --lights FILE, or --scene SCENE for the scene's own");
-    if (emissive != "auto" && emissive != "on" && emissive != "off")
-        return usage("--emissive-lights must be on or off");
+    if (const std::string problem = app::lightOptionsProblem(lightOptions, !scenePath.empty());
+        !problem.empty())
+        return usage(problem);
     if (denoise != "on" && denoise != "off") return usage("--denoise takes on or off");
     if (envSpecular == "auto")
         params.environmentSpecular = IblSpecular::Auto;
@@ -180,7 +171,6 @@ int run(int argc, char** argv) {
     if (scenePath.empty()) {
         if (aoMode == "rt") return usage("--ao rt traces rays in the scene: give --scene SCENE");
         if (noShadows) return usage("--no-shadows needs --scene (without it nothing is shadowed)");
-        if (emissive != "auto") return usage("--emissive-lights needs --scene");
         if (params.environmentSamples != LightingParams{}.environmentSamples)
             return usage("--env-samples traces rays in the scene: give --scene");
         if (params.catcherBounceSamples != LightingParams{}.catcherBounceSamples)
@@ -234,13 +224,7 @@ int run(int argc, char** argv) {
         caster = std::make_unique<RayCaster>(scene);
         if (!caster->ok()) return tool.fail(scenePath + ": " + caster->error());
         sceneSHA = sceneFingerprint(scenePath);
-        if (lightsPaths.empty()) sceneLights = scene.lights;
-        if (emissive != "off") {
-            const std::vector<Light> glowing = emissiveLights(scene);
-            sceneLights.insert(sceneLights.end(), glowing.begin(), glowing.end());
-            tool.info(scenePath + ": " + std::to_string(glowing.size()) + " emissive mesh" +
-                      (glowing.size() == 1 ? "" : "es") + " as area lights");
-        }
+        sceneLights = app::sceneLights(tool, scene, scenePath, lightOptions);
         if (lightsPaths.empty() && sceneLights.empty())
             return tool.fail(scenePath + ": the scene has no lights and no emissive surfaces; " +
                              "give a lights file with --lights");
@@ -259,29 +243,7 @@ int run(int argc, char** argv) {
 
     auto readLights = [&](const std::vector<std::string>& files, std::vector<Light>& lights) {
         lights = sceneLights;
-        for (const std::string& file : files) {
-            std::vector<Light> more;
-            std::string error;
-            std::vector<std::string> warnings;
-            const auto t = std::chrono::steady_clock::now();
-            if (!readLightsFile(file, more, error, warnings)) {
-                tool.fail(error);
-                return false;
-            }
-            for (const std::string& warning : warnings)
-                tool.warn(warning);
-            const bool environment = std::any_of(more.begin(), more.end(), [](const Light& l) {
-                return l.type == LightType::Environment;
-            });
-            if (environment)
-                tool.info(file + ": read with its environment images in " +
-                          std::to_string(int(std::chrono::duration<double, std::milli>(
-                                                 std::chrono::steady_clock::now() - t)
-                                                 .count())) +
-                          " ms (a raw image is baked on reading; dhdr-ibl bakes it once)");
-            lights.insert(lights.end(), more.begin(), more.end());
-        }
-        return true;
+        return app::addLightsFiles(tool, files, lightOptions, lights);
     };
     // Lights files without a frame pattern hold the same lights for every frame: read once.
     const bool animatedLights =
@@ -289,9 +251,6 @@ int run(int argc, char** argv) {
                     [](const app::FramePattern& p) { return p.isSequence(); });
     std::vector<Light> lights = sceneLights;
     if (!animatedLights && !readLights(lightsPaths, lights)) return app::kExitFailure;
-    if (radiometric) toRadiometricUnits(lights);
-    if (animatedLights && radiometric)
-        return usage("--radiometric works with lights files that hold every frame's lights");
     LightingInputs inputs{lights, caster.get()};
     inputs.scene = caster.get();
     // Another renderer's passes: the channel map, and the camera they were rendered with.

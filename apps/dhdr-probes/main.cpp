@@ -5,7 +5,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/ray_caster.h>
@@ -25,26 +24,15 @@ int run(int argc, char** argv) {
         "environment; each stores an octahedral map of irradiance and one of distance\n"
         "moments. One two-part EXR: the irradiance and distance atlases, the grid in the\n"
         "header.");
-    std::vector<std::string> lightsPaths;
-    std::string grid, emissive = "on";
+    app::LightOptions lightOptions;
+    std::string grid;
     ProbeBakeParams p;
     double spacing = 0.25;
-    cl.option("--lights", "FILE",
-              "lights file (docs/lights.md); repeat to add several; replaces the scene's own "
-              "punctual lights",
-              [&](const std::string& v, std::string&) {
-                  lightsPaths.push_back(v);
-                  return true;
-              });
+    app::addLightOptions(cl, lightOptions);
     cl.option("--spacing", spacing, "M", "distance between probes in scene units (default 0.25)",
               {0.0, 1e6, true, false});
     cl.option("--grid", grid, "NX,NY,NZ", "probe counts along X, Y, Z instead of --spacing");
     app::addParamOptions(cl, p, kProbeBakeParamTable);
-    bool radiometric = false;
-    app::addLightUnitsOption(cl, radiometric);
-    cl.option("--emissive-lights", emissive, "on|off",
-              "emissive meshes as area lights, as dhdr-light --scene has them (default on); off: "
-              "their emission is seen by the probes' rays instead");
     bool strict = false;
     cl.flag("--strict", strict,
             "a texture the scene names that cannot be read is an error (default: a warning, and "
@@ -53,7 +41,6 @@ int run(int argc, char** argv) {
         "Example:\n  dhdr-probes testdata/cornell_box.gltf --spacing 0.1 -o cornell.probes.exr\n"
         "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --probes "
         "cornell.probes.exr -o frame.hdr.exr");
-    cl.namesFile("--lights", app::FileRole::Input);
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-probes", cl);
     if (cl.inputs().size() != 1 || cl.output().empty()) {
@@ -62,8 +49,9 @@ int run(int argc, char** argv) {
     }
     // The output checks every tool makes: not an input, in a folder that exists.
     if (const int status = tool.start(cl.inputs()); status >= 0) return status;
-    if (emissive != "on" && emissive != "off") {
-        std::fprintf(stderr, "dhdr-probes: usage error: --emissive-lights must be on or off\n");
+    if (const std::string problem = app::lightOptionsProblem(lightOptions, true);
+        !problem.empty()) {
+        std::fprintf(stderr, "dhdr-probes: usage error: %s\n", problem.c_str());
         return app::kExitUsage;
     }
     p.spacing = spacing;
@@ -87,20 +75,10 @@ int run(int argc, char** argv) {
     // same way): what the loader repaired, a missing texture among it, is a warning.
     for (const std::string& warning : scene.warnings)
         tool.warn(path + ": " + warning);
-    std::vector<Light> lights = lightsPaths.empty() ? scene.lights : std::vector<Light>{};
-    for (const std::string& file : lightsPaths) {
-        std::vector<Light> more;
-        std::vector<std::string> warnings;
-        if (!readLightsFile(file, more, error, warnings)) return tool.fail(error);
-        for (const std::string& warning : warnings)
-            tool.warn(warning);
-        lights.insert(lights.end(), more.begin(), more.end());
-    }
-    if (radiometric) toRadiometricUnits(lights);
-    if (emissive == "on") {
-        const std::vector<Light> glowing = emissiveLights(scene);
-        lights.insert(lights.end(), glowing.begin(), glowing.end());
-    }
+    // The lights in dhdr-light's order: the probes' hits are lit as the frame's pixels are.
+    std::vector<Light> lights = app::sceneLights(tool, scene, path, lightOptions);
+    if (!app::addLightsFiles(tool, lightOptions.files, lightOptions, lights))
+        return app::kExitFailure;
     const RayCaster caster(scene);
     if (!caster.ok()) return tool.fail(path + ": " + caster.error());
     const auto t1 = std::chrono::steady_clock::now();
@@ -108,7 +86,8 @@ int run(int argc, char** argv) {
     {
         app::Progress progress(tool, "dhdr-probes: baking");
         p.progress = [&](float f) { progress.update(f); };
-        if (!bakeProbes(scene, caster, lights, emissive == "on", p, volume, error, tool.threads()))
+        if (!bakeProbes(scene, caster, lights, lightOptions.emissive != "off", p, volume, error,
+                        tool.threads()))
             return tool.fail(path + ": " + error);
     }
     const auto t2 = std::chrono::steady_clock::now();

@@ -1,0 +1,76 @@
+#include "light_options.h"
+
+#include "tool.h"
+
+#include <algorithm>
+#include <chrono>
+#include <dhdr/deferred/emissive_lights.h>
+#include <dhdr/deferred/scene.h>
+
+namespace dhdr::app {
+
+void addLightOptions(CommandLine& cl, LightOptions& o) {
+    cl.option("--lights", "FILE",
+              "lights file (JSON, docs/lights.md); repeat to add the lights of several; "
+              "replaces the scene's own punctual lights",
+              [&o](const std::string& v, std::string&) {
+                  o.files.push_back(v);
+                  return true;
+              });
+    cl.flag("--radiometric", o.radiometric,
+            "divide photometric light units (point and spot candela, directional lux) by 683 "
+            "lm/W, so that lights exported by Blender light as they do in Cycles; emission "
+            "and environments are unchanged");
+    cl.option("--emissive-lights", o.emissive, "on|off",
+              "make every emissive mesh of the scene an area light with shadow rays (default "
+              "on); off: their emission is seen only by the rays that meet them");
+    cl.namesFile("--lights", FileRole::Input);
+}
+
+std::string lightOptionsProblem(const LightOptions& o, bool scene) {
+    if (o.emissive != "auto" && o.emissive != "on" && o.emissive != "off")
+        return "--emissive-lights must be on or off";
+    if (!scene && o.emissive != "auto") return "--emissive-lights needs --scene";
+    return "";
+}
+
+std::vector<Light> sceneLights(const Tool& tool, const Scene& scene, const std::string& path,
+                               const LightOptions& o) {
+    std::vector<Light> lights = o.files.empty() ? scene.lights : std::vector<Light>{};
+    if (o.emissive != "off") {
+        const std::vector<Light> glowing = emissiveLights(scene);
+        lights.insert(lights.end(), glowing.begin(), glowing.end());
+        tool.info(path + ": " + std::to_string(glowing.size()) + " emissive mesh" +
+                  (glowing.size() == 1 ? "" : "es") + " as area lights");
+    }
+    if (o.radiometric) toRadiometricUnits(lights);
+    return lights;
+}
+
+bool addLightsFiles(const Tool& tool, const std::vector<std::string>& files,
+                    const LightOptions& o, std::vector<Light>& lights) {
+    for (const std::string& file : files) {
+        std::vector<Light> more;
+        std::string error;
+        std::vector<std::string> warnings;
+        const auto t = std::chrono::steady_clock::now();
+        if (!readLightsFile(file, more, error, warnings)) {
+            tool.fail(error);
+            return false;
+        }
+        for (const std::string& warning : warnings)
+            tool.warn(warning);
+        if (std::any_of(more.begin(), more.end(),
+                        [](const Light& l) { return l.type == LightType::Environment; }))
+            tool.info(file + ": read with its environment images in " +
+                      std::to_string(int(std::chrono::duration<double, std::milli>(
+                                             std::chrono::steady_clock::now() - t)
+                                             .count())) +
+                      " ms (a raw image is baked on reading; dhdr-ibl bakes it once)");
+        if (o.radiometric) toRadiometricUnits(more);
+        lights.insert(lights.end(), more.begin(), more.end());
+    }
+    return true;
+}
+
+} // namespace dhdr::app
