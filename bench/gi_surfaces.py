@@ -5,11 +5,15 @@ with probes (+ the specular indirect light, as dhdr-light does by default with -
 relative error. Prints the bake's and each frame's wall time and peak memory.
 
     /usr/bin/python3 bench/gi_surfaces.py --bin build/apps [--scene testdata/cornell_box.gltf]
-        [--size 320x320] [--spp 256] [--spacing 0.1]
+        [--size 320x320] [--spp 256] [--spacing 0.1|auto] [--scale 10]
+
+--scale S renders a copy of a glTF scene under a root node scaled by S (the Cornell box at 10
+is the 5.5 m box Blender exports; its lights' intensities are unchanged).
 
 Needs OpenImageIO's Python module (python3-openimageio) and numpy.
 """
 import argparse
+import json
 import os
 import shutil
 import sys
@@ -41,6 +45,7 @@ def main():
     ap.add_argument("--size", default="320x320")
     ap.add_argument("--spp", default="256")
     ap.add_argument("--spacing", default="0.1", help="probe spacing, or 'auto' for the tool's default")
+    ap.add_argument("--scale", type=float, default=1.0, help="scale the glTF scene by this")
     ap.add_argument("--keep", help="keep the images in this folder")
     args = ap.parse_args()
     work = args.keep or tempfile.mkdtemp(prefix="dhdr_gi_")
@@ -48,6 +53,20 @@ def main():
     tool = lambda name: os.path.join(args.bin, name)
     f = lambda name: os.path.join(work, name)
     spacing = [] if args.spacing == "auto" else ["--spacing", args.spacing]
+    if args.scale != 1.0:
+        with open(args.scene) as fh:
+            gltf = json.load(fh)
+        scene = gltf["scenes"][gltf.get("scene", 0)]
+        gltf["nodes"].append({"name": "dhdr bench scale", "scale": [args.scale] * 3,
+                              "children": scene["nodes"]})
+        scene["nodes"] = [len(gltf["nodes"]) - 1]
+        base_dir = os.path.dirname(os.path.abspath(args.scene))
+        for b in gltf.get("buffers", []) + gltf.get("images", []):
+            if "uri" in b and not b["uri"].startswith("data:"):
+                b["uri"] = os.path.join(base_dir, b["uri"])
+        args.scene = f("scaled.gltf")
+        with open(args.scene, "w") as fh:
+            json.dump(gltf, fh)
     wall, rss, err = run([tool("dhdr-probes"), args.scene, *spacing, "-o", f("p.exr"), "-v"])
     print("bake: %.2f s, %.0f MiB  [%s]" % (wall, rss, [l for l in err.splitlines() if "probes (" in l][-1]))
     run([tool("dhdr-gbuffer"), args.scene, "--size", args.size, "-o", f("g.exr"), "-q"])

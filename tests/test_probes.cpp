@@ -414,6 +414,40 @@ TEST(Probes, AGlossyCeilingReflectsTheLitFloor) {
     }
 }
 
+// Without a spacing the grid is the finest that covers the scene's bounds with at most
+// maxProbes probes: the same probes for a room at any scale (a Cornell box of 0.55 m and of
+// 5.5 m as Blender exports it), and a flat scene spends them along its two long sides.
+TEST(Probes, DefaultSpacingFitsTheBudgetAtAnyScale) {
+    auto countsOf = [](glm::dvec3 extent, double spacing) {
+        glm::ivec3 n;
+        for (int a = 0; a < 3; ++a)
+            n[a] = int(std::max(1.0, std::ceil(extent[a] / spacing - 1e-9)));
+        return n;
+    };
+    const double small = probeSpacingFor(glm::dvec3(0.55), 512),
+                 large = probeSpacingFor(glm::dvec3(5.5), 512);
+    EXPECT_EQ(countsOf(glm::dvec3(0.55), small), glm::ivec3(8));
+    EXPECT_EQ(countsOf(glm::dvec3(5.5), large), glm::ivec3(8));
+    EXPECT_NEAR(large / small, 10.0, 1e-9);
+    const glm::dvec3 flat(40.0, 0.0, 10.0);
+    const glm::ivec3 n = countsOf(flat, probeSpacingFor(flat, 512));
+    EXPECT_EQ(n.y, 1);
+    EXPECT_LE(n.x * n.z, 512);
+    EXPECT_GE(n.x * n.z, 400); // no budget wasted on the flat axis
+    // Through the bake: a box of white walls, default parameters.
+    for (const float scale : {1.0f, 10.0f}) {
+        Scene scene;
+        scene.materials.push_back(lambert("white", glm::vec3(0.8f)));
+        addBox(scene, glm::vec3(0.0f), glm::vec3(0.55f * scale), 0, true);
+        ProbeBakeParams p;
+        p.rays = 16;
+        p.bounces = 1;
+        const ProbeVolume v = bake(scene, {pointLight(glm::vec3(0.27f * scale), 1.0f)}, p);
+        EXPECT_EQ(v.counts, glm::ivec3(8)) << scale;
+        EXPECT_NEAR(v.spacing.x, small * scale, 1e-6 * scale);
+    }
+}
+
 TEST(Probes, BakeDoesNotDependOnTheThreadCount) {
     Scene scene;
     scene.materials.push_back(lambert("white", glm::vec3(0.8f)));

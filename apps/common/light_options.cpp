@@ -47,8 +47,8 @@ std::vector<Light> sceneLights(const Tool& tool, const Scene& scene, const std::
     return lights;
 }
 
-bool addLightsFiles(const Tool& tool, const std::vector<std::string>& files,
-                    const LightOptions& o, std::vector<Light>& lights) {
+bool addLightsFiles(const Tool& tool, const std::vector<std::string>& files, const LightOptions& o,
+                    std::vector<Light>& lights) {
     for (const std::string& file : files) {
         std::vector<Light> more;
         std::string error;

@@ -27,9 +27,11 @@ int run(int argc, char** argv) {
     app::LightOptions lightOptions;
     std::string grid;
     ProbeBakeParams p;
-    double spacing = 0.25;
+    double spacing = 0.0;
     app::addLightOptions(cl, lightOptions);
-    cl.option("--spacing", spacing, "M", "distance between probes in scene units (default 0.25)",
+    cl.option("--spacing", spacing, "M",
+              "distance between probes in scene units (default: from the scene's bounds, "
+              "--max-probes)",
               {0.0, 1e6, true, false});
     cl.option("--grid", grid, "NX,NY,NZ", "probe counts along X, Y, Z instead of --spacing");
     app::addParamOptions(cl, p, kProbeBakeParamTable);

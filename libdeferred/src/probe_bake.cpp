@@ -89,6 +89,26 @@ glm::vec3 texelDirection(int i, int j, int n) {
 
 } // namespace
 
+double probeSpacingFor(const glm::dvec3& extent, int maxProbes) {
+    auto count = [&](double spacing) {
+        double n = 1.0;
+        for (int a = 0; a < 3; ++a)
+            n *= std::max(1.0, std::ceil(extent[a] / spacing - 1e-9));
+        return n;
+    };
+    const double longest = std::max({extent.x, extent.y, extent.z});
+    if (!(longest > 0.0)) return 1.0;
+    // From the cube root of the volume per probe (the longest side's share where the box is
+    // flat), up in 1 % steps until the grid fits: a fixed sequence, the same on any machine.
+    double spacing =
+        std::max(std::cbrt(std::max(extent.x, longest * 1e-3) * std::max(extent.y, longest * 1e-3) *
+                           std::max(extent.z, longest * 1e-3) / maxProbes),
+                 longest / 256.0);
+    while (count(spacing) > maxProbes)
+        spacing *= 1.01;
+    return spacing;
+}
+
 bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<Light>& lights,
                 bool emissiveAreLights, const ProbeBakeParams& params, ProbeVolume& v,
                 std::string& error, int nthreads) {
@@ -97,7 +117,7 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     if (error = checkRanges(params, kProbeBakeParamTable); !error.empty()) return false;
     if ((byCounts && (glm::any(glm::lessThan(counts, glm::ivec3(1))) ||
                       glm::any(glm::greaterThan(counts, glm::ivec3(256))))) ||
-        (!byCounts && !(params.spacing > 0.0))) {
+        (!byCounts && !(params.spacing >= 0.0))) {
         error = "probe grid out of range (counts 1-256, spacing > 0)";
         return false;
     }
@@ -107,6 +127,8 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     }
     // The grid over the scene's bounds: probes a spacing apart, centred in the bounds.
     const glm::dvec3 lo = scene.boundsMin(), hi = scene.boundsMax(), extent = hi - lo;
+    const double spacing =
+        params.spacing > 0.0 ? params.spacing : probeSpacingFor(extent, params.maxProbes);
     v = ProbeVolume{};
     for (int a = 0; a < 3; ++a) {
         if (byCounts) {
@@ -115,16 +137,16 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
         } else {
             // In double, and refused past 256: a tiny spacing must neither overflow an int
             // nor be cut to a grid that no longer covers the scene.
-            const double along = std::max(1.0, std::ceil(extent[a] / params.spacing - 1e-9));
-            if (!(along <= 256.0) || !(float(params.spacing) > 0.0f)) {
+            const double along = std::max(1.0, std::ceil(extent[a] / spacing - 1e-9));
+            if (!(along <= 256.0) || !(float(spacing) > 0.0f)) {
                 error =
-                    "a spacing of " + std::to_string(params.spacing) + " gives " +
+                    "a spacing of " + std::to_string(spacing) + " gives " +
                     (along < 1e12 ? std::to_string((long long)along) : std::string("over 10^12")) +
                     " probes along " + "XYZ"[a] + " (at most 256): use a larger spacing or counts";
                 return false;
             }
             v.counts[a] = int(along);
-            v.spacing[a] = params.spacing;
+            v.spacing[a] = spacing;
         }
         v.origin[a] = lo[a] + 0.5 * (extent[a] - (v.counts[a] - 1) * v.spacing[a]);
     }

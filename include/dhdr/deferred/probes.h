@@ -18,9 +18,12 @@ class RayCaster;
 struct Scene;
 
 struct ProbeBakeParams {
-    double spacing = 0.25; // metres (scene units) between probes, > 0; unused with counts
-    glm::ivec3 counts{0};  // probes along X, Y, Z (each 1–256); 0: from `spacing`
+    // Metres (scene units) between probes, ≥ 0; 0: the smallest spacing that covers the
+    // scene's bounds with at most maxProbes probes (probeSpacingFor). Unused with counts.
+    double spacing = 0.0;
+    glm::ivec3 counts{0}; // probes along X, Y, Z (each 1–256); 0: from `spacing`
     // The counts: their meaning and ranges are kProbeBakeParamTable's (validated by bakeProbes).
+    int maxProbes = 512;
     int rays = 256;
     int bounces = 0; // 0: until the irradiance converges (kProbeConvergence)
     int shadowSamples = 4;
@@ -33,12 +36,20 @@ struct ProbeBakeParams {
 
 // ProbeBakeParams' counts, and the options of dhdr-probes that set them.
 inline constexpr IntParam<ProbeBakeParams> kProbeBakeParamTable[] = {
+    {"--max-probes", &ProbeBakeParams::maxProbes, 1, 262144, "N",
+     "without --spacing or --grid: the spacing that covers the scene's bounds with at most N "
+     "probes"},
     {"--rays", &ProbeBakeParams::rays, 16, 65536, "N", "rays per probe: a spherical Fibonacci set"},
     {"--bounces", &ProbeBakeParams::bounces, 0, 64, "K",
      "light bounces (0: until what further bounces would add is under 0.5 % of the light)"},
     {"--shadow-samples", &ProbeBakeParams::shadowSamples, 1, 256, "N",
      "shadow rays per area light at each ray's hit"},
 };
+
+// The smallest spacing (within 1 %) at which a grid over a box of `extent` holds at most
+// `maxProbes` probes (max(1, ⌈extent / spacing⌉) along each axis, at most 256), so that a
+// scene gets the same number of probes at any scale.
+double probeSpacingFor(const glm::dvec3& extent, int maxProbes);
 
 // Bounces until the light the bounces to come would still add to the sum of every probe's
 // irradiance (each adding the same share of the last one's, geometrically) is at most this
