@@ -467,7 +467,7 @@ TEST_F(LightTools, ProbesAndLightShareTheirLightsOptions) {
         const size_t end = text.find("\n  -", at + 1);
         return text.substr(at, end - at);
     };
-    for (const char* option : {"--lights", "--radiometric", "--emissive-lights"}) {
+    for (const char* option : {"--lights", "--radiometric", "--emissive-lights", "--diffuse"}) {
         const std::string a = helpOf("dhdr-light", option), b = helpOf("dhdr-probes", option);
         EXPECT_FALSE(a.empty());
         EXPECT_EQ(a, b) << option;

@@ -8,6 +8,7 @@
 #include <dhdr/deferred/lights/light.h>
 #include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/sampling.h>
+#include <dhdr/deferred/shading_point.h>
 #include <gtest/gtest.h>
 
 using namespace dhdr;
@@ -94,8 +95,10 @@ TEST(MultipleScattering, OneMaterialUnderEveryLight) {
             PbrSurface coloured;
             coloured.baseColor = glm::vec3(0.8f, 0.5f, 0.2f);
             coloured.roughness = roughness;
+            PbrSurface burley = coloured;
+            burley.diffuse = DiffuseModel::Burley;
             for (const PbrSurface& s :
-                 {metal(glm::vec3(1.0f, 0.78f, 0.34f), roughness), dielectric, coloured}) {
+                 {metal(glm::vec3(1.0f, 0.78f, 0.34f), roughness), dielectric, coloured, burley}) {
                 const glm::dvec3 exact = albedo(s, mu);
                 const glm::vec3 underSky = shadeLight(sky, s, glm::vec3(0.0f), N, V);
                 const glm::vec3 underAmbient = shadeLight(ambient, s, glm::vec3(0.0f), N, V);
@@ -108,6 +111,91 @@ TEST(MultipleScattering, OneMaterialUnderEveryLight) {
                 }
             }
         }
+}
+
+// Burley's diffuse (Blender's Principled BSDF) against its closed forms: seen head-on its
+// albedo is 1 − ∫₀¹ (1−c)⁵ c dc = 41/42 at roughness 0 (the (1 − ½F_L) factor), and adds
+// 2 ∫₀¹ (1+c)(1−c)⁵ c dc = 1/14 of retro-reflection at roughness 1: 87/84. The table between
+// against the quadrature of diffuseBrdf in double, and 1.1–1.5× Lambert at roughness 1.
+TEST(Diffuse, BurleyAlbedoAgainstItsClosedFormsAndItsFormula) {
+    EXPECT_NEAR(burleyDiffuseAlbedo(1.0f, 0.0f), 41.0 / 42.0, 1e-3);
+    EXPECT_NEAR(burleyDiffuseAlbedo(1.0f, 1.0f), 87.0 / 84.0, 1e-3);
+    PbrSurface white;
+    white.baseColor = glm::vec3(1.0f);
+    white.diffuse = DiffuseModel::Burley;
+    const glm::vec3 N(0.0f, 0.0f, 1.0f);
+    for (float roughness : {0.0f, 0.37f, 1.0f})
+        for (float mu : {0.1f, 0.5f, 0.95f}) {
+            white.roughness = roughness;
+            const glm::vec3 V(std::sqrt(1.0f - mu * mu), 0.0f, mu);
+            constexpr int n = 512;
+            double sum = 0.0;
+            for (int i = 0; i < n; ++i) {
+                const double c = (i + 0.5) / n, sinTheta = std::sqrt(1.0 - c * c);
+                for (int j = 0; j < n; ++j) {
+                    const double phi = 2.0 * 3.14159265358979323846 * (j + 0.5) / n;
+                    const glm::vec3 L(float(sinTheta * std::cos(phi)),
+                                      float(sinTheta * std::sin(phi)), float(c));
+                    sum += double(diffuseBrdf(white, N, V, L, glm::vec3(0.0f)).r) * c;
+                }
+            }
+            const double exact = sum * 2.0 * 3.14159265358979323846 / (double(n) * n);
+            EXPECT_NEAR(burleyDiffuseAlbedo(mu, roughness), exact, 2e-3 * exact)
+                << "roughness " << roughness << ", N·V " << mu;
+            if (roughness == 1.0f) {
+                EXPECT_GT(exact, 1.0);
+                EXPECT_LT(exact, 1.6);
+            }
+        }
+}
+
+// --diffuse burley in the frame: a rough floor under a sun, lit by the G-buffer pass with each
+// model. Per pixel, the difference is exactly the two diffuse layers' (the specular layer is
+// the same): c/π E cos θ_l [Burley's bracket − (1 − F(v·h))], written out here from the
+// formula.
+TEST(Diffuse, TheFramesDiffuseLayerIsBurleysFormula) {
+    using namespace dhdr::test;
+    Scene scene = emptyScene();
+    addFloor(scene, 3.0f);
+    scene.materials[0].baseColor = glm::vec3(0.7f, 0.6f, 0.5f);
+    scene.materials[0].roughness = 0.8f;
+    const Camera camera = Camera::lookAt({0.0, 2.0, 3.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.9);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 32, 32);
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::normalize(glm::vec3(0.4f, -1.0f, -0.3f));
+    sun.intensity = 2.0f;
+    LightingParams p;
+    const ImageBuf lambert = shade(gbuf, {sun}, nullptr, p);
+    p.diffuse = DiffuseModel::Burley;
+    const ImageBuf burley = shade(gbuf, {sun}, nullptr, p);
+    GBufferPixels g;
+    ImageBuf errors;
+    ASSERT_TRUE(openGBuffer(gbuf, g, errors));
+    const GBufferView view(*g.pixels, g.layout, g.camera);
+    int checked = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            if (view.samples(x, y) == 0) continue;
+            const ShadingPoint sp = view.at(x, y);
+            const glm::dvec3 N(sp.N), V(sp.V), L(-sun.direction);
+            const double cl = glm::dot(N, L), cv = glm::dot(N, V);
+            const double FL = std::pow(1.0 - cl, 5.0), FV = std::pow(1.0 - cv, 5.0);
+            const double RR = sp.surface.roughness * (glm::dot(L, V) + 1.0);
+            const double bracket =
+                (1.0 - 0.5 * FL) * (1.0 - 0.5 * FV) + RR * (FL + FV + FL * FV * (RR - 1.0));
+            const double VdotH = glm::dot(V, glm::normalize(L + V));
+            const double F = 0.04 + 0.96 * std::pow(1.0 - VdotH, 5.0);
+            for (int c = 0; c < 3; ++c) {
+                const double expected = sp.surface.baseColor[c] / 3.14159265358979323846 *
+                                        sun.intensity * cl * (bracket - (1.0 - F));
+                EXPECT_NEAR(px(burley, x, y)[c] - px(lambert, x, y)[c], expected,
+                            1e-4 + 1e-3 * std::abs(expected))
+                    << x << "," << y;
+            }
+            ++checked;
+        }
+    EXPECT_GT(checked, 300);
 }
 
 // Directions drawn by GGX's visible normals (sampling.h) with their density give an unbiased

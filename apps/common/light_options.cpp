@@ -24,13 +24,23 @@ void addLightOptions(CommandLine& cl, LightOptions& o) {
     cl.option("--emissive-lights", o.emissive, "on|off",
               "make every emissive mesh of the scene an area light with shadow rays (default "
               "on); off: their emission is seen only by the rays that meet them");
+    cl.option("--diffuse", o.diffuse, "lambert|burley",
+              "the diffuse layer of every surface: lambert, glTF's (default); burley, Blender "
+              "3.x Principled BSDF's (Burley's, with its retro-reflection), to compare with a "
+              "Cycles render; give the probes' bake the same");
     cl.namesFile("--lights", FileRole::Input);
+}
+
+DiffuseModel diffuseModel(const LightOptions& o) {
+    return o.diffuse == "burley" ? DiffuseModel::Burley : DiffuseModel::Lambert;
 }
 
 std::string lightOptionsProblem(const LightOptions& o, bool scene) {
     if (o.emissive != "auto" && o.emissive != "on" && o.emissive != "off")
         return "--emissive-lights must be on or off";
     if (!scene && o.emissive != "auto") return "--emissive-lights needs --scene";
+    if (o.diffuse != "lambert" && o.diffuse != "burley")
+        return "--diffuse must be lambert or burley";
     return "";
 }
 

@@ -6,6 +6,7 @@
 
 #include "command_line.h"
 
+#include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/lights.h>
 #include <string>
 #include <vector>
@@ -23,13 +24,17 @@ struct LightOptions {
     // --radiometric: the lights' intensities are photometric (Blender's glTF export) and are
     // divided by 683 lm/W (dhdr::toRadiometricUnits).
     bool radiometric = false;
-    std::string emissive = "auto"; // --emissive-lights on|off; auto: on (with a scene)
+    std::string emissive = "auto";   // --emissive-lights on|off; auto: on (with a scene)
+    std::string diffuse = "lambert"; // --diffuse lambert|burley: every surface's diffuse layer
 };
 
 void addLightOptions(CommandLine& cl, LightOptions& options);
 
 // A usage error in the options ("" if none); `scene` whether the tool has one.
 std::string lightOptionsProblem(const LightOptions& options, bool scene);
+
+// --diffuse as the library's model (after lightOptionsProblem said it is one).
+DiffuseModel diffuseModel(const LightOptions& options);
 
 // The scene's lights as every tool orders them: its own punctual lights unless lights files
 // are given, then its emissive meshes as area lights (unless --emissive-lights off), in

@@ -144,6 +144,7 @@ int run(int argc, char** argv) {
     if (const std::string problem = app::lightOptionsProblem(lightOptions, !scenePath.empty());
         !problem.empty())
         return usage(problem);
+    params.diffuse = app::diffuseModel(lightOptions);
     if (denoise != "on" && denoise != "off") return usage("--denoise takes on or off");
     if (envSpecular == "auto")
         params.environmentSpecular = IblSpecular::Auto;

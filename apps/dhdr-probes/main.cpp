@@ -57,6 +57,7 @@ int run(int argc, char** argv) {
         return app::kExitUsage;
     }
     p.spacing = spacing;
+    p.diffuse = app::diffuseModel(lightOptions);
     if (!grid.empty()) {
         std::vector<double> v;
         if (!app::parseNumbers(grid, v) || v.size() != 3 || v[0] < 1 || v[1] < 1 || v[2] < 1 ||

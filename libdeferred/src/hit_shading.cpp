@@ -18,6 +18,7 @@ glm::vec3 HitShading::trace(const Ray& ray, const SeedKey& key, long long* rays)
     surface.baseColor = s.albedo;
     surface.roughness = std::max(s.material->roughness, m_minRoughness);
     surface.metallic = s.material->metallic;
+    surface.diffuse = m_diffuse;
     const glm::vec3 P(s.position), N(s.normal), V(-ray.direction);
     const LitPoint point{surface, P, N, V,
                          SurfacePoint{P, glm::vec3(s.geometric), float(s.positionError)}};

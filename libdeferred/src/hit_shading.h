@@ -25,9 +25,9 @@ public:
     // emissive mesh is a light already); hit surfaces reflect as if at least `minRoughness`
     // rough (path regularisation against caustics that no denoiser removes).
     HitShading(const RayCaster& caster, const DirectLighting& direct, const ProbeVolume* probes,
-               bool emissionAtHits, float minRoughness)
+               bool emissionAtHits, float minRoughness, DiffuseModel diffuse)
         : m_caster(caster), m_direct(direct), m_probes(probes), m_emissionAtHits(emissionAtHits),
-          m_minRoughness(minRoughness) {}
+          m_minRoughness(minRoughness), m_diffuse(diffuse) {}
 
     // The radiance from the closest hit of `ray` towards its origin (0 on a miss or a back
     // face); the hit's shadow rays draw `key`. `rays` (optional) counts every ray traced.
@@ -39,6 +39,7 @@ private:
     const ProbeVolume* m_probes;
     bool m_emissionAtHits;
     float m_minRoughness;
+    DiffuseModel m_diffuse;
 };
 
 } // namespace dhdr

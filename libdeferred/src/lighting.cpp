@@ -235,7 +235,8 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         lights.begin(), lights.end(), [](const Light& l) { return l.type == LightType::Mesh; });
     std::optional<HitShading> hitShading;
     if (inputs.scene && !params.pathTrace)
-        hitShading.emplace(*inputs.scene, atHits, probes, emissionAtHits, kHitMinRoughness);
+        hitShading.emplace(*inputs.scene, atHits, probes, emissionAtHits, kHitMinRoughness,
+                           params.diffuse);
     std::optional<BounceLighting> bounceLight;
     if (hitShading && shadowRays && catcherId > 0 && params.catcherBounceSamples > 0)
         bounceLight.emplace(*hitShading);
@@ -245,7 +246,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     std::optional<PathTracer> tracer;
     if (params.pathTrace)
         tracer.emplace(lights, *inputs.scene,
-                       PathTracerOptions{params.pathSamples, params.pathBounces});
+                       PathTracerOptions{params.pathSamples, params.pathBounces, params.diffuse});
     // Denoised estimates (flat G-buffers): computed for every pixel the source holds (a
     // strip's halo rows included) and filtered before the shading reads them.
     LightingParams estimated = params;
@@ -491,7 +492,7 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const Lightin
         gbuf.roi(),
         g.layout,
         g.camera,
-        GBufferView(*g.pixels, g.layout, g.camera),
+        GBufferView(*g.pixels, g.layout, g.camera, params.diffuse),
         DepthView{static_cast<const float*>(g.pixels->localpixels()) + g.layout.depth, nch,
                   nch * size_t(in.width), in.y - frame.ybegin}};
     return shadeSource(dst, source, inputs, params, roi, nthreads, stats, nullptr);
@@ -528,7 +529,7 @@ bool shadeGBuffer(OIIO::ImageBuf& dst, const DeepGBuffer& gbuf, const LightingIn
                         OIIO::get_roi(in),
                         layout,
                         camera,
-                        GBufferView(gbuf, layout, camera),
+                        GBufferView(gbuf, layout, camera, params.diffuse),
                         DepthView{gbuf.values.data() + layout.depth, size_t(in.nchannels),
                                   size_t(in.width), in.y - frame.ybegin, gbuf.first.data()}};
     return shadeSource(dst, source, inputs, params, roi, nthreads, stats, sampleRGBA);

@@ -92,7 +92,52 @@ struct DiffuseTable {
     }
 };
 
+// B(μ, roughness) at kViews view angles (texel centres) × kRoughnesses: the same midpoint
+// quadrature as T(μ), of Burley's bracket (DiffuseModel::Burley) times cos θ / π.
+struct BurleyTable {
+    std::vector<float> albedo = std::vector<float>(size_t(kViews) * kRoughnesses); // [r][view]
+
+    BurleyTable() {
+        constexpr int kTheta = 128, kPhi = 128;
+        constexpr double pi = 3.14159265358979323846;
+        for (int j = 0; j < kRoughnesses; ++j) {
+            const double roughness = double(j) / (kRoughnesses - 1);
+            for (int i = 0; i < kViews; ++i) {
+                const double mu = (i + 0.5) / kViews, sinV = std::sqrt(1.0 - mu * mu);
+                const double FV = std::pow(1.0 - mu, 5.0);
+                double sum = 0.0;
+                for (int a = 0; a < kTheta; ++a) {
+                    const double theta = (a + 0.5) / kTheta * (pi / 2.0);
+                    const double cosL = std::cos(theta), sinL = std::sin(theta);
+                    const double FL = std::pow(1.0 - cosL, 5.0);
+                    for (int b = 0; b < kPhi; ++b) {
+                        const double phi = (b + 0.5) / kPhi * pi;
+                        const double RR =
+                            roughness * (cosL * mu + sinL * sinV * std::cos(phi) + 1.0);
+                        const double f = (1.0 - 0.5 * FL) * (1.0 - 0.5 * FV) +
+                                         RR * (FL + FV + FL * FV * (RR - 1.0));
+                        sum += f * cosL * sinL;
+                    }
+                }
+                albedo[size_t(j) * kViews + size_t(i)] =
+                    float(2.0 * sum * (pi / 2.0 / kTheta) * (pi / kPhi) / pi);
+            }
+        }
+    }
+};
+
 } // namespace
+
+float burleyDiffuseAlbedo(float NdotV, float roughness) {
+    static const BurleyTable t;
+    int i0, i1, j0, j1;
+    float a, b;
+    cell(NdotV, kViews, true, i0, i1, a);
+    cell(roughness, kRoughnesses, false, j0, j1, b);
+    auto at = [&](int i, int j) { return t.albedo[size_t(j) * kViews + size_t(i)]; };
+    return (at(i0, j0) * (1.0f - a) + at(i1, j0) * a) * (1.0f - b) +
+           (at(i0, j1) * (1.0f - a) + at(i1, j1) * a) * b;
+}
 
 float diffuseFresnelTransmission(float NdotV) {
     static const DiffuseTable t;

@@ -182,6 +182,7 @@ glm::vec3 PathTracer::path(const LitPoint& first, Random& random, long long& ray
         surface.baseColor = s.albedo;
         surface.roughness = s.material->roughness;
         surface.metallic = s.material->metallic;
+        surface.diffuse = m_options.diffuse;
         const glm::vec3 P(s.position);
         v = Vertex{surface, P, glm::vec3(s.normal), -wi,
                    SurfacePoint{P, glm::vec3(s.geometric), float(s.positionError)}};

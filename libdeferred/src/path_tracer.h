@@ -21,6 +21,7 @@ struct PathTracerOptions {
     // Bounces after the first hit: 0 gives direct light only (the light sampled at the first
     // hit, and what its BRDF-sampled rays see of the lights at infinity).
     int bounces = 8;
+    DiffuseModel diffuse = DiffuseModel::Lambert; // of the surfaces paths meet
 };
 
 class PathTracer {

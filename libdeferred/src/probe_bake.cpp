@@ -213,6 +213,7 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
         h.surface.baseColor = s.albedo;
         h.surface.roughness = s.material->roughness;
         h.surface.metallic = s.material->metallic;
+        h.surface.diffuse = params.diffuse;
         const glm::vec3 P(s.position), N(s.normal);
         const float NdotV = std::max(0.0f, glm::dot(N, towards));
         h.reflectance =

@@ -40,11 +40,24 @@ inline float luminance(const glm::vec3& c) {
     return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
 }
 
+// The diffuse layer's model (dhdr-light and dhdr-probes --diffuse).
+enum class DiffuseModel {
+    // glTF 2.0's (and Filament's): Lambert, given what the specular layer does not reflect,
+    // (1 − F(v·h)) c_diff / π.
+    Lambert,
+    // Blender 3.x Principled BSDF's (Cycles' bsdf_principled_diffuse, "full"): Burley's
+    // diffuse with its retro-reflection as Burley 2015 separates it, c_diff / π ·
+    // [(1 − ½F_L)(1 − ½F_V) + R_R (F_L + F_V + F_L F_V (R_R − 1))], F_x = (1 − cos θ_x)⁵,
+    // R_R = roughness (1 + l·v); added under the specular layer as Blender adds it.
+    Burley
+};
+
 // The surface a BRDF is evaluated for, in glTF's parameters.
 struct PbrSurface {
     glm::vec3 baseColor{1.0f};
     float roughness = 1.0f;
     float metallic = 0.0f;
+    DiffuseModel diffuse = DiffuseModel::Lambert;
 
     float alpha() const { return std::max(roughness * roughness, kMinAlpha); }
     // Normal-incidence reflectance: 4 % for dielectrics, the base colour for metals.
@@ -54,6 +67,22 @@ struct PbrSurface {
 
 // The multiple-scattering lobe of Kulla & Conty 2017 (multiple_scattering.h).
 glm::vec3 multipleScatteringBrdf(const PbrSurface& s, float NdotV, float NdotL);
+
+// The diffuse layer's BRDF in 1/sr for light from L (N·L > 0, N·V > 0), F the specular
+// layer's Fresnel reflectance at L's half vector (what glTF's Lambert layer does not get).
+inline glm::vec3 diffuseBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
+                             const glm::vec3& L, const glm::vec3& F) {
+    if (s.diffuse == DiffuseModel::Burley) {
+        const float NdotL = std::max(glm::dot(N, L), 0.0f), NdotV = std::max(glm::dot(N, V), 0.0f);
+        const float a = 1.0f - NdotL, b = 1.0f - NdotV;
+        const float FL = a * a * a * a * a, FV = b * b * b * b * b;
+        const float RR = s.roughness * (glm::dot(L, V) + 1.0f);
+        const float f =
+            (1.0f - 0.5f * FL) * (1.0f - 0.5f * FV) + RR * (FL + FV + FL * FV * (RR - 1.0f));
+        return s.diffuseColor() * (f / kPi);
+    }
+    return (glm::vec3(1.0f) - F) * s.diffuseColor() * (1.0f / kPi);
+}
 
 // f(l, v) in 1/sr for unit vectors N, V (towards the viewer) and L (towards the light);
 // zero when either is below the surface. The specular lobe includes the light scattered
@@ -72,9 +101,7 @@ inline glm::vec3 evaluateBrdf(const PbrSurface& s, const glm::vec3& N, const glm
     const glm::vec3 specular =
         F * (ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(NdotL, NdotV, alpha)) +
         multipleScatteringBrdf(s, NdotV, NdotL);
-    // glTF's fresnel_mix: the diffuse layer gets what the specular layer does not reflect.
-    const glm::vec3 diffuse = (glm::vec3(1.0f) - F) * s.diffuseColor() * (1.0f / kPi);
-    return diffuse + specular;
+    return diffuseBrdf(s, N, V, L, F) + specular;
 }
 
 // evaluateBrdf's specular lobe alone, for light that follows the lobe, in 1/sr, zero below

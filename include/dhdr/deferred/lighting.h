@@ -88,6 +88,8 @@ struct LightingParams {
     // metallic surfaces (specular_indirect.h; where the lobe reflects at least 10 % of uniform
     // light), denoised (0: none; their environment's specular light alone).
     int specularSamples = 8;
+    // The diffuse layer of every surface: glTF's Lambert, or Blender's Burley (brdf.h).
+    DiffuseModel diffuse = DiffuseModel::Lambert;
     // Filter the environments' shadow-ray estimates and ray-traced AO over neighbouring pixels
     // of the same surface before use (denoise.h; flat G-buffers): clean at a few samples, and
     // blurred across kDenoiseReach pixels at most. A strip of a frame then needs

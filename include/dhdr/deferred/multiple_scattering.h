@@ -36,8 +36,14 @@ glm::vec3 multipleScatteringAlbedo(const PbrSurface& s, float NdotV);
 // from a table over μ computed once per process). So environments, ambient light and the
 // probes' irradiance E reflect c_diff (1 − F0) T(N·V) E / π, exact for uniform light, as a
 // directional light's evaluateBrdf does.
+// Burley's diffuse (DiffuseModel::Burley) reflects c_diff B(μo, roughness) of uniform light,
+// B = ∫ f_Burley/c_diff cos dω (1.0–1.5 at roughness 1: its retro-reflection), from a table
+// over μ and roughness computed once per process.
 float diffuseFresnelTransmission(float NdotV);
+float burleyDiffuseAlbedo(float NdotV, float roughness);
 inline glm::vec3 diffuseAlbedo(const PbrSurface& s, float NdotV) {
+    if (s.diffuse == DiffuseModel::Burley)
+        return s.diffuseColor() * burleyDiffuseAlbedo(NdotV, s.roughness);
     return s.diffuseColor() * (glm::vec3(1.0f) - s.F0()) * diffuseFresnelTransmission(NdotV);
 }
 

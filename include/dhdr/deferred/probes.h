@@ -6,6 +6,7 @@
 // point weighted so that light does not leak through walls.
 #pragma once
 
+#include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/param_table.h>
 #include <functional>
@@ -27,6 +28,7 @@ struct ProbeBakeParams {
     int rays = 256;
     int bounces = 0; // 0: until the irradiance converges (kProbeConvergence)
     int shadowSamples = 4;
+    DiffuseModel diffuse = DiffuseModel::Lambert; // of every surface the rays meet (brdf.h)
     float backfaceLimit = 0.25f; // a probe seeing more back faces than this share is inside
     float minDistance = 0.1f;    // … or nearer a surface than this × spacing: moved or off
     // Called with the share of the work done, in [0, 1], from the calling thread, after the

@@ -39,16 +39,17 @@ bool openGBuffer(const OIIO::ImageBuf& gbuffer, GBufferPixels& out, OIIO::ImageB
 // of a frame), or a deep one with several samples a pixel.
 class GBufferView {
 public:
+    // Its surfaces' diffuse layer is `diffuse`'s (the G-buffer does not say).
     GBufferView(const OIIO::ImageBuf& gbuffer, const gbuffer::Layout& layout,
-                const gbuffer::CameraInfo& camera)
+                const gbuffer::CameraInfo& camera, DiffuseModel diffuse = DiffuseModel::Lambert)
         : m_data(static_cast<const float*>(gbuffer.localpixels())),
           m_nch(size_t(gbuffer.nchannels())), m_x0(gbuffer.spec().x), m_y0(gbuffer.spec().y),
-          m_width(gbuffer.spec().width), m_layout(layout), m_camera(camera) {}
+          m_width(gbuffer.spec().width), m_layout(layout), m_camera(camera), m_diffuse(diffuse) {}
     GBufferView(const DeepGBuffer& gbuffer, const gbuffer::Layout& layout,
-                const gbuffer::CameraInfo& camera)
+                const gbuffer::CameraInfo& camera, DiffuseModel diffuse = DiffuseModel::Lambert)
         : m_data(gbuffer.values.data()), m_nch(size_t(gbuffer.spec.nchannels)),
           m_x0(gbuffer.spec.x), m_y0(gbuffer.spec.y), m_width(gbuffer.spec.width),
-          m_first(gbuffer.first.data()), m_layout(layout), m_camera(camera) {}
+          m_first(gbuffer.first.data()), m_layout(layout), m_camera(camera), m_diffuse(diffuse) {}
 
     bool deep() const { return m_first != nullptr; }
 
@@ -84,6 +85,7 @@ public:
             glm::vec3(g[m_layout.albedo], g[m_layout.albedo + 1], g[m_layout.albedo + 2]);
         s.surface.roughness = std::clamp(g[m_layout.roughness], 0.0f, 1.0f);
         s.surface.metallic = std::clamp(g[m_layout.metallic], 0.0f, 1.0f);
+        s.surface.diffuse = m_diffuse;
         if (m_layout.emission >= 0)
             s.emission =
                 glm::vec3(g[m_layout.emission], g[m_layout.emission + 1], g[m_layout.emission + 2]);
@@ -113,6 +115,7 @@ private:
     const std::uint32_t* m_first = nullptr; // deep: each pixel's first sample
     const gbuffer::Layout& m_layout;
     const gbuffer::CameraInfo& m_camera;
+    DiffuseModel m_diffuse;
 };
 
 } // namespace dhdr

@@ -197,11 +197,11 @@ glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec
 
     glm::vec3 Lo(0.0f);
     const float NdotV = glm::dot(N, V);
-    // Diffuse: (1 − F) c_diff / π × E, with F at the centre's half vector.
+    // Diffuse: the diffuse layer towards the centre × E, with F at the centre's half vector.
     if (view.irradiance > 0.0f && NdotV > 0.0f) {
         const glm::vec3 F =
             schlickFresnel(s.F0(), std::max(glm::dot(V, glm::normalize(Lc + V)), 0.0f));
-        Lo += (glm::vec3(1.0f) - F) * s.diffuseColor() * (view.radiance * view.irradiance / kPi);
+        Lo += diffuseBrdf(s, N, V, Lc, F) * (view.radiance * view.irradiance);
         // The multiple-scattering lobe is nearly diffuse: the irradiance, at the centre's
         // angle.
         Lo += multipleScatteringBrdf(s, NdotV, std::max(glm::dot(N, Lc), 0.0f)) *

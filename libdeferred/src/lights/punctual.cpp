@@ -35,8 +35,7 @@ glm::vec3 shadeSunDisk(const Light& light, const PbrSurface& s, const glm::vec3&
     const glm::vec3 E = light.color * light.intensity;
     const glm::vec3 Hc = glm::normalize(L + V);
     const glm::vec3 diffuse =
-        (glm::vec3(1.0f) - schlickFresnel(s.F0(), std::max(glm::dot(V, Hc), 0.0f))) *
-        s.diffuseColor() * (1.0f / kPi) * NdotL;
+        diffuseBrdf(s, N, V, L, schlickFresnel(s.F0(), std::max(glm::dot(V, Hc), 0.0f))) * NdotL;
     const float cosR = std::cos(0.5f * light.angle), sinR = std::sin(0.5f * light.angle);
     const glm::vec3 R = glm::reflect(-V, N);
     const float LdotR = glm::dot(L, R);
