@@ -449,10 +449,15 @@ TEST(Probes, DefaultSpacingFitsTheBudgetAtAnyScale) {
 }
 
 TEST(Probes, BakeDoesNotDependOnTheThreadCount) {
+    // A white room with a glossy gold block: its hits' lobes are followed too.
     Scene scene;
     scene.materials.push_back(lambert("white", glm::vec3(0.8f)));
+    Material gold = lambert("gold", glm::vec3(1.0f, 0.78f, 0.34f));
+    gold.metallic = 1.0f;
+    gold.roughness = 0.2f;
+    scene.materials.push_back(gold);
     addBox(scene, {0, 0, 0}, {1, 1, 1}, 0, true);
-    addBox(scene, {0.3f, 0, 0.3f}, {0.6f, 0.4f, 0.6f}, 0, false);
+    addBox(scene, {0.3f, 0, 0.3f}, {0.6f, 0.4f, 0.6f}, 1, false);
     const std::vector<Light> lights = {pointLight({0.5f, 0.8f, 0.5f}, 1.0f)};
     ProbeBakeParams p;
     p.spacing = 0.2;
