@@ -221,6 +221,34 @@ TEST(Probes, WhiteMetalUnderAUniformSkyIsAFurnace) {
     }
 }
 
+// A black sheet of coverage 0.25 (glTF BLEND) over the probes under a uniform sky: their rays
+// pass it three times in four, as shadow rays pass it by transmittance, so the probes below see
+// radiance 0.75 above and 1 below (it was 0 above: the sheet stopped every ray).
+TEST(Probes, RaysPassABlendSurfaceByItsCoverage) {
+    Scene scene;
+    Material sheet = lambert("sheet", glm::vec3(0.0f));
+    sheet.alphaMode = AlphaMode::Blend;
+    sheet.alpha = 0.25f;
+    scene.materials.push_back(sheet);
+    scene.materials.push_back(lambert("speck", glm::vec3(0.0f)));
+    addQuad(scene, {-20, 1, -20}, {20, 1, -20}, {20, 1, 20}, {-20, 1, 20}, 0); // facing down
+    addQuad(scene, {0, 0, 0}, {0, 0, 0.01f}, {0.01f, 0, 0.01f}, {0.01f, 0, 0}, 1);
+    ProbeBakeParams p;
+    p.counts = glm::ivec3(1, 3, 1);
+    p.rays = 2048;
+    p.bounces = 1;
+    const ProbeVolume v = bake(scene, {test::uniformSky()}, p);
+    for (int probe = 0; probe < v.probeCount(); ++probe) {
+        if (v.states[size_t(probe)] == ProbeState::Off) continue;
+        const float up = v.irradianceAt(probe, {0, 1, 0}).g / kPi,
+                    down = v.irradianceAt(probe, {0, -1, 0}).g / kPi;
+        std::printf("probe at y %.2f: up %.4f, down %.4f\n", v.positions[size_t(probe)].y, up,
+                    down);
+        EXPECT_NEAR(up, 0.75f, 0.03f);
+        EXPECT_NEAR(down, 1.0f, 0.01f);
+    }
+}
+
 // Bounces 0 bakes until what further bounces would add is under 0.5 % of the probes' light:
 // inside a closed white box lit by a point light (where each bounce adds three quarters of the
 // last one, the slowest case: a criterion on the last bounce's change alone stopped 1.4 %

@@ -22,6 +22,8 @@ namespace {
 constexpr double kPiD = 3.14159265358979323846;
 // Rays of the placement test.
 constexpr int kPlacementRays = 128;
+// Transparent surfaces a probe's ray may pass before it stops at the next one.
+constexpr int kProbeRayLayers = 16;
 
 // What one of a probe's rays found.
 struct RayResult {
@@ -208,6 +210,23 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
         PbrSurface surface;
         glm::vec3 reflectance{0.0f}, fixed{0.0f};
     };
+    // The surface a probe's ray stops at: it passes Mask cut-outs, and a Blend surface of
+    // coverage α with probability 1 − α (by a hash of the probe, ray and layer), as occlusion
+    // rays pass it by transmittance 1 − α: the probes see through glass by its coverage.
+    auto surfaceHit = [&](const Ray& ray, std::int64_t probe, std::int64_t rayIndex) {
+        RayHit hit = caster.intersect(ray);
+        for (int layer = 0; hit.hit && hit.mesh >= 0 && layer < kProbeRayLayers; ++layer) {
+            const SurfaceCoverage c =
+                surfaceCoverage(scene, hit.mesh, hit.triangle, float(hit.u), float(hit.v));
+            if (c.present && c.alpha >= 1.0f) break;
+            if (c.present && unitFloat(sampleSeed(probe, rayIndex, -1 - layer,
+                                                  streamOf(SampleStream::ProbeGlossy))) < c.alpha)
+                break;
+            // Beyond this surface: the next hit a little further along the ray.
+            hit = caster.intersect(ray, hit.t * (1.0 + 1e-6) + 1e-6);
+        }
+        return hit;
+    };
     auto lightHit = [&](const SurfaceSample& s, const glm::vec3& towards, SeedKey key) {
         LitHit h;
         h.surface.baseColor = s.albedo;
@@ -235,7 +254,7 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                 Ray ray;
                 ray.origin = glm::dvec3(v.positions[size_t(p)]);
                 ray.direction = glm::dvec3(directions[size_t(i)]);
-                const RayHit hit = caster.intersect(ray);
+                const RayHit hit = surfaceHit(ray, p, i);
                 if (!hit.hit) {
                     r.distance = maxDistance;
                     for (const Light& l : lights)
@@ -282,7 +301,7 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                 // multiple scattering's (whose albedo it is) are in `reflectance`.
                 c.weight = singleScatteringBrdf(lit.surface, N, V, wi) * (NdotL / pdf);
                 const Ray next{glm::dvec3(offsetRayOrigin(from, wi)), glm::dvec3(wi)};
-                const RayHit nextHit = caster.intersect(next);
+                const RayHit nextHit = surfaceHit(next, p, i + R);
                 if (!nextHit.hit) {
                     for (const Light& l : lights)
                         if (l.type == LightType::Environment) c.fixed += environmentRadiance(l, wi);
