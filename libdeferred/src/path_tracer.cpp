@@ -34,6 +34,9 @@ private:
 
 namespace {
 
+// Transparent surfaces a path's ray may pass before it stops at the next one.
+constexpr int kPathRayLayers = 16;
+
 // Veach's power heuristic for one sample of each of two techniques.
 float powerHeuristic(float own, float other) {
     const float a = own * own, b = other * other;
@@ -159,8 +162,17 @@ glm::vec3 PathTracer::path(const LitPoint& first, Random& random, long long& ray
         beta *= evaluateBrdf(v.surface, v.N, v.V, wi) * (cosTheta / pdf);
         if (beta == glm::vec3(0.0f)) break;
         const Ray ray{glm::dvec3(offsetRayOrigin(v.origin, wi)), glm::dvec3(wi)};
-        const RayHit hit = m_caster.intersect(ray);
+        RayHit hit = m_caster.intersect(ray);
         ++rays;
+        // Through Mask cut-outs, and through a Blend surface of coverage α with probability
+        // 1 − α, as shadow rays pass it by transmittance 1 − α.
+        for (int layer = 0; hit.hit && hit.mesh >= 0 && layer < kPathRayLayers; ++layer) {
+            const SurfaceCoverage c =
+                surfaceCoverage(scene, hit.mesh, hit.triangle, float(hit.u), float(hit.v));
+            if (c.present && (c.alpha >= 1.0f || random.next() < c.alpha)) break;
+            hit = m_caster.intersect(ray, hit.t * (1.0 + 1e-6) + 1e-6);
+            ++rays;
+        }
         if (!hit.hit) {
             L += beta * lightsAtInfinity(wi, pdf);
             break;
