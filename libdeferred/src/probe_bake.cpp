@@ -1,18 +1,14 @@
 // Baking a probe volume: placing the probes, tracing their rays, bouncing the light.
-#include "direct_lighting.h"
+#include "probe_rays.h"
 
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
 #include <cmath>
-#include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/lights/light.h>
-#include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/octahedral.h>
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/scene.h>
-#include <dhdr/deferred/shadows.h>
 #include <dhdr/deferred/surface.h>
 
 namespace dhdr {
@@ -22,39 +18,6 @@ namespace {
 constexpr double kPiD = 3.14159265358979323846;
 // Rays of the placement test.
 constexpr int kPlacementRays = 128;
-// Transparent surfaces a probe's ray may pass before it stops at the next one.
-constexpr int kProbeRayLayers = 16;
-
-// What one of a probe's rays found.
-struct RayResult {
-    bool hit = false, backFace = false;
-    float distance = 0.0f;
-    // What the hit reflects of the irradiance there, towards the probe: diffuseAlbedo, plus
-    // the specular lobe's directional albedo where it is rough (kBakeGlossyRoughness).
-    glm::vec3 position{0.0f}, normal{0.0f}, reflectance{0.0f};
-    glm::vec3 fixed{0.0f}; // radiance that does not change between bounces: direct + emission
-    int glossy = -1;       // a glossy hit's continuation (index among its probe's), or none
-};
-
-// Where a glossy hit's lobe leads: one GGX visible-normal sample, traced once. Its radiance
-// at each bounce is weight × (fixed + reflectance × E / π at the next hit).
-struct Continuation {
-    glm::vec3 weight{0.0f}; // f cos / pdf of the sample
-    bool hit = false;
-    glm::vec3 position{0.0f}, normal{0.0f}, towards{0.0f}, reflectance{0.0f}, fixed{0.0f};
-};
-
-// Below this roughness a hit's specular lobe is followed along a sampled direction (metals
-// show the room); above it the lobe reflects the irradiance there as its albedo does, which
-// is exact for uniform light and close for a lobe that wide (kHitMinRoughness' regularisation).
-constexpr float kBakeGlossyRoughness = 0.5f;
-
-// The specular lobe's directional albedo at N·V: the split sum's F0 (y − x) + x, plus the
-// multiple-scattering lobe's.
-glm::vec3 specularAlbedo(const PbrSurface& s, float NdotV) {
-    const glm::vec2 e = ggxAlbedoTerms(NdotV, s.roughness);
-    return s.F0() * (e.y - e.x) + glm::vec3(e.x) + multipleScatteringAlbedo(s, NdotV);
-}
 
 // Would a probe at `p` see the inside of a mesh, or stand too near a surface?
 bool freeSpace(const RayCaster& caster, const glm::dvec3& p, double nearest, float backfaceLimit,
@@ -197,131 +160,17 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     std::vector<glm::vec3> directions(static_cast<size_t>(R));
     for (int i = 0; i < R; ++i)
         directions[size_t(i)] = sphericalFibonacci(i, R);
-    std::vector<RayResult> results(size_t(n) * size_t(R));
-    std::vector<std::vector<Continuation>> glossy(static_cast<size_t>(n));
-    DirectLightingOptions directOptions;
-    directOptions.shadows = &caster;
-    directOptions.shadowSamples = params.shadowSamples;
-    directOptions.lightsAtInfinity = false;
-    const DirectLighting direct(lights, directOptions);
-    // A surface a ray meets, seen from `towards`: its direct light with shadows and the
-    // emission no light stands for (fixed), and what it reflects of the irradiance there.
-    struct LitHit {
-        PbrSurface surface;
-        glm::vec3 reflectance{0.0f}, fixed{0.0f};
-    };
-    // The surface a probe's ray stops at: it passes Mask cut-outs, and a Blend surface of
-    // coverage α with probability 1 − α (by a hash of the probe, ray and layer), as occlusion
-    // rays pass it by transmittance 1 − α: the probes see through glass by its coverage.
-    auto surfaceHit = [&](const Ray& ray, std::int64_t probe, std::int64_t rayIndex) {
-        RayHit hit = caster.intersect(ray);
-        for (int layer = 0; hit.hit && hit.mesh >= 0 && layer < kProbeRayLayers; ++layer) {
-            const SurfaceCoverage c =
-                surfaceCoverage(scene, hit.mesh, hit.triangle, float(hit.u), float(hit.v));
-            if (c.present && c.alpha >= 1.0f) break;
-            if (c.present && unitFloat(sampleSeed(probe, rayIndex, -1 - layer,
-                                                  streamOf(SampleStream::ProbeGlossy))) < c.alpha)
-                break;
-            // Beyond this surface: the next hit a little further along the ray.
-            hit = caster.intersect(ray, hit.t * (1.0 + 1e-6) + 1e-6);
-        }
-        return hit;
-    };
-    auto lightHit = [&](const SurfaceSample& s, const glm::vec3& towards, SeedKey key) {
-        LitHit h;
-        h.surface.baseColor = s.albedo;
-        h.surface.roughness = s.material->roughness;
-        h.surface.metallic = s.material->metallic;
-        h.surface.diffuse = params.diffuse;
-        const glm::vec3 P(s.position), N(s.normal);
-        const float NdotV = std::max(0.0f, glm::dot(N, towards));
-        h.reflectance =
-            diffuseAlbedo(h.surface, NdotV) + (h.surface.roughness >= kBakeGlossyRoughness
-                                                   ? specularAlbedo(h.surface, NdotV)
-                                                   : multipleScatteringAlbedo(h.surface, NdotV));
-        key.stream = streamOf(SampleStream::ProbeShadow);
-        const LitPoint point{h.surface, P, N, towards,
-                             SurfacePoint{P, glm::vec3(s.geometric), float(s.positionError)}};
-        h.fixed = direct.sum(point, key, emissiveAreLights ? glm::vec3(0.0f) : s.emission).direct;
-        return h;
-    };
+    std::vector<ProbeRay> results(size_t(n) * size_t(R));
+    std::vector<std::vector<GlossyContinuation>> glossy(static_cast<size_t>(n));
+    const ProbeRayTracer tracer(scene, caster, lights, params, emissiveAreLights);
     OIIO::parallel_for(
         0, n,
         [&](int64_t p) {
             if (v.states[size_t(p)] == ProbeState::Off) return;
-            for (int i = 0; i < R; ++i) {
-                RayResult& r = results[size_t(p) * size_t(R) + size_t(i)];
-                Ray ray;
-                ray.origin = glm::dvec3(v.positions[size_t(p)]);
-                ray.direction = glm::dvec3(directions[size_t(i)]);
-                const RayHit hit = surfaceHit(ray, p, i);
-                if (!hit.hit) {
-                    r.distance = maxDistance;
-                    for (const Light& l : lights)
-                        if (l.type == LightType::Environment)
-                            r.fixed += environmentRadiance(l, directions[size_t(i)]);
-                    continue;
-                }
-                const SurfaceSample s = surfaceAt(scene, ray, hit);
-                r.hit = true;
-                r.backFace = s.backFace;
-                r.distance = std::min(float(hit.t), maxDistance);
-                // DDGI: a back face is inside geometry: no light, and a short distance so that
-                // Chebyshev's test keeps the probe from what lies behind it.
-                if (r.backFace) {
-                    r.distance *= 0.2f;
-                    continue;
-                }
-                r.position = glm::vec3(s.position);
-                r.normal = glm::vec3(s.normal);
-                const LitHit lit = lightHit(s, -directions[size_t(i)], {p, i});
-                r.reflectance = lit.reflectance;
-                r.fixed = lit.fixed;
-                if (lit.surface.roughness >= kBakeGlossyRoughness) continue;
-                // A glossy hit: its lobe's sample, traced now, is lit at every bounce.
-                const glm::vec3 V = -directions[size_t(i)], N = r.normal;
-                const float NdotV = glm::dot(N, V);
-                if (!(NdotV > 0.0f)) continue;
-                glm::vec3 t, b;
-                orthonormalBasis(N, t, b);
-                const std::uint64_t seed = sampleSeed(p, i, 0, streamOf(SampleStream::ProbeGlossy));
-                const glm::vec3 h = sampleGgxVisibleNormal(
-                    glm::vec3(glm::dot(V, t), glm::dot(V, b), NdotV), lit.surface.alpha(),
-                    {unitFloat(mixBits(seed)), unitFloat(mixBits(seed + 1))});
-                const glm::vec3 H = glm::normalize(h.x * t + h.y * b + h.z * N);
-                const glm::vec3 wi = 2.0f * glm::dot(V, H) * H - V;
-                const float NdotL = glm::dot(N, wi);
-                const SurfacePoint from{r.position, glm::vec3(s.geometric), float(s.positionError)};
-                if (!(NdotL > 0.0f) || !(glm::dot(from.Ng, wi) > 0.0f)) continue;
-                const float pdf = ggxVisibleNormalReflectionPdf(
-                    NdotV, std::max(glm::dot(N, H), 0.0f), lit.surface.alpha());
-                if (!(pdf > 0.0f)) continue;
-                Continuation c;
-                // The single-scattering lobe: the diffuse layer's share and the nearly diffuse
-                // multiple scattering's (whose albedo it is) are in `reflectance`.
-                c.weight = singleScatteringBrdf(lit.surface, N, V, wi) * (NdotL / pdf);
-                const Ray next{glm::dvec3(offsetRayOrigin(from, wi)), glm::dvec3(wi)};
-                const RayHit nextHit = surfaceHit(next, p, i + R);
-                if (!nextHit.hit) {
-                    for (const Light& l : lights)
-                        if (l.type == LightType::Environment) c.fixed += environmentRadiance(l, wi);
-                } else if (const SurfaceSample n2 = surfaceAt(scene, next, nextHit); !n2.backFace) {
-                    const LitHit there = lightHit(n2, -wi, {p, i + R});
-                    c.hit = true;
-                    c.position = glm::vec3(n2.position);
-                    c.normal = glm::vec3(n2.normal);
-                    c.towards = -wi;
-                    // One level only: a glossy surface seen in a glossy one reflects by its
-                    // albedo.
-                    c.reflectance = diffuseAlbedo(there.surface,
-                                                  std::max(0.0f, glm::dot(c.normal, c.towards))) +
-                                    specularAlbedo(there.surface,
-                                                   std::max(0.0f, glm::dot(c.normal, c.towards)));
-                    c.fixed = there.fixed;
-                }
-                r.glossy = int(glossy[size_t(p)].size());
-                glossy[size_t(p)].push_back(c);
-            }
+            for (int i = 0; i < R; ++i)
+                results[size_t(p) * size_t(R) + size_t(i)] =
+                    tracer.trace(v.positions[size_t(p)], directions[size_t(i)], {p, i, R},
+                                 maxDistance, glossy[size_t(p)]);
         },
         OIIO::paropt(nthreads));
     if (params.progress) params.progress(0.5f);
@@ -342,22 +191,11 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
         OIIO::parallel_for(
             0, n,
             [&](int64_t p) {
-                for (int i = 0; i < R; ++i) {
-                    const RayResult& r = results[size_t(p) * size_t(R) + size_t(i)];
-                    glm::vec3 L = r.fixed;
-                    if (r.hit && !r.backFace && bounce > 0)
-                        L += r.reflectance / float(kPiD) *
-                             previous.irradianceAt(r.position, r.normal, -directions[size_t(i)]);
-                    if (r.glossy >= 0) {
-                        const Continuation& c = glossy[size_t(p)][size_t(r.glossy)];
-                        glm::vec3 next = c.fixed;
-                        if (c.hit && bounce > 0)
-                            next += c.reflectance / float(kPiD) *
-                                    previous.irradianceAt(c.position, c.normal, c.towards);
-                        L += c.weight * next;
-                    }
-                    radiance[size_t(p) * size_t(R) + size_t(i)] = L;
-                }
+                for (int i = 0; i < R; ++i)
+                    radiance[size_t(p) * size_t(R) + size_t(i)] =
+                        results[size_t(p) * size_t(R) + size_t(i)].radiance(
+                            glossy[size_t(p)], bounce > 0 ? &previous : nullptr,
+                            directions[size_t(i)]);
             },
             OIIO::paropt(nthreads));
         OIIO::parallel_for(
@@ -365,7 +203,7 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
             [&](int64_t p) {
                 glm::vec3* irr = &v.irradiance[size_t(p) * size_t(wi * wi)];
                 glm::vec2* dist = &v.distance[size_t(p) * size_t(wd * wd)];
-                const RayResult* rr = &results[size_t(p) * size_t(R)];
+                const ProbeRay* rr = &results[size_t(p) * size_t(R)];
                 const glm::vec3* L = &radiance[size_t(p) * size_t(R)];
                 if (v.states[size_t(p)] == ProbeState::Off) return;
                 // E(n) = π Σ L cos⁺ / Σ cos⁺: the cosine-weighted mean radiance times π, exact for
