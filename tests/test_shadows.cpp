@@ -572,14 +572,27 @@ TEST(EnvironmentShadows, ASunInTheEnvironmentCastsTheBoxesShadow) {
     EXPECT_GT(bright, 5000);
 }
 
-// AO scales the environment's diffuse light and, by Lagarde's specular occlusion, its
-// specular light.
-TEST(EnvironmentShadows, AmbientOcclusionOccludesTheEnvironment) {
+namespace {
+
+// A floor meeting a wall along the Z axis, seen from above at 48 × 48: the corner.
+Scene floorAndWall() {
     Scene scene = emptyScene();
     addQuad(scene, {-1000, 0, -1000}, {-1000, 0, 1000}, {0, 0, 1000}, {0, 0, -1000});
     addQuad(scene, {0, 0, -1000}, {0, 0, 1000}, {0, 1000, 1000}, {0, 1000, -1000});
-    Camera camera = Camera::lookAt({-0.5, 5.0, 0.0}, {-0.5, 0.0, 0.0}, {0, 0, -1}, 0.5);
-    const ImageBuf gbuf = gbufferOf(scene, camera, 48, 48);
+    return scene;
+}
+ImageBuf floorAndWallGBuffer(const Scene& scene) {
+    const Camera camera = Camera::lookAt({-0.5, 5.0, 0.0}, {-0.5, 0.0, 0.0}, {0, 0, -1}, 0.5);
+    return gbufferOf(scene, camera, 48, 48);
+}
+
+} // namespace
+
+// AO scales the environment's diffuse light and, by Lagarde's specular occlusion, its
+// specular light.
+TEST(EnvironmentShadows, AmbientOcclusionOccludesTheEnvironment) {
+    const Scene scene = floorAndWall();
+    const ImageBuf gbuf = floorAndWallGBuffer(scene);
     const RayCaster caster(scene);
     const Light light = uniformSky();
     LightingParams p;
@@ -613,11 +626,8 @@ TEST(EnvironmentShadows, AmbientOcclusionOccludesTheEnvironment) {
 // the picture with --ao rt (its AO written, and < 0.9 along the corner) is the picture
 // without, bit for bit.
 TEST(EnvironmentShadows, TracedVisibilityIsNotOccludedAgainByAO) {
-    Scene scene = emptyScene();
-    addQuad(scene, {-1000, 0, -1000}, {-1000, 0, 1000}, {0, 0, 1000}, {0, 0, -1000});
-    addQuad(scene, {0, 0, -1000}, {0, 0, 1000}, {0, 1000, 1000}, {0, 1000, -1000});
-    Camera camera = Camera::lookAt({-0.5, 5.0, 0.0}, {-0.5, 0.0, 0.0}, {0, 0, -1}, 0.5);
-    const ImageBuf gbuf = gbufferOf(scene, camera, 48, 48);
+    const Scene scene = floorAndWall();
+    const ImageBuf gbuf = floorAndWallGBuffer(scene);
     const RayCaster caster(scene);
     LightingParams p;
     p.environmentSamples = 16;
