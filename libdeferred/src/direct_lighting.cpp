@@ -26,6 +26,8 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
         IblShading e =
             shadeEnvironment(light, p.surface, p.N, p.V, o.environmentSpecular, p.reflectionSpread);
         if (!o.environmentDiffuse) e.diffuse = glm::vec3(0.0f);
+        if (p.specularFromProbes) e.specular = glm::vec3(0.0f);
+        if (e.diffuse == glm::vec3(0.0f) && e.specular == glm::vec3(0.0f)) return;
         // The visible shares of the environment's diffuse and specular light, from the same
         // rays, scale the prefiltered results.
         EnvironmentVisibility v;

@@ -27,6 +27,10 @@ struct LitPoint {
     // The scene's light in the point's glossy lobe is traced (specular_indirect.h): an
     // environment's blocked glossy samples then count nothing, not a grey occluder's light.
     bool tracedSpecular = false;
+    // The probes bring the light of the point's specular lobe (a rough lobe whose light is not
+    // traced, kProbeGlossyRoughness): environments add no specular light there, as they add no
+    // diffuse light with probes (their rays see the sky where nothing blocks it).
+    bool specularFromProbes = false;
 };
 
 // The light of a surface point in the parts that occlusion treats apart: what shadows have

@@ -332,6 +332,8 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                            ? reflectionSpread(view, layout, source.roi, x, y, sp)
                            : 0.0f};
         point.tracedSpecular = specularLight && SpecularIndirect::applies(point);
+        point.specularFromProbes =
+            probes && !point.tracedSpecular && sp.surface.roughness >= kProbeGlossyRoughness;
         const SeedKey key{x, y, streamOf(SampleStream::Shadow, k)};
         auto addLight = [&](std::uint32_t i) {
             // Sample 0 of a flat pixel reads the denoised environment estimates.
@@ -364,12 +366,18 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                                                       occlusion, sp.surface.roughness)
                                   : 1.0f;
         const glm::vec3 shaded = lit.total(occlusion, so);
-        // Indirect diffuse light from the probes (diffuse share of the BRDF as for
-        // environments: diffuseAlbedo × E / π), occluded by AO like the ambient terms.
+        // Indirect light from the probes: the diffuse layer's (diffuseAlbedo × E / π, as for
+        // environments) and, where the probes bring it, the rough specular lobe's
+        // (specularAlbedo × E / π, as the bake's hits reflect it); occluded by AO like the
+        // ambient terms.
         glm::vec3 indirect(0.0f);
-        if (probes)
-            indirect = diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
-                       probes->irradianceAt(sp.P, sp.N, sp.V) * (aoActive ? occlusion : 1.0f);
+        if (probes) {
+            const float NdotV = std::max(glm::dot(sp.N, sp.V), 0.0f);
+            glm::vec3 albedo = diffuseAlbedo(sp.surface, NdotV);
+            if (point.specularFromProbes) albedo += specularAlbedo(sp.surface, NdotV);
+            indirect = albedo / kPi * probes->irradianceAt(sp.P, sp.N, sp.V) *
+                       (aoActive ? occlusion : 1.0f);
+        }
         // The scene in the glossy lobe, traced (not occluded by AO: its rays see the occluders).
         glm::vec3 reflected(0.0f);
         if (point.tracedSpecular)

@@ -132,7 +132,9 @@ bool readProbes(const std::string& path, ProbeVolume& v, std::string& error) {
     const int wi = ProbeVolume::kIrradianceTexels + 2, wd = ProbeVolume::kDistanceTexels + 2;
     if (values(states) != n || values(positions) != 3 * n || irr.width != cols * wi ||
         irr.height != rows * wi || irr.nchannels < 3) {
-        error = "the probe atlas does not match its grid";
+        error = "the probe atlas does not match its grid (" + std::to_string(wi - 2) + " x " +
+                std::to_string(wi - 2) + " irradiance texels a probe; a file from an earlier " +
+                "dhdr-probes, with 6 x 6, must be baked again)";
         return false;
     }
     v.rays = irr.get_int_attribute("dhdr:probeRays");

@@ -16,13 +16,6 @@ namespace {
 // Transparent surfaces a probe's ray may pass before it stops at the next one.
 constexpr int kProbeRayLayers = 16;
 
-// The specular lobe's directional albedo at N·V: the split sum's F0 (y − x) + x, plus the
-// multiple-scattering lobe's.
-glm::vec3 specularAlbedo(const PbrSurface& s, float NdotV) {
-    const glm::vec2 e = ggxAlbedoTerms(NdotV, s.roughness);
-    return s.F0() * (e.y - e.x) + glm::vec3(e.x) + multipleScatteringAlbedo(s, NdotV);
-}
-
 DirectLightingOptions bakeOptions(const RayCaster& caster, const ProbeBakeParams& params) {
     DirectLightingOptions o;
     o.shadows = &caster;
@@ -76,7 +69,7 @@ ProbeRayTracer::LitHit ProbeRayTracer::light(const SurfaceSample& s, const glm::
     // A glossy lobe is followed along a sample: only its nearly diffuse multiple scattering
     // reflects by its albedo here.
     h.reflectance =
-        diffuseAlbedo(h.surface, NdotV) + (h.surface.roughness >= kBakeGlossyRoughness
+        diffuseAlbedo(h.surface, NdotV) + (h.surface.roughness >= kProbeGlossyRoughness
                                                ? specularAlbedo(h.surface, NdotV)
                                                : multipleScatteringAlbedo(h.surface, NdotV));
     key.stream = streamOf(SampleStream::ProbeShadow);
@@ -121,7 +114,7 @@ ProbeRay ProbeRayTracer::trace(const glm::vec3& origin, const glm::vec3& directi
     r.reflectance = lit.reflectance;
     r.fixed = lit.fixed;
     const float NdotV = glm::dot(N, V);
-    if (lit.surface.roughness >= kBakeGlossyRoughness || !(NdotV > 0.0f)) return r;
+    if (lit.surface.roughness >= kProbeGlossyRoughness || !(NdotV > 0.0f)) return r;
     // A glossy hit: its lobe's sample, traced now, is lit at every bounce.
     glm::vec3 t, b;
     orthonormalBasis(N, t, b);

@@ -40,11 +40,6 @@ struct ProbeRay {
                        const ProbeVolume* previous, const glm::vec3& direction) const;
 };
 
-// Below this roughness a hit's specular lobe is followed along a sampled direction (metals
-// show the room); above it the lobe reflects the irradiance there as its albedo does, which
-// is exact for uniform light and close for a lobe that wide (kHitMinRoughness' regularisation).
-inline constexpr float kBakeGlossyRoughness = 0.5f;
-
 // Which ray: probe p's ray i of `rays` (its continuation draws as ray i + rays).
 struct ProbeRayKey {
     std::int64_t probe = 0, ray = 0, rays = 0;

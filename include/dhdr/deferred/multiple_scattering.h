@@ -47,4 +47,12 @@ inline glm::vec3 diffuseAlbedo(const PbrSurface& s, float NdotV) {
     return s.diffuseColor() * (glm::vec3(1.0f) - s.F0()) * diffuseFresnelTransmission(NdotV);
 }
 
+// The specular layer under light from every direction: the split sum's F0 (y − x) + x plus
+// the multiple-scattering lobe's albedo. A rough lobe reflects about this × E / π of an
+// irradiance E (exact for uniform light).
+inline glm::vec3 specularAlbedo(const PbrSurface& s, float NdotV) {
+    const glm::vec2 e = ggxAlbedoTerms(NdotV, s.roughness);
+    return s.F0() * (e.y - e.x) + glm::vec3(e.x) + multipleScatteringAlbedo(s, NdotV);
+}
+
 } // namespace dhdr

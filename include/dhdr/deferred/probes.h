@@ -66,8 +66,10 @@ enum class ProbeState : int {
 };
 
 struct ProbeVolume {
-    // Texels of the octahedral maps, without their one-texel borders (DDGI's sizes).
-    static constexpr int kIrradianceTexels = 6;
+    // Texels of the octahedral maps, without their one-texel borders: DDGI's 14 for the
+    // distances, 8 for the irradiance (DDGI's 6 blurs E(n) by about 20° at an axis, between
+    // four texels, and reads the Cornell box's blocks 9-15 % bright: docs/gi.md).
+    static constexpr int kIrradianceTexels = 8;
     static constexpr int kDistanceTexels = 14;
 
     glm::dvec3 origin{0.0};  // grid point (0, 0, 0)
@@ -77,7 +79,7 @@ struct ProbeVolume {
     std::vector<glm::vec3> positions; // per probe (x fastest, then y, then z), relocated
     std::vector<ProbeState> states;
     // Per probe, its bordered maps in scanline order: irradiance E(n) in W/m² per unit of
-    // the lights' radiance ((6 + 2)² texels), and the distance moments ((14 + 2)² texels).
+    // the lights' radiance ((8 + 2)² texels), and the distance moments ((14 + 2)² texels).
     std::vector<glm::vec3> irradiance;
     std::vector<glm::vec2> distance;
 
@@ -91,11 +93,24 @@ struct ProbeVolume {
 
     // Irradiance arriving at P (normal N, unit V towards the eye) from the 8 probes around it:
     // trilinear weights × back-face wrap × Chebyshev visibility from the distance moments, at
-    // P moved by the normal and view biases (DDGI §5.2). Zero outside the grid's reach.
+    // P moved by the normal and view biases (DDGI §5.2). Beyond the grid's outer layers (up
+    // to half a spacing, where the scene's bounds are), extrapolated linearly from the grid.
     glm::vec3 irradianceAt(const glm::vec3& P, const glm::vec3& N, const glm::vec3& V) const;
     // The biases, as fractions of the smallest spacing.
     float normalBias = 0.1f, viewBias = 0.1f;
+
+private:
+    // The weighted mean of the 8 probes around grid coordinates `local` (clamped into the
+    // grid), weighted for the point P (normal N), moved off its surface to `biased`.
+    glm::vec3 interpolate(const glm::vec3& P, const glm::vec3& N, const glm::vec3& biased,
+                          const glm::dvec3& local) const;
 };
+
+// From this roughness up, a specular lobe reflects the probes' irradiance as its albedo does
+// (specularAlbedo × E / π: exact for uniform light, close for a lobe that wide): at a probe
+// ray's hit (below it, the lobe is followed along a sampled direction, so that metals show
+// the room), and at a shaded point whose specular indirect light is not traced (lighting.cpp).
+inline constexpr float kProbeGlossyRoughness = 0.5f;
 
 // Sharpness of the cosine lobe the distance maps average under, max(0, n·ω)^50 (DDGI's).
 inline constexpr double kProbeDistanceSharpness = 50.0;
