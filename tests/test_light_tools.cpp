@@ -625,4 +625,17 @@ TEST_F(LightTools, BlenderPassesRelightAsDhdrsOwnGBuffer) {
     EXPECT_EQ(noCamera.status, 1);
     EXPECT_NE(noCamera.err.find("--camera-from"), std::string::npos) << noCamera.err;
     EXPECT_FALSE(fs::exists(path("x.exr")));
+    // A map whose normal, not marked required, names channels the passes lack: the error
+    // names the map and the channel, since lighting needs a normal whatever the map says.
+    std::ofstream(path("nonormal.json"))
+        << R"({"depth": {"channels": ["ViewLayer.Depth.Z"]}, "position": {"channels": [)"
+           R"("ViewLayer.Position.X", "ViewLayer.Position.Y", "ViewLayer.Position.Z"]},)"
+           R"( "normal": {"channels": ["N.x", "N.y", "N.z"]}})";
+    const Result noNormal =
+        run("dhdr-light " + path("blender.exr") + lights + " --channels " + path("nonormal.json") +
+            " --camera-from " + kCornell + " -o " + path("x.exr"));
+    EXPECT_EQ(noNormal.status, 1);
+    EXPECT_NE(noNormal.err.find("nonormal.json"), std::string::npos) << noNormal.err;
+    EXPECT_NE(noNormal.err.find("'N.x'"), std::string::npos) << noNormal.err;
+    EXPECT_FALSE(fs::exists(path("x.exr")));
 }

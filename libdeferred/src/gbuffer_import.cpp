@@ -117,7 +117,9 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
         return false;
     }
     // The source channels of each quantity: its own, its fallback, or none (a constant).
-    auto pick = [&](const char* what, const ChannelSource& s, std::vector<int>& index) {
+    // Depth, position and normal are needed whatever the map says of them.
+    auto pick = [&](const char* what, const ChannelSource& s, std::vector<int>& index,
+                    bool needed = false) {
         index.clear();
         for (const auto* list : {&s.channels, &s.fallback}) {
             index.clear();
@@ -132,7 +134,7 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
             }
         }
         index.clear();
-        if (s.required) {
+        if (s.required || needed) {
             error = std::string("no channel '") +
                     (s.channels.empty() ? std::string(what) : s.channels.front()) + "' for the " +
                     what + " (channel map " + map.name + ")";
@@ -144,15 +146,11 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
         return true;
     };
     std::vector<int> depth, position, normal, albedo, roughness, metallic, emission, coverage;
-    if (!pick("depth", map.depth, depth) || !pick("position", map.position, position) ||
-        !pick("normal", map.normal, normal) || !pick("albedo", map.albedo, albedo) ||
+    if (!pick("depth", map.depth, depth, true) || !pick("position", map.position, position, true) ||
+        !pick("normal", map.normal, normal, true) || !pick("albedo", map.albedo, albedo) ||
         !pick("roughness", map.roughness, roughness) || !pick("metallic", map.metallic, metallic) ||
         !pick("emission", map.emission, emission) || !pick("coverage", map.coverage, coverage))
         return false;
-    if (depth.empty() || position.empty() || normal.empty()) {
-        error = "a channel map needs depth, position and normal channels";
-        return false;
-    }
     std::vector<std::string> names = gbuffer::channelNames();
     OIIO::ImageSpec spec = in;
     spec.nchannels = int(names.size());
