@@ -286,6 +286,127 @@ TEST(Ibl, PrefilteredAgainstBruteForceGgx) {
     }
 }
 
+namespace {
+
+// Σ L(l) D(h) max(0, R·l) dω and Σ D(h) max(0, R·l) dω over the sphere, in double: a midpoint
+// grid of n × n in GGX's own distribution of half vectors about R (as
+// bruteForcePrefilteredNarrow), where E[l·R L] = ¼ ∫ D(h) (R·l) L dω_l since dω_l = 4 (h·R) dω_h.
+glm::dvec2 lobeIntegrals(const EnvironmentImage& env, const glm::vec3& R, double alpha, int n) {
+    glm::vec3 t, b;
+    orthonormalBasis(R, t, b);
+    double sum = 0.0, weight = 0.0;
+    for (int a = 0; a < n; ++a) {
+        const double u = (a + 0.5) / n;
+        const double tan2 = alpha * alpha * u / (1.0 - u);
+        const double cosH = 1.0 / std::sqrt(1.0 + tan2), sinH = std::sqrt(1.0 - cosH * cosH);
+        for (int c = 0; c < n; ++c) {
+            const double phi = 2.0 * M_PI * (c + 0.5) / n;
+            const glm::dvec3 h(sinH * std::cos(phi), sinH * std::sin(phi), cosH);
+            const glm::dvec3 l = 2.0 * h.z * h - glm::dvec3(0, 0, 1);
+            if (l.z <= 0.0) continue;
+            const glm::vec3 d = t * float(l.x) + b * float(l.y) + R * float(l.z);
+            sum += l.z * env.radiance(d).g;
+            weight += l.z;
+        }
+    }
+    const double cells = double(n) * n;
+    return {4.0 * sum / cells, 4.0 * weight / cells};
+}
+
+} // namespace
+
+// A 0.5° sun of known power kept in a 2K sky (no sun extraction): every prefiltered level,
+// read at its texel centres on and around the sun and across the sky, against brute force:
+// the sky's part by a fine grid in the lobe, the sun's by a polar grid over the disk itself
+// (not its texels), Σ L D(h) (R·l) dω over Σ D(h) (R·l) dω. The bake's quadrature spreads no
+// texel's light over coarse cells: the bright texels go in as points.
+TEST(Ibl, PrefilteredWithASunAgainstBruteForce) {
+    const glm::vec3 S = glm::normalize(glm::vec3(0.4f, 0.6f, -0.5f));
+    const double radius = 0.25 * M_PI / 180.0, omega = 2.0 * M_PI * (1.0 - std::cos(radius));
+    const double sunIrradiance = 40.0; // at normal incidence; the sky's is about 2.6
+    const double sunRadiance = sunIrradiance / omega;
+    glm::vec3 t, b;
+    orthonormalBasis(S, t, b);
+    // The disk rasterized with 8 × 8 coverage per texel.
+    EnvironmentImage sky = makeEnvironment(2048, gradientSky), env = sky;
+    double power = 0.0;
+    for (int y = 0; y < env.height; ++y)
+        for (int x = 0; x < env.width; ++x) {
+            int covered = 0;
+            for (int s = 0; s < 64; ++s) {
+                const glm::vec3 d = equirectDirection(
+                    {(float(x) + (float(s % 8) + 0.5f) / 8.0f) / float(env.width),
+                     (float(y) + (float(s / 8) + 0.5f) / 8.0f) / float(env.height)});
+                covered += glm::dot(d, S) > std::cos(radius) ? 1 : 0;
+            }
+            if (!covered) continue;
+            const float L = float(sunRadiance * covered / 64.0);
+            for (int c = 0; c < 3; ++c)
+                env.rgb[3 * (size_t(y) * size_t(env.width) + size_t(x)) + size_t(c)] += L;
+            power += double(L) * env.texelSolidAngle(y);
+        }
+    ASSERT_NEAR(power, sunIrradiance, 0.02 * sunIrradiance); // what the sky holds of the sun
+    IblBakeParams params;
+    params.sunThreshold = 0.0f;
+    Ibl ibl;
+    std::string error;
+    ASSERT_TRUE(bakeIbl(env, params, ibl, error)) << error;
+    for (int k = 1; k < params.levels; ++k) {
+        const EnvironmentImage& level = ibl.levels[size_t(k)];
+        const double alpha = std::max(double(iblLevelRoughness(k, params.levels)) *
+                                          iblLevelRoughness(k, params.levels),
+                                      double(kMinAlpha));
+        // Texel centres at 0, 1, 2 and 4 lobe widths from the sun in four directions, and 16
+        // across the sky.
+        std::vector<glm::vec3> directions;
+        for (const double step : {0.0, 1.0, 2.0, 4.0})
+            for (int turn = 0; turn < (step > 0.0 ? 4 : 1); ++turn) {
+                const double a = std::min(1.5, step * 2.0 * alpha), phi = 1.6 * turn;
+                directions.push_back(glm::normalize(
+                    S * float(std::cos(a)) +
+                    (t * float(std::cos(phi)) + b * float(std::sin(phi))) * float(std::sin(a))));
+            }
+        for (int i = 0; i < 16; ++i)
+            directions.push_back(equirectDirection(hammersley(std::uint32_t(i), 16, 5)));
+        double errorSum = 0.0, expectedSum = 0.0, worst = 0.0;
+        for (glm::vec3 R : directions) {
+            const glm::vec2 uv = equirectUV(R);
+            const int x = std::min(int(uv.x * float(level.width)), level.width - 1);
+            const int y = std::min(int(uv.y * float(level.height)), level.height - 1);
+            R = equirectDirection(
+                {(float(x) + 0.5f) / float(level.width), (float(y) + 0.5f) / float(level.height)});
+            const glm::dvec2 skyPart = lobeIntegrals(sky, R, alpha, 500);
+            double sunPart = 0.0;
+            const int n = 48;
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j) {
+                    const double r = radius * std::sqrt((i + 0.5) / n),
+                                 phi = 2.0 * M_PI * (j + 0.5) / n;
+                    const glm::dvec3 l = glm::normalize(
+                        glm::dvec3(S) * std::cos(r) +
+                        (glm::dvec3(t) * std::cos(phi) + glm::dvec3(b) * std::sin(phi)) *
+                            std::sin(r));
+                    const double cosl = glm::dot(l, glm::dvec3(R));
+                    if (cosl <= 0.0) continue;
+                    const glm::dvec3 h = glm::normalize(l + glm::dvec3(R));
+                    sunPart += sunRadiance *
+                               ggxDistribution(float(glm::dot(h, glm::dvec3(R))), float(alpha)) *
+                               cosl * omega / (double(n) * n);
+                }
+            const double expected = (skyPart.x + sunPart) / skyPart.y;
+            const double got = level.texel(x, y).g, e = std::abs(got - expected);
+            errorSum += e;
+            expectedSum += expected;
+            worst = std::max(worst, e / expected);
+        }
+        std::printf("level %d (roughness %.1f) with a 0.5 degree sun: mean error %.4f, largest "
+                    "%.4f\n",
+                    k, iblLevelRoughness(k, params.levels), errorSum / expectedSum, worst);
+        EXPECT_LT(errorSum / expectedSum, 0.02) << "level " << k;
+        EXPECT_LT(worst, 0.05) << "level " << k;
+    }
+}
+
 // Between two levels the lookup blends by lobe width (α = roughness²): a small bright disk
 // (kept in the sky: no sun extraction) seen in a surface of roughness 0.05 or 0.1, between
 // level 0 (the image) and level 1 (roughness 0.2), against the brute-force lobe, as the

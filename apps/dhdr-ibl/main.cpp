@@ -15,15 +15,18 @@ int run(int argc, char** argv) {
         "Bakes an equirectangular HDR environment (2:1, any format OpenImageIO reads) for\n"
         "dhdr-light's environment lights, as Filament's cmgen does: diffuse irradiance as 9\n"
         "spherical harmonics, a chain of GGX-prefiltered levels (one roughness per level,\n"
-        "importance-sampled with the source mip chosen by each sample's pdf), and the\n"
+        "a quadrature over the source mips, finer towards the lobe's centre, with the\n"
+        "brightest texels added exactly), and the\n"
         "split-sum DFG table with the multiple-scattering terms. One multi-part EXR: the\n"
         "levels as subimages, then the DFG table; the SH and parameters in the header.");
     IblBakeParams p;
     cl.option("--levels", p.levels, "N", "prefiltered levels, roughness 0 to 1 (default 6)", 2, 16);
     cl.option("--base-width", p.baseWidth, "W",
-              "width of level 1; each later level is half as wide (default 256)", 8, 4096);
+              "width of level 1; each later level is half as wide, down to 64 (default 256)", 8,
+              4096);
     cl.option("--samples", p.samples, "N",
-              "GGX samples per texel of level 1; each later level takes 4x as many, up to 16x\n"
+              "how finely level 1's quadrature cuts the lobe, in the GGX samples per texel it\n"
+              "replaced (cost grows with it); each later level takes 4x as many, up to 16x\n"
               "(default 128)",
               1, 65536);
     cl.option("--dfg-size", p.dfgSize, "N", "side of the DFG table (default 128)", 2, 1024);
@@ -67,11 +70,11 @@ int run(int argc, char** argv) {
                " ms";
     };
     char line[200];
-    std::snprintf(
-        line, sizeof line,
-        "%dx%d environment; %d levels from %d wide, %d samples per texel at level 1; DFG %d² at "
-        "%d samples",
-        env.width, env.height, p.levels, p.baseWidth, p.samples, p.dfgSize, p.dfgSamples);
+    std::snprintf(line, sizeof line,
+                  "%dx%d environment; %d levels from %d wide, quadrature of %d samples at level 1; "
+                  "DFG %d² at "
+                  "%d samples",
+                  env.width, env.height, p.levels, p.baseWidth, p.samples, p.dfgSize, p.dfgSamples);
     tool.info(line);
     if (ibl.sun.found()) {
         const glm::vec3 d = ibl.sun.direction, e = ibl.sun.illuminance;

@@ -1,3 +1,5 @@
+#include "prefilter.h"
+
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
 #include <cmath>
@@ -77,10 +79,6 @@ glm::vec3 sampleGgxHalf(glm::vec2 u, float alpha) {
     return {sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta};
 }
 
-// Prefilters one level: for each texel direction R (with N = V = R, the split sum's
-// assumption), the GGX-weighted mean of the environment, Σ L(l) N·l / Σ N·l over importance
-// samples, each read from the source mip whose texels match the sample's solid angle
-// (Křivánek & Colbert 2008: lod = ½ log₂(Ωs / Ωp) + 1).
 // The radiance along d of a chain of mips, level(0) … level(last), at a fractional level of
 // detail (clamped to the chain): bilinear in each of the two nearest, linear between them.
 template <class Level>
@@ -93,219 +91,44 @@ glm::vec3 trilinear(const Level& level, int last, const glm::vec3& d, float lod)
     return glm::mix(a, level(l1).bilinear(uv), lod - float(l0));
 }
 
-EnvironmentImage prefilter(const std::vector<EnvironmentImage>& mips, int width, float roughness,
-                           int samples, int nthreads) {
-    EnvironmentImage out;
-    out.width = width;
-    out.height = width / 2;
-    out.rgb.assign(size_t(out.width) * size_t(out.height) * 3, 0.0f);
-    const float alpha = std::max(roughness * roughness, kMinAlpha);
-    const double texelOmega = 4.0 * 3.14159265358979 / (double(mips[0].width) * mips[0].height);
-    // The samples in the lobe's frame, the same for every texel.
-    struct Sample {
-        glm::vec3 l;
-        float weight, lod;
-    };
-    std::vector<Sample> lobe;
-    for (int i = 0; i < samples; ++i) {
-        const glm::vec3 h =
-            sampleGgxHalf(hammersley(std::uint32_t(i), std::uint32_t(samples), 0), alpha);
-        const glm::vec3 l = 2.0f * h.z * h - glm::vec3(0, 0, 1);
-        if (l.z <= 0.0f) continue;
-        // pdf(l) = D(h) (n·h) / (4 v·h) = D(h) / 4 with n = v.
-        const float pdf = ggxDistribution(h.z, alpha) / 4.0f;
-        const double omegaS = 1.0 / (double(samples) * std::max(pdf, 1e-20f));
-        // Křivánek & Colbert 2008 add 1 to this lod against aliasing; measured on the eight
-        // Poly Haven HDRIs against brute force (bench/prefilter_error.cpp) it over-blurs (+5 %
-        // at level 1) and costs 0.7 points of error at every sample count, so it is left out.
-        const float lod = std::max(0.0f, float(0.5 * std::log2(omegaS / texelOmega)));
-        lobe.push_back({l, l.z, std::min(lod, float(mips.size() - 1))});
-    }
-    auto level = [&](int l) -> const EnvironmentImage& { return mips[size_t(l)]; };
-    const int last = int(mips.size()) - 1;
-    OIIO::parallel_for(
-        0, out.height,
-        [&](int64_t y) {
-            for (int x = 0; x < out.width; ++x) {
-                const glm::vec3 R = equirectDirection(
-                    {(float(x) + 0.5f) / float(out.width), (float(y) + 0.5f) / float(out.height)});
-                glm::vec3 t, b;
-                orthonormalBasis(R, t, b);
-                glm::dvec3 sum(0.0);
-                double weight = 0.0;
-                for (const Sample& s : lobe) {
-                    const glm::vec3 d = t * s.l.x + b * s.l.y + R * s.l.z;
-                    sum += glm::dvec3(trilinear(level, last, d, s.lod)) * double(s.weight);
-                    weight += s.weight;
-                }
-                const glm::vec3 v(sum / std::max(weight, 1e-300));
-                float* p = &out.rgb[3 * (size_t(y) * size_t(out.width) + size_t(x))];
-                p[0] = v.r;
-                p[1] = v.g;
-                p[2] = v.b;
-            }
-        },
-        perItem(nthreads));
-    return out;
-}
-
 } // namespace
 
-glm::vec2 integrateDFG(float NdotV, float roughness, int samples) {
+namespace {
+
+// The GGX half vectors integrateDFG draws at a roughness: they do not depend on N·V, so a
+// row of the table draws them once.
+std::vector<glm::vec3> dfgHalfVectors(float roughness, int samples) {
+    const float alpha = std::max(roughness * roughness, kMinAlpha);
+    std::vector<glm::vec3> h(static_cast<size_t>(samples));
+    for (int i = 0; i < samples; ++i)
+        h[size_t(i)] =
+            sampleGgxHalf(hammersley(std::uint32_t(i), std::uint32_t(samples), 0), alpha);
+    return h;
+}
+
+glm::vec2 integrateDFG(float NdotV, float roughness, const std::vector<glm::vec3>& halves) {
     const float alpha = std::max(roughness * roughness, kMinAlpha);
     const glm::vec3 V(std::sqrt(std::max(0.0f, 1.0f - NdotV * NdotV)), 0.0f, NdotV);
     double x = 0.0, y = 0.0;
-    for (int i = 0; i < samples; ++i) {
-        const glm::vec3 H =
-            sampleGgxHalf(hammersley(std::uint32_t(i), std::uint32_t(samples), 0), alpha);
+    for (const glm::vec3& H : halves) {
         const float VdotH = glm::dot(V, H);
         const glm::vec3 L = 2.0f * VdotH * H - V;
         if (L.z <= 0.0f || VdotH <= 0.0f) continue;
         // f cos / pdf with pdf = D (n·h) / (4 v·h): Vis · 4 (v·h) (n·l) / (n·h), F left out.
         const double g =
             double(smithGgxCorrelatedVisibility(L.z, NdotV, alpha)) * 4.0 * VdotH * L.z / H.z;
-        const double fc = std::pow(1.0 - VdotH, 5.0);
-        x += g * fc;
+        const double m = 1.0 - VdotH, m2 = m * m;
+        x += g * (m2 * m2 * m);
         y += g;
     }
-    return {float(x / samples), float(y / samples)};
-}
-
-namespace {
-
-// Vose's alias table of n ≤ 65536 weights; `keep` in units of 2⁻¹⁶.
-void buildAlias(const double* weights, int n, EnvironmentSampler::Bucket* buckets) {
-    double sum = 0.0;
-    for (int i = 0; i < n; ++i)
-        sum += weights[i];
-    std::vector<double> scaled(static_cast<size_t>(n));
-    std::vector<int> small, large;
-    for (int i = 0; i < n; ++i) {
-        scaled[size_t(i)] = sum > 0.0 ? weights[i] * n / sum : 1.0;
-        (scaled[size_t(i)] < 1.0 ? small : large).push_back(i);
-        buckets[i] = {0xffff, std::uint16_t(i)};
-    }
-    while (!small.empty() && !large.empty()) {
-        const int s = small.back(), l = large.back();
-        small.pop_back();
-        // Rounded to 16 bits: a texel's probability moves by at most 2⁻¹⁷ / n, and the
-        // density the sample reports is the rounded one's (test_ibl checks the histogram).
-        buckets[s].keep = std::uint16_t(std::lround(scaled[size_t(s)] * 65535.0));
-        buckets[s].alias = std::uint16_t(l);
-        scaled[size_t(l)] -= 1.0 - scaled[size_t(s)];
-        if (scaled[size_t(l)] < 1.0) {
-            large.pop_back();
-            small.push_back(l);
-        }
-    }
-}
-
-// The bucket of an alias table for u in [0, 1): bucket ⌊u·n⌋, kept when `choice` (uniform in
-// [0, 1)) is below its keep probability, else its alias.
-int pickAlias(const EnvironmentSampler::Bucket* buckets, int n, float u, float choice) {
-    const int i = std::min(int(u * float(n)), n - 1);
-    return choice * 65535.0f < float(buckets[i].keep) ? i : buckets[i].alias;
+    const double n = double(halves.size());
+    return {float(x / n), float(y / n)};
 }
 
 } // namespace
 
-void EnvironmentSampler::build(const EnvironmentImage& full) {
-    // At most 512 wide: the texels' radiance is copied into the tables, the image not kept.
-    EnvironmentImage env = full;
-    while (env.width > 512)
-        env = env.downsampled();
-    width = env.width;
-    height = env.height;
-    const double pi = 3.14159265358979323846;
-    rowCos.resize(size_t(height) + 1);
-    for (int y = 0; y <= height; ++y)
-        rowCos[size_t(y)] = float(std::cos(pi * y / height));
-    columnPhi.resize(size_t(width));
-    for (int x = 0; x < width; ++x) {
-        const double phi = (double(x) / width - 0.5) * 2.0 * pi;
-        columnPhi[size_t(x)] = {float(std::cos(phi)), float(std::sin(phi))};
-    }
-    // Weights in double: luminance times solid angle, summed in a fixed order.
-    std::vector<double> weight(size_t(height) * size_t(width)), rowWeight(size_t(height), 0.0);
-    total = 0.0;
-    for (int y = 0; y < height; ++y) {
-        const double omega = env.texelSolidAngle(y);
-        for (int x = 0; x < width; ++x) {
-            const glm::vec3 L = env.texel(x, y);
-            const double w = std::max(0.0, 0.2126 * L.r + 0.7152 * L.g + 0.0722 * L.b) * omega;
-            weight[size_t(y) * size_t(width) + size_t(x)] = w;
-            rowWeight[size_t(y)] += w;
-        }
-        total += rowWeight[size_t(y)];
-    }
-    rows.assign(size_t(height), Bucket{});
-    buckets.assign(size_t(height) * size_t(width), Bucket{});
-    texels.assign(size_t(height) * size_t(width), Texel{});
-    buildAlias(rowWeight.data(), height, rows.data());
-    for (int y = 0; y < height; ++y)
-        buildAlias(&weight[size_t(y) * size_t(width)], width, &buckets[size_t(y) * size_t(width)]);
-    // The density each texel is actually drawn with, from the rounded tables: uniform in solid
-    // angle within the texel, its probability over its solid angle.
-    std::vector<double> rowP(size_t(height), 0.0), texelP(static_cast<size_t>(width));
-    auto probabilities = [](const Bucket* b, int n, double* p) {
-        std::fill(p, p + n, 0.0);
-        for (int i = 0; i < n; ++i) {
-            const double keep = b[i].keep / 65535.0;
-            p[i] += keep / n;
-            p[b[i].alias] += (1.0 - keep) / n;
-        }
-    };
-    probabilities(rows.data(), height, rowP.data());
-    for (int y = 0; y < height; ++y) {
-        const size_t first = size_t(y) * size_t(width);
-        probabilities(&buckets[first], width, texelP.data());
-        const double omega = env.texelSolidAngle(y);
-        for (int x = 0; x < width; ++x) {
-            Texel& t = texels[first + size_t(x)];
-            t.radiance = env.texel(x, y);
-            t.pdf = total > 0.0 ? float(rowP[size_t(y)] * texelP[size_t(x)] / omega) : 0.0f;
-        }
-    }
-}
-
-glm::vec3 EnvironmentSampler::sample(glm::vec2 u, float& pdf, glm::vec3& radiance) const {
-    // The row, then the texel within it, from the alias tables: the buckets from u, stratified
-    // as the caller's sequence is. Which of a bucket's two texels, and where in the texel,
-    // come from a hash of u: the digits of u below a bucket's width are the same for every
-    // point of a stratified set (i / n and radical inverses step by whole buckets), so taking
-    // them would make every sample of a pixel the same choice (a random-digit scramble, as
-    // Owen scrambling gives pbrt-v4's samplers).
-    std::uint64_t bits = (std::uint64_t(floatBits(u.x)) << 32) | floatBits(u.y);
-    const std::uint64_t h0 = mixBits(bits), h1 = mixBits(bits ^ 0x9e3779b97f4a7c15ull);
-    const float keepRow = unitFloat(h0), keepColumn = unitFloat(h0 << 24);
-    const float fy = unitFloat(h1), fx = unitFloat(h1 << 24);
-    const int y = pickAlias(rows.data(), height, u.y, keepRow);
-    const size_t first = size_t(y) * size_t(width);
-    const int x = pickAlias(&buckets[first], width, u.x, keepColumn);
-    const float c0 = rowCos[size_t(y)], c1 = rowCos[size_t(y) + 1];
-    const float cosTheta = c0 + fy * (c1 - c0);
-    const float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
-    // φ = φ_x + δ with δ < 2π / width ≤ 0.1: the angle-sum identities with δ's Taylor series
-    // to δ⁵ (error below 2⁻³⁰) instead of a sine and cosine call.
-    const float delta = fx * (2.0f * kPi / float(width)), d2 = delta * delta;
-    const float cosDelta = 1.0f - d2 * (0.5f - d2 * (1.0f / 24.0f));
-    const float sinDelta = delta * (1.0f - d2 * ((1.0f / 6.0f) - d2 * (1.0f / 120.0f)));
-    const glm::vec2 edge = columnPhi[size_t(x)];
-    const float cosPhi = edge.x * cosDelta - edge.y * sinDelta;
-    const float sinPhi = edge.y * cosDelta + edge.x * sinDelta;
-    const Texel& t = texels[first + size_t(x)];
-    pdf = t.pdf;
-    radiance = t.radiance;
-    return {sinTheta * cosPhi, cosTheta, sinTheta * sinPhi};
-}
-
-float EnvironmentSampler::lookup(const glm::vec3& d, glm::vec3& radiance) const {
-    const glm::vec2 uv = equirectUV(d);
-    const int x = std::clamp(int(uv.x * float(width)), 0, width - 1);
-    const int y = std::clamp(int(uv.y * float(height)), 0, height - 1);
-    const Texel& t = texels[size_t(y) * size_t(width) + size_t(x)];
-    radiance = t.radiance;
-    return t.pdf;
+glm::vec2 integrateDFG(float NdotV, float roughness, int samples) {
+    return integrateDFG(NdotV, roughness, dfgHalfVectors(roughness, samples));
 }
 
 glm::vec3 Ibl::irradiance(const glm::vec3& n) const {
@@ -397,13 +220,12 @@ bool bakeIbl(const EnvironmentImage& source, const IblBakeParams& p, Ibl& ibl, s
     std::vector<EnvironmentImage> mips = {env};
     while (mips.back().height > 16)
         mips.push_back(mips.back().downsampled());
+    const PrefilterSource sky = prefilterSource(env, mips);
     ibl.levels.clear();
     ibl.levels.push_back(env);
-    for (int k = 1; k < p.levels; ++k) {
-        const int width = std::max(8, p.baseWidth >> (k - 1));
-        ibl.levels.push_back(prefilter(mips, width, iblLevelRoughness(k, p.levels),
-                                       iblLevelSamples(p, k), nthreads));
-    }
+    for (int k = 1; k < p.levels; ++k)
+        ibl.levels.push_back(prefilter(sky, iblLevelWidth(p, k), iblLevelRoughness(k, p.levels),
+                                       iblLevelCellSize(p, k), nthreads));
     ibl.mips.assign(std::make_move_iterator(mips.begin() + 1), std::make_move_iterator(mips.end()));
 
     // (c) The DFG table.
@@ -411,10 +233,11 @@ bool bakeIbl(const EnvironmentImage& source, const IblBakeParams& p, Ibl& ibl, s
     OIIO::parallel_for(
         0, p.dfgSize,
         [&](int64_t j) {
+            const float roughness = (float(j) + 0.5f) / float(p.dfgSize);
+            const std::vector<glm::vec3> halves = dfgHalfVectors(roughness, p.dfgSamples);
             for (int i = 0; i < p.dfgSize; ++i)
                 ibl.dfg[size_t(j) * size_t(p.dfgSize) + size_t(i)] =
-                    integrateDFG((float(i) + 0.5f) / float(p.dfgSize),
-                                 (float(j) + 0.5f) / float(p.dfgSize), p.dfgSamples);
+                    integrateDFG((float(i) + 0.5f) / float(p.dfgSize), roughness, halves);
         },
         perItem(nthreads));
     return true;
