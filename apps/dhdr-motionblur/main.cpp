@@ -1,0 +1,215 @@
+// dhdr-motionblur: motion blur in post, in linear HDR, from a G-buffer's motion vectors
+// (docs/tools.md, docs/animation.md).
+#include "../common/frames.h"
+#include "../common/tool.h"
+
+#include <OpenImageIO/imagebufalgo.h>
+#include <algorithm>
+#include <dhdr/io/errors.h>
+#include <dhdr/io/layers.h>
+#include <dhdr/io/pixel_limit.h>
+#include <dhdr/io/strip_pipeline.h>
+#include <dhdr/io/strip_reader.h>
+#include <dhdr/tonemap/motion_blur.h>
+#include <filesystem>
+#include <memory>
+
+using namespace dhdr;
+
+namespace {
+
+// Where a file's motion (4 channels in order) and depth are: dhdr's motion.X … motion.W and
+// Z, or Blender's <layer>.Vector.X … W and <layer>.Depth.Z; −1 when absent.
+struct MotionChannels {
+    int motion = -1, depth = -1;
+    std::string motionName, depthName;
+};
+
+bool endsWith(const std::string& s, const std::string& tail) {
+    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+
+MotionChannels findMotion(const OIIO::ImageSpec& spec) {
+    MotionChannels m;
+    for (int c = 0; c + 3 < spec.nchannels && m.motion < 0; ++c) {
+        const std::string& name = spec.channelnames[size_t(c)];
+        const bool ours = name == "motion.X";
+        if (!ours && name != "Vector.X" && !endsWith(name, ".Vector.X")) continue;
+        const std::string base = name.substr(0, name.size() - 1);
+        if (spec.channelnames[size_t(c + 1)] == base + "Y" &&
+            spec.channelnames[size_t(c + 2)] == base + "Z" &&
+            spec.channelnames[size_t(c + 3)] == base + "W") {
+            m.motion = c;
+            m.motionName = name;
+        }
+    }
+    for (int c = 0; c < spec.nchannels && m.depth < 0; ++c) {
+        const std::string& name = spec.channelnames[size_t(c)];
+        if (name == "Z" || name == "Depth.Z" || endsWith(name, ".Depth.Z")) {
+            m.depth = c;
+            m.depthName = name;
+        }
+    }
+    return m;
+}
+
+// The part of `path` that holds motion channels (a multi-part file), and its spec.
+bool openGeometry(app::Tool& tool, const std::string& path, StripReader& reader,
+                  MotionChannels& channels) {
+    if (!std::filesystem::exists(path)) {
+        tool.fail(path + ": no such file");
+        return false;
+    }
+    std::unique_ptr<OIIO::ImageInput> probe = OIIO::ImageInput::open(path);
+    if (!probe) {
+        tool.fail(path + ": cannot read: " + OIIO::geterror());
+        return false;
+    }
+    int part = 0;
+    for (int s = 0; probe->seek_subimage(s, 0); ++s)
+        if (findMotion(probe->spec()).motion >= 0) {
+            part = s;
+            break;
+        }
+    probe->seek_subimage(part, 0);
+    const OIIO::ImageSpec spec = probe->spec();
+    if (const std::string e = pixelLimitError(spec.width, spec.height, spec.depth); !e.empty()) {
+        tool.fail(path + ": " + e);
+        return false;
+    }
+    channels = findMotion(spec);
+    if (channels.motion < 0) {
+        tool.fail(path + ": no motion channels (motion.X motion.Y motion.Z motion.W, or "
+                         "Blender's Vector pass) — render the G-buffer with animation");
+        return false;
+    }
+    if (channels.depth < 0) {
+        tool.fail(path + ": no depth channel (Z, or Blender's Depth.Z)");
+        return false;
+    }
+    const int chbegin = std::min(channels.motion, channels.depth);
+    const int chend = std::max(channels.motion + 4, channels.depth + 1);
+    channels.motion -= chbegin;
+    channels.depth -= chbegin;
+    std::string error;
+    if (!reader.open(path, part, chbegin, chend, tool.threads(), error, true)) {
+        tool.fail(cannotRead(path, error));
+        return false;
+    }
+    return true;
+}
+
+int run(int argc, char** argv) {
+    app::CommandLine cl(
+        "dhdr-motionblur", "HDR.exr -o HDR.exr [--gbuffer GBUFFER.exr] [options]",
+        "Motion blur in post, in linear HDR (McGuire et al. 2012, \"A reconstruction filter for\n"
+        "plausible motion blur\"): each pixel gathers taps along the longest motion of its\n"
+        "neighbourhood, weighted by depth so that what is in front streaks over what is\n"
+        "behind. Motion comes from --gbuffer (or the input's own channels): dhdr's motion.X …\n"
+        "motion.W or Blender's Vector pass (X,Y = previous − now, Z,W = now − next, pixels,\n"
+        "y up), with depth from Z or Depth.Z. Run it before tone mapping, so that highlights\n"
+        "streak with their energy. Pixels with no motion nearby are copied bit for bit.");
+    MotionBlurParams params;
+    std::string gbufferPath, layer;
+    cl.option("--gbuffer", gbufferPath, "FILE", "G-buffer with the motion and depth channels");
+    cl.option("--shutter", params.shutter, "FRAMES",
+              "shutter, in frames, centred on the frame (default 0.5, as Cycles)", {0.0, 2.0});
+    cl.option("--samples", params.samples, "N", "taps along each pixel's blur (default 15)", 1,
+              256);
+    cl.option("--max-blur", params.maxBlur, "PX",
+              "longest blur, pixels from a pixel to the end of its streak (longer motion is "
+              "shortened; default 32)",
+              1, 128);
+    cl.option("--depth-softness", params.depthSoftness, "R",
+              "relative depth difference over which a surface passes from behind another to in "
+              "front (default 0.01)",
+              {0.0, 1.0, true});
+    cl.option("--layer", layer, "NAME",
+              "the layer or EXR part to blur (default: the unnamed R,G,B,A, else the one "
+              "called Combined, rgba or beauty)");
+    cl.epilog("Example:\n  dhdr-motionblur shot.0001.aa.exr --gbuffer shot.0001.gbuf.exr -o "
+              "shot.0001.mb.exr --shutter 0.5");
+    cl.namesFile("--gbuffer", app::FileRole::Input);
+    if (const int status = cl.parse(argc, argv); status >= 0) return status;
+    app::Tool tool("dhdr-motionblur", cl);
+    if (cl.inputs().size() != 1) {
+        std::fprintf(stderr, "dhdr-motionblur: usage error: give one HDR image\n");
+        return app::kExitUsage;
+    }
+    std::vector<std::string> paths = cl.inputs();
+    if (!gbufferPath.empty()) paths.push_back(gbufferPath);
+    app::FramePlan plan;
+    if (const int status = app::planFrames(tool, paths, plan); status >= 0) return status;
+    return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
+        const std::string& path = in[0];
+        const std::string& geometryPath = in.size() > 1 ? in[1] : path;
+        ColourStripReader colour;
+        if (!tool.openColour(path, layer, true, colour)) return false;
+        StripReader gbuffer;
+        MotionChannels channels;
+        if (!openGeometry(tool, geometryPath, gbuffer, channels)) return false;
+        const OIIO::ImageSpec& frame = colour.spec();
+        if (gbuffer.spec().width != frame.width || gbuffer.spec().height != frame.height ||
+            gbuffer.spec().x != frame.x || gbuffer.spec().y != frame.y) {
+            tool.fail(geometryPath + ": is " + std::to_string(gbuffer.spec().width) + "x" +
+                      std::to_string(gbuffer.spec().height) + " but " + path + " is " +
+                      std::to_string(frame.width) + "x" + std::to_string(frame.height));
+            return false;
+        }
+        const int ncolour = frame.alpha_channel == 3 ? 4 : 3;
+        OIIO::ImageSpec spec = frame;
+        spec.attribute("dhdr:motionBlurShutter", params.shutter);
+        app::AtomicOutput file(tool, out);
+        if (!file.open(spec, colour.formats())) return false;
+        StripPipelineParams strips;
+        strips.halo = motionBlurReach(params);
+        strips.nthreads = tool.threads();
+        app::Progress progress(tool, "dhdr-motionblur: " + path);
+        strips.progress = progress.over();
+        StripPipeline pipeline(OIIO::get_roi(frame), strips);
+        pipeline.addInput({[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
+                               return colour.read(y0, y1, s, e);
+                           },
+                           path,
+                           {{0, ncolour}}});
+        // Motion is sanitized (a NaN vector would be no motion anyway); depth keeps its +∞.
+        pipeline.addInput({[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
+                               return gbuffer.read(y0, y1, s, e);
+                           },
+                           geometryPath,
+                           {{channels.motion, channels.motion + 4}}});
+        pipeline.setOutput(file.file());
+        OIIO::ImageBuf motion, depth;
+        const bool ran = pipeline.run([&](StripContext& strip) {
+            const OIIO::ImageBuf& image = *strip.inputs[0];
+            const OIIO::ImageBuf& geometry = *strip.inputs[1];
+            const int m[4] = {channels.motion, channels.motion + 1, channels.motion + 2,
+                              channels.motion + 3};
+            OIIO::ImageBufAlgo::channels(motion, geometry, 4, m);
+            OIIO::ImageBufAlgo::channels(depth, geometry, 1, &channels.depth);
+            OIIO::ROI core = image.roi();
+            core.ybegin = strip.rows.ybegin;
+            core.yend = strip.rows.yend;
+            strip.output->copy(image);
+            if (!motionBlur(*strip.output, image, motion, depth, params, core, tool.threads())) {
+                strip.error = path + ": " + strip.output->geterror();
+                return false;
+            }
+            return true;
+        });
+        if (!ran) {
+            tool.fail(pipeline.error());
+            return false;
+        }
+        if (!file.commit()) return false;
+        tool.reportNonFinite(path, pipeline.replaced()[0], false);
+        tool.reportNonFinite(geometryPath, pipeline.replaced()[1], false);
+        return true;
+    });
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    return app::guardedMain("dhdr-motionblur", [&] { return run(argc, argv); });
+}
