@@ -74,7 +74,8 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                     layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
                 // The seeds of a flat pixel's shading (lighting.cpp, deep sample 0).
                 const LitPoint point{sp.surface, sp.P, sp.N, sp.V, sp.origin};
-                const bool traceSpecular = specular && SpecularIndirect::applies(point);
+                const bool traceSpecular =
+                    specular && SpecularIndirect::traced(point, traced.probes);
                 const SpecularLobe lobe{sp.V, sp.surface.alpha(),
                                         traceSpecular ? 0.0f : kOccluderAlbedo};
                 mirror[p] = glm::reflect(-sp.V, sp.N);

@@ -24,6 +24,7 @@ struct TracedEstimates {
     const BounceLighting* bounce = nullptr;
     float catcher = 0.0f;
     const SpecularIndirect* specular = nullptr;
+    bool probes = false; // rough lobes take the probes' light (SpecularIndirect::traced)
 };
 
 class FilteredEstimates {

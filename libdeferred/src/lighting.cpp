@@ -251,12 +251,12 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     // strip's halo rows included) and filtered before the shading reads them.
     LightingParams estimated = params;
     estimated.denoise = params.denoise && !params.pathTrace;
-    const FilteredEstimates filtered(view, layout, source.roi, lights, estimated, shadowRays,
-                                     rayTracedAO ? inputs.visibility : nullptr,
-                                     TracedEstimates{bounceLight ? &*bounceLight : nullptr,
-                                                     catcherId,
-                                                     specularLight ? &*specularLight : nullptr},
-                                     nthreads);
+    const FilteredEstimates filtered(
+        view, layout, source.roi, lights, estimated, shadowRays,
+        rayTracedAO ? inputs.visibility : nullptr,
+        TracedEstimates{bounceLight ? &*bounceLight : nullptr, catcherId,
+                        specularLight ? &*specularLight : nullptr, probes != nullptr},
+        nthreads);
     // The environment behind the surfaces: the view ray through each pixel's centre, from the
     // inverse of worldToNDC (the near and far planes' points).
     const Light* sky = nullptr;
@@ -331,7 +331,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
                        footprint && !view.deep()
                            ? reflectionSpread(view, layout, source.roi, x, y, sp)
                            : 0.0f};
-        point.tracedSpecular = specularLight && SpecularIndirect::applies(point);
+        point.tracedSpecular = specularLight && SpecularIndirect::traced(point, probes);
         point.specularFromProbes =
             probes && !point.tracedSpecular && sp.surface.roughness >= kProbeGlossyRoughness;
         const SeedKey key{x, y, streamOf(SampleStream::Shadow, k)};
@@ -373,10 +373,17 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         glm::vec3 indirect(0.0f);
         if (probes) {
             const float NdotV = std::max(glm::dot(sp.N, sp.V), 0.0f);
-            glm::vec3 albedo = diffuseAlbedo(sp.surface, NdotV);
-            if (point.specularFromProbes) albedo += specularAlbedo(sp.surface, NdotV);
-            indirect = albedo / kPi * probes->irradianceAt(sp.P, sp.N, sp.V) *
-                       (aoActive ? occlusion : 1.0f);
+            indirect =
+                diffuseAlbedo(sp.surface, NdotV) / kPi * probes->irradianceAt(sp.P, sp.N, sp.V);
+            if (point.specularFromProbes) {
+                const float a = sp.surface.alpha();
+                const glm::vec3 R = glm::reflect(-sp.V, sp.N);
+                const glm::vec3 D =
+                    glm::normalize(glm::mix(sp.N, R, (1.0f - a) * (std::sqrt(1.0f - a) + a)));
+                indirect +=
+                    specularAlbedo(sp.surface, NdotV) / kPi * probes->irradianceAt(sp.P, D, sp.V);
+            }
+            if (aoActive) indirect *= occlusion;
         }
         // The scene in the glossy lobe, traced (not occluded by AO: its rays see the occluders).
         glm::vec3 reflected(0.0f);

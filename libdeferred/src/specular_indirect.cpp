@@ -1,6 +1,7 @@
 #include "specular_indirect.h"
 
 #include <dhdr/deferred/multiple_scattering.h>
+#include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/sampling.h>
 
 namespace dhdr {
@@ -13,6 +14,10 @@ bool SpecularIndirect::applies(const LitPoint& p) {
     const glm::vec3 albedo =
         F0 * (e.y - e.x) + glm::vec3(e.x) + multipleScatteringAlbedo(p.surface, NdotV);
     return luminance(albedo) >= kSpecularIndirectAlbedo;
+}
+
+bool SpecularIndirect::traced(const LitPoint& p, bool probes) {
+    return applies(p) && !(probes && p.surface.roughness >= kProbeGlossyRoughness);
 }
 
 glm::vec3 SpecularIndirect::radiance(const LitPoint& p, int x, int y, int k, int samples,

@@ -20,6 +20,11 @@ public:
     // Whether point p's specular lobe is worth rays (kSpecularIndirectAlbedo).
     static bool applies(const LitPoint& p);
 
+    // Whether point p's specular lobe gets rays: it is worth them, and, when there are probes,
+    // it is sharper than kProbeGlossyRoughness; rougher lobes take the probes' light as the
+    // bake's hits do (probes.h). Without probes every lobe worth rays gets them.
+    static bool traced(const LitPoint& p, bool probes);
+
     // ∫ f_spec(V, l) L(hit(l)) cos θ dl over the directions that hit the scene, by `samples`
     // GGX visible-normal directions (a rotated Hammersley set of G-buffer sample k of pixel
     // (x, y)): (1/n) Σ f_spec cos / pdf · L, f_spec the specular layer of evaluateBrdf with its
