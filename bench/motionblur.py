@@ -10,14 +10,25 @@ EXR and a G-buffer with Z and motion.X..W (Blender's convention).
 import argparse
 import os
 import statistics
+import subprocess
 import sys
 import tempfile
+import time
 
 import numpy as np
 import OpenImageIO as oiio
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from pipeline import measure  # noqa: E402
+
+
+def measure(cmd):
+    """Wall seconds and peak RSS (MiB) of one run, measured by /usr/bin/time: this process
+    holds the generated frame, which a forked child's own ru_maxrss would count."""
+    start = time.perf_counter()
+    p = subprocess.run(["/usr/bin/time", "-f", "%M"] + cmd, capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    if p.returncode != 0:
+        sys.exit("bench: %s failed:\n%s" % (" ".join(cmd), p.stderr))
+    return wall, int(p.stderr.strip().splitlines()[-1]) / 1024.0
 
 
 def write_frame(hdr, gbuf, w, h, speed):

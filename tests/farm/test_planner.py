@@ -101,6 +101,14 @@ class Pipelines(unittest.TestCase):
                     load(path)
                 self.assertIn(name, str(e.exception))
 
+    def test_motion_blur_is_a_stage(self):
+        # Issue 24: gbuffer -> light -> aa -> motionblur -> bloom -> tonemap.
+        stages = [{"tool": "dhdr-light", "inputs": ["g.####.exr"], "output": "h.####.exr"},
+                  {"tool": "dhdr-motionblur", "inputs": ["h.####.exr"], "output": "m.####.exr",
+                   "options": ["--gbuffer", "g.####.exr", "--shutter", "0.5"]}]
+        pipeline = parse({"stages": stages}, "p.json")
+        self.assertEqual([s.name for s in pipeline.stages], ["light", "motionblur"])
+
     def test_two_stages_cannot_write_one_output(self):
         # Issue 21: each would overwrite the other's frames with exit 0.
         light = {"tool": "dhdr-light", "inputs": ["g.####.exr"], "output": "out/h.####.exr"}

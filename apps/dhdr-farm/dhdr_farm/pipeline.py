@@ -7,7 +7,7 @@ import re
 
 from .frames import MAX_WIDTH, FramePattern
 
-TOOLS = ("dhdr-gbuffer", "dhdr-light", "dhdr-aa", "dhdr-bloom", "dhdr-tonemap")
+TOOLS = ("dhdr-gbuffer", "dhdr-light", "dhdr-aa", "dhdr-motionblur", "dhdr-bloom", "dhdr-tonemap")
 STAGE_KEYS = {"name", "tool", "inputs", "output", "options", "adapt", "fps"}
 TOP_KEYS = {"$schema", "name", "stages"}
 # Options the farm sets itself: in a stage's options they would contradict the plan.
