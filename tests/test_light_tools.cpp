@@ -454,6 +454,29 @@ TEST_F(LightTools, ProbesTakeTheLightUnitsOfDhdrLight) {
     EXPECT_GT(compared, 100);
 }
 
+// A probe file says which diffuse model its bake reflected with, and dhdr-light warns when it
+// shades with another (the indirect light would not match the direct).
+TEST_F(LightTools, ProbesRecordTheirDiffuseModel) {
+    const std::string spheres = kTestdata + "/spheres.gltf";
+    const std::string bake = "dhdr-probes " + spheres + " --grid 2,2,2 --rays 64 --bounces 1 ";
+    ASSERT_EQ(run(bake + "--diffuse burley -o " + path("burley.probes.exr")).status, 0);
+    ASSERT_EQ(run(bake + "-o " + path("lambert.probes.exr")).status, 0);
+    EXPECT_EQ(read("burley.probes.exr").spec().get_string_attribute("dhdr:probeDiffuse"), "burley");
+    EXPECT_EQ(read("lambert.probes.exr").spec().get_string_attribute("dhdr:probeDiffuse"),
+              "lambert");
+    const std::string light = "dhdr-light " + path("g.exr") + " --scene " + kCornell + " -o " +
+                              path("d.exr") + " --probes ";
+    Result r = run(light + path("burley.probes.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("burley.probes.exr: baked with --diffuse burley, shaded here with "
+                         "lambert"),
+              std::string::npos)
+        << r.err;
+    r = run(light + path("burley.probes.exr") + " --diffuse burley");
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err.find("baked with"), std::string::npos) << r.err;
+}
+
 // The lights options come from one place: dhdr-light and dhdr-probes explain them in the same
 // words and refuse the same values with the same message.
 TEST_F(LightTools, ProbesAndLightShareTheirLightsOptions) {

@@ -295,6 +295,13 @@ int run(int argc, char** argv) {
         const auto t = std::chrono::steady_clock::now();
         if (!readProbes(probesPath, probes, error)) return tool.fail(probesPath + ": " + error);
         inputs.probes = &probes;
+        if (probes.diffuse != params.diffuse) {
+            const char* baked = probes.diffuse == DiffuseModel::Burley ? "burley" : "lambert";
+            tool.warn(probesPath + ": baked with --diffuse " + baked + ", shaded here with " +
+                      (params.diffuse == DiffuseModel::Burley ? "burley" : "lambert") +
+                      ": the indirect light will not match the direct (give the same --diffuse "
+                      "to both tools)");
+        }
         tool.info(probesPath + ": " + std::to_string(probes.probeCount()) + " probes read in " +
                   std::to_string(int(std::chrono::duration<double, std::milli>(
                                          std::chrono::steady_clock::now() - t)

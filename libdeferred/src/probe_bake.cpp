@@ -186,6 +186,7 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     const int rounds = converge ? kProbeMaxBounces : params.bounces;
     double lastTotal = 0.0, lastStep = 0.0;
     v.bounces = 0;
+    v.diffuse = params.diffuse;
     for (int bounce = 0; bounce < rounds; ++bounce) {
         const ProbeVolume previous = v; // the last round's irradiance (zero at first)
         OIIO::parallel_for(

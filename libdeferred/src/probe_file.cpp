@@ -23,6 +23,7 @@ void setGrid(OIIO::ImageSpec& spec, const ProbeVolume& v) {
     spec.attribute("dhdr:probeCounts", OIIO::TypeDesc(OIIO::TypeDesc::INT, 3), counts);
     spec.attribute("dhdr:probeRays", v.rays);
     spec.attribute("dhdr:probeBounces", v.bounces);
+    spec.attribute("dhdr:probeDiffuse", v.diffuse == DiffuseModel::Burley ? "burley" : "lambert");
     // As floats: OpenImageIO's EXR writer drops int arrays other than vectors.
     std::vector<float> states;
     std::vector<float> positions;
@@ -139,6 +140,13 @@ bool readProbes(const std::string& path, ProbeVolume& v, std::string& error) {
     }
     v.rays = irr.get_int_attribute("dhdr:probeRays");
     v.bounces = irr.get_int_attribute("dhdr:probeBounces");
+    // Files from before the attribute were baked with Lambert's.
+    const std::string diffuse = irr.get_string_attribute("dhdr:probeDiffuse", "lambert");
+    if (diffuse != "lambert" && diffuse != "burley") {
+        error = "unknown diffuse model '" + diffuse + "' (dhdr:probeDiffuse)";
+        return false;
+    }
+    v.diffuse = diffuse == "burley" ? DiffuseModel::Burley : DiffuseModel::Lambert;
     v.normalBias = irr.get_float_attribute("dhdr:probeNormalBias", v.normalBias);
     v.viewBias = irr.get_float_attribute("dhdr:probeViewBias", v.viewBias);
     if (states->type().basetype != OIIO::TypeDesc::FLOAT ||

@@ -76,6 +76,9 @@ struct ProbeVolume {
     glm::dvec3 spacing{1.0}; // between grid points, per axis
     glm::ivec3 counts{0};
     int rays = 0, bounces = 0;
+    // The diffuse model the bake's hits reflected with (ProbeBakeParams::diffuse); the frame
+    // should shade with the same.
+    DiffuseModel diffuse = DiffuseModel::Lambert;
     std::vector<glm::vec3> positions; // per probe (x fastest, then y, then z), relocated
     std::vector<ProbeState> states;
     // Per probe, its bordered maps in scanline order: irradiance E(n) in W/m² per unit of
