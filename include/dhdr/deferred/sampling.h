@@ -44,7 +44,11 @@ enum class SampleStream : std::int64_t {
     SpecularIndirect = 7, // rays gathering the scene's light in a glossy lobe (light −4)
     ProbeGlossy = 8,      // a probe ray's continuation along a glossy hit's lobe
 };
-inline constexpr std::int64_t kStreamsPerDeepSample = 4;
+// More than the streams above, so that no sample's stream is another sample's (with 4, deep
+// sample 1's Bounce was sample 0's SpecularIndirect).
+inline constexpr std::int64_t kStreamsPerDeepSample = 16;
+static_assert(kStreamsPerDeepSample > std::int64_t(SampleStream::ProbeGlossy),
+              "a deep sample's streams would overlap the next one's");
 inline std::int64_t streamOf(SampleStream s, int deepSample = 0) {
     return std::int64_t(s) + kStreamsPerDeepSample * std::int64_t(deepSample);
 }
