@@ -163,6 +163,9 @@ int run(int argc, char** argv) {
         if (!file.open(spec, colour.formats())) return false;
         StripPipelineParams strips;
         strips.halo = motionBlurReach(params);
+        // Strips several halos tall: the halo's rows are read and their velocities found again
+        // for every strip.
+        strips.rows = std::max(strips.rows, 4 * strips.halo);
         strips.nthreads = tool.threads();
         app::Progress progress(tool, "dhdr-motionblur: " + path);
         strips.progress = progress.over();

@@ -199,11 +199,13 @@ bool motionBlur(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const OIIO::Imag
                 for (int i = 0; i < S; ++i) {
                     if (S > 2 && S % 2 == 1 && i == (S - 1) / 2) continue; // the pixel itself
                     const float t = -1.0f + 2.0f * (float(i) + j + 1.0f) / float(S + 1);
-                    const int sx = std::clamp(int(std::lround(float(x) + vn.x * t)), area.xbegin,
-                                              area.xend - 1);
-                    const int sy = std::clamp(int(std::lround(float(y) + vn.y * t)), area.ybegin,
-                                              area.yend - 1);
-                    const float d = std::hypot(float(sx - x), float(sy - y));
+                    // Nearest pixel (floor(v + ½), as lround but without the call).
+                    const int sx = std::clamp(int(std::floor(float(x) + vn.x * t + 0.5f)),
+                                              area.xbegin, area.xend - 1);
+                    const int sy = std::clamp(int(std::floor(float(y) + vn.y * t + 0.5f)),
+                                              area.ybegin, area.yend - 1);
+                    const float dx = float(sx - x), dy = float(sy - y);
+                    const float d = std::sqrt(dx * dx + dy * dy);
                     const float zy = *Z.at(sx, sy);
                     const float vy = std::max(glm::length(v.at(sx, sy)), 0.5f);
                     const float front = inFront(zy, zx, params.depthSoftness);
