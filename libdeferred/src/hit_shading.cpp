@@ -20,13 +20,14 @@ glm::vec3 HitShading::trace(const Ray& ray, const SeedKey& key, long long* rays)
     surface.metallic = s.material->metallic;
     surface.diffuse = m_diffuse;
     const glm::vec3 P(s.position), N(s.normal), V(-ray.direction);
-    const LitPoint point{surface, P, N, V,
-                         SurfacePoint{P, glm::vec3(s.geometric), float(s.positionError)}};
+    LitPoint point{surface, P, N, V,
+                   SurfacePoint{P, glm::vec3(s.geometric), float(s.positionError)}};
+    // As at the frame's pixels: with probes, a rough lobe takes their light, environments add
+    // none to it (and no diffuse light: DirectLightingOptions::environmentDiffuse).
+    point.specularFromProbes = m_probes && surface.roughness >= kProbeGlossyRoughness;
     glm::vec3 L = m_direct.sum(point, key, m_emissionAtHits ? s.emission : glm::vec3(0.0f), rays)
                       .total(1.0f, 1.0f);
-    if (m_probes)
-        L += diffuseAlbedo(surface, std::max(glm::dot(N, V), 0.0f)) / kPi *
-             m_probes->irradianceAt(P, N, V);
+    if (m_probes) L += m_probes->reflectedAt(surface, P, N, V, point.specularFromProbes);
     return L;
 }
 

@@ -230,6 +230,8 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     DirectLightingOptions hitOptions;
     hitOptions.shadows = shadowRays;
     hitOptions.environmentSpecular = IblSpecular::SplitSum;
+    // As at the pixels: with probes, environments' diffuse light comes through them.
+    hitOptions.environmentDiffuse = !probes;
     const DirectLighting atHits(lights, hitOptions);
     const bool emissionAtHits = std::none_of(
         lights.begin(), lights.end(), [](const Light& l) { return l.type == LightType::Mesh; });
@@ -372,17 +374,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         // ambient terms.
         glm::vec3 indirect(0.0f);
         if (probes) {
-            const float NdotV = std::max(glm::dot(sp.N, sp.V), 0.0f);
-            indirect =
-                diffuseAlbedo(sp.surface, NdotV) / kPi * probes->irradianceAt(sp.P, sp.N, sp.V);
-            if (point.specularFromProbes) {
-                const float a = sp.surface.alpha();
-                const glm::vec3 R = glm::reflect(-sp.V, sp.N);
-                const glm::vec3 D =
-                    glm::normalize(glm::mix(sp.N, R, (1.0f - a) * (std::sqrt(1.0f - a) + a)));
-                indirect +=
-                    specularAlbedo(sp.surface, NdotV) / kPi * probes->irradianceAt(sp.P, D, sp.V);
-            }
+            indirect = probes->reflectedAt(sp.surface, sp.P, sp.N, sp.V, point.specularFromProbes);
             if (aoActive) indirect *= occlusion;
         }
         // The scene in the glossy lobe, traced (not occluded by AO: its rays see the occluders).

@@ -1,6 +1,7 @@
 // Looking up a probe volume: the octahedral maps and the interpolation between probes.
 #include <algorithm>
 #include <cmath>
+#include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/octahedral.h>
 #include <dhdr/deferred/probes.h>
 
@@ -125,6 +126,19 @@ glm::vec3 ProbeVolume::interpolate(const glm::vec3& P, const glm::vec3& N, const
         total += weight;
     }
     return total > 0.0 ? glm::vec3(sum / total) : glm::vec3(0.0f);
+}
+
+glm::vec3 ProbeVolume::reflectedAt(const PbrSurface& s, const glm::vec3& P, const glm::vec3& N,
+                                   const glm::vec3& V, bool specularLobe) const {
+    const float NdotV = std::max(glm::dot(N, V), 0.0f);
+    glm::vec3 L = diffuseAlbedo(s, NdotV) / kPi * irradianceAt(P, N, V);
+    if (specularLobe) {
+        const float a = s.alpha();
+        const glm::vec3 D = glm::normalize(
+            glm::mix(N, glm::reflect(-V, N), (1.0f - a) * (std::sqrt(1.0f - a) + a)));
+        L += specularAlbedo(s, NdotV) / kPi * irradianceAt(P, D, V);
+    }
+    return L;
 }
 
 } // namespace dhdr

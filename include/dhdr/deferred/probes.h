@@ -99,6 +99,14 @@ struct ProbeVolume {
     // P moved by the normal and view biases (DDGI §5.2). Beyond the grid's outer layers (up
     // to half a spacing, where the scene's bounds are), extrapolated linearly from the grid.
     glm::vec3 irradianceAt(const glm::vec3& P, const glm::vec3& N, const glm::vec3& V) const;
+
+    // What surface s at P reflects of the probes' light towards V: its diffuse layer's albedo ×
+    // E(N) / π and, with `specularLobe` (a rough lobe whose light is not traced,
+    // kProbeGlossyRoughness), its specular lobe's albedo × E(D) / π, E read in the lobe's
+    // dominant direction D (Lagarde & de Rousiers 2014) rather than along N. The frame's
+    // pixels and the hits of its secondary rays reflect the probes alike.
+    glm::vec3 reflectedAt(const PbrSurface& s, const glm::vec3& P, const glm::vec3& N,
+                          const glm::vec3& V, bool specularLobe) const;
     // The biases, as fractions of the smallest spacing.
     float normalBias = 0.1f, viewBias = 0.1f;
 
