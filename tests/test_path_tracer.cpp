@@ -3,6 +3,7 @@
 // deferred direct pass where both compute the same thing.
 #include "scene_builder.h"
 
+#include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
 #include <dhdr/deferred/brdf.h>
 #include <dhdr/deferred/emissive_lights.h>
@@ -445,6 +446,41 @@ TEST(PathTracer, TheSkyIsCountedOnceWhereReflectionsHitWithProbes) {
     ASSERT_GT(n, 100);
     for (int k = 0; k < 3; ++k)
         EXPECT_NEAR(a[k] / b[k], 1.0, 0.05) << "channel " << k;
+}
+
+// With probes, an environment lights a rough surface through them alone (its diffuse light and
+// the rough lobe's): no shadow ray of the environment is traced there, and the frame is the
+// frame without the environment's shadow rays, bit for bit.
+TEST(PathTracer, WithProbesRoughSurfacesTraceNoEnvironmentRays) {
+    Scene scene = emptyScene();
+    scene.materials[0].roughness = 0.8f;
+    addFloor(scene, 3.0f);
+    addBox(scene, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.6f, 0.3f});
+    const Camera camera = Camera::lookAt({0.9, 0.9, 1.4}, {0.0, 0.3, 0.0}, {0, 1, 0}, 0.9);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 48, 36);
+    const RayCaster caster(scene);
+    Light sky = uniformSky();
+    sky.intensity = 0.5f;
+    ProbeBakeParams bake;
+    bake.spacing = 0.5;
+    ProbeVolume probes;
+    std::string error;
+    ASSERT_TRUE(bakeProbes(scene, caster, {sky}, true, bake, probes, error)) << error;
+    auto frame = [&](int environmentSamples, LightingStats& stats) {
+        LightingParams p;
+        p.environmentSamples = environmentSamples;
+        LightingInputs inputs{{sky}, &caster};
+        inputs.scene = &caster;
+        inputs.probes = &probes;
+        ImageBuf out;
+        EXPECT_TRUE(shadeGBuffer(out, gbuf, inputs, p, {}, 0, &stats)) << out.geterror();
+        return out;
+    };
+    LightingStats traced, untraced;
+    const ImageBuf a = frame(16, traced), b = frame(0, untraced);
+    EXPECT_EQ(traced.shadowRays, 0);
+    const auto cmp = OIIO::ImageBufAlgo::compare(a, b, 0.0f, 0.0f);
+    EXPECT_EQ(cmp.nfail, 0u) << "max error " << cmp.maxerror;
 }
 
 // Probes against the reference on the Cornell box (its own lights and glowing panel), per

@@ -12,6 +12,7 @@
 #include <dhdr/deferred/denoise.h>
 #include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/multiple_scattering.h>
+#include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/shadows.h>
 
@@ -80,7 +81,10 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                                         traceSpecular ? 0.0f : kOccluderAlbedo};
                 mirror[p] = glm::reflect(-sp.V, sp.N);
                 lobeWidth[p] = std::max(2.0f * lobe.alpha, 0.02f);
-                for (size_t j = 0; j < filtered.size(); ++j) {
+                // With probes, a rough lobe's point takes nothing from environments (their
+                // diffuse and its specular light come through the probes): no rays.
+                const bool lit = !(traced.probes && sp.surface.roughness >= kProbeGlossyRoughness);
+                for (size_t j = 0; j < filtered.size() && lit; ++j) {
                     const EnvironmentVisibilitySums v = environmentVisibilitySums(
                         lights[filtered[j]], sp.origin, sp.N, &lobe,
                         sampleSeed(x, y, filtered[j], streamOf(SampleStream::Shadow)),
