@@ -443,15 +443,19 @@ bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& origina
     }
     scene["nodes"] = roots;
 
+    // Assimp would also read (and validate) the animations, which dhdr reads itself.
+    doc.erase("animations");
+    bytes = gltfBytesWithJson(path, doc);
+    return true;
+}
+
+std::string gltfBytesWithJson(const std::string& path, const nlohmann::json& doc) {
     std::string text = doc.dump();
     std::ifstream in(path, std::ios::binary);
     const std::vector<char> file((std::istreambuf_iterator<char>(in)),
                                  std::istreambuf_iterator<char>());
     const bool glb = !glbJsonChunk(file).empty();
-    if (!glb) {
-        bytes = std::move(text);
-        return true;
-    }
+    if (!glb) return text;
     // A binary glTF: header, the new JSON chunk padded with spaces to 4 bytes, then the
     // file's other chunks as they were.
     while (text.size() % 4 != 0)
@@ -461,13 +465,13 @@ bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& origina
     const size_t rest = 20 + size_t(oldLength);
     const std::uint32_t jsonLength = std::uint32_t(text.size());
     const std::uint32_t total = std::uint32_t(12 + 8 + text.size() + (file.size() - rest));
-    bytes.assign(file.data(), 8);
+    std::string bytes(file.data(), 8);
     bytes.append(reinterpret_cast<const char*>(&total), 4);
     bytes.append(reinterpret_cast<const char*>(&jsonLength), 4);
     bytes.append("JSON", 4);
     bytes += text;
     bytes.append(file.data() + rest, file.size() - rest);
-    return true;
+    return bytes;
 }
 
 } // namespace dhdr::detail

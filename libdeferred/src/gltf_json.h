@@ -86,4 +86,8 @@ inline constexpr int kMaxGltfNodeDepth = 256;
 bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& doc, std::string& bytes,
                           std::string& error);
 
+// The bytes of the .gltf or .glb file at `path` with `doc` as its JSON (a .glb keeps its other
+// chunks as they are).
+std::string gltfBytesWithJson(const std::string& path, const nlohmann::json& doc);
+
 } // namespace dhdr::detail

@@ -1,3 +1,4 @@
+#include "gltf_animation.h"
 #include "gltf_json.h"
 #include "texture_loader.h"
 
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/scene_rig.h>
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
@@ -97,6 +99,7 @@ public:
 
     bool build(std::string& error) {
         loadMaterials();
+        startRig();
         if (!visitAll(error)) return false;
         nameUnnamed();
         if (!reportUnreadTextures(error)) return false;
@@ -106,10 +109,80 @@ public:
                 " vertex normals in the file have zero length; their triangles are shaded with "
                 "the geometric normal");
         loadCameras();
-        return loadLights(error);
+        if (!loadLights(error)) return false;
+        if (m_rig) m_scene.rig = std::move(m_rig);
+        return true;
     }
 
 private:
+    // A glTF file with animations keeps its node tree and the meshes' rest data (SceneRig), its
+    // nodes paired with Assimp's: Assimp 5.2 builds its tree from the default scene's roots
+    // (under a "ROOT" node when there are several) in the file's order.
+    void startRig() {
+        if (!m_gltf || !m_doc.is_object() || !m_doc.contains("animations") ||
+            !m_doc["animations"].is_array() || m_doc["animations"].empty())
+            return;
+        m_rig = std::make_shared<SceneRig>();
+        std::string why;
+        if (detail::gltfNodeTree(m_doc, m_rig->nodes, m_rig->order, why) && !matchNodes())
+            why = "Assimp's node tree differs from the file's (a node tree nested deeper than " +
+                  std::to_string(detail::kMaxGltfNodeDepth) + " levels?)";
+        detail::GltfBuffers buffers(m_path, m_doc);
+        if (why.empty()) m_rig->animations = detail::gltfAnimations(m_doc, buffers, m_rig->nodes);
+        if (why.empty()) return;
+        // No animation of this file can be played; each says why.
+        m_nodeIndex.clear();
+        const std::vector<SceneNode> none;
+        m_rig->animations = detail::gltfAnimations(nlohmann::json::object(), buffers, none);
+        for (size_t a = 0; a < m_doc["animations"].size(); ++a) {
+            Animation anim;
+            const nlohmann::json& ja = m_doc["animations"][a];
+            anim.name = ja.is_object() && ja.contains("name") && ja["name"].is_string()
+                            ? ja["name"].get<std::string>()
+                            : "animation " + std::to_string(a);
+            anim.problem = why;
+            m_rig->animations.push_back(anim);
+        }
+    }
+
+    bool matchNodes() {
+        const std::vector<int> roots = detail::gltfSceneRoots(m_doc);
+        const aiNode* root = m_ai.mRootNode;
+        std::vector<std::pair<const aiNode*, int>> stack;
+        if (roots.size() == 1) {
+            stack.emplace_back(root, roots[0]);
+        } else {
+            if (root->mNumChildren != roots.size()) return false;
+            for (size_t i = roots.size(); i-- > 0;)
+                stack.emplace_back(root->mChildren[i], roots[i]);
+        }
+        while (!stack.empty()) {
+            const auto [a, n] = stack.back();
+            stack.pop_back();
+            const SceneNode& node = m_rig->nodes[size_t(n)];
+            const std::vector<int> children = detail::gltfChildren(m_doc, n);
+            if ((!node.name.empty() && node.name != a->mName.C_Str()) ||
+                children.size() != a->mNumChildren)
+                return false;
+            m_nodeIndex[a] = n;
+            for (size_t i = children.size(); i-- > 0;)
+                stack.emplace_back(a->mChildren[i], children[i]);
+        }
+        return true;
+    }
+
+    // The file's index of the first node named `name` (as nodeWorld finds it), −1 when none.
+    int nodeIndexNamed(const aiString& name) const {
+        int found = -1;
+        forEachNode([&](const aiNode& node, const glm::dmat4&) {
+            if (node.mName != name) return true;
+            const auto it = m_nodeIndex.find(&node);
+            found = it != m_nodeIndex.end() ? it->second : -1;
+            return false;
+        });
+        return found;
+    }
+
     void loadMaterials() {
         const auto strengths =
             m_gltf ? detail::gltfEmissiveStrengths(m_doc) : std::map<std::string, float>{};
@@ -379,13 +452,38 @@ private:
             if (face.mNumIndices == 3)
                 mesh.triangles.emplace_back(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
         }
-        if (!am.HasNormals()) mesh = flatShaded(mesh, am, world, normalMatrix);
+        MeshRest rest;
+        if (m_rig) rest = restOf(am, node);
+        if (!am.HasNormals())
+            mesh = flatShaded(mesh, am, world, normalMatrix, m_rig ? &rest : nullptr);
         if (mesh.tangents.size() != mesh.positions.size()) {
             mesh.tangents.clear();
             mesh.bitangents.clear();
+            rest.tangents.clear();
+            rest.bitangents.clear();
         }
-        if (!mesh.triangles.empty()) m_scene.meshes.push_back(std::move(mesh));
+        if (mesh.triangles.empty()) return true;
+        m_scene.meshes.push_back(std::move(mesh));
+        if (m_rig) m_rig->meshes.push_back(std::move(rest));
         return true;
+    }
+
+    // A mesh's vertices as the file gives them, in its node's space (ScenePoser applies the
+    // node's world transform to them as addMesh does).
+    MeshRest restOf(const aiMesh& am, const aiNode& node) const {
+        MeshRest rest;
+        const auto it = m_nodeIndex.find(&node);
+        rest.node = it != m_nodeIndex.end() ? it->second : -1;
+        auto vec = [](const aiVector3D& v) { return glm::vec3(v.x, v.y, v.z); };
+        for (unsigned v = 0; v < am.mNumVertices; ++v) {
+            rest.positions.push_back(vec(am.mVertices[v]));
+            if (am.HasNormals()) rest.normals.push_back(vec(am.mNormals[v]));
+            if (am.HasTangentsAndBitangents() && am.HasTextureCoords(0)) {
+                rest.tangents.push_back(vec(am.mTangents[v]));
+                rest.bitangents.push_back(vec(am.mBitangents[v]));
+            }
+        }
+        return rest;
     }
 
     // A name as the file gives it: empty for one Assimp made up for an unnamed glTF element
@@ -435,8 +533,10 @@ private:
     // under a mirroring node it stays on the front, whose winding the node reverses). With UVs,
     // each triangle also gets its tangent frame from them (CalcTangentSpace needs normals):
     // T along +u, B up the image, as Assimp computes them.
+    // `rest`, when given, receives the same vertices in the node's space.
     static Mesh flatShaded(const Mesh& shared, const aiMesh& am, const glm::dmat4& world,
-                           const glm::dmat3& normalMatrix) {
+                           const glm::dmat3& normalMatrix, MeshRest* rest) {
+        MeshRest inNode;
         Mesh flat;
         flat.object = shared.object;
         flat.material = shared.material;
@@ -452,7 +552,7 @@ private:
             };
             const glm::dvec3 a = local(t.x), b = local(t.y), c = local(t.z);
             const glm::vec3 normal = unit(normalMatrix * glm::cross(b - a, c - a));
-            glm::vec3 tangent(0.0f), bitangent(0.0f);
+            glm::vec3 tangent(0.0f), bitangent(0.0f), localTangent(0.0f), localBitangent(0.0f);
             if (uvs) {
                 // Assimp's UVs (v up the image), from ours (v down).
                 auto uv = [&](unsigned i) {
@@ -464,21 +564,38 @@ private:
                 if (det != 0.0) {
                     tangent = unit((e1 * d2.y - e2 * d1.y) / det);
                     bitangent = unit((e2 * d1.x - e1 * d2.x) / det);
+                    // The same in the node's space: the world's is linear in the edges.
+                    const glm::dvec3 l1 = b - a, l2 = c - a;
+                    localTangent = glm::vec3((l1 * d2.y - l2 * d1.y) / det);
+                    localBitangent = glm::vec3((l2 * d1.x - l1 * d2.x) / det);
                 }
             }
             const unsigned first = unsigned(flat.positions.size());
             for (const unsigned i : {t.x, t.y, t.z}) {
                 flat.positions.push_back(shared.positions[i]);
                 flat.normals.push_back(normal);
+                inNode.positions.push_back(glm::vec3(local_(am, i)));
+                inNode.normals.push_back(glm::vec3(glm::cross(b - a, c - a)));
                 if (uvs) {
                     flat.uvs.push_back(shared.uvs[i]);
                     flat.tangents.push_back(tangent);
                     flat.bitangents.push_back(bitangent);
+                    inNode.tangents.push_back(localTangent);
+                    inNode.bitangents.push_back(localBitangent);
                 }
             }
             flat.triangles.emplace_back(first, first + 1, first + 2);
         }
+        if (rest) {
+            inNode.node = rest->node;
+            *rest = std::move(inNode);
+        }
         return flat;
+    }
+
+    static glm::dvec3 local_(const aiMesh& am, unsigned i) {
+        const aiVector3D& p = am.mVertices[i];
+        return glm::dvec3(p.x, p.y, p.z);
     }
 
     // The world transform of the first node named `name`, depth first; identity when none is.
@@ -562,6 +679,8 @@ private:
                 m_scene.warnings.push_back("camera '" + sc.name +
                                            "' cannot be rendered from: " + sc.problem);
             m_scene.cameras.push_back(sc);
+            // A glTF camera sits at its node: it moves with it (others are not animated).
+            if (m_rig) m_rig->cameraNodes.push_back(m_gltf ? nodeIndexNamed(ac.mName) : -1);
         }
     }
 
@@ -613,7 +732,15 @@ private:
                 light.innerConeAngle = al.mAngleInnerCone;
                 light.outerConeAngle = al.mAngleOuterCone;
             }
-            if (light.type != LightType::Ambient) m_scene.lights.push_back(light);
+            if (light.type == LightType::Ambient) continue;
+            m_scene.lights.push_back(light);
+            if (m_rig) {
+                SceneRig::LightRest rest;
+                rest.node = nodeIndexNamed(al.mName);
+                rest.position = glm::dvec3(al.mPosition.x, al.mPosition.y, al.mPosition.z);
+                rest.direction = glm::dvec3(al.mDirection.x, al.mDirection.y, al.mDirection.z);
+                m_rig->lights.push_back(rest);
+            }
         }
         return true;
     }
@@ -637,6 +764,8 @@ private:
     long long m_zeroNormals = 0;
     const std::set<std::string> m_nodeNames =
         m_gltf ? detail::gltfNames(m_doc, "nodes") : std::set<std::string>{};
+    std::shared_ptr<SceneRig> m_rig;          // a glTF file with animations
+    std::map<const aiNode*, int> m_nodeIndex; // Assimp's nodes → the file's
     const std::set<std::string> m_meshNames =
         m_gltf ? detail::gltfNames(m_doc, "meshes") : std::set<std::string>{};
 };
@@ -661,6 +790,14 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error,
         if (!detail::gltfFlattenDeepNodes(path, doc, flattened, error)) {
             error = path + ": cannot load the scene: " + error;
             return false;
+        }
+        // dhdr reads a file's animations itself (gltf_animation.h): Assimp 5.2 gets them
+        // wrong, and its validation refuses files for mistakes in them with messages about its
+        // own structures. It is handed the file without them.
+        if (flattened.empty() && doc.is_object() && doc.contains("animations")) {
+            nlohmann::json still = doc;
+            still.erase("animations");
+            flattened = detail::gltfBytesWithJson(path, still);
         }
         if (!flattened.empty()) io->replace(path, std::move(flattened));
     }

@@ -1,0 +1,289 @@
+// glTF animation (issue 24): the samplers against the closed forms of the specification's
+// Appendix C, the loader's node tree and ScenePoser against transforms computed here, and the
+// file's mistakes as clear problems.
+#include "animation_writer.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <dhdr/deferred/animation.h>
+#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/scene_rig.h>
+#include <filesystem>
+#include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
+
+using namespace dhdr;
+using namespace dhdr::test;
+
+namespace {
+
+AnimationSampler sampler(Interpolation i, std::vector<float> times, std::vector<float> values,
+                         int components, bool rotation = false) {
+    AnimationSampler s;
+    s.interpolation = i;
+    s.times = std::move(times);
+    s.values = std::move(values);
+    s.components = components;
+    s.rotation = rotation;
+    return s;
+}
+
+double at(const AnimationSampler& s, double t, int c = 0) {
+    double out[4] = {0, 0, 0, 0};
+    s.evaluate(t, out);
+    return out[c];
+}
+
+// A scratch folder for the files these tests write.
+std::string scratch(const std::string& name) {
+    static const std::filesystem::path dir = [] {
+        char pattern[] = "/tmp/dhdr_anim_XXXXXX";
+        return std::filesystem::path(mkdtemp(pattern));
+    }();
+    return (dir / name).string();
+}
+
+Scene load(const nlohmann::json& doc, const std::string& name) {
+    writeJson(scratch(name), doc);
+    Scene scene;
+    std::string error;
+    EXPECT_TRUE(loadScene(scratch(name), scene, error)) << error;
+    return scene;
+}
+
+// The problem loading gives the file's first animation ("" when none).
+std::string problemOf(const nlohmann::json& doc, const std::string& name) {
+    const Scene scene = load(doc, name);
+    if (!scene.rig || scene.rig->animations.empty()) return "no animation";
+    return scene.rig->animations[0].problem;
+}
+
+} // namespace
+
+TEST(AnimationSampler, LinearIsTheLineBetweenKeysAndHoldsOutside) {
+    const auto s = sampler(Interpolation::Linear, {0.0f, 1.0f, 3.0f}, {0.0f, 2.0f, -2.0f}, 1);
+    EXPECT_DOUBLE_EQ(at(s, 0.5), 1.0);
+    EXPECT_DOUBLE_EQ(at(s, 2.0), 0.0);
+    EXPECT_DOUBLE_EQ(at(s, 1.0), 2.0);
+    EXPECT_DOUBLE_EQ(at(s, -1.0), 0.0); // before the first key: the first value
+    EXPECT_DOUBLE_EQ(at(s, 7.0), -2.0); // after the last: the last
+    EXPECT_DOUBLE_EQ(at(s, std::nan("")), 0.0);
+}
+
+TEST(AnimationSampler, StepHoldsEachKeyUntilTheNext) {
+    const auto s = sampler(Interpolation::Step, {0.0f, 1.0f, 2.0f}, {5.0f, 7.0f, 9.0f}, 1);
+    EXPECT_EQ(at(s, 0.999), 5.0);
+    EXPECT_EQ(at(s, 1.0), 7.0);
+    EXPECT_EQ(at(s, 1.5), 7.0);
+    EXPECT_EQ(at(s, 2.5), 9.0);
+}
+
+// p(u) = (2u³ − 3u² + 1) v_k + td (u³ − 2u² + u) b_k + (−2u³ + 3u²) v_k+1 + td (u³ − u²) a_k+1.
+TEST(AnimationSampler, CubicSplineIsHermiteWithTheTangentsScaledByTheInterval) {
+    // Per key: in-tangent a, value v, out-tangent b.
+    const float a0 = 9, v0 = 1, b0 = 3, a1 = -2, v1 = 4, b1 = 7;
+    const auto s = sampler(Interpolation::CubicSpline, {0.5f, 2.5f}, {a0, v0, b0, a1, v1, b1}, 1);
+    for (const double t : {0.5, 0.9, 1.5, 2.2, 2.5}) {
+        const double td = 2.0, u = (t - 0.5) / td;
+        const double expected = (2 * u * u * u - 3 * u * u + 1) * v0 +
+                                td * (u * u * u - 2 * u * u + u) * b0 +
+                                (-2 * u * u * u + 3 * u * u) * v1 + td * (u * u * u - u * u) * a1;
+        EXPECT_NEAR(at(s, t), expected, 1e-12) << t;
+    }
+    EXPECT_EQ(at(s, 0.0), v0); // holds the value, not a tangent
+    EXPECT_EQ(at(s, 3.0), v1);
+}
+
+// Slerp between unit quaternions along the shorter arc: halfway between no rotation and 90°
+// about Z is 45° about Z, whether the second key is q or −q, and whatever the keys' length.
+TEST(AnimationSampler, RotationsSlerpTheShortArcAndAreNormalised) {
+    const float s45 = float(std::sin(M_PI / 4)), c45 = float(std::cos(M_PI / 4));
+    for (const float sign : {1.0f, -1.0f})
+        for (const float length : {1.0f, 2.0f}) {
+            const auto s =
+                sampler(Interpolation::Linear, {0.0f, 1.0f},
+                        {0, 0, 0, length, 0, 0, sign * length * s45, sign * length * c45}, 4, true);
+            for (const double u : {0.25, 0.5, 0.8}) {
+                double q[4];
+                s.evaluate(u, q);
+                const double angle = u * M_PI / 2;
+                EXPECT_NEAR(q[0], 0.0, 1e-7);
+                EXPECT_NEAR(q[2], std::sin(angle / 2), 1e-7) << sign << " " << u;
+                EXPECT_NEAR(q[3], std::cos(angle / 2), 1e-7) << sign << " " << u;
+            }
+        }
+    // A cubic rotation is normalised after the Hermite sum.
+    const auto cubic = sampler(
+        Interpolation::CubicSpline, {0.0f, 1.0f},
+        {0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, s45, c45, 0, 0, 0, 0}, 4, true);
+    double q[4];
+    cubic.evaluate(0.5, q);
+    EXPECT_NEAR(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3], 1.0, 1e-12);
+}
+
+TEST(AnimationSelection, ByNameIndexOrAllAndAnUnknownOneListsThem) {
+    std::vector<Animation> animations(2);
+    animations[0].name = "walk";
+    animations[1].name = "run";
+    std::vector<int> chosen;
+    std::string error;
+    ASSERT_TRUE(selectAnimations(animations, "", chosen, error));
+    EXPECT_EQ(chosen, std::vector<int>{0});
+    ASSERT_TRUE(selectAnimations(animations, "run", chosen, error));
+    EXPECT_EQ(chosen, std::vector<int>{1});
+    ASSERT_TRUE(selectAnimations(animations, "1", chosen, error));
+    EXPECT_EQ(chosen, std::vector<int>{1});
+    ASSERT_TRUE(selectAnimations(animations, "all", chosen, error));
+    EXPECT_EQ(chosen, (std::vector<int>{0, 1}));
+    EXPECT_FALSE(selectAnimations(animations, "jump", chosen, error));
+    EXPECT_NE(error.find("no animation 'jump'"), std::string::npos) << error;
+    EXPECT_NE(error.find("0 'walk', 1 'run'"), std::string::npos) << error;
+    animations[1].problem = "sampler 0: its key times do not increase";
+    EXPECT_FALSE(selectAnimations(animations, "run", chosen, error));
+    EXPECT_NE(error.find("cannot be played: sampler 0"), std::string::npos) << error;
+}
+
+// The square's vertices at time t are the node's world transform at t applied to the file's
+// vertices: a parent rotating about Z (slerp) and a child translating (linear) under it.
+TEST(ScenePoser, MovesMeshesByTheirNodesWorldTransformAtT) {
+    nlohmann::json doc = squareAndCamera();
+    doc["nodes"][0] = {{"name", "parent"}, {"children", {2}}};
+    doc["nodes"].push_back({{"name", "square"}, {"mesh", 0}, {"scale", {2.0, 1.0, 1.0}}});
+    const float s45 = float(std::sin(M_PI / 4)), c45 = float(std::cos(M_PI / 4));
+    addChannel(doc, 0, 0, "rotation", {0.0f, 1.0f}, {0, 0, 0, 1, 0, 0, s45, c45});
+    addChannel(doc, 0, 2, "translation", {0.0f, 2.0f}, {1, 0, 0, 3, 0, 0});
+    Scene scene = load(doc, "hierarchy.gltf");
+    ASSERT_TRUE(scene.rig);
+    ASSERT_EQ(scene.rig->animations.size(), 1u);
+    EXPECT_EQ(scene.rig->animations[0].problem, "");
+    EXPECT_DOUBLE_EQ(scene.rig->animations[0].duration(), 2.0);
+    ScenePoser poser(scene, {0});
+    for (const double t : {0.0, 0.5, 1.5, 4.0}) {
+        poser.pose(t);
+        const double angle = std::min(t, 1.0) * M_PI / 2;
+        const double x = 1.0 + std::min(t, 2.0);
+        const glm::dmat4 world = glm::rotate(glm::dmat4(1.0), angle, glm::dvec3(0, 0, 1)) *
+                                 glm::translate(glm::dmat4(1.0), glm::dvec3(x, 0, 0)) *
+                                 glm::scale(glm::dmat4(1.0), glm::dvec3(2, 1, 1));
+        const glm::dvec3 corners[4] = {
+            {-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0}};
+        ASSERT_EQ(scene.meshes.size(), 1u);
+        for (const glm::dvec3& c : corners) {
+            const glm::dvec3 expected(world * glm::dvec4(c, 1.0));
+            bool found = false;
+            for (const glm::vec3& p : scene.meshes[0].positions)
+                found = found || glm::length(glm::dvec3(p) - expected) < 1e-5;
+            EXPECT_TRUE(found) << "t " << t << " corner " << c.x << "," << c.y;
+        }
+        const glm::dvec3 normal = glm::normalize(glm::dmat3(world) * glm::dvec3(0, 0, 1));
+        EXPECT_NEAR(glm::length(glm::dvec3(scene.meshes[0].normals[0]) - normal), 0.0, 1e-6);
+    }
+}
+
+// A camera and a light on animated nodes move with them.
+TEST(ScenePoser, MovesCamerasAndLights) {
+    nlohmann::json doc = squareAndCamera();
+    doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 5.0}}};
+    doc["nodes"].push_back({{"name", "lamp"},
+                            {"translation", {0.0, 2.0, 0.0}},
+                            {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    doc["scenes"][0]["nodes"] = {0, 1, 2};
+    addChannel(doc, 0, 1, "translation", {0.0f, 1.0f}, {0, 0, 5, 4, 0, 5});
+    addChannel(doc, 0, 2, "translation", {0.0f, 1.0f}, {0, 2, 0, 0, 2, -6});
+    Scene scene = load(doc, "camera_light.gltf");
+    ASSERT_EQ(scene.cameras.size(), 1u);
+    ASSERT_EQ(scene.lights.size(), 1u);
+    ScenePoser poser(scene, {0});
+    poser.pose(0.25);
+    const glm::dvec3 eye = scene.cameras[0].camera.position();
+    EXPECT_NEAR(eye.x, 1.0, 1e-9);
+    EXPECT_NEAR(eye.z, 5.0, 1e-9);
+    EXPECT_NEAR(scene.lights[0].position.z, -1.5, 1e-6);
+    EXPECT_NEAR(scene.lights[0].position.y, 2.0, 1e-6);
+}
+
+// CUBICSPLINE through the loader: Assimp 5.2 would make it linear and drop the tangents.
+TEST(ScenePoser, CubicSplineTranslationFollowsHermite) {
+    nlohmann::json doc = squareAndCamera();
+    addChannel(doc, 0, 0, "translation", {0.0f, 1.0f},
+               {0, 0, 0, 0, 0, 0, 4, 0, 0, /* key 1: */ -3, 0, 0, 1, 0, 0, 0, 0, 0}, "CUBICSPLINE");
+    Scene scene = load(doc, "cubic.gltf");
+    ScenePoser poser(scene, {0});
+    const float x0 = scene.meshes[0].positions[0].x; // the rest pose (no translation)
+    for (const double u : {0.2, 0.5, 0.7}) {
+        poser.pose(u);
+        const double expected = 1.0 * 4 * (u * u * u - 2 * u * u + u) +
+                                (-2 * u * u * u + 3 * u * u) * 1.0 + 1.0 * (u * u * u - u * u) * -3;
+        EXPECT_NEAR(scene.meshes[0].positions[0].x - x0, expected, 1e-6) << u;
+    }
+}
+
+// The file's mistakes make the animation unusable, saying which sampler or channel and what;
+// the scene itself still loads (its rest pose renders).
+TEST(AnimationProblems, NameTheSamplerOrChannelAndWhatIsWrong) {
+    const float nan = std::nanf("");
+    struct Case {
+        const char* name;
+        std::vector<float> times, values;
+        const char* path;
+        int node;
+        const char* expected;
+    } cases[] = {
+        {"decreasing",
+         {0.0f, 2.0f, 1.0f},
+         std::vector<float>(9, 0.0f),
+         "translation",
+         0,
+         "sampler 0: its key times do not increase (key 2"},
+        {"repeated",
+         {0.0f, 1.0f, 1.0f},
+         std::vector<float>(9, 0.0f),
+         "translation",
+         0,
+         "its key times do not increase"},
+        {"nan",
+         {0.0f, nan},
+         std::vector<float>(6, 0.0f),
+         "translation",
+         0,
+         "sampler 0: key time 1 is not a finite number"},
+        {"count",
+         {0.0f, 1.0f, 2.0f},
+         std::vector<float>(6, 0.0f),
+         "translation",
+         0,
+         "has 2 output values for 3 key times: 3 expected"},
+        {"nanvalue", {0.0f, 1.0f}, {0, 0, 0, nan, 0, 0}, "translation", 0, "not a finite number"},
+        {"weights",
+         {0.0f, 1.0f},
+         {0.0f, 1.0f},
+         "weights",
+         0,
+         "weights of a node whose mesh has no morph targets"},
+        {"node",
+         {0.0f, 1.0f},
+         std::vector<float>(6, 0.0f),
+         "translation",
+         7,
+         "channel 0: its target node 7 does not exist"},
+        {"path",
+         {0.0f, 1.0f},
+         std::vector<float>(6, 0.0f),
+         "colour",
+         0,
+         "channel 0: its target path 'colour'"},
+    };
+    for (const Case& c : cases) {
+        nlohmann::json doc = squareAndCamera();
+        addChannel(doc, 0, c.node, c.path, c.times, c.values, "LINEAR",
+                   std::string(c.path) == "weights" ? "SCALAR" : "VEC3");
+        const std::string problem = problemOf(doc, std::string(c.name) + ".gltf");
+        EXPECT_NE(problem.find(c.expected), std::string::npos) << c.name << ": " << problem;
+    }
+    // An animated node given by a matrix.
+    nlohmann::json doc = squareAndCamera();
+    doc["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    addChannel(doc, 0, 0, "translation", {0.0f, 1.0f}, std::vector<float>(6, 0.0f));
+    EXPECT_NE(problemOf(doc, "matrix.gltf").find("is given by a matrix"), std::string::npos);
+}
