@@ -176,9 +176,10 @@ TEST_F(AnimationTools, FrameNIsTheStaticSceneWithFrameNsTransforms) {
     for (int y = 0; y < 64; ++y)
         for (int x = 0; x < 64; ++x) {
             ASSERT_EQ(value(a, "A", x, y), value(b, "A", x, y)) << x << "," << y;
-            if (value(b, "A", x, y) > 0.0f)
+            if (value(b, "A", x, y) > 0.0f) {
                 for (const char* c : {"P.X", "P.Y", "P.Z", "Z"})
                     ASSERT_NEAR(value(a, c, x, y), value(b, c, x, y), 1e-6) << c;
+            }
             for (int c = 0; c < a.nchannels(); ++c)
                 ASSERT_EQ(static_cast<const float*>(a.pixeladdr(x, y))[c],
                           static_cast<const float*>(s.pixeladdr(x, y))[c]);
@@ -287,5 +288,33 @@ TEST_F(AnimationTools, LightsOutWritesOneFileAFrame) {
         EXPECT_NE(lights.dump().find("\"position\":[" + std::to_string(f) + ".0,"),
                   std::string::npos)
             << lights.dump();
+    }
+}
+
+// Deep G-buffers: every sample carries its own motion; the layer goes through dhdr-light,
+// which ignores channels it does not know.
+TEST_F(AnimationTools, DeepSamplesCarryMotionAndDhdrLightReadsTheFiles) {
+    writeSliding("deep.gltf");
+    ASSERT_EQ(run("dhdr-gbuffer " + path("deep.gltf") + " --size 64x64 --frame 4 --deep -o " +
+                  path("deep.exr"))
+                  .status,
+              0);
+    ImageBuf d(path("deep.exr"));
+    ASSERT_TRUE(d.read(0, 0, true));
+    ASSERT_TRUE(d.deep());
+    const int mx = d.spec().channelindex("motion.X"), mz = d.spec().channelindex("motion.Z");
+    ASSERT_GE(mx, 0);
+    ASSERT_EQ(d.deep_samples(32, 32), 1);
+    EXPECT_NEAR(d.deep_value(32, 32, 0, mx, 0), -4.0f, 1e-4);
+    EXPECT_NEAR(d.deep_value(32, 32, 0, mz, 0), -4.0f, 1e-4);
+    EXPECT_EQ(d.deep_samples(2, 2), 0);
+    ASSERT_EQ(
+        run("dhdr-gbuffer " + path("deep.gltf") + " --size 64x64 --frame 4 -o " + path("flat4.exr"))
+            .status,
+        0);
+    for (const char* g : {"deep.exr", "flat4.exr"}) {
+        const Result r = run("dhdr-light " + path(g) + " --lights " + kTestdata +
+                             "/cornell_box.lights.json -o " + path(std::string("lit_") + g));
+        EXPECT_EQ(r.status, 0) << g << ": " << r.err;
     }
 }

@@ -105,7 +105,9 @@ std::vector<bool> SceneRig::animatedNodes(const std::vector<int>& playing) const
 }
 
 ScenePoser::ScenePoser(Scene& scene, std::vector<int> playing)
-    : m_scene(scene), m_playing(std::move(playing)) {}
+    : m_scene(scene), m_playing(std::move(playing)) {
+    if (m_scene.rig) m_animated = m_scene.rig->animatedNodes(m_playing);
+}
 
 void ScenePoser::pose(double t, std::vector<int>* changed) {
     if (changed) changed->clear();
@@ -115,7 +117,8 @@ void ScenePoser::pose(double t, std::vector<int>* changed) {
     m_applied.resize(m_scene.meshes.size(), glm::dmat4(1.0));
     for (size_t i = 0; i < m_scene.meshes.size() && i < rig.meshes.size(); ++i) {
         const MeshRest& rest = rig.meshes[i];
-        if (rest.node < 0) continue;
+        // What no playing animation moves keeps the loader's vertices, bit for bit.
+        if (rest.node < 0 || !m_animated[size_t(rest.node)]) continue;
         const glm::dmat4& w = world[size_t(rest.node)];
         // Only what moved is touched, so that the ray caster refits only those meshes.
         if (!m_first && w == m_applied[i]) continue;
@@ -129,7 +132,7 @@ void ScenePoser::pose(double t, std::vector<int>* changed) {
             m_scene.cameras[i].camera.cameraToWorld = world[size_t(rig.cameraNodes[i])];
     for (size_t i = 0; i < m_scene.lights.size() && i < rig.lights.size(); ++i) {
         const SceneRig::LightRest& l = rig.lights[i];
-        if (l.node < 0) continue;
+        if (l.node < 0 || !m_animated[size_t(l.node)]) continue;
         const glm::dmat4& w = world[size_t(l.node)];
         m_scene.lights[i].position = glm::vec3(w * glm::dvec4(l.position, 1.0));
         const glm::dvec3 dir(w * glm::dvec4(l.direction, 0.0));

@@ -12,6 +12,7 @@
 namespace dhdr {
 
 struct CryptoIds;
+struct FrameMotion;
 struct DeepGBuffer;
 class RayCaster;
 struct Scene;
@@ -28,7 +29,7 @@ struct GBufferParams {
     std::function<void(float)> progress;
     // With animation: the scene one frame before and one after, for the motion layer
     // (gbuffer::kMotion, docs/animation.md); null (the default) writes none.
-    std::shared_ptr<const struct FrameMotion> motion;
+    std::shared_ptr<const FrameMotion> motion;
 };
 
 // Where the scene's surfaces and camera are at the frames before and after the one rendered:

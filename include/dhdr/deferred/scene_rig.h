@@ -51,8 +51,9 @@ struct SceneRig {
 };
 
 // Moves a scene that loadScene gave a rig to time `t`: the vertices, normals and tangents of
-// its meshes, its cameras and its lights. The indices of the meshes whose vertices changed
-// since the last call (all that hang from a node, the first time) go to `changed`.
+// its meshes, its cameras and its lights, those that the animations `playing` move (the others
+// keep the loader's numbers). The indices of the meshes whose vertices changed since the last
+// call (all that move, the first time) go to `changed`.
 class ScenePoser {
 public:
     ScenePoser(Scene& scene, std::vector<int> playing);
@@ -61,6 +62,7 @@ public:
 private:
     Scene& m_scene;
     std::vector<int> m_playing;
+    std::vector<bool> m_animated;      // per node: moved by `playing`
     std::vector<glm::dmat4> m_applied; // the world transform each mesh was last posed with
     bool m_first = true;
 };
