@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The motion layer (docs/animation.md): frame 24 of testdata/cornell_animated.gltf, lit and
-# tone-mapped, with the forward motion of a grid of pixels drawn over it as arrows (yellow:
-# the next frame's position, scaled ×8 to be seen; the camera pans right, the tall block slides
-# left, the short block rises). Writes docs/images/motion_vectors.png.
+# tone-mapped, with the forward motion of a grid of pixels drawn over it as arrows (yellow,
+# towards the next frame's position, scaled ×12 to be seen; red dots: the grid). Writes
+# docs/images/motion_vectors.png.
 # Usage: scripts/motion_demo.sh TOOLS_DIR OUT_DIR   (e.g. build/apps out/demo)
 set -euo pipefail
 tools=${1:-build/apps}
@@ -16,17 +16,18 @@ step "$tools/dhdr-gbuffer" "$scene" --size 512x512 --frame 24 -o "$out/motion.gb
 step "$tools/dhdr-light" "$out/motion.gbuf.exr" --lights "$here/testdata/cornell_box.lights.json" \
   -o "$out/motion.hdr.exr"
 step "$tools/dhdr-tonemap" "$out/motion.hdr.exr" -o "$out/motion_base.png"
-oiiotool "$out/motion.gbuf.exr" --ch motion.X,motion.Y,motion.Z,motion.W --dumpdata \
-  >"$out/motion.txt"
+oiiotool "$out/motion.gbuf.exr" --ch motion.X,motion.Y,motion.Z,motion.W -o "$out/motion.exr"
+oiiotool --dumpdata "$out/motion.exr" >"$out/motion.txt"
 
 # Forward motion is −(Z, W) in pixels with y up; in the picture (y down) that is (−Z, +W).
 python3 - "$out/motion.txt" "$out/motion_base.png" "$here/docs/images/motion_vectors.png" <<'PY'
+import math
 import re
 import subprocess
 import sys
 
 dump, base, target = sys.argv[1:4]
-step, scale = 32, 8.0
+step, scale = 32, 12.0
 args = ["oiiotool", base]
 for line in open(dump):
     m = re.match(r"\s*Pixel \((\d+), (\d+)\):\s+(\S+)\s+(\S+)\s+(\S+)\s+(\S+)", line)
@@ -43,7 +44,6 @@ for line in open(dump):
         continue
     args += ["--line:color=1,0.9,0.1", "%d,%d,%d,%d" % (x, y, round(ex), round(ey))]
     # An arrow head: two short strokes back from the tip, ±25 degrees off the shaft.
-    import math
     length = math.hypot(dx, dy)
     ux, uy = dx / length, dy / length
     for s in (1, -1):
