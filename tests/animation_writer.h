@@ -73,3 +73,18 @@ inline nlohmann::json squareAndCamera(float half = 0.5f) {
 }
 
 } // namespace dhdr::test
+
+namespace dhdr::test {
+
+// Gives mesh 0's primitive the morph targets `targets` (per target one POSITION delta per
+// vertex, flattened x y z) and, when not empty, the mesh's default `weights`.
+inline void addMorphTargets(nlohmann::json& doc, const std::vector<std::vector<float>>& targets,
+                            const std::vector<float>& weights = {}) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const std::vector<float>& t : targets)
+        list.push_back({{"POSITION", addFloatAccessor(doc, t, "VEC3", t.size() / 3)}});
+    doc["meshes"][0]["primitives"][0]["targets"] = list;
+    if (!weights.empty()) doc["meshes"][0]["weights"] = weights;
+}
+
+} // namespace dhdr::test

@@ -287,3 +287,57 @@ TEST(AnimationProblems, NameTheSamplerOrChannelAndWhatIsWrong) {
     addChannel(doc, 0, 0, "translation", {0.0f, 1.0f}, std::vector<float>(6, 0.0f));
     EXPECT_NE(problemOf(doc, "matrix.gltf").find("is given by a matrix"), std::string::npos);
 }
+
+// Morph targets from the file: vertex = base + Σ wᵢ Δᵢ (a negative weight included, which
+// Assimp 5.2 clamps), morphed before the node's transform; CUBICSPLINE weights of two targets
+// (three values per key per target, which Assimp 5.2 miscounts).
+TEST(ScenePoser, MorphTargetsAreBasePlusWeightedDeltas) {
+    const std::vector<float> shift = {1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0};
+    const std::vector<float> spread = {0, 0, 0, 0, 0.5f, 0, 0, 1, 0, 0, 1.5f, 0};
+    for (const char* interpolation : {"LINEAR", "CUBICSPLINE"}) {
+        nlohmann::json doc = squareAndCamera();
+        doc["nodes"][0]["translation"] = {0.0, 0.0, -1.0};
+        addMorphTargets(doc, {shift, spread}, {0.2f, 0.0f});
+        const bool cubic = std::string(interpolation) == "CUBICSPLINE";
+        // Weights (0, 0) at t = 0 to (1, −0.5) at t = 1; cubic: tangents (in, out) per key.
+        const std::vector<float> values =
+            cubic ? std::vector<float>{0, 0, 0, 0, 3, -1, -2, 1, 1, -0.5f, 0, 0}
+                  : std::vector<float>{0, 0, 1, -0.5f};
+        addChannel(doc, 0, 0, "weights", {0.0f, 1.0f}, values, interpolation, "SCALAR");
+        Scene scene = load(doc, std::string("morph_") + interpolation + ".gltf");
+        ASSERT_TRUE(scene.rig);
+        ASSERT_EQ(scene.rig->animations[0].problem, "") << interpolation;
+        const float base[4][3] = {
+            {-0.5f, -0.5f, 0}, {0.5f, -0.5f, 0}, {0.5f, 0.5f, 0}, {-0.5f, 0.5f, 0}};
+        // Loaded with the default weights (0.2, 0).
+        for (int v = 0; v < 4; ++v)
+            EXPECT_NEAR(scene.meshes[0].positions[size_t(v)].x, base[v][0] + 0.2, 1e-6);
+        ScenePoser poser(scene, {0});
+        for (const double u : {0.3, 0.5, 2.0}) {
+            poser.pose(u);
+            const double t = std::min(u, 1.0);
+            double w[2] = {t, -0.5 * t};
+            if (cubic) {
+                const double h10 = t * t * t - 2 * t * t + t, h01 = -2 * t * t * t + 3 * t * t,
+                             h11 = t * t * t - t * t;
+                // v0 = (0, 0), b0 = (3, −1), v1 = (1, −0.5), a1 = (−2, 1); td = 1.
+                w[0] = h10 * 3 + h01 * 1 + h11 * -2;
+                w[1] = h10 * -1 + h01 * -0.5 + h11 * 1;
+            }
+            for (int v = 0; v < 4; ++v) {
+                const glm::vec3 p = scene.meshes[0].positions[size_t(v)];
+                EXPECT_NEAR(p.x, base[v][0] + w[0] * shift[size_t(3 * v)], 1e-6) << interpolation;
+                EXPECT_NEAR(p.y, base[v][1] + w[1] * spread[size_t(3 * v + 1)], 1e-6)
+                    << interpolation;
+                EXPECT_NEAR(p.z, -1.0, 1e-6);
+            }
+        }
+    }
+    // Weights of the wrong count for the mesh's two targets.
+    nlohmann::json doc = squareAndCamera();
+    addMorphTargets(doc, {shift, spread});
+    addChannel(doc, 0, 0, "weights", {0.0f, 1.0f}, {0, 0, 1}, "LINEAR", "SCALAR");
+    EXPECT_NE(problemOf(doc, "morph_count.gltf")
+                  .find("has 3 weights for 2 keys of 2 morph targets: 4 expected"),
+              std::string::npos);
+}

@@ -318,3 +318,26 @@ TEST_F(AnimationTools, DeepSamplesCarryMotionAndDhdrLightReadsTheFiles) {
         EXPECT_EQ(r.status, 0) << g << ": " << r.err;
     }
 }
+
+// Morph motion counts: a target that shifts the square 1 unit, its weight rising 0.5 a second,
+// moves it 1/48 unit (1/3 pixel) a frame: X = Z = −1/3.
+// Without normals in the file, each triangle gets its own (flat, from the morphed positions).
+TEST_F(AnimationTools, MorphTargetsMoveTheSurfaceAndItsMotion) {
+    for (const bool normals : {true, false}) {
+        nlohmann::json doc = squareAndCamera();
+        if (!normals) doc["meshes"][0]["primitives"][0]["attributes"].erase("NORMAL");
+        addMorphTargets(doc, {{1, 0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0}});
+        addChannel(doc, 0, 0, "weights", {0.0f, 2.0f}, {0, 1}, "LINEAR", "SCALAR");
+        writeJson(path("morph.gltf"), doc);
+        const Result r = run("dhdr-gbuffer " + path("morph.gltf") + " --size 64x64 --frame 24 -o " +
+                             path("morph.exr"));
+        ASSERT_EQ(r.status, 0) << r.err;
+        const ImageBuf g = read("morph.exr");
+        // At t = 1 the square is shifted 0.5 units: it covers columns 32 to 47.
+        EXPECT_EQ(value(g, "A", 31, 32), 0.0f);
+        ASSERT_GT(value(g, "A", 40, 32), 0.0f);
+        EXPECT_NEAR(value(g, "motion.X", 40, 32), -1.0 / 3.0, 1e-4);
+        EXPECT_NEAR(value(g, "motion.Z", 40, 32), -1.0 / 3.0, 1e-4);
+        EXPECT_NEAR(value(g, "N.Z", 40, 32), 1.0, 1e-3) << normals;
+    }
+}

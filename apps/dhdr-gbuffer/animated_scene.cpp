@@ -11,11 +11,7 @@ bool AnimatedScene::selectAnimations(const std::string& selection, std::string& 
     const std::vector<Animation>& animations = scene.rig ? scene.rig->animations : none;
     if (!dhdr::selectAnimations(animations, selection, playing, error)) return false;
     if (!animated()) return true;
-    const std::vector<bool> animatedNodes = scene.rig->animatedNodes(playing);
-    for (size_t i = 0; i < scene.rig->meshes.size(); ++i) {
-        const int node = scene.rig->meshes[i].node;
-        if (node >= 0 && animatedNodes[size_t(node)]) moving.push_back(int(i));
-    }
+    moving = scene.rig->movingMeshes(playing);
     poser = std::make_unique<ScenePoser>(scene, playing);
     return true;
 }

@@ -195,9 +195,9 @@ bool GltfBuffers::buffer(size_t index, const std::vector<std::uint8_t>*& bytes,
     return true;
 }
 
-bool GltfBuffers::readDense(const nlohmann::json& a, size_t count, int components,
-                            std::vector<float>& out, std::string& error) {
-    out.assign(count * size_t(components), 0.0f);
+bool GltfBuffers::locate(const nlohmann::json& a, size_t count, int components, Span& span,
+                         std::string& error) {
+    span = Span{};
     size_t viewIndex = 0;
     if (!unsignedField(a, "bufferView", viewIndex)) return true; // all zeros (§3.6.2.3)
     const nlohmann::json& views = m_doc.value("bufferViews", nlohmann::json::array());
@@ -215,30 +215,76 @@ bool GltfBuffers::readDense(const nlohmann::json& a, size_t count, int component
     unsignedField(view, "byteOffset", viewOffset);
     unsignedField(view, "byteStride", stride);
     unsignedField(a, "byteOffset", accessorOffset);
-    const int type = a.value("componentType", 0);
-    const size_t size = componentSize(type);
-    if (size == 0) {
-        error = "its componentType " + std::to_string(type) + " is not one glTF defines";
+    span.type = a.value("componentType", 0);
+    span.size = componentSize(span.type);
+    if (span.size == 0) {
+        error = "its componentType " + std::to_string(span.type) + " is not one glTF defines";
         return false;
     }
-    const size_t element = size * size_t(components);
+    const size_t element = span.size * size_t(components);
     if (stride == 0) stride = element;
     const std::vector<std::uint8_t>* bytes = nullptr;
     if (!buffer(bufferIndex, bytes, error)) return false;
     // The last element's end, in the view and in the buffer, without overflowing.
     const size_t needed = count == 0 ? 0 : accessorOffset + (count - 1) * stride + element;
-    if (count > 0 && ((count - 1) > (size_t(1) << 40) / std::max<size_t>(stride, 1) ||
-                      needed > viewLength || viewOffset + viewLength > bytes->size())) {
+    if (count > 0 &&
+        ((count - 1) > (size_t(1) << 40) / std::max<size_t>(stride, 1) || needed > viewLength ||
+         viewOffset + viewLength > bytes->size() || viewOffset + viewLength < viewOffset)) {
         error = "its " + std::to_string(count) + " elements run past bufferView " +
                 std::to_string(viewIndex) + " or its buffer";
         return false;
     }
+    span.base = bytes->data() + viewOffset + accessorOffset;
+    span.stride = stride;
+    return true;
+}
+
+bool GltfBuffers::readDense(const nlohmann::json& a, size_t count, int components,
+                            std::vector<float>& out, std::string& error) {
+    out.assign(count * size_t(components), 0.0f);
+    Span span;
+    if (!locate(a, count, components, span, error)) return false;
+    if (!span.base) return true;
     const bool normalized = a.value("normalized", false);
-    const std::uint8_t* base = bytes->data() + viewOffset + accessorOffset;
     for (size_t i = 0; i < count; ++i)
         for (int c = 0; c < components; ++c)
-            out[i * size_t(components) + size_t(c)] =
-                component(base + i * stride + size_t(c) * size, type, normalized);
+            out[i * size_t(components) + size_t(c)] = component(
+                span.base + i * span.stride + size_t(c) * span.size, span.type, normalized);
+    return true;
+}
+
+bool GltfBuffers::readIndices(size_t index, std::vector<std::uint32_t>& out, std::string& error) {
+    const nlohmann::json& accessors = m_doc.value("accessors", nlohmann::json::array());
+    const std::string prefix = "accessor " + std::to_string(index) + ": ";
+    size_t count = 0;
+    if (!accessors.is_array() || index >= accessors.size() || !accessors[index].is_object() ||
+        accessors[index].value("type", std::string()) != "SCALAR" ||
+        !unsignedField(accessors[index], "count", count) || count > (size_t(1) << 32) ||
+        accessors[index].contains("sparse")) {
+        error = prefix + "not a dense SCALAR accessor of indices";
+        return false;
+    }
+    const nlohmann::json& a = accessors[index];
+    const int type = a.value("componentType", 0);
+    if (type != 5121 && type != 5123 && type != 5125) {
+        error = prefix + "indices must be unsigned bytes, shorts or ints";
+        return false;
+    }
+    Span span;
+    if (!locate(a, count, 1, span, error)) return error = prefix + error, false;
+    out.assign(count, 0);
+    if (!span.base) return true;
+    for (size_t i = 0; i < count; ++i) {
+        const std::uint8_t* p = span.base + i * span.stride;
+        if (type == 5121)
+            out[i] = *p;
+        else if (type == 5123) {
+            std::uint16_t v;
+            std::memcpy(&v, p, 2);
+            out[i] = v;
+        } else
+            std::memcpy(&out[i], p, 4);
+    }
     return true;
 }
 

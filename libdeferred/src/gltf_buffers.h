@@ -23,7 +23,18 @@ public:
     // buffer that cannot be read...). Sparse accessors are applied.
     bool readFloats(size_t index, std::vector<float>& out, int& components, std::string& error);
 
+    // The elements of an index accessor (unsigned byte, short or int SCALARs), exactly.
+    bool readIndices(size_t index, std::vector<std::uint32_t>& out, std::string& error);
+
 private:
+    // Where an accessor's elements lie: null `base` for an accessor without a bufferView.
+    struct Span {
+        const std::uint8_t* base = nullptr;
+        size_t stride = 0, size = 0;
+        int type = 0;
+    };
+    bool locate(const nlohmann::json& accessor, size_t count, int components, Span& span,
+                std::string& error);
     bool buffer(size_t index, const std::vector<std::uint8_t>*& bytes, std::string& error);
     bool readDense(const nlohmann::json& accessor, size_t count, int components,
                    std::vector<float>& out, std::string& error);

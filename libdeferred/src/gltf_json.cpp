@@ -285,6 +285,9 @@ std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
             if (mesh.is_object() && mesh.contains("primitives") && mesh["primitives"].is_array())
                 for (const auto& p : mesh["primitives"])
                     morph = morph || (p.is_object() && p.contains("targets"));
+    // A file with animations has its morph targets applied (gltf_morph.h).
+    morph = morph && !(doc.contains("animations") && doc["animations"].is_array() &&
+                       !doc["animations"].empty());
     const bool skins = doc.contains("skins") && doc["skins"].is_array() && !doc["skins"].empty();
     if (skins || morph)
         out.push_back(std::string(skins && morph ? "skins and morph targets"

@@ -1,5 +1,6 @@
 #include "gltf_animation.h"
 #include "gltf_json.h"
+#include "gltf_morph.h"
 #include "texture_loader.h"
 
 #include <algorithm>
@@ -127,7 +128,8 @@ private:
         if (detail::gltfNodeTree(m_doc, m_rig->nodes, m_rig->order, why) && !matchNodes())
             why = "Assimp's node tree differs from the file's (a node tree nested deeper than " +
                   std::to_string(detail::kMaxGltfNodeDepth) + " levels?)";
-        detail::GltfBuffers buffers(m_path, m_doc);
+        m_buffers = std::make_unique<detail::GltfBuffers>(m_path, m_doc);
+        detail::GltfBuffers& buffers = *m_buffers;
         if (why.empty()) m_rig->animations = detail::gltfAnimations(m_doc, buffers, m_rig->nodes);
         if (why.empty()) return;
         // No animation of this file can be played; each says why.
@@ -390,7 +392,7 @@ private:
                         largest = std::max(largest, std::abs(normalMatrix[c][r]));
                 if (largest > 0.0 && std::isfinite(largest)) normalMatrix /= largest;
                 for (unsigned i = 0; i < node->mNumMeshes && ok; ++i)
-                    ok = addMesh(*m_ai.mMeshes[node->mMeshes[i]], *node, world, normalMatrix,
+                    ok = addMesh(*m_ai.mMeshes[node->mMeshes[i]], *node, i, world, normalMatrix,
                                  object, error);
             }
             return ok;
@@ -398,7 +400,8 @@ private:
         return ok;
     }
 
-    bool addMesh(const aiMesh& am, const aiNode& node, const glm::dmat4& world,
+    // `primitive`: the place of `am` among its node's meshes, the glTF primitive it is.
+    bool addMesh(const aiMesh& am, const aiNode& node, unsigned primitive, const glm::dmat4& world,
                  const glm::dmat3& normalMatrix, int object, std::string& error) {
         if (!(am.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return true; // points and lines
         Mesh mesh;
@@ -454,6 +457,8 @@ private:
         }
         MeshRest rest;
         if (m_rig) rest = restOf(am, node);
+        if (m_rig && rest.node >= 0 && detail::gltfHasMorphTargets(m_doc, rest.node, primitive))
+            return addMorphed(mesh, rest, world, primitive, error);
         if (!am.HasNormals())
             mesh = flatShaded(mesh, am, world, normalMatrix, m_rig ? &rest : nullptr);
         if (mesh.tangents.size() != mesh.positions.size()) {
@@ -465,6 +470,25 @@ private:
         if (mesh.triangles.empty()) return true;
         m_scene.meshes.push_back(std::move(mesh));
         if (m_rig) m_rig->meshes.push_back(std::move(rest));
+        return true;
+    }
+
+    // A primitive with morph targets of a file with animations: its vertices, triangles, UVs
+    // and targets from the file itself (Assimp 5.2 stores the targets as absolute positions
+    // and merges vertices), posed with the default weights. Normal maps are not applied to it
+    // (no tangents); one the file gets wrong is an error naming the node and the primitive.
+    bool addMorphed(Mesh& mesh, MeshRest& rest, const glm::dmat4& world, unsigned primitive,
+                    std::string& error) {
+        std::string why;
+        if (!detail::gltfMorphPrimitive(m_doc, *m_buffers, rest.node, primitive, rest, mesh, why)) {
+            error = m_path + ": node " + std::to_string(rest.node) + ", primitive " +
+                    std::to_string(primitive) + " (morph targets): " + why;
+            return false;
+        }
+        poseMesh(rest, world, rest.weights, mesh);
+        if (mesh.triangles.empty()) return true;
+        m_scene.meshes.push_back(std::move(mesh));
+        m_rig->meshes.push_back(std::move(rest));
         return true;
     }
 
@@ -764,7 +788,9 @@ private:
     long long m_zeroNormals = 0;
     const std::set<std::string> m_nodeNames =
         m_gltf ? detail::gltfNames(m_doc, "nodes") : std::set<std::string>{};
-    std::shared_ptr<SceneRig> m_rig;          // a glTF file with animations
+    std::shared_ptr<SceneRig> m_rig;
+    std::unique_ptr<detail::GltfBuffers>
+        m_buffers; // the file's buffers, read once          // a glTF file with animations
     std::map<const aiNode*, int> m_nodeIndex; // Assimp's nodes → the file's
     const std::set<std::string> m_meshNames =
         m_gltf ? detail::gltfNames(m_doc, "meshes") : std::set<std::string>{};

@@ -1,5 +1,7 @@
 // Re-posing a loaded scene at time t: node transforms from the animations, composed down the
 // tree, applied to the meshes, cameras and lights kept in their nodes' space.
+#include "gltf_morph.h"
+
 #include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/scene.h>
@@ -44,7 +46,7 @@ glm::vec3 finitePoint(const glm::dvec3& p) {
     return out;
 }
 
-void poseMesh(const MeshRest& rest, const glm::dmat4& world, Mesh& mesh) {
+void poseRigid(const MeshRest& rest, const glm::dmat4& world, Mesh& mesh) {
     const glm::dmat3 normalMatrix = normalMatrixOf(world), linear(world);
     for (size_t v = 0; v < rest.positions.size() && v < mesh.positions.size(); ++v)
         mesh.positions[v] = finitePoint(glm::dvec3(world * glm::dvec4(rest.positions[v], 1.0)));
@@ -57,6 +59,19 @@ void poseMesh(const MeshRest& rest, const glm::dmat4& world, Mesh& mesh) {
 }
 
 } // namespace
+
+void poseMesh(const MeshRest& rest, const glm::dmat4& world, const std::vector<double>& weights,
+              Mesh& mesh) {
+    if (rest.positionTargets.empty()) return poseRigid(rest, world, mesh);
+    // Morph before the node's transform (and, once applied, before the skin).
+    std::vector<glm::dvec3> positions, normals;
+    detail::morphedVertices(rest, mesh, weights, positions, normals);
+    const glm::dmat3 normalMatrix = normalMatrixOf(world);
+    for (size_t v = 0; v < positions.size() && v < mesh.positions.size(); ++v) {
+        mesh.positions[v] = finitePoint(glm::dvec3(world * glm::dvec4(positions[v], 1.0)));
+        mesh.normals[v] = unitOrZero(normalMatrix * normals[v]);
+    }
+}
 
 std::vector<glm::dmat4> SceneRig::worldTransforms(const std::vector<int>& playing, double t) const {
     std::vector<glm::dvec3> translation(nodes.size()), scale(nodes.size());
@@ -93,6 +108,37 @@ std::vector<glm::dmat4> SceneRig::worldTransforms(const std::vector<int>& playin
     return world;
 }
 
+bool SceneRig::weightsAt(const std::vector<int>& playing, int node, double t,
+                         std::vector<double>& weights) const {
+    bool found = false;
+    for (const int a : playing)
+        for (const AnimationChannel& ch : animations[size_t(a)].channels) {
+            if (ch.property != AnimatedProperty::Weights || ch.node != node) continue;
+            const AnimationSampler& s = animations[size_t(a)].samplers[size_t(ch.sampler)];
+            std::vector<double> w(size_t(s.components), 0.0);
+            s.evaluate(t, w.data());
+            weights = std::move(w);
+            found = true;
+        }
+    return found;
+}
+
+std::vector<int> SceneRig::movingMeshes(const std::vector<int>& playing) const {
+    const std::vector<bool> moved = animatedNodes(playing);
+    std::vector<bool> morphed(nodes.size(), false);
+    for (const int a : playing)
+        for (const AnimationChannel& ch : animations[size_t(a)].channels)
+            if (ch.property == AnimatedProperty::Weights) morphed[size_t(ch.node)] = true;
+    std::vector<int> out;
+    for (size_t i = 0; i < meshes.size(); ++i) {
+        const int n = meshes[i].node;
+        if (n >= 0 &&
+            (moved[size_t(n)] || (morphed[size_t(n)] && !meshes[i].positionTargets.empty())))
+            out.push_back(int(i));
+    }
+    return out;
+}
+
 std::vector<bool> SceneRig::animatedNodes(const std::vector<int>& playing) const {
     std::vector<bool> out(nodes.size(), false);
     for (const int a : playing)
@@ -106,7 +152,10 @@ std::vector<bool> SceneRig::animatedNodes(const std::vector<int>& playing) const
 
 ScenePoser::ScenePoser(Scene& scene, std::vector<int> playing)
     : m_scene(scene), m_playing(std::move(playing)) {
-    if (m_scene.rig) m_animated = m_scene.rig->animatedNodes(m_playing);
+    if (!m_scene.rig) return;
+    m_animated = m_scene.rig->animatedNodes(m_playing);
+    for (const int i : m_scene.rig->movingMeshes(m_playing))
+        m_moving.push_back(i);
 }
 
 void ScenePoser::pose(double t, std::vector<int>* changed) {
@@ -115,20 +164,24 @@ void ScenePoser::pose(double t, std::vector<int>* changed) {
     const SceneRig& rig = *m_scene.rig;
     const std::vector<glm::dmat4> world = rig.worldTransforms(m_playing, t);
     m_applied.resize(m_scene.meshes.size(), glm::dmat4(1.0));
-    for (size_t i = 0; i < m_scene.meshes.size() && i < rig.meshes.size(); ++i) {
-        const MeshRest& rest = rig.meshes[i];
-        // What no playing animation moves keeps the loader's vertices, bit for bit.
-        if (rest.node < 0 || !m_animated[size_t(rest.node)]) continue;
+    m_appliedWeights.resize(m_scene.meshes.size());
+    // Only what moves is touched (the rest keeps the loader's numbers bit for bit), and of that
+    // only what moved since the last pose, so that the ray caster refits only those meshes.
+    for (const int i : m_moving) {
+        const MeshRest& rest = rig.meshes[size_t(i)];
         const glm::dmat4& w = world[size_t(rest.node)];
-        // Only what moved is touched, so that the ray caster refits only those meshes.
-        if (!m_first && w == m_applied[i]) continue;
-        poseMesh(rest, w, m_scene.meshes[i]);
-        m_applied[i] = w;
-        if (changed) changed->push_back(int(i));
+        std::vector<double> weights = rest.weights;
+        if (!rest.positionTargets.empty()) rig.weightsAt(m_playing, rest.node, t, weights);
+        if (!m_first && w == m_applied[size_t(i)] && weights == m_appliedWeights[size_t(i)])
+            continue;
+        poseMesh(rest, w, weights, m_scene.meshes[size_t(i)]);
+        m_applied[size_t(i)] = w;
+        m_appliedWeights[size_t(i)] = std::move(weights);
+        if (changed) changed->push_back(i);
     }
     m_first = false;
     for (size_t i = 0; i < m_scene.cameras.size() && i < rig.cameraNodes.size(); ++i)
-        if (rig.cameraNodes[i] >= 0)
+        if (rig.cameraNodes[i] >= 0 && m_animated[size_t(rig.cameraNodes[i])])
             m_scene.cameras[i].camera.cameraToWorld = world[size_t(rig.cameraNodes[i])];
     for (size_t i = 0; i < m_scene.lights.size() && i < rig.lights.size(); ++i) {
         const SceneRig::LightRest& l = rig.lights[i];

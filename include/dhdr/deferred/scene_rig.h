@@ -28,6 +28,12 @@ struct SceneNode {
 struct MeshRest {
     int node = -1; // −1: the mesh does not move
     std::vector<glm::vec3> positions, normals, tangents, bitangents;
+    // Morph targets (a glTF primitive with `targets`, read from the file): per target one
+    // position delta per vertex (and normal deltas, or none); the vertex is
+    // base + Σ wᵢ Δᵢ in the node's space, before the node's transform (docs/animation.md).
+    std::vector<std::vector<glm::vec3>> positionTargets, normalTargets;
+    std::vector<double> weights; // the default weights: the node's, else the mesh's, else 0
+    bool flatNormals = false;    // no NORMAL in the file: each triangle's, from posed positions
 };
 
 struct SceneRig {
@@ -48,7 +54,19 @@ struct SceneRig {
     std::vector<glm::dmat4> worldTransforms(const std::vector<int>& playing, double t) const;
     // Whether node `n` or one of its ancestors is driven by one of `playing`.
     std::vector<bool> animatedNodes(const std::vector<int>& playing) const;
+    // The morph target weights of node `node` at time t: its default weights with those of the
+    // animations `playing` that drive them; false (and `weights` untouched) when none does.
+    bool weightsAt(const std::vector<int>& playing, int node, double t,
+                   std::vector<double>& weights) const;
+    // The meshes that `playing` moves: under an animated node, or morphed by animated weights.
+    std::vector<int> movingMeshes(const std::vector<int>& playing) const;
 };
+
+// Sets `mesh`'s vertices, normals and tangents to those of `rest` morphed by `weights` (when it
+// has targets) and moved by the node's world transform `world`.
+struct Mesh;
+void poseMesh(const MeshRest& rest, const glm::dmat4& world, const std::vector<double>& weights,
+              Mesh& mesh);
 
 // Moves a scene that loadScene gave a rig to time `t`: the vertices, normals and tangents of
 // its meshes, its cameras and its lights, those that the animations `playing` move (the others
@@ -63,7 +81,9 @@ private:
     Scene& m_scene;
     std::vector<int> m_playing;
     std::vector<bool> m_animated;      // per node: moved by `playing`
+    std::vector<int> m_moving;         // the meshes `playing` moves
     std::vector<glm::dmat4> m_applied; // the world transform each mesh was last posed with
+    std::vector<std::vector<double>> m_appliedWeights; // and its morph weights
     bool m_first = true;
 };
 
