@@ -88,3 +88,34 @@ inline void addMorphTargets(nlohmann::json& doc, const std::vector<std::vector<f
 }
 
 } // namespace dhdr::test
+
+namespace dhdr::test {
+
+// Skins mesh 0's primitive at node 0 with skin 0 of `joints` (node indices): per vertex four
+// joint indices and weights; `inverseBind` (16 numbers a joint, column-major) may be empty.
+inline void addSkin(nlohmann::json& doc, const std::vector<int>& joints,
+                    const std::vector<std::uint16_t>& vertexJoints,
+                    const std::vector<float>& vertexWeights,
+                    const std::vector<float>& inverseBind = {}) {
+    std::vector<std::uint8_t> bytes(vertexJoints.size() * 2);
+    std::memcpy(bytes.data(), vertexJoints.data(), bytes.size());
+    doc["buffers"].push_back({{"byteLength", bytes.size()},
+                              {"uri", "data:application/octet-stream;base64," + base64(bytes)}});
+    doc["bufferViews"].push_back(
+        {{"buffer", doc["buffers"].size() - 1}, {"byteLength", bytes.size()}});
+    doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1},
+                                {"componentType", 5123},
+                                {"count", vertexJoints.size() / 4},
+                                {"type", "VEC4"}});
+    nlohmann::json& attributes = doc["meshes"][0]["primitives"][0]["attributes"];
+    attributes["JOINTS_0"] = doc["accessors"].size() - 1;
+    attributes["WEIGHTS_0"] =
+        addFloatAccessor(doc, vertexWeights, "VEC4", vertexWeights.size() / 4);
+    nlohmann::json skin = {{"joints", joints}};
+    if (!inverseBind.empty())
+        skin["inverseBindMatrices"] = addFloatAccessor(doc, inverseBind, "MAT4", joints.size());
+    doc["skins"] = {skin};
+    doc["nodes"][0]["skin"] = 0;
+}
+
+} // namespace dhdr::test

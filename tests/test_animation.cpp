@@ -341,3 +341,55 @@ TEST(ScenePoser, MorphTargetsAreBasePlusWeightedDeltas) {
                   .find("has 3 weights for 2 keys of 2 morph targets: 4 expected"),
               std::string::npos);
 }
+
+// A two-joint skin against matrices computed here: vertex = Σ wₖ world(jointₖ)
+// inverseBind(jointₖ) v, the skinned node's own transform ignored; a skin without
+// inverseBindMatrices has identity ones (Assimp 5.2 crashes on it: it never sees the skin).
+TEST(ScenePoser, TwoJointSkinFollowsItsJointMatrices) {
+    for (const bool inverseBind : {true, false}) {
+        nlohmann::json doc = squareAndCamera();
+        doc["nodes"][0]["translation"] = {5.0, 0.0, 0.0}; // ignored: the mesh is skinned
+        doc["nodes"].push_back({{"name", "hip"}, {"children", {3}}});
+        doc["nodes"].push_back({{"name", "knee"}, {"translation", {0.0, 0.5, 0.0}}});
+        doc["scenes"][0]["nodes"] = {0, 1, 2};
+        // Vertices 0 and 1 on the hip; 2 and 3 three quarters on the knee, a quarter on the hip.
+        addSkin(doc, {2, 3}, {0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0},
+                {1, 0, 0, 0, 1, 0, 0, 0, 0.75f, 0.25f, 0, 0, 0.75f, 0.25f, 0, 0},
+                inverseBind ? std::vector<float>{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0,     0, 1,
+                                                 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -0.5f, 0, 1}
+                            : std::vector<float>{});
+        const float s45 = float(std::sin(M_PI / 4)), c45 = float(std::cos(M_PI / 4));
+        addChannel(doc, 0, 2, "rotation", {0.0f, 1.0f}, {0, 0, 0, 1, 0, 0, s45, c45});
+        addChannel(doc, 0, 3, "translation", {0.0f, 1.0f}, {0, 0.5f, 0, 1, 0.5f, 0});
+        Scene scene = load(doc, inverseBind ? "skin.gltf" : "skin_no_ibm.gltf");
+        ASSERT_TRUE(scene.rig);
+        ASSERT_EQ(scene.rig->skins.size(), 1u);
+        const glm::dmat4 ibm1 =
+            inverseBind ? glm::translate(glm::dmat4(1.0), glm::dvec3(0, -0.5, 0)) : glm::dmat4(1.0);
+        const glm::dvec3 base[4] = {{-0.5, -0.5, 0}, {0.5, -0.5, 0}, {0.5, 0.5, 0}, {-0.5, 0.5, 0}};
+        ScenePoser poser(scene, {0});
+        for (const double t : {0.0, 0.4, 1.0}) {
+            poser.pose(t);
+            const glm::dmat4 hip = glm::rotate(glm::dmat4(1.0), t * M_PI / 2, glm::dvec3(0, 0, 1));
+            const glm::dmat4 knee = hip * glm::translate(glm::dmat4(1.0), glm::dvec3(t, 0.5, 0));
+            const glm::dmat4 j0 = hip, j1 = knee * ibm1;
+            for (int v = 0; v < 4; ++v) {
+                const glm::dmat4 m = v < 2 ? j0 : 0.75 * j1 + 0.25 * j0;
+                const glm::dvec3 expected(m * glm::dvec4(base[v], 1.0));
+                const glm::dvec3 got(scene.meshes[0].positions[size_t(v)]);
+                EXPECT_NEAR(glm::length(got - expected), 0.0, 1e-6)
+                    << "ibm " << inverseBind << " t " << t << " vertex " << v;
+            }
+        }
+    }
+    // A joint that is not a node is an error naming the file and the skin.
+    nlohmann::json doc = squareAndCamera();
+    addSkin(doc, {9}, std::vector<std::uint16_t>(16, 0), std::vector<float>(16, 0.25f));
+    addChannel(doc, 0, 0, "translation", {0.0f, 1.0f}, std::vector<float>(6, 0.0f));
+    writeJson(scratch("bad_joint.gltf"), doc);
+    Scene scene;
+    std::string error;
+    EXPECT_FALSE(loadScene(scratch("bad_joint.gltf"), scene, error));
+    EXPECT_NE(error.find("bad_joint.gltf: skin 0: joint 9 is not a node"), std::string::npos)
+        << error;
+}

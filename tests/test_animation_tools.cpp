@@ -341,3 +341,31 @@ TEST_F(AnimationTools, MorphTargetsMoveTheSurfaceAndItsMotion) {
         EXPECT_NEAR(value(g, "N.Z", 40, 32), 1.0, 1e-3) << normals;
     }
 }
+
+// Assimp 5.2 crashes on a skin without inverseBindMatrices; dhdr never hands it skins. Without
+// animations the mesh is rendered in its rest pose, with the warning.
+TEST_F(AnimationTools, ASkinWithoutInverseBindMatricesIsNoCrash) {
+    nlohmann::json doc = squareAndCamera();
+    doc["nodes"].push_back({{"name", "bone"}});
+    doc["scenes"][0]["nodes"] = {0, 1, 2};
+    addSkin(doc, {2}, std::vector<std::uint16_t>(16, 0),
+            {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0});
+    writeJson(path("skin.gltf"), doc);
+    const Result r =
+        run("dhdr-gbuffer " + path("skin.gltf") + " --size 16x16 -o " + path("skin.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("skins are not applied"), std::string::npos) << r.err;
+    EXPECT_GT(value(read("skin.exr"), "A", 8, 8), 0.0f);
+    // With an animation of the bone the skin is applied, and the warning gone.
+    addChannel(doc, 0, 2, "translation", {0.0f, 1.0f}, {0, 0, 0, 1, 0, 0});
+    writeJson(path("skin_anim.gltf"), doc);
+    const Result a = run("dhdr-gbuffer " + path("skin_anim.gltf") + " --size 64x64 --frame 12 -o " +
+                         path("skin_anim.exr"));
+    ASSERT_EQ(a.status, 0) << a.err;
+    EXPECT_EQ(a.err.find("skins are not applied"), std::string::npos) << a.err;
+    // The bone moves the square 1/24 unit (2/3 pixel) a frame; at t = 0.5 it is 0.5 units right.
+    const ImageBuf g = read("skin_anim.exr");
+    ASSERT_GT(value(g, "A", 40, 32), 0.0f);
+    EXPECT_EQ(value(g, "A", 23, 32), 0.0f);
+    EXPECT_NEAR(value(g, "motion.X", 40, 32), -2.0 / 3.0, 1e-4);
+}

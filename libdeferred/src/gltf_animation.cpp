@@ -242,6 +242,56 @@ bool gltfNodeTree(const json& doc, std::vector<SceneNode>& nodes, std::vector<in
     return true;
 }
 
+bool gltfSkins(const json& doc, GltfBuffers& buffers, const std::vector<SceneNode>& nodes,
+               std::vector<SceneSkin>& skins, std::string& error) {
+    skins.clear();
+    if (!doc.contains("skins") || !doc["skins"].is_array()) return true;
+    for (size_t k = 0; k < doc["skins"].size(); ++k) {
+        const json& js = doc["skins"][k];
+        const std::string which = "skin " + std::to_string(k) + ": ";
+        SceneSkin skin;
+        if (!js.is_object() || !js.contains("joints") || !js["joints"].is_array() ||
+            js["joints"].empty()) {
+            error = which + "has no joints";
+            return false;
+        }
+        for (const json& j : js["joints"]) {
+            if (!j.is_number_unsigned() || j.get<size_t>() >= nodes.size()) {
+                error = which + "joint " + j.dump() + " is not a node";
+                return false;
+            }
+            skin.joints.push_back(int(j.get<size_t>()));
+        }
+        skin.inverseBind.assign(skin.joints.size(), glm::dmat4(1.0));
+        if (js.contains("inverseBindMatrices")) {
+            std::vector<float> m;
+            int components = 0;
+            if (!js["inverseBindMatrices"].is_number_unsigned() ||
+                !buffers.readFloats(js["inverseBindMatrices"].get<size_t>(), m, components,
+                                    error)) {
+                error = which +
+                        "inverseBindMatrices: " + (error.empty() ? "not an accessor index" : error);
+                return false;
+            }
+            if (components != 16 || m.size() < 16 * skin.joints.size()) {
+                error =
+                    which + "inverseBindMatrices is not a MAT4 accessor of one matrix per joint";
+                return false;
+            }
+            for (size_t j = 0; j < skin.joints.size(); ++j)
+                for (int c = 0; c < 16; ++c) {
+                    if (!std::isfinite(m[16 * j + size_t(c)])) {
+                        error = which + "an inverse bind matrix holds a value that is not finite";
+                        return false;
+                    }
+                    skin.inverseBind[j][c / 4][c % 4] = double(m[16 * j + size_t(c)]);
+                }
+        }
+        skins.push_back(std::move(skin));
+    }
+    return true;
+}
+
 std::vector<Animation> gltfAnimations(const json& doc, GltfBuffers& buffers,
                                       const std::vector<SceneNode>& nodes) {
     std::vector<Animation> out;

@@ -20,6 +20,12 @@ bool gltfNodeTree(const nlohmann::json& doc, std::vector<SceneNode>& nodes, std:
 std::vector<Animation> gltfAnimations(const nlohmann::json& doc, GltfBuffers& buffers,
                                       const std::vector<SceneNode>& nodes);
 
+// The file's skins. False with `error` naming the skin and what is wrong (a joint that is not a
+// node, inverse bind matrices of the wrong type or count); a skin without inverseBindMatrices
+// has identity ones.
+bool gltfSkins(const nlohmann::json& doc, GltfBuffers& buffers, const std::vector<SceneNode>& nodes,
+               std::vector<SceneSkin>& skins, std::string& error);
+
 // The node indices of the default scene's roots ("scene", else scene 0), in the file's order.
 std::vector<int> gltfSceneRoots(const nlohmann::json& doc);
 

@@ -285,10 +285,12 @@ std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
             if (mesh.is_object() && mesh.contains("primitives") && mesh["primitives"].is_array())
                 for (const auto& p : mesh["primitives"])
                     morph = morph || (p.is_object() && p.contains("targets"));
-    // A file with animations has its morph targets applied (gltf_morph.h).
-    morph = morph && !(doc.contains("animations") && doc["animations"].is_array() &&
-                       !doc["animations"].empty());
-    const bool skins = doc.contains("skins") && doc["skins"].is_array() && !doc["skins"].empty();
+    // A file with animations has its morph targets and skins applied (gltf_morph.h).
+    const bool animated =
+        doc.contains("animations") && doc["animations"].is_array() && !doc["animations"].empty();
+    morph = morph && !animated;
+    const bool skins =
+        !animated && doc.contains("skins") && doc["skins"].is_array() && !doc["skins"].empty();
     if (skins || morph)
         out.push_back(std::string(skins && morph ? "skins and morph targets"
                                   : skins        ? "skins"
@@ -446,10 +448,21 @@ bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& origina
     }
     scene["nodes"] = roots;
 
-    // Assimp would also read (and validate) the animations, which dhdr reads itself.
-    doc.erase("animations");
-    bytes = gltfBytesWithJson(path, doc);
+    bytes = gltfBytesWithJson(path, gltfForAssimp(doc));
     return true;
+}
+
+bool gltfHasAnimationOrSkins(const nlohmann::json& doc) {
+    return doc.is_object() && (doc.contains("animations") || doc.contains("skins"));
+}
+
+nlohmann::json gltfForAssimp(nlohmann::json doc) {
+    doc.erase("animations");
+    doc.erase("skins");
+    if (doc.contains("nodes") && doc["nodes"].is_array())
+        for (auto& node : doc["nodes"])
+            if (node.is_object()) node.erase("skin");
+    return doc;
 }
 
 std::string gltfBytesWithJson(const std::string& path, const nlohmann::json& doc) {

@@ -70,12 +70,54 @@ std::vector<double> defaultWeights(const json& doc, int node, size_t targets) {
     return w;
 }
 
+// The skin node `node` names, −1 when none.
+int skinOf(const json& doc, int node) {
+    const json& n = doc["nodes"][size_t(node)];
+    return n.contains("skin") && n["skin"].is_number_unsigned() ? int(n["skin"].get<size_t>()) : -1;
+}
+
 } // namespace
 
-bool gltfHasMorphTargets(const json& doc, int node, unsigned primitive) {
+bool gltfIsDeformed(const json& doc, int node, unsigned primitive) {
     const json* p = primitiveOf(doc, node, primitive);
-    return p && p->contains("targets") && (*p)["targets"].is_array() && !(*p)["targets"].empty();
+    if (!p) return false;
+    if (p->contains("targets") && (*p)["targets"].is_array() && !(*p)["targets"].empty())
+        return true;
+    return skinOf(doc, node) >= 0 && p->contains("attributes") && (*p)["attributes"].is_object() &&
+           (*p)["attributes"].contains("JOINTS_0") && (*p)["attributes"].contains("WEIGHTS_0");
 }
+
+namespace {
+
+// The primitive's JOINTS_0 and WEIGHTS_0 when its node is skinned (and has them).
+bool readSkin(const json& doc, GltfBuffers& buffers, int node, const json& attributes, size_t count,
+              MeshRest& rest, std::string& error) {
+    rest.skin = skinOf(doc, node);
+    if (rest.skin < 0 || !attributes.contains("JOINTS_0") || !attributes.contains("WEIGHTS_0")) {
+        rest.skin = -1;
+        return true;
+    }
+    std::vector<float> j, w;
+    if (!readAttribute(buffers, attributes, "JOINTS_0", 4, count, j, error) ||
+        !readAttribute(buffers, attributes, "WEIGHTS_0", 4, count, w, error))
+        return false;
+    for (size_t i = 0; i < count; ++i) {
+        glm::u16vec4 joints;
+        for (int c = 0; c < 4; ++c) {
+            const float v = j[4 * i + size_t(c)];
+            if (!(v >= 0.0f && v <= 65535.0f) || v != std::floor(v)) {
+                error = "JOINTS_0 holds " + std::to_string(v) + ", not a joint index";
+                return false;
+            }
+            joints[c] = std::uint16_t(v);
+        }
+        rest.joints.push_back(joints);
+        rest.jointWeights.emplace_back(w[4 * i], w[4 * i + 1], w[4 * i + 2], w[4 * i + 3]);
+    }
+    return true;
+}
+
+} // namespace
 
 bool gltfMorphPrimitive(const json& doc, GltfBuffers& buffers, int node, unsigned primitive,
                         MeshRest& rest, Mesh& mesh, std::string& error) {
@@ -121,7 +163,8 @@ bool gltfMorphPrimitive(const json& doc, GltfBuffers& buffers, int node, unsigne
         }
         mesh.triangles.emplace_back(indices[i], indices[i + 1], indices[i + 2]);
     }
-    const json& targets = p["targets"];
+    if (!readSkin(doc, buffers, node, attributes, count, rest, error)) return false;
+    const json& targets = p.value("targets", json::array());
     for (size_t t = 0; t < targets.size(); ++t) {
         const std::string which = "target " + std::to_string(t) + ": ";
         if (!targets[t].is_object()) {
@@ -153,6 +196,8 @@ bool gltfMorphPrimitive(const json& doc, GltfBuffers& buffers, int node, unsigne
         split.positions.clear();
         for (auto& t : split.positionTargets)
             t.clear();
+        split.joints.clear();
+        split.jointWeights.clear();
         std::vector<glm::vec2> uvs;
         std::vector<glm::uvec3> triangles;
         for (const glm::uvec3& tri : mesh.triangles) {
@@ -162,6 +207,10 @@ bool gltfMorphPrimitive(const json& doc, GltfBuffers& buffers, int node, unsigne
                 for (size_t t = 0; t < rest.positionTargets.size(); ++t)
                     split.positionTargets[t].push_back(rest.positionTargets[t][i]);
                 if (!mesh.uvs.empty()) uvs.push_back(mesh.uvs[i]);
+                if (rest.skin >= 0) {
+                    split.joints.push_back(rest.joints[i]);
+                    split.jointWeights.push_back(rest.jointWeights[i]);
+                }
             }
             triangles.emplace_back(first, first + 1, first + 2);
         }

@@ -12,12 +12,14 @@
 
 namespace dhdr::detail {
 
-// Whether primitive `primitive` of node `node`'s mesh has morph targets.
-bool gltfHasMorphTargets(const nlohmann::json& doc, int node, unsigned primitive);
+// Whether primitive `primitive` of node `node`'s mesh has morph targets, or is skinned (the node
+// names a skin and the primitive has JOINTS_0 and WEIGHTS_0).
+bool gltfIsDeformed(const nlohmann::json& doc, int node, unsigned primitive);
 
-// Reads that primitive into `rest` (the node-space vertices, normals, targets and default
-// weights) and `mesh` (its triangles and UVs; positions and normals sized, for ScenePoser to
-// fill). Triangle lists only. False with `error` naming the accessor and what is wrong.
+// Reads that primitive into `rest` (the node-space vertices, normals, targets, default
+// weights, joints and their weights) and `mesh` (its triangles and UVs; positions and normals
+// sized, for ScenePoser to fill). Triangle lists only. False with `error` naming the accessor and
+// what is wrong.
 bool gltfMorphPrimitive(const nlohmann::json& doc, GltfBuffers& buffers, int node,
                         unsigned primitive, MeshRest& rest, Mesh& mesh, std::string& error);
 

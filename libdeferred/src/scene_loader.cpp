@@ -101,6 +101,10 @@ public:
     bool build(std::string& error) {
         loadMaterials();
         startRig();
+        if (!m_skinError.empty()) {
+            error = m_skinError;
+            return false;
+        }
         if (!visitAll(error)) return false;
         nameUnnamed();
         if (!reportUnreadTextures(error)) return false;
@@ -131,6 +135,9 @@ private:
         m_buffers = std::make_unique<detail::GltfBuffers>(m_path, m_doc);
         detail::GltfBuffers& buffers = *m_buffers;
         if (why.empty()) m_rig->animations = detail::gltfAnimations(m_doc, buffers, m_rig->nodes);
+        if (why.empty() &&
+            !detail::gltfSkins(m_doc, buffers, m_rig->nodes, m_rig->skins, m_skinError))
+            m_skinError = m_path + ": " + m_skinError;
         if (why.empty()) return;
         // No animation of this file can be played; each says why.
         m_nodeIndex.clear();
@@ -457,7 +464,7 @@ private:
         }
         MeshRest rest;
         if (m_rig) rest = restOf(am, node);
-        if (m_rig && rest.node >= 0 && detail::gltfHasMorphTargets(m_doc, rest.node, primitive))
+        if (m_rig && rest.node >= 0 && detail::gltfIsDeformed(m_doc, rest.node, primitive))
             return addMorphed(mesh, rest, world, primitive, error);
         if (!am.HasNormals())
             mesh = flatShaded(mesh, am, world, normalMatrix, m_rig ? &rest : nullptr);
@@ -473,22 +480,41 @@ private:
         return true;
     }
 
-    // A primitive with morph targets of a file with animations: its vertices, triangles, UVs
-    // and targets from the file itself (Assimp 5.2 stores the targets as absolute positions
-    // and merges vertices), posed with the default weights. Normal maps are not applied to it
-    // (no tangents); one the file gets wrong is an error naming the node and the primitive.
+    // A primitive with morph targets or a skin, of a file with animations: its vertices,
+    // triangles, UVs, targets, joints and weights from the file itself (Assimp 5.2 stores
+    // targets as absolute positions and merges vertices), posed with the default weights and
+    // the joints at rest. Normal maps are not applied to it (no tangents); one the file gets
+    // wrong is an error naming the node and the primitive.
     bool addMorphed(Mesh& mesh, MeshRest& rest, const glm::dmat4& world, unsigned primitive,
                     std::string& error) {
         std::string why;
-        if (!detail::gltfMorphPrimitive(m_doc, *m_buffers, rest.node, primitive, rest, mesh, why)) {
+        if (!detail::gltfMorphPrimitive(m_doc, *m_buffers, rest.node, primitive, rest, mesh, why) ||
+            !checkSkin(rest, why)) {
             error = m_path + ": node " + std::to_string(rest.node) + ", primitive " +
-                    std::to_string(primitive) + " (morph targets): " + why;
+                    std::to_string(primitive) + " (morph targets or skin): " + why;
             return false;
         }
-        poseMesh(rest, world, rest.weights, mesh);
+        std::vector<glm::dmat4> joints;
+        if (rest.skin >= 0)
+            joints = m_rig->jointMatrices(rest.skin, m_rig->worldTransforms({}, 0.0));
+        poseMesh(rest, world, rest.weights, mesh, joints);
         if (mesh.triangles.empty()) return true;
         m_scene.meshes.push_back(std::move(mesh));
         m_rig->meshes.push_back(std::move(rest));
+        return true;
+    }
+
+    // The primitive's joints exist in its skin.
+    bool checkSkin(const MeshRest& rest, std::string& why) const {
+        if (rest.skin < 0) return true;
+        const size_t count = m_rig->skins[size_t(rest.skin)].joints.size();
+        for (const glm::u16vec4& j : rest.joints)
+            for (int c = 0; c < 4; ++c)
+                if (j[c] >= count) {
+                    why = "JOINTS_0 names joint " + std::to_string(j[c]) + " of a skin of " +
+                          std::to_string(count) + " joints";
+                    return false;
+                }
         return true;
     }
 
@@ -788,10 +814,10 @@ private:
     long long m_zeroNormals = 0;
     const std::set<std::string> m_nodeNames =
         m_gltf ? detail::gltfNames(m_doc, "nodes") : std::set<std::string>{};
-    std::shared_ptr<SceneRig> m_rig;
-    std::unique_ptr<detail::GltfBuffers>
-        m_buffers; // the file's buffers, read once          // a glTF file with animations
-    std::map<const aiNode*, int> m_nodeIndex; // Assimp's nodes → the file's
+    std::shared_ptr<SceneRig> m_rig;                // a glTF file with animations
+    std::unique_ptr<detail::GltfBuffers> m_buffers; // its buffers, read once
+    std::string m_skinError;                        // a skin the file gets wrong
+    std::map<const aiNode*, int> m_nodeIndex;       // Assimp's nodes → the file's
     const std::set<std::string> m_meshNames =
         m_gltf ? detail::gltfNames(m_doc, "meshes") : std::set<std::string>{};
 };
@@ -817,14 +843,9 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error,
             error = path + ": cannot load the scene: " + error;
             return false;
         }
-        // dhdr reads a file's animations itself (gltf_animation.h): Assimp 5.2 gets them
-        // wrong, and its validation refuses files for mistakes in them with messages about its
-        // own structures. It is handed the file without them.
-        if (flattened.empty() && doc.is_object() && doc.contains("animations")) {
-            nlohmann::json still = doc;
-            still.erase("animations");
-            flattened = detail::gltfBytesWithJson(path, still);
-        }
+        // Animations and skins are dhdr's to read (gltfForAssimp).
+        if (flattened.empty() && detail::gltfHasAnimationOrSkins(doc))
+            flattened = detail::gltfBytesWithJson(path, detail::gltfForAssimp(doc));
         if (!flattened.empty()) io->replace(path, std::move(flattened));
     }
     // ValidateDataStructure turns what would crash later (a face index past the vertices)

@@ -61,16 +61,39 @@ void poseRigid(const MeshRest& rest, const glm::dmat4& world, Mesh& mesh) {
 } // namespace
 
 void poseMesh(const MeshRest& rest, const glm::dmat4& world, const std::vector<double>& weights,
-              Mesh& mesh) {
-    if (rest.positionTargets.empty()) return poseRigid(rest, world, mesh);
-    // Morph before the node's transform (and, once applied, before the skin).
+              Mesh& mesh, const std::vector<glm::dmat4>& jointMatrices) {
+    const bool skinned = rest.skin >= 0 && !jointMatrices.empty();
+    if (rest.positionTargets.empty() && !skinned) return poseRigid(rest, world, mesh);
+    // Morph first, then skin (or the node's transform).
     std::vector<glm::dvec3> positions, normals;
     detail::morphedVertices(rest, mesh, weights, positions, normals);
     const glm::dmat3 normalMatrix = normalMatrixOf(world);
     for (size_t v = 0; v < positions.size() && v < mesh.positions.size(); ++v) {
-        mesh.positions[v] = finitePoint(glm::dvec3(world * glm::dvec4(positions[v], 1.0)));
-        mesh.normals[v] = unitOrZero(normalMatrix * normals[v]);
+        glm::dmat4 m = world;
+        if (skinned) {
+            // Σ wₖ Jₖ; weights that sum to 0 leave the vertex where its node puts it.
+            glm::dmat4 sum(0.0);
+            double total = 0.0;
+            for (int c = 0; c < 4; ++c) {
+                const double w = double(rest.jointWeights[v][c]);
+                if (w == 0.0) continue;
+                sum += w * jointMatrices[rest.joints[v][c]];
+                total += w;
+            }
+            if (total != 0.0) m = sum;
+        }
+        mesh.positions[v] = finitePoint(glm::dvec3(m * glm::dvec4(positions[v], 1.0)));
+        mesh.normals[v] = unitOrZero((skinned ? normalMatrixOf(m) : normalMatrix) * normals[v]);
     }
+}
+
+std::vector<glm::dmat4> SceneRig::jointMatrices(int skin,
+                                                const std::vector<glm::dmat4>& world) const {
+    const SceneSkin& s = skins[size_t(skin)];
+    std::vector<glm::dmat4> out(s.joints.size());
+    for (size_t j = 0; j < s.joints.size(); ++j)
+        out[j] = world[size_t(s.joints[j])] * s.inverseBind[j];
+    return out;
 }
 
 std::vector<glm::dmat4> SceneRig::worldTransforms(const std::vector<int>& playing, double t) const {
@@ -132,8 +155,12 @@ std::vector<int> SceneRig::movingMeshes(const std::vector<int>& playing) const {
     std::vector<int> out;
     for (size_t i = 0; i < meshes.size(); ++i) {
         const int n = meshes[i].node;
-        if (n >= 0 &&
-            (moved[size_t(n)] || (morphed[size_t(n)] && !meshes[i].positionTargets.empty())))
+        bool skinMoves = false;
+        if (meshes[i].skin >= 0)
+            for (const int j : skins[size_t(meshes[i].skin)].joints)
+                skinMoves = skinMoves || moved[size_t(j)];
+        if (n >= 0 && (moved[size_t(n)] || skinMoves ||
+                       (morphed[size_t(n)] && !meshes[i].positionTargets.empty())))
             out.push_back(int(i));
     }
     return out;
@@ -172,9 +199,13 @@ void ScenePoser::pose(double t, std::vector<int>* changed) {
         const glm::dmat4& w = world[size_t(rest.node)];
         std::vector<double> weights = rest.weights;
         if (!rest.positionTargets.empty()) rig.weightsAt(m_playing, rest.node, t, weights);
-        if (!m_first && w == m_applied[size_t(i)] && weights == m_appliedWeights[size_t(i)])
+        // A skinned mesh follows its joints: posed every time.
+        std::vector<glm::dmat4> joints;
+        if (rest.skin >= 0)
+            joints = rig.jointMatrices(rest.skin, world);
+        else if (!m_first && w == m_applied[size_t(i)] && weights == m_appliedWeights[size_t(i)])
             continue;
-        poseMesh(rest, w, weights, m_scene.meshes[size_t(i)]);
+        poseMesh(rest, w, weights, m_scene.meshes[size_t(i)], joints);
         m_applied[size_t(i)] = w;
         m_appliedWeights[size_t(i)] = std::move(weights);
         if (changed) changed->push_back(i);

@@ -6,6 +6,7 @@
 #include <dhdr/deferred/animation.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_precision.hpp>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,20 @@ struct MeshRest {
     std::vector<std::vector<glm::vec3>> positionTargets, normalTargets;
     std::vector<double> weights; // the default weights: the node's, else the mesh's, else 0
     bool flatNormals = false;    // no NORMAL in the file: each triangle's, from posed positions
+    // A skinned primitive: its skin (index into SceneRig::skins, −1: none), and per vertex four
+    // joints (indices into the skin's joints) and their weights. The vertex is
+    // Σ wₖ · world(jointₖ) · inverseBind(jointₖ) · (morphed vertex); the node's own transform
+    // is ignored (glTF 2.0 §3.7.3).
+    int skin = -1;
+    std::vector<glm::u16vec4> joints;
+    std::vector<glm::vec4> jointWeights;
+};
+
+// A glTF skin: its joints (node indices) and their inverse bind matrices (identity when the
+// file gives none).
+struct SceneSkin {
+    std::vector<int> joints;
+    std::vector<glm::dmat4> inverseBind;
 };
 
 struct SceneRig {
@@ -41,6 +56,7 @@ struct SceneRig {
     std::vector<int> order; // node indices, every parent before its children
     std::vector<Animation> animations;
     std::vector<MeshRest> meshes; // one per Scene::meshes entry
+    std::vector<SceneSkin> skins;
     std::vector<int> cameraNodes; // one per Scene::cameras entry; −1: it does not move
     struct LightRest {
         int node = -1;
@@ -58,15 +74,20 @@ struct SceneRig {
     // animations `playing` that drive them; false (and `weights` untouched) when none does.
     bool weightsAt(const std::vector<int>& playing, int node, double t,
                    std::vector<double>& weights) const;
-    // The meshes that `playing` moves: under an animated node, or morphed by animated weights.
+    // The joint matrices world(jointₖ) · inverseBind(jointₖ) of skin `skin` given every node's
+    // world transform.
+    std::vector<glm::dmat4> jointMatrices(int skin, const std::vector<glm::dmat4>& world) const;
+    // The meshes that `playing` moves: under an animated node, morphed by animated weights, or
+    // skinned to an animated joint.
     std::vector<int> movingMeshes(const std::vector<int>& playing) const;
 };
 
 // Sets `mesh`'s vertices, normals and tangents to those of `rest` morphed by `weights` (when it
-// has targets) and moved by the node's world transform `world`.
+// has targets), then skinned by `jointMatrices` (when it has a skin) or else moved by its node's
+// world transform `world`.
 struct Mesh;
 void poseMesh(const MeshRest& rest, const glm::dmat4& world, const std::vector<double>& weights,
-              Mesh& mesh);
+              Mesh& mesh, const std::vector<glm::dmat4>& jointMatrices = {});
 
 // Moves a scene that loadScene gave a rig to time `t`: the vertices, normals and tangents of
 // its meshes, its cameras and its lights, those that the animations `playing` move (the others
