@@ -34,13 +34,18 @@ double at(const AnimationSampler& s, double t, int c = 0) {
     return out[c];
 }
 
-// A scratch folder for the files these tests write.
+// A scratch folder for the files these tests write, removed when the program ends.
 std::string scratch(const std::string& name) {
-    static const std::filesystem::path dir = [] {
-        char pattern[] = "/tmp/dhdr_anim_XXXXXX";
-        return std::filesystem::path(mkdtemp(pattern));
-    }();
-    return (dir / name).string();
+    struct Folder {
+        std::filesystem::path path;
+        Folder() {
+            char pattern[] = "/tmp/dhdr_anim_XXXXXX";
+            path = mkdtemp(pattern);
+        }
+        ~Folder() { std::filesystem::remove_all(path); }
+    };
+    static const Folder dir;
+    return (dir.path / name).string();
 }
 
 Scene load(const nlohmann::json& doc, const std::string& name) {

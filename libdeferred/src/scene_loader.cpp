@@ -1,6 +1,5 @@
-#include "gltf_animation.h"
 #include "gltf_json.h"
-#include "gltf_morph.h"
+#include "rig_loader.h"
 #include "texture_loader.h"
 
 #include <algorithm>
@@ -90,6 +89,8 @@ private:
     std::string m_replaced, m_bytes;
 };
 
+const nlohmann::json kNoJson = nlohmann::json(nlohmann::json::value_t::discarded);
+
 class SceneBuilder {
 public:
     // `doc`: the glTF file's JSON (gltfJson), discarded for other files.
@@ -100,9 +101,8 @@ public:
 
     bool build(std::string& error) {
         loadMaterials();
-        startRig();
-        if (!m_skinError.empty()) {
-            error = m_skinError;
+        if (!m_rig.error().empty()) {
+            error = m_rig.error();
             return false;
         }
         if (!visitAll(error)) return false;
@@ -115,83 +115,11 @@ public:
                 "the geometric normal");
         loadCameras();
         if (!loadLights(error)) return false;
-        if (m_rig) m_scene.rig = std::move(m_rig);
+        if (m_rig.active()) m_scene.rig = m_rig.finish();
         return true;
     }
 
 private:
-    // A glTF file with animations keeps its node tree and the meshes' rest data (SceneRig), its
-    // nodes paired with Assimp's: Assimp 5.2 builds its tree from the default scene's roots
-    // (under a "ROOT" node when there are several) in the file's order.
-    void startRig() {
-        if (!m_gltf || !m_doc.is_object() || !m_doc.contains("animations") ||
-            !m_doc["animations"].is_array() || m_doc["animations"].empty())
-            return;
-        m_rig = std::make_shared<SceneRig>();
-        std::string why;
-        if (detail::gltfNodeTree(m_doc, m_rig->nodes, m_rig->order, why) && !matchNodes())
-            why = "Assimp's node tree differs from the file's (a node tree nested deeper than " +
-                  std::to_string(detail::kMaxGltfNodeDepth) + " levels?)";
-        m_buffers = std::make_unique<detail::GltfBuffers>(m_path, m_doc);
-        detail::GltfBuffers& buffers = *m_buffers;
-        if (why.empty()) m_rig->animations = detail::gltfAnimations(m_doc, buffers, m_rig->nodes);
-        if (why.empty() &&
-            !detail::gltfSkins(m_doc, buffers, m_rig->nodes, m_rig->skins, m_skinError))
-            m_skinError = m_path + ": " + m_skinError;
-        if (why.empty()) return;
-        // No animation of this file can be played; each says why.
-        m_nodeIndex.clear();
-        const std::vector<SceneNode> none;
-        m_rig->animations = detail::gltfAnimations(nlohmann::json::object(), buffers, none);
-        for (size_t a = 0; a < m_doc["animations"].size(); ++a) {
-            Animation anim;
-            const nlohmann::json& ja = m_doc["animations"][a];
-            anim.name = ja.is_object() && ja.contains("name") && ja["name"].is_string()
-                            ? ja["name"].get<std::string>()
-                            : "animation " + std::to_string(a);
-            anim.problem = why;
-            m_rig->animations.push_back(anim);
-        }
-    }
-
-    bool matchNodes() {
-        const std::vector<int> roots = detail::gltfSceneRoots(m_doc);
-        const aiNode* root = m_ai.mRootNode;
-        std::vector<std::pair<const aiNode*, int>> stack;
-        if (roots.size() == 1) {
-            stack.emplace_back(root, roots[0]);
-        } else {
-            if (root->mNumChildren != roots.size()) return false;
-            for (size_t i = roots.size(); i-- > 0;)
-                stack.emplace_back(root->mChildren[i], roots[i]);
-        }
-        while (!stack.empty()) {
-            const auto [a, n] = stack.back();
-            stack.pop_back();
-            const SceneNode& node = m_rig->nodes[size_t(n)];
-            const std::vector<int> children = detail::gltfChildren(m_doc, n);
-            if ((!node.name.empty() && node.name != a->mName.C_Str()) ||
-                children.size() != a->mNumChildren)
-                return false;
-            m_nodeIndex[a] = n;
-            for (size_t i = children.size(); i-- > 0;)
-                stack.emplace_back(a->mChildren[i], children[i]);
-        }
-        return true;
-    }
-
-    // The file's index of the first node named `name` (as nodeWorld finds it), −1 when none.
-    int nodeIndexNamed(const aiString& name) const {
-        int found = -1;
-        forEachNode([&](const aiNode& node, const glm::dmat4&) {
-            if (node.mName != name) return true;
-            const auto it = m_nodeIndex.find(&node);
-            found = it != m_nodeIndex.end() ? it->second : -1;
-            return false;
-        });
-        return found;
-    }
-
     void loadMaterials() {
         const auto strengths =
             m_gltf ? detail::gltfEmissiveStrengths(m_doc) : std::map<std::string, float>{};
@@ -462,12 +390,17 @@ private:
             if (face.mNumIndices == 3)
                 mesh.triangles.emplace_back(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
         }
-        MeshRest rest;
-        if (m_rig) rest = restOf(am, node);
-        if (m_rig && rest.node >= 0 && detail::gltfIsDeformed(m_doc, rest.node, primitive))
-            return addMorphed(mesh, rest, world, primitive, error);
+        MeshRest rest = m_rig.restOf(am, node);
+        if (m_rig.deformed(rest, primitive)) {
+            // Morphed or skinned: from the file itself (RigLoader::readDeformed).
+            if (!m_rig.readDeformed(mesh, rest, world, primitive, error)) return false;
+            if (mesh.triangles.empty()) return true;
+            m_scene.meshes.push_back(std::move(mesh));
+            m_rig.keepMesh(std::move(rest));
+            return true;
+        }
         if (!am.HasNormals())
-            mesh = flatShaded(mesh, am, world, normalMatrix, m_rig ? &rest : nullptr);
+            mesh = flatShaded(mesh, am, world, normalMatrix, m_rig.active() ? &rest : nullptr);
         if (mesh.tangents.size() != mesh.positions.size()) {
             mesh.tangents.clear();
             mesh.bitangents.clear();
@@ -476,64 +409,8 @@ private:
         }
         if (mesh.triangles.empty()) return true;
         m_scene.meshes.push_back(std::move(mesh));
-        if (m_rig) m_rig->meshes.push_back(std::move(rest));
+        m_rig.keepMesh(std::move(rest));
         return true;
-    }
-
-    // A primitive with morph targets or a skin, of a file with animations: its vertices,
-    // triangles, UVs, targets, joints and weights from the file itself (Assimp 5.2 stores
-    // targets as absolute positions and merges vertices), posed with the default weights and
-    // the joints at rest. Normal maps are not applied to it (no tangents); one the file gets
-    // wrong is an error naming the node and the primitive.
-    bool addMorphed(Mesh& mesh, MeshRest& rest, const glm::dmat4& world, unsigned primitive,
-                    std::string& error) {
-        std::string why;
-        if (!detail::gltfMorphPrimitive(m_doc, *m_buffers, rest.node, primitive, rest, mesh, why) ||
-            !checkSkin(rest, why)) {
-            error = m_path + ": node " + std::to_string(rest.node) + ", primitive " +
-                    std::to_string(primitive) + " (morph targets or skin): " + why;
-            return false;
-        }
-        std::vector<glm::dmat4> joints;
-        if (rest.skin >= 0)
-            joints = m_rig->jointMatrices(rest.skin, m_rig->worldTransforms({}, 0.0));
-        poseMesh(rest, world, rest.weights, mesh, joints);
-        if (mesh.triangles.empty()) return true;
-        m_scene.meshes.push_back(std::move(mesh));
-        m_rig->meshes.push_back(std::move(rest));
-        return true;
-    }
-
-    // The primitive's joints exist in its skin.
-    bool checkSkin(const MeshRest& rest, std::string& why) const {
-        if (rest.skin < 0) return true;
-        const size_t count = m_rig->skins[size_t(rest.skin)].joints.size();
-        for (const glm::u16vec4& j : rest.joints)
-            for (int c = 0; c < 4; ++c)
-                if (j[c] >= count) {
-                    why = "JOINTS_0 names joint " + std::to_string(j[c]) + " of a skin of " +
-                          std::to_string(count) + " joints";
-                    return false;
-                }
-        return true;
-    }
-
-    // A mesh's vertices as the file gives them, in its node's space (ScenePoser applies the
-    // node's world transform to them as addMesh does).
-    MeshRest restOf(const aiMesh& am, const aiNode& node) const {
-        MeshRest rest;
-        const auto it = m_nodeIndex.find(&node);
-        rest.node = it != m_nodeIndex.end() ? it->second : -1;
-        auto vec = [](const aiVector3D& v) { return glm::vec3(v.x, v.y, v.z); };
-        for (unsigned v = 0; v < am.mNumVertices; ++v) {
-            rest.positions.push_back(vec(am.mVertices[v]));
-            if (am.HasNormals()) rest.normals.push_back(vec(am.mNormals[v]));
-            if (am.HasTangentsAndBitangents() && am.HasTextureCoords(0)) {
-                rest.tangents.push_back(vec(am.mTangents[v]));
-                rest.bitangents.push_back(vec(am.mBitangents[v]));
-            }
-        }
-        return rest;
     }
 
     // A name as the file gives it: empty for one Assimp made up for an unnamed glTF element
@@ -730,7 +607,7 @@ private:
                                            "' cannot be rendered from: " + sc.problem);
             m_scene.cameras.push_back(sc);
             // A glTF camera sits at its node: it moves with it (others are not animated).
-            if (m_rig) m_rig->cameraNodes.push_back(m_gltf ? nodeIndexNamed(ac.mName) : -1);
+            m_rig.keepCamera(ac.mName);
         }
     }
 
@@ -784,13 +661,7 @@ private:
             }
             if (light.type == LightType::Ambient) continue;
             m_scene.lights.push_back(light);
-            if (m_rig) {
-                SceneRig::LightRest rest;
-                rest.node = nodeIndexNamed(al.mName);
-                rest.position = glm::dvec3(al.mPosition.x, al.mPosition.y, al.mPosition.z);
-                rest.direction = glm::dvec3(al.mDirection.x, al.mDirection.y, al.mDirection.z);
-                m_rig->lights.push_back(rest);
-            }
+            m_rig.keepLight(al);
         }
         return true;
     }
@@ -814,10 +685,8 @@ private:
     long long m_zeroNormals = 0;
     const std::set<std::string> m_nodeNames =
         m_gltf ? detail::gltfNames(m_doc, "nodes") : std::set<std::string>{};
-    std::shared_ptr<SceneRig> m_rig;                // a glTF file with animations
-    std::unique_ptr<detail::GltfBuffers> m_buffers; // its buffers, read once
-    std::string m_skinError;                        // a skin the file gets wrong
-    std::map<const aiNode*, int> m_nodeIndex;       // Assimp's nodes → the file's
+    // What a glTF file with animations keeps to be re-posed (scene_rig.h).
+    detail::RigLoader m_rig{m_ai, m_path, m_gltf ? m_doc : kNoJson};
     const std::set<std::string> m_meshNames =
         m_gltf ? detail::gltfNames(m_doc, "meshes") : std::set<std::string>{};
 };
