@@ -398,3 +398,39 @@ TEST(ScenePoser, TwoJointSkinFollowsItsJointMatrices) {
     EXPECT_NE(error.find("bad_joint.gltf: skin 0: joint 9 is not a node"), std::string::npos)
         << error;
 }
+
+// A node naming a skin the file does not have, and JOINTS_0 naming a joint past the skin's.
+TEST(AnimationProblems, ABadSkinReferenceIsAnError) {
+    for (const bool missingSkin : {true, false}) {
+        nlohmann::json doc = squareAndCamera();
+        addSkin(doc, {0}, {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 3},
+                std::vector<float>(16, 0.25f));
+        if (missingSkin) doc["nodes"][0]["skin"] = 5;
+        addChannel(doc, 0, 0, "translation", {0.0f, 1.0f}, std::vector<float>(6, 0.0f));
+        writeJson(scratch("bad_skin.gltf"), doc);
+        Scene scene;
+        std::string error;
+        EXPECT_FALSE(loadScene(scratch("bad_skin.gltf"), scene, error));
+        EXPECT_NE(error.find(missingSkin ? "node 0, primitive 0 (morph targets or skin): its "
+                                           "node's skin 5 does not exist"
+                                         : "JOINTS_0 names joint 3 of a skin of 1 joints"),
+                  std::string::npos)
+            << error;
+    }
+}
+
+// An accessor claiming more elements than its buffer holds, or billions of zeros, is refused
+// before anything is allocated.
+TEST(AnimationProblems, AccessorsLargerThanTheirBuffersAreRefused) {
+    for (const bool view : {true, false}) {
+        nlohmann::json doc = squareAndCamera();
+        addChannel(doc, 0, 0, "translation", {0.0f, 1.0f}, std::vector<float>(6, 0.0f));
+        const size_t output = doc["animations"][0]["samplers"][0]["output"];
+        doc["accessors"][output]["count"] = 4000000000u;
+        if (!view) doc["accessors"][output].erase("bufferView");
+        const std::string problem = problemOf(doc, view ? "big_view.gltf" : "big_zeros.gltf");
+        EXPECT_NE(problem.find(view ? "elements run past bufferView" : "more than dhdr reads"),
+                  std::string::npos)
+            << problem;
+    }
+}

@@ -241,9 +241,16 @@ bool GltfBuffers::locate(const nlohmann::json& a, size_t count, int components, 
 
 bool GltfBuffers::readDense(const nlohmann::json& a, size_t count, int components,
                             std::vector<float>& out, std::string& error) {
-    out.assign(count * size_t(components), 0.0f);
+    // Checked before anything is allocated: a count no buffer backs is refused, and an
+    // accessor of zeros (no bufferView) may not ask for more than 2^28 values (1 GiB).
     Span span;
     if (!locate(a, count, components, span, error)) return false;
+    if (!span.base && count * size_t(components) > (size_t(1) << 28)) {
+        error = "an accessor without a bufferView of " + std::to_string(count) +
+                " elements: more than dhdr reads";
+        return false;
+    }
+    out.assign(count * size_t(components), 0.0f);
     if (!span.base) return true;
     const bool normalized = a.value("normalized", false);
     for (size_t i = 0; i < count; ++i)
@@ -272,6 +279,10 @@ bool GltfBuffers::readIndices(size_t index, std::vector<std::uint32_t>& out, std
     }
     Span span;
     if (!locate(a, count, 1, span, error)) return error = prefix + error, false;
+    if (!span.base && count > (size_t(1) << 28)) {
+        error = prefix + "an index accessor without a bufferView: more indices than dhdr reads";
+        return false;
+    }
     out.assign(count, 0);
     if (!span.base) return true;
     for (size_t i = 0; i < count; ++i) {

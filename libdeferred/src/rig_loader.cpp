@@ -105,8 +105,12 @@ bool RigLoader::readDeformed(Mesh& mesh, MeshRest& rest, const glm::dmat4& world
                              unsigned primitive, std::string& error) {
     std::string why;
     bool ok = gltfMorphPrimitive(m_doc, *m_buffers, rest.node, primitive, rest, mesh, why);
+    if (ok && rest.skin >= 0 && size_t(rest.skin) >= m_rig->skins.size()) {
+        why = "its node's skin " + std::to_string(rest.skin) + " does not exist";
+        ok = false;
+    }
     // The primitive's joints exist in its skin.
-    const size_t joints = rest.skin >= 0 ? m_rig->skins[size_t(rest.skin)].joints.size() : 0;
+    const size_t joints = ok && rest.skin >= 0 ? m_rig->skins[size_t(rest.skin)].joints.size() : 0;
     for (size_t v = 0; ok && rest.skin >= 0 && v < rest.joints.size(); ++v)
         for (int c = 0; c < 4 && ok; ++c)
             if (rest.joints[v][c] >= joints) {
