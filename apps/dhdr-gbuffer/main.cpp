@@ -70,9 +70,10 @@ int run(int argc, char** argv) {
     cl.option("--animation", animation, "NAME|INDEX|all",
               "the animation that plays (default: the file's first, as glTF viewers play; all: "
               "every one at once)");
-    cl.flag("--info", info,
-            "print what the scene holds (bounds, cameras, lights, materials, what is left "
-            "out) and exit; needs no -o");
+    cl.flag(
+        "--info", info,
+        "print what the scene holds (bounds, cameras, lights, materials, animations, what is left "
+        "out) and exit; needs no -o");
     cl.epilog(
         "Example:\n  dhdr-gbuffer testdata/cornell_box.gltf --size 1280x720 -o frame.gbuf.exr");
     cl.namesFile("--lights-out", app::FileRole::Output);
