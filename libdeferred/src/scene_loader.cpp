@@ -501,12 +501,15 @@ private:
             for (const unsigned i : {t.x, t.y, t.z}) {
                 flat.positions.push_back(shared.positions[i]);
                 flat.normals.push_back(normal);
-                inNode.positions.push_back(glm::vec3(local_(am, i)));
-                inNode.normals.push_back(glm::vec3(glm::cross(b - a, c - a)));
                 if (uvs) {
                     flat.uvs.push_back(shared.uvs[i]);
                     flat.tangents.push_back(tangent);
                     flat.bitangents.push_back(bitangent);
+                }
+                if (!rest) continue;
+                inNode.positions.push_back(glm::vec3(local(i)));
+                inNode.normals.push_back(glm::vec3(glm::cross(b - a, c - a)));
+                if (uvs) {
                     inNode.tangents.push_back(localTangent);
                     inNode.bitangents.push_back(localBitangent);
                 }
@@ -518,11 +521,6 @@ private:
             *rest = std::move(inNode);
         }
         return flat;
-    }
-
-    static glm::dvec3 local_(const aiMesh& am, unsigned i) {
-        const aiVector3D& p = am.mVertices[i];
-        return glm::dvec3(p.x, p.y, p.z);
     }
 
     // The world transform of the first node named `name`, depth first; identity when none is.
