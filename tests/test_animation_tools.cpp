@@ -369,3 +369,41 @@ TEST_F(AnimationTools, ASkinWithoutInverseBindMatricesIsNoCrash) {
     EXPECT_EQ(value(g, "A", 23, 32), 0.0f);
     EXPECT_NEAR(value(g, "motion.X", 40, 32), -2.0 / 3.0, 1e-4);
 }
+
+// A mesh without normals (flat ones, glTF §3.7.2.1) turning about Y: frame 12 equals the static
+// file with frame 12's rotation baked in, normals included.
+TEST_F(AnimationTools, FlatShadedMeshesTurnWithTheirNode) {
+    const double half = 15.0 * M_PI / 360.0; // 15° at t = 0.5 s, half-angle
+    nlohmann::json doc = squareAndCamera();
+    doc["meshes"][0]["primitives"][0]["attributes"].erase("NORMAL");
+    nlohmann::json baked = doc;
+    baked["nodes"][0]["rotation"] = {0.0, std::sin(half), 0.0, std::cos(half)};
+    // The key at t = 1: 30° about Y.
+    const float s30 = float(std::sin(30.0 * M_PI / 360.0)),
+                c30 = float(std::cos(30.0 * M_PI / 360.0));
+    addChannel(doc, 0, 0, "rotation", {0.0f, 1.0f}, {0, 0, 0, 1, 0, s30, 0, c30});
+    writeJson(path("flat_turn.gltf"), doc);
+    writeJson(path("flat_baked.gltf"), baked);
+    ASSERT_EQ(run("dhdr-gbuffer " + path("flat_turn.gltf") + " --size 64x64 --frame 12 -o " +
+                  path("flat_turn.exr"))
+                  .status,
+              0);
+    ASSERT_EQ(run("dhdr-gbuffer " + path("flat_baked.gltf") + " --size 64x64 -o " +
+                  path("flat_baked.exr"))
+                  .status,
+              0);
+    const ImageBuf a = read("flat_turn.exr"), b = read("flat_baked.exr");
+    int covered = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            ASSERT_EQ(value(a, "A", x, y), value(b, "A", x, y)) << x << "," << y;
+            if (value(b, "A", x, y) == 0.0f) continue;
+            ++covered;
+            for (const char* c : {"P.X", "P.Y", "P.Z"})
+                ASSERT_NEAR(value(a, c, x, y), value(b, c, x, y), 1e-5) << c;
+            for (const char* c : {"N.X", "N.Y", "N.Z"})
+                ASSERT_NEAR(value(a, c, x, y), value(b, c, x, y), 1e-3) << c;
+        }
+    EXPECT_GT(covered, 200);
+    EXPECT_NEAR(value(b, "N.X", 32, 32), std::sin(2 * half), 1e-3); // the baked one turned
+}
