@@ -1,7 +1,9 @@
 // dhdr-gbuffer: a scene in, a multi-channel EXR G-buffer out (docs/tools.md).
 #include "../common/frames.h"
 #include "../common/tool.h"
+#include "animated_scene.h"
 #include "scene_info.h"
+#include "timing.h"
 
 #include <algorithm>
 #include <chrono>
@@ -62,9 +64,16 @@ int run(int argc, char** argv) {
     cl.flag("--strict", strict,
             "a texture the scene names that cannot be read is an error (default: a warning, and "
             "the material shows magenta (1, 0, 1) times its factor, as in Blender)");
-    cl.flag("--info", info,
-            "print what the scene holds (bounds, cameras, lights, materials, what is left "
-            "out) and exit; needs no -o");
+    app::FrameTiming timing;
+    timing.declare(cl);
+    std::string animation;
+    cl.option("--animation", animation, "NAME|INDEX|all",
+              "the animation that plays (default: the file's first, as glTF viewers play; all: "
+              "every one at once)");
+    cl.flag(
+        "--info", info,
+        "print what the scene holds (bounds, cameras, lights, materials, animations, what is left "
+        "out) and exit; needs no -o");
     cl.epilog(
         "Example:\n  dhdr-gbuffer testdata/cornell_box.gltf --size 1280x720 -o frame.gbuf.exr");
     cl.namesFile("--lights-out", app::FileRole::Output);
@@ -81,6 +90,17 @@ int run(int argc, char** argv) {
         if (!loadScene(path, scene, error, SceneOptions{strict})) return tool.fail(error);
         std::fputs(app::describeScene(scene, path).c_str(), stdout);
         return app::kExitSuccess;
+    }
+    if (timing.frame && timing.time) {
+        std::fprintf(stderr, "dhdr-gbuffer: usage error: --frame and --time exclude each other\n");
+        return app::kExitUsage;
+    }
+    if ((timing.frame || timing.time) &&
+        (app::FramePattern(cl.output()).isSequence() || !cl.frames().empty())) {
+        std::fprintf(stderr, "dhdr-gbuffer: usage error: --frame and --time render one frame "
+                             "into one file: give -o without a frame pattern (or --frames A-B "
+                             "with one)\n");
+        return app::kExitUsage;
     }
     app::FramePlan plan;
     if (const int status = app::planFrames(tool, cl.inputs(), plan); status >= 0) return status;
@@ -135,25 +155,9 @@ int run(int argc, char** argv) {
         tool.info(std::to_string(scene.lights.size()) + " lights written to " + lightsPath);
         return true;
     };
-    return app::runFrames(tool, plan, [&](int frame, const auto& in, const std::string& outPath) {
-        const std::string& scenePath = in[0];
-        const auto t0 = std::chrono::steady_clock::now();
-        Scene scene;
-        std::string error;
-        if (!loadScene(scenePath, scene, error, SceneOptions{strict})) {
-            tool.fail(error);
-            return false;
-        }
-        for (const std::string& warning : scene.warnings)
-            tool.warn(scenePath + ": " + warning);
-        if (groundPlane) {
-            const double y =
-                groundY ? *groundY : (scene.meshes.empty() ? 0.0 : scene.boundsMin().y);
-            addGroundPlane(scene, float(y));
-            tool.info("ground plane (shadow catcher) at y = " + std::to_string(y));
-        }
-
-        Camera camera;
+    // The camera of a frame: --lookat's, else the scene's (posed), with --fov and --frame-all.
+    bool announce = true; // say which camera, once a frame
+    auto cameraOf = [&](const Scene& scene, const std::string& scenePath, Camera& camera) {
         if (lookatCamera) {
             camera = *lookatCamera;
         } else if (!scene.cameras.empty()) {
@@ -177,7 +181,7 @@ int run(int argc, char** argv) {
                 return false;
             }
             camera = chosen->camera;
-            tool.info("camera '" + chosen->name + "'");
+            if (announce) tool.info("camera '" + chosen->name + "'");
         } else if (frameAll) {
             // From the front (+Z, glTF's) and a little above.
             camera = Camera::lookAt({0.0, 0.34, 0.94}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0},
@@ -188,10 +192,11 @@ int run(int argc, char** argv) {
             return false;
         }
         if (fov > 0.0) {
-            if (camera.orthographic)
-                tool.warn("--fov ignored: the camera is orthographic");
-            else
+            if (camera.orthographic) {
+                if (announce) tool.warn("--fov ignored: the camera is orthographic");
+            } else {
                 camera.yfov = glm::radians(fov);
+            }
         }
         if (frameAll) {
             camera = frameScene(scene, camera, double(params.width) / double(params.height));
@@ -209,13 +214,68 @@ int run(int argc, char** argv) {
             tool.fail(scenePath + ": the camera cannot be rendered from: " + why);
             return false;
         }
+        return true;
+    };
+
+    // The scene is loaded once for all frames that name the same file; animated, it is posed
+    // at each frame's time.
+    app::AnimatedScene loaded;
+    auto load = [&](const std::string& scenePath) {
+        if (loaded.path == scenePath) return !loaded.failed;
+        loaded = app::AnimatedScene{};
+        loaded.path = scenePath;
+        loaded.failed = true; // until it is ready: a failure is reported once
+        Scene& scene = loaded.scene;
+        std::string error;
+        if (!loadScene(scenePath, scene, error, SceneOptions{strict}))
+            return tool.fail(error), false;
+        for (const std::string& warning : scene.warnings)
+            tool.warn(scenePath + ": " + warning);
+        if (!loaded.selectAnimations(animation, error)) {
+            tool.fail(scenePath + ": " + error);
+            return false;
+        }
+        if (!loaded.animated() && timing.given)
+            tool.warn(scenePath + ": the scene has no animation; --frame, --time and --fps "
+                                  "change nothing");
+        if (groundPlane) {
+            const double y =
+                groundY ? *groundY : (scene.meshes.empty() ? 0.0 : scene.boundsMin().y);
+            addGroundPlane(scene, float(y));
+            tool.info("ground plane (shadow catcher) at y = " + std::to_string(y));
+        }
+        loaded.failed = false;
+        return true;
+    };
+
+    return app::runFrames(tool, plan, [&](int frame, const auto& in, const std::string& outPath) {
+        const std::string& scenePath = in[0];
+        const auto t0 = std::chrono::steady_clock::now();
+        if (!load(scenePath)) return false;
+        Scene& scene = loaded.scene;
+        const double time = timing.timeOf(frame);
+        std::shared_ptr<FrameMotion> motion;
+        std::string error;
+        announce = false;
+        auto around = [&](const Scene& s, Camera& c) { return cameraOf(s, scenePath, c); };
+        if (!loaded.pose(time, 1.0 / timing.fps, around, motion, error)) {
+            if (!error.empty()) tool.fail(scenePath + ": " + error);
+            return false;
+        }
+        announce = true;
+        Camera camera;
+        if (!cameraOf(scene, scenePath, camera)) return false;
+        if (loaded.animated())
+            tool.info("time " + std::to_string(time) + " s; motion layer written");
         tool.info(camera.orthographic
                       ? "orthographic camera, " + std::to_string(2.0 * camera.ymag) + " units high"
                       : "perspective camera, vertical fov " +
                             std::to_string(glm::degrees(camera.yfov)) + " degrees");
 
         const auto t1 = std::chrono::steady_clock::now();
-        const GBufferRenderer renderer(scene, camera, params);
+        GBufferParams frameParams = params;
+        frameParams.motion = motion;
+        const GBufferRenderer renderer(scene, camera, frameParams, loaded.caster);
         if (!renderer.ok()) {
             tool.fail(scenePath + ": " + renderer.error());
             return false;
@@ -263,6 +323,8 @@ int run(int argc, char** argv) {
             }
             if (writeDeep) {
                 long long transparent = 0, samples = 0;
+                std::vector<OIIO::TypeDesc> deepFormats = gbuffer::deepChannelFormats();
+                if (motion) deepFormats.insert(deepFormats.end(), 4, OIIO::TypeDesc::FLOAT);
                 app::AtomicOutput file(tool, outPath);
                 app::Progress progress(tool, "dhdr-gbuffer: rendering layers");
                 StripPipelineParams streaming;
@@ -285,7 +347,7 @@ int run(int argc, char** argv) {
                     OIIO::ImageSpec deepSpec = strip.spec;
                     deepSpec.y = 0;
                     deepSpec.height = params.height;
-                    deepSpec.channelformats = gbuffer::deepChannelFormats();
+                    deepSpec.channelformats = deepFormats;
                     deepSpec.attribute("dhdr:source", scenePath);
                     if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
                         deepSpec.attribute(gbuffer::kSceneFingerprint, sha);
@@ -295,7 +357,7 @@ int run(int argc, char** argv) {
                 };
                 stages.write = [&](OIIO::ROI rows, int, std::string& e) {
                     OIIO::DeepData data;
-                    toDeepData(strip, rows.ybegin, rows.yend, data);
+                    toDeepData(strip, rows.ybegin, rows.yend, data, deepFormats);
                     if (file.file().writeDeepRows(rows.ybegin, rows.yend, data)) return true;
                     e = file.file().geterror();
                     return false;
@@ -320,7 +382,7 @@ int run(int argc, char** argv) {
             tool.info("no partly transparent surface in view: writing a flat G-buffer");
         }
         app::AtomicOutput file(tool, outPath);
-        if (!file.open(spec, gbufferChannelFormats())) return false;
+        if (!file.open(spec, gbufferChannelFormats(bool(motion)))) return false;
         // Strip by strip: each strip is traced in parallel and written while the next is
         // traced, and memory stays at two strips whatever the image size.
         long long covered = 0;

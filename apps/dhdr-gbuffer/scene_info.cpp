@@ -1,6 +1,7 @@
 #include "scene_info.h"
 
 #include <cstdio>
+#include <dhdr/deferred/scene_rig.h>
 #include <glm/gtc/constants.hpp>
 
 namespace dhdr::app {
@@ -52,6 +53,19 @@ std::string describeScene(const Scene& scene, const std::string& path) {
                format(": base colour (%.3g, %.3g, %.3g), metallic %.3g, roughness %.3g",
                       m.baseColor.r, m.baseColor.g, m.baseColor.b, m.metallic, m.roughness) +
                (textures.empty() ? "" : ", textures:" + textures) + "\n";
+    }
+    if (scene.rig) {
+        // What --animation chooses among, with the times --frames and --fps reach.
+        out += "  animations  " + std::to_string(scene.rig->animations.size()) + "\n";
+        for (size_t i = 0; i < scene.rig->animations.size(); ++i) {
+            const Animation& a = scene.rig->animations[i];
+            out += "    " + std::to_string(i) + " '" + a.name + "': " +
+                   (a.problem.empty()
+                        ? format("%g s (keys from %g to %g s), ", a.duration(), a.start, a.end) +
+                              std::to_string(a.channels.size()) + " channels"
+                        : "unusable: " + a.problem) +
+                   "\n";
+        }
     }
     out += "  left out    " + std::string(scene.warnings.empty() ? "nothing\n" : "\n");
     for (const std::string& w : scene.warnings)

@@ -1,3 +1,5 @@
+#include "motion_vectors.h"
+
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <atomic>
 #include <cmath>
@@ -8,6 +10,7 @@
 #include <dhdr/deferred/scene.h>
 #include <dhdr/deferred/surface.h>
 #include <limits>
+#include <optional>
 
 namespace dhdr {
 
@@ -112,7 +115,7 @@ gbuffer::Layout layoutOf(const std::vector<std::string>& names) {
 
 } // namespace
 
-std::vector<OIIO::TypeDesc> gbufferChannelFormats() {
+std::vector<OIIO::TypeDesc> gbufferChannelFormats(bool motion) {
     std::vector<OIIO::TypeDesc> formats;
     for (const gbuffer::ContractChannel& c : gbuffer::kContract)
         if (c.need != gbuffer::Need::DeepOnly)
@@ -120,14 +123,21 @@ std::vector<OIIO::TypeDesc> gbufferChannelFormats() {
                 formats.push_back(c.type == gbuffer::FileType::Float  ? OIIO::TypeDesc::FLOAT
                                   : c.type == gbuffer::FileType::Uint ? OIIO::TypeDesc::UINT
                                                                       : OIIO::TypeDesc::HALF);
+    if (motion) formats.insert(formats.end(), 4, OIIO::TypeDesc::FLOAT);
     return formats;
 }
 
 GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
                                  const GBufferParams& params)
-    : m_scene(scene), m_camera(camera), m_params(params),
-      m_caster(std::make_unique<RayCaster>(scene)) {
-    const std::vector<std::string> names = gbuffer::channelNames();
+    : GBufferRenderer(scene, camera, params, std::make_shared<RayCaster>(scene)) {}
+
+GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
+                                 const GBufferParams& params,
+                                 std::shared_ptr<const RayCaster> caster)
+    : m_scene(scene), m_camera(camera), m_params(params), m_caster(std::move(caster)) {
+    std::vector<std::string> names = gbuffer::channelNames();
+    if (params.motion)
+        names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
     m_spec = OIIO::ImageSpec(std::max(params.width, 1), std::max(params.height, 1),
                              int(names.size()), OIIO::TypeDesc::FLOAT);
     m_spec.channelnames = names;
@@ -205,6 +215,10 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
     const int nch = m_spec.nchannels;
     const glm::dmat4 worldToCamera = m_camera.worldToCamera();
     const gbuffer::Layout layout = layoutOf(m_spec.channelnames);
+    // The motion layer, when there is one, is the last four channels.
+    std::optional<MotionVectors> motion;
+    if (m_params.motion)
+        motion.emplace(m_scene, *m_params.motion, m_camera, m_params.width, m_params.height);
     std::atomic<int> rowsDone{0};
     OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y) {
@@ -215,9 +229,11 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
                 if (traceLayers(m_scene, *m_caster, ray, 1, &front, true) == 0) {
                     std::fill(px, px + nch, 0.0f);
                     px[1] = std::numeric_limits<float>::infinity();
+                    if (motion) motion->at(ray, RayHit{}, px + nch - 4);
                     continue;
                 }
                 fillSample(m_scene, worldToCamera, layout, *m_crypto, ray, front.hit, 1.0f, px);
+                if (motion) motion->at(ray, front.hit, px + nch - 4);
             }
             const int done = ++rowsDone;
             if (m_params.progress && (done % 64 == 0 || done == roi.height()))
@@ -234,7 +250,9 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
     const OIIO::ROI frame = OIIO::get_roi_full(m_spec);
     roi = roi.defined() ? OIIO::roi_intersection(roi, frame) : frame;
     dst.spec = m_spec;
-    const std::vector<std::string> names = gbuffer::deepChannelNames();
+    std::vector<std::string> names = gbuffer::deepChannelNames();
+    if (m_params.motion)
+        names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
     dst.spec.nchannels = int(names.size());
     dst.spec.channelnames = names;
     dst.spec.x = roi.xbegin;
@@ -244,6 +262,10 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
     const size_t nch = names.size();
     const glm::dmat4 worldToCamera = m_camera.worldToCamera();
     const gbuffer::Layout layout = layoutOf(names);
+    // Every sample carries its own motion (the last four channels).
+    std::optional<MotionVectors> motion;
+    if (m_params.motion)
+        motion.emplace(m_scene, *m_params.motion, m_camera, m_params.width, m_params.height);
     // Each row's samples apart, joined in row order after: the same buffer for any threads.
     std::vector<std::vector<std::uint32_t>> counts(size_t(roi.height()));
     std::vector<std::vector<float>> values(size_t(roi.height()));
@@ -265,6 +287,8 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
                     fillSample(m_scene, worldToCamera, layout, *m_crypto, ray,
                                layers[size_t(k)].hit, layers[size_t(k)].alpha,
                                &rowValues[rowValues.size() - nch]);
+                    if (motion)
+                        motion->at(ray, layers[size_t(k)].hit, &rowValues[rowValues.size() - 4]);
                     local += layers[size_t(k)].alpha < 1.0f;
                 }
             }

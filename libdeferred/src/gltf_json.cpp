@@ -285,7 +285,12 @@ std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
             if (mesh.is_object() && mesh.contains("primitives") && mesh["primitives"].is_array())
                 for (const auto& p : mesh["primitives"])
                     morph = morph || (p.is_object() && p.contains("targets"));
-    const bool skins = doc.contains("skins") && doc["skins"].is_array() && !doc["skins"].empty();
+    // A file with animations has its morph targets and skins applied (gltf_morph.h).
+    const bool animated =
+        doc.contains("animations") && doc["animations"].is_array() && !doc["animations"].empty();
+    morph = morph && !animated;
+    const bool skins =
+        !animated && doc.contains("skins") && doc["skins"].is_array() && !doc["skins"].empty();
     if (skins || morph)
         out.push_back(std::string(skins && morph ? "skins and morph targets"
                                   : skins        ? "skins"
@@ -443,15 +448,30 @@ bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& origina
     }
     scene["nodes"] = roots;
 
+    bytes = gltfBytesWithJson(path, gltfForAssimp(doc));
+    return true;
+}
+
+bool gltfHasAnimationOrSkins(const nlohmann::json& doc) {
+    return doc.is_object() && (doc.contains("animations") || doc.contains("skins"));
+}
+
+nlohmann::json gltfForAssimp(nlohmann::json doc) {
+    doc.erase("animations");
+    doc.erase("skins");
+    if (doc.contains("nodes") && doc["nodes"].is_array())
+        for (auto& node : doc["nodes"])
+            if (node.is_object()) node.erase("skin");
+    return doc;
+}
+
+std::string gltfBytesWithJson(const std::string& path, const nlohmann::json& doc) {
     std::string text = doc.dump();
     std::ifstream in(path, std::ios::binary);
     const std::vector<char> file((std::istreambuf_iterator<char>(in)),
                                  std::istreambuf_iterator<char>());
     const bool glb = !glbJsonChunk(file).empty();
-    if (!glb) {
-        bytes = std::move(text);
-        return true;
-    }
+    if (!glb) return text;
     // A binary glTF: header, the new JSON chunk padded with spaces to 4 bytes, then the
     // file's other chunks as they were.
     while (text.size() % 4 != 0)
@@ -461,13 +481,13 @@ bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& origina
     const size_t rest = 20 + size_t(oldLength);
     const std::uint32_t jsonLength = std::uint32_t(text.size());
     const std::uint32_t total = std::uint32_t(12 + 8 + text.size() + (file.size() - rest));
-    bytes.assign(file.data(), 8);
+    std::string bytes(file.data(), 8);
     bytes.append(reinterpret_cast<const char*>(&total), 4);
     bytes.append(reinterpret_cast<const char*>(&jsonLength), 4);
     bytes.append("JSON", 4);
     bytes += text;
     bytes.append(file.data() + rest, file.size() - rest);
-    return true;
+    return bytes;
 }
 
 } // namespace dhdr::detail

@@ -86,4 +86,16 @@ inline constexpr int kMaxGltfNodeDepth = 256;
 bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& doc, std::string& bytes,
                           std::string& error);
 
+// What Assimp is handed of a glTF file's JSON: dhdr reads animations and skins itself, and
+// Assimp 5.2 gets them wrong (it makes STEP and CUBICSPLINE linear, crashes on a skin without
+// inverseBindMatrices, and its validation refuses files for mistakes in animations with
+// messages about its own structures), so `doc` without `animations`, `skins` and the nodes'
+// `skin` (docs/scenes.md).
+bool gltfHasAnimationOrSkins(const nlohmann::json& doc);
+nlohmann::json gltfForAssimp(nlohmann::json doc);
+
+// The bytes of the .gltf or .glb file at `path` with `doc` as its JSON (a .glb keeps its other
+// chunks as they are).
+std::string gltfBytesWithJson(const std::string& path, const nlohmann::json& doc);
+
 } // namespace dhdr::detail

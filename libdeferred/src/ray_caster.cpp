@@ -11,7 +11,8 @@ struct RayCaster::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     const Scene* source = nullptr;
-    bool transparent = false; // some mesh's material masks or blends
+    bool transparent = false;     // some mesh's material masks or blends
+    std::vector<float*> vertices; // each geometry's vertex buffer, for updateMeshes
 
     ~Impl() {
         if (scene) rtcReleaseScene(scene);
@@ -87,7 +88,8 @@ std::string embreeIsaRequested() {
     return isa ? std::string(isa) : std::string();
 }
 
-RayCaster::RayCaster(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
+RayCaster::RayCaster(const Scene& scene, const std::vector<int>& moving)
+    : m_impl(std::make_unique<Impl>()) {
     m_impl->source = &scene;
     // Embree picks the widest kernel the CPU has unless DHDR_EMBREE_ISA names one, so that
     // the tests can run under each (their float arithmetic differs in the last bits).
@@ -115,6 +117,10 @@ RayCaster::RayCaster(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
         for (size_t v = 0; v < mesh.positions.size(); ++v)
             for (int c = 0; c < 3; ++c)
                 vertices[3 * v + size_t(c)] = mesh.positions[v][c];
+        m_impl->vertices.push_back(vertices);
+        // Animated meshes keep their own BVH, refitted when their vertices move.
+        if (std::find(moving.begin(), moving.end(), int(i)) != moving.end())
+            rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_REFIT);
         auto* indices = static_cast<unsigned*>(
             rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                     3 * sizeof(unsigned), mesh.triangles.size()));
@@ -137,6 +143,28 @@ RayCaster::RayCaster(const Scene& scene) : m_impl(std::make_unique<Impl>()) {
 }
 
 RayCaster::~RayCaster() = default;
+
+bool RayCaster::updateMeshes(const std::vector<int>& meshes) {
+    if (!ok()) return false;
+    const Scene& scene = *m_impl->source;
+    for (const int i : meshes) {
+        if (i < 0 || size_t(i) >= scene.meshes.size()) continue;
+        const Mesh& mesh = scene.meshes[size_t(i)];
+        float* vertices = m_impl->vertices[size_t(i)];
+        for (size_t v = 0; v < mesh.positions.size(); ++v)
+            for (int c = 0; c < 3; ++c)
+                vertices[3 * v + size_t(c)] = mesh.positions[v][c];
+        RTCGeometry geom = rtcGetGeometry(m_impl->scene, unsigned(i));
+        rtcUpdateGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0);
+        rtcCommitGeometry(geom);
+    }
+    if (!meshes.empty()) rtcCommitScene(m_impl->scene);
+    if (rtcGetDeviceError(m_impl->device) != RTC_ERROR_NONE) {
+        m_error = "Embree could not refit the moved meshes";
+        return false;
+    }
+    return true;
+}
 
 const Scene& RayCaster::scene() const {
     return *m_impl->source;

@@ -1,4 +1,5 @@
 #include "gltf_json.h"
+#include "rig_loader.h"
 #include "texture_loader.h"
 
 #include <algorithm>
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/scene_rig.h>
 #include <filesystem>
 #include <fstream>
 #include <glm/gtc/matrix_transform.hpp>
@@ -87,6 +89,8 @@ private:
     std::string m_replaced, m_bytes;
 };
 
+const nlohmann::json kNoJson = nlohmann::json(nlohmann::json::value_t::discarded);
+
 class SceneBuilder {
 public:
     // `doc`: the glTF file's JSON (gltfJson), discarded for other files.
@@ -97,6 +101,10 @@ public:
 
     bool build(std::string& error) {
         loadMaterials();
+        if (!m_rig.error().empty()) {
+            error = m_rig.error();
+            return false;
+        }
         if (!visitAll(error)) return false;
         nameUnnamed();
         if (!reportUnreadTextures(error)) return false;
@@ -106,7 +114,9 @@ public:
                 " vertex normals in the file have zero length; their triangles are shaded with "
                 "the geometric normal");
         loadCameras();
-        return loadLights(error);
+        if (!loadLights(error)) return false;
+        if (m_rig.active()) m_scene.rig = m_rig.finish();
+        return true;
     }
 
 private:
@@ -317,7 +327,7 @@ private:
                         largest = std::max(largest, std::abs(normalMatrix[c][r]));
                 if (largest > 0.0 && std::isfinite(largest)) normalMatrix /= largest;
                 for (unsigned i = 0; i < node->mNumMeshes && ok; ++i)
-                    ok = addMesh(*m_ai.mMeshes[node->mMeshes[i]], *node, world, normalMatrix,
+                    ok = addMesh(*m_ai.mMeshes[node->mMeshes[i]], *node, i, world, normalMatrix,
                                  object, error);
             }
             return ok;
@@ -325,7 +335,8 @@ private:
         return ok;
     }
 
-    bool addMesh(const aiMesh& am, const aiNode& node, const glm::dmat4& world,
+    // `primitive`: the place of `am` among its node's meshes, the glTF primitive it is.
+    bool addMesh(const aiMesh& am, const aiNode& node, unsigned primitive, const glm::dmat4& world,
                  const glm::dmat3& normalMatrix, int object, std::string& error) {
         if (!(am.mPrimitiveTypes & aiPrimitiveType_TRIANGLE)) return true; // points and lines
         Mesh mesh;
@@ -379,12 +390,26 @@ private:
             if (face.mNumIndices == 3)
                 mesh.triangles.emplace_back(face.mIndices[0], face.mIndices[1], face.mIndices[2]);
         }
-        if (!am.HasNormals()) mesh = flatShaded(mesh, am, world, normalMatrix);
+        MeshRest rest = m_rig.restOf(am, node);
+        if (m_rig.deformed(rest, primitive)) {
+            // Morphed or skinned: from the file itself (RigLoader::readDeformed).
+            if (!m_rig.readDeformed(mesh, rest, world, primitive, error)) return false;
+            if (mesh.triangles.empty()) return true;
+            m_scene.meshes.push_back(std::move(mesh));
+            m_rig.keepMesh(std::move(rest));
+            return true;
+        }
+        if (!am.HasNormals())
+            mesh = flatShaded(mesh, am, world, normalMatrix, m_rig.active() ? &rest : nullptr);
         if (mesh.tangents.size() != mesh.positions.size()) {
             mesh.tangents.clear();
             mesh.bitangents.clear();
+            rest.tangents.clear();
+            rest.bitangents.clear();
         }
-        if (!mesh.triangles.empty()) m_scene.meshes.push_back(std::move(mesh));
+        if (mesh.triangles.empty()) return true;
+        m_scene.meshes.push_back(std::move(mesh));
+        m_rig.keepMesh(std::move(rest));
         return true;
     }
 
@@ -435,8 +460,10 @@ private:
     // under a mirroring node it stays on the front, whose winding the node reverses). With UVs,
     // each triangle also gets its tangent frame from them (CalcTangentSpace needs normals):
     // T along +u, B up the image, as Assimp computes them.
+    // `rest`, when given, receives the same vertices in the node's space.
     static Mesh flatShaded(const Mesh& shared, const aiMesh& am, const glm::dmat4& world,
-                           const glm::dmat3& normalMatrix) {
+                           const glm::dmat3& normalMatrix, MeshRest* rest) {
+        MeshRest inNode;
         Mesh flat;
         flat.object = shared.object;
         flat.material = shared.material;
@@ -452,7 +479,7 @@ private:
             };
             const glm::dvec3 a = local(t.x), b = local(t.y), c = local(t.z);
             const glm::vec3 normal = unit(normalMatrix * glm::cross(b - a, c - a));
-            glm::vec3 tangent(0.0f), bitangent(0.0f);
+            glm::vec3 tangent(0.0f), bitangent(0.0f), localTangent(0.0f), localBitangent(0.0f);
             if (uvs) {
                 // Assimp's UVs (v up the image), from ours (v down).
                 auto uv = [&](unsigned i) {
@@ -464,6 +491,10 @@ private:
                 if (det != 0.0) {
                     tangent = unit((e1 * d2.y - e2 * d1.y) / det);
                     bitangent = unit((e2 * d1.x - e1 * d2.x) / det);
+                    // The same in the node's space: the world's is linear in the edges.
+                    const glm::dvec3 l1 = b - a, l2 = c - a;
+                    localTangent = glm::vec3((l1 * d2.y - l2 * d1.y) / det);
+                    localBitangent = glm::vec3((l2 * d1.x - l1 * d2.x) / det);
                 }
             }
             const unsigned first = unsigned(flat.positions.size());
@@ -475,8 +506,19 @@ private:
                     flat.tangents.push_back(tangent);
                     flat.bitangents.push_back(bitangent);
                 }
+                if (!rest) continue;
+                inNode.positions.push_back(glm::vec3(local(i)));
+                inNode.normals.push_back(glm::vec3(glm::cross(b - a, c - a)));
+                if (uvs) {
+                    inNode.tangents.push_back(localTangent);
+                    inNode.bitangents.push_back(localBitangent);
+                }
             }
             flat.triangles.emplace_back(first, first + 1, first + 2);
+        }
+        if (rest) {
+            inNode.node = rest->node;
+            *rest = std::move(inNode);
         }
         return flat;
     }
@@ -562,6 +604,8 @@ private:
                 m_scene.warnings.push_back("camera '" + sc.name +
                                            "' cannot be rendered from: " + sc.problem);
             m_scene.cameras.push_back(sc);
+            // A glTF camera sits at its node: it moves with it (others are not animated).
+            m_rig.keepCamera(ac.mName);
         }
     }
 
@@ -613,7 +657,9 @@ private:
                 light.innerConeAngle = al.mAngleInnerCone;
                 light.outerConeAngle = al.mAngleOuterCone;
             }
-            if (light.type != LightType::Ambient) m_scene.lights.push_back(light);
+            if (light.type == LightType::Ambient) continue;
+            m_scene.lights.push_back(light);
+            m_rig.keepLight(al);
         }
         return true;
     }
@@ -637,6 +683,8 @@ private:
     long long m_zeroNormals = 0;
     const std::set<std::string> m_nodeNames =
         m_gltf ? detail::gltfNames(m_doc, "nodes") : std::set<std::string>{};
+    // What a glTF file with animations keeps to be re-posed (scene_rig.h).
+    detail::RigLoader m_rig{m_ai, m_path, m_gltf ? m_doc : kNoJson};
     const std::set<std::string> m_meshNames =
         m_gltf ? detail::gltfNames(m_doc, "meshes") : std::set<std::string>{};
 };
@@ -662,6 +710,9 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error,
             error = path + ": cannot load the scene: " + error;
             return false;
         }
+        // Animations and skins are dhdr's to read (gltfForAssimp).
+        if (flattened.empty() && detail::gltfHasAnimationOrSkins(doc))
+            flattened = detail::gltfBytesWithJson(path, detail::gltfForAssimp(doc));
         if (!flattened.empty()) io->replace(path, std::move(flattened));
     }
     // ValidateDataStructure turns what would crash later (a face index past the vertices)

@@ -28,6 +28,12 @@ inline constexpr const char* kEmission[3] = {"emission.R", "emission.G", "emissi
 inline constexpr const char* kObjectId = "id.object";
 inline constexpr const char* kMaterialId = "id.material";
 
+// The motion layer of a G-buffer rendered with animation (float, after the contract's
+// channels; not in kContract, which every G-buffer has): Blender's Vector pass, in pixels with
+// y up: X Y = position at the previous frame − position now, Z W = position now − position at
+// the next frame (docs/animation.md).
+inline constexpr const char* kMotion[4] = {"motion.X", "motion.Y", "motion.Z", "motion.W"};
+
 // Header attribute: SHA-1 of the scene file the G-buffer was rendered from (sceneFingerprint).
 inline constexpr const char* kSceneFingerprint = "dhdr:sceneSHA1";
 

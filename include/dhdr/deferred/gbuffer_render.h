@@ -2,15 +2,17 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <dhdr/deferred/camera.h>
 #include <functional>
+#include <glm/glm.hpp>
 #include <memory>
 #include <string>
 #include <vector>
 
 namespace dhdr {
 
-struct Camera;
 struct CryptoIds;
+struct FrameMotion;
 struct DeepGBuffer;
 class RayCaster;
 struct Scene;
@@ -25,6 +27,17 @@ struct GBufferParams {
     // Called now and then from the rendering threads with the fraction of rows done of the
     // region being rendered, in [0, 1].
     std::function<void(float)> progress;
+    // With animation: the scene one frame before and one after, for the motion layer
+    // (gbuffer::kMotion, docs/animation.md); null (the default) writes none.
+    std::shared_ptr<const FrameMotion> motion;
+};
+
+// Where the scene's surfaces and camera are at the frames before and after the one rendered:
+// each mesh's vertex positions (one list per Scene::meshes entry, the same triangles), and the
+// camera.
+struct FrameMotion {
+    std::vector<std::vector<glm::vec3>> previous, next;
+    Camera previousCamera, nextCamera;
 };
 
 // Casts primary rays through each pixel centre and writes the channels of the G-buffer
@@ -36,6 +49,10 @@ class GBufferRenderer {
 public:
     // `scene` and `camera` must outlive the renderer.
     GBufferRenderer(const Scene& scene, const Camera& camera, const GBufferParams& params);
+    // The same with a ray caster the caller built over `scene` (and may refit between frames
+    // of an animation, RayCaster::updateMeshes).
+    GBufferRenderer(const Scene& scene, const Camera& camera, const GBufferParams& params,
+                    std::shared_ptr<const RayCaster> caster);
     ~GBufferRenderer();
 
     bool ok() const;
@@ -61,7 +78,7 @@ private:
     const Camera& m_camera;
     GBufferParams m_params;
     OIIO::ImageSpec m_spec;
-    std::unique_ptr<RayCaster> m_caster;
+    std::shared_ptr<const RayCaster> m_caster;
     std::shared_ptr<const CryptoIds> m_crypto; // the Cryptomatte ids of names
 };
 
@@ -69,7 +86,8 @@ private:
 bool renderGBuffer(OIIO::ImageBuf& dst, const Scene& scene, const Camera& camera,
                    const GBufferParams& params, int nthreads = 0);
 
-// The per-channel file types of the contract (half, float or uint), for writing.
-std::vector<OIIO::TypeDesc> gbufferChannelFormats();
+// The per-channel file types of the contract (half, float or uint), for writing; with
+// `motion`, the motion layer's four floats after them.
+std::vector<OIIO::TypeDesc> gbufferChannelFormats(bool motion = false);
 
 } // namespace dhdr

@@ -7,6 +7,7 @@
 #include <dhdr/deferred/visibility.h>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace dhdr {
 
@@ -30,8 +31,9 @@ bool embreeIsaSupported(const std::string& isa);
 
 class RayCaster : public Visibility {
 public:
-    // Builds the acceleration structure; `scene` must outlive the caster.
-    explicit RayCaster(const Scene& scene);
+    // Builds the acceleration structure; `scene` must outlive the caster. `moving`: the meshes
+    // whose vertices updateMeshes may move (animation), given a BVH that can be refitted.
+    explicit RayCaster(const Scene& scene, const std::vector<int>& moving = {});
     ~RayCaster() override;
     RayCaster(const RayCaster&) = delete;
     RayCaster& operator=(const RayCaster&) = delete;
@@ -41,6 +43,11 @@ public:
     const std::string& error() const { return m_error; }
     // The scene whose triangles the caster traces (surfaceAt of its hits).
     const Scene& scene() const;
+
+    // Takes the scene's current vertices of `meshes` (some of `moving`) and refits their BVH
+    // (RTC_BUILD_QUALITY_REFIT): an animated scene's next frame without building it again.
+    // Not safe while another thread traces.
+    bool updateMeshes(const std::vector<int>& meshes);
 
     // Closest hit along `ray` in (tnear, ∞), the scene's ground plane included. Safe to call
     // from many threads.

@@ -5,10 +5,13 @@
 #include <dhdr/deferred/camera.h>
 #include <dhdr/deferred/lights.h>
 #include <glm/glm.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace dhdr {
+
+struct SceneRig;
 
 // A base-colour texture decoded to linear RGBA float.
 struct Texture {
@@ -93,6 +96,9 @@ struct Scene {
     bool hasGroundPlane = false;
     float groundPlaneY = 0.0f;
     int groundObject = -1, groundMaterial = -1; // indices into objectNames and materials
+    // A glTF file with animations: its node tree, animations and the meshes' rest data, for
+    // ScenePoser (scene_rig.h); null for other files, whose scene never moves.
+    std::shared_ptr<const SceneRig> rig;
 
     glm::dvec3 boundsMin() const;
     glm::dvec3 boundsMax() const;

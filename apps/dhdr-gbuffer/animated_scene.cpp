@@ -1,0 +1,50 @@
+#include "animated_scene.h"
+
+#include <algorithm>
+
+namespace dhdr::app {
+
+bool AnimatedScene::selectAnimations(const std::string& selection, std::string& error) {
+    playing.clear();
+    moving.clear();
+    const std::vector<Animation> none;
+    const std::vector<Animation>& animations = scene.rig ? scene.rig->animations : none;
+    if (!dhdr::selectAnimations(animations, selection, playing, error)) return false;
+    if (!animated()) return true;
+    moving = scene.rig->movingMeshes(playing);
+    poser = std::make_unique<ScenePoser>(scene, playing);
+    return true;
+}
+
+bool AnimatedScene::pose(double t, double dt,
+                         const std::function<bool(const Scene&, Camera&)>& cameraOf,
+                         std::shared_ptr<FrameMotion>& motion, std::string& error) {
+    motion.reset();
+    if (animated()) {
+        // The frames around this one first, then this one, which the frame is rendered in.
+        auto frame = std::make_shared<FrameMotion>();
+        poser->pose(t - dt);
+        if (!cameraOf(scene, frame->previousCamera)) return false;
+        for (const Mesh& m : scene.meshes)
+            frame->previous.push_back(m.positions);
+        poser->pose(t + dt);
+        if (!cameraOf(scene, frame->nextCamera)) return false;
+        for (const Mesh& m : scene.meshes)
+            frame->next.push_back(m.positions);
+        poser->pose(t);
+        motion = frame;
+    }
+    if (!caster) {
+        caster = std::make_shared<RayCaster>(scene, moving);
+    } else if (!caster->updateMeshes(moving)) {
+        error = caster->error();
+        return false;
+    }
+    if (!caster->ok()) {
+        error = caster->error();
+        return false;
+    }
+    return true;
+}
+
+} // namespace dhdr::app

@@ -1,0 +1,45 @@
+// dhdr-gbuffer's scene across the frames of one run: loaded once, posed at each frame's time,
+// its BVH refitted rather than rebuilt, and the previous and next frames' positions kept for the
+// motion layer (docs/animation.md).
+#pragma once
+
+#include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/deferred/ray_caster.h>
+#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/scene_rig.h>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dhdr::app {
+
+struct AnimatedScene {
+    std::string path;    // the scene file loaded
+    bool failed = false; // its loading failed (and was reported)
+    Scene scene;
+    std::vector<int> playing; // the animations that play; empty: the scene does not move
+    std::vector<int> moving;  // the meshes they move
+    std::unique_ptr<ScenePoser> poser;
+    std::shared_ptr<RayCaster> caster;
+
+    bool animated() const { return !playing.empty(); }
+
+    // Chooses the animations (`selection`: --animation's value) after loading. False with
+    // `error` (the file's animations listed) when the selection matches none.
+    bool selectAnimations(const std::string& selection, std::string& error);
+
+    // Moves the scene to time `t` and the ray caster with it (built the first time). With
+    // animation, `motion` receives the scene at t − dt and t + dt, the camera of each given by
+    // `cameraOf` (false: it failed and said why).
+    bool pose(double t, double dt, const std::function<bool(const Scene&, Camera&)>& cameraOf,
+              std::shared_ptr<FrameMotion>& motion, std::string& error);
+};
+
+// The time of frame `frame` at `fps` frames a second: frame 0 is time 0, as Blender imports
+// and exports glTF.
+inline double frameTime(int frame, double fps) {
+    return double(frame) / fps;
+}
+
+} // namespace dhdr::app

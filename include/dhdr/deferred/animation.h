@@ -1,0 +1,51 @@
+// glTF 2.0 animations: keyframe samplers and the node properties they drive, evaluated as the
+// specification's Appendix C says (docs/animation.md).
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace dhdr {
+
+enum class Interpolation { Linear, Step, CubicSpline };
+enum class AnimatedProperty { Translation, Rotation, Scale, Weights };
+
+// One sampler: key times and the values at them.
+struct AnimationSampler {
+    Interpolation interpolation = Interpolation::Linear;
+    std::vector<float> times; // seconds, finite and strictly increasing (checked on loading)
+    // `components` numbers per key; CUBICSPLINE: in-tangent, value, out-tangent per key.
+    std::vector<float> values;
+    int components = 0;    // 3 translation and scale, 4 rotation (x y z w), the targets for weights
+    bool rotation = false; // values are quaternions: slerp (shortest arc), normalised results
+
+    // The value at time `t` into `out` (`components` numbers): before the first key the first
+    // value, after the last the last (Appendix C: "clamped to the nearest end").
+    void evaluate(double t, double* out) const;
+};
+
+struct AnimationChannel {
+    int sampler = 0; // index into Animation::samplers
+    int node = 0;    // index into the file's nodes
+    AnimatedProperty property = AnimatedProperty::Translation;
+};
+
+struct Animation {
+    std::string name; // the file's, or "animation N" when it gives none
+    std::vector<AnimationSampler> samplers;
+    std::vector<AnimationChannel> channels;
+    double start = 0.0, end = 0.0; // the first and last key time of any sampler, seconds
+    // Why the animation cannot be played (a sampler whose times decrease, a count that does not
+    // match...), naming the sampler or channel; empty when it can.
+    std::string problem;
+
+    double duration() const { return end - start; }
+};
+
+// The animations `selection` names among `animations`: "" (the first, as glTF viewers play),
+// "all", a name, or an index. False with `error` listing the file's animations when none
+// matches, or naming the problem of one that cannot be played.
+bool selectAnimations(const std::vector<Animation>& animations, const std::string& selection,
+                      std::vector<int>& chosen, std::string& error);
+
+} // namespace dhdr
