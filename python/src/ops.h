@@ -22,7 +22,8 @@ Image runNew(const Image& src, OIIO::ROI roi, int nthreads, const ImageOp& op);
 bool runInto(Image& dst, const Image& src, OIIO::ROI roi, int nthreads, const ImageOp& op);
 
 // Registers both forms of `name`. `prepare(src, args...)` turns the keyword arguments into the
-// call (raising ValueError for bad ones) with the GIL held; `extra` are their py::arg's.
+// call (raising ValueError for bad ones) with the GIL held; `extra` are their py::arg's, from
+// py::kw_only() on keyword-only (light's lights come before it: light(gbuffer, lights)).
 template <class... Args, class... Extra>
 void defImageOp(py::module_& m, const char* name, const char* doc,
                 ImageOp (*prepare)(const Image&, Args...), const Extra&... extra) {
@@ -35,7 +36,7 @@ void defImageOp(py::module_& m, const char* name, const char* doc,
             const ImageOp op = prepare(in, args...);
             return runInto(dst, in, toRoi(roi), nthreads, op);
         },
-        py::arg("dst"), py::arg("src"), py::kw_only(), extra..., py::arg("roi") = py::none(),
+        py::arg("dst"), py::arg("src"), extra..., py::arg("roi") = py::none(),
         py::arg("nthreads") = 0, doc);
     m.def(
         name,
@@ -45,8 +46,7 @@ void defImageOp(py::module_& m, const char* name, const char* doc,
             const ImageOp op = prepare(in, args...);
             return runNew(in, toRoi(roi), nthreads, op);
         },
-        py::arg("src"), py::kw_only(), extra..., py::arg("roi") = py::none(),
-        py::arg("nthreads") = 0, doc);
+        py::arg("src"), extra..., py::arg("roi") = py::none(), py::arg("nthreads") = 0, doc);
 }
 
 // Raises ValueError "NAME: V is outside RANGE" (the tools' words) unless v is finite and in

@@ -309,8 +309,8 @@ void bindTonemap(py::module_& m) {
             return std::string(text);
         });
 
-    defImageOp(
-        m, "tone_map", R"(Tone-maps scene-linear RGB to display-linear RGB (dhdr-tonemap's --op).
+    defImageOp(m, "tone_map",
+               R"(Tone-maps scene-linear RGB to display-linear RGB (dhdr-tonemap's --op).
 
 Meters src (or uses stats=, e.g. an adapted luminance from dhdr.adapt) and maps it with
 op: reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure, aces
@@ -321,10 +321,11 @@ point ('auto': the largest, 'inf', or a number); metering: 'log-average' or 'his
 log-average's delta; skip_transparent: leave alpha-0 pixels out of the metering.
 phi, epsilon: reinhard-local; drago_bias: drago. Alpha and further channels are copied.
 The result is display-linear; to_display() encodes it, quantize() makes integers.)",
-        &toneMapOp, py::arg("op") = "reinhard", py::arg("key") = 0.18, py::arg("exposure") = 0.0,
-        py::arg("white") = "auto", DHDR_METERING_ARGS, py::arg("stats") = py::none(),
-        py::arg("phi") = ToneMapParams{}.phi, py::arg("epsilon") = ToneMapParams{}.epsilon,
-        py::arg("drago_bias") = ToneMapParams{}.dragoBias);
+               &toneMapOp, py::kw_only(), py::arg("op") = "reinhard", py::arg("key") = 0.18,
+               py::arg("exposure") = 0.0, py::arg("white") = "auto", DHDR_METERING_ARGS,
+               py::arg("stats") = py::none(), py::arg("phi") = ToneMapParams{}.phi,
+               py::arg("epsilon") = ToneMapParams{}.epsilon,
+               py::arg("drago_bias") = ToneMapParams{}.dragoBias);
 
     m.def(
         "meter",
@@ -385,7 +386,7 @@ luminances adapted in order; returns one LuminanceStats per frame to give tone_m
 tone-mapped luminance L/(1+L), L = key Lw / log-average, exceeds threshold), downsampled to
 1/8, a separable Gaussian of sigma (1/8-size pixels), upsampled and added x strength to
 R, G, B. Other channels are copied.)",
-               &bloomOp, DHDR_BLOOM_ARGS);
+               &bloomOp, py::kw_only(), DHDR_BLOOM_ARGS);
 
     m.def(
         "bloom_layer",
@@ -409,9 +410,9 @@ resampled at neighbour offsets scaled by it (max_offset pixels at full blur), el
 copied bit for bit. normal (3 channels) and depth (1) are images of src's size; without them
 they come from gbuffer= (an Image with N.X N.Y N.Z and Z), else from src's own channels.
 use: 'normal', 'depth' or 'both'. R, G, B (A) are filtered, other channels copied.)",
-               &edgeAAOp, py::arg("normal") = py::none(), py::arg("depth") = py::none(),
-               py::arg("gbuffer") = py::none(), py::arg("use") = "both",
-               py::arg("normal_weight") = EdgeAAParams{}.normalWeight,
+               &edgeAAOp, py::kw_only(), py::arg("normal") = py::none(),
+               py::arg("depth") = py::none(), py::arg("gbuffer") = py::none(),
+               py::arg("use") = "both", py::arg("normal_weight") = EdgeAAParams{}.normalWeight,
                py::arg("depth_weight") = EdgeAAParams{}.depthWeight,
                py::arg("max_offset") = EdgeAAParams{}.maxOffset);
 
@@ -419,10 +420,10 @@ use: 'normal', 'depth' or 'both'. R, G, B (A) are filtered, other channels copie
 OpenColorIO, as dhdr-tonemap does after its operator: look, view and display of config (empty:
 $OCIO, else the built-in config with display sRGB, views Standard and ACES). Names a config
 lacks raise ValueError listing the valid ones.)",
-               &toDisplayOp, DHDR_DISPLAY_ARGS);
+               &toDisplayOp, py::kw_only(), DHDR_DISPLAY_ARGS);
     defImageOp(m, "to_scene_linear", R"(From the input's colour space (colorspace=, or sRGB when
 the image's oiio:ColorSpace says so) to scene-linear, as dhdr-tonemap does on reading.)",
-               &toSceneLinearOp, DHDR_DISPLAY_ARGS);
+               &toSceneLinearOp, py::kw_only(), DHDR_DISPLAY_ARGS);
     m.def(
         "describe_display",
         [](const std::string& config, const std::string& colorspace, const std::string& display,

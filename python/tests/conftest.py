@@ -41,6 +41,16 @@ def read_file(path, dtype=None):
     return pixels
 
 
+def read_channels(path, names):
+    """A file's channels `names`, in that order, as float32 (EXR keeps its own order)."""
+    inp = oiio.ImageInput.open(str(path))
+    assert inp, oiio.geterror()
+    order = [list(inp.spec().channelnames).index(n) for n in names]
+    pixels = inp.read_image(oiio.FLOAT)
+    inp.close()
+    return np.ascontiguousarray(pixels[..., order])
+
+
 def write_exr(path, pixels, channels=None, dtype="float"):
     """Writes float pixels (h, w, c) with OpenImageIO (an independent writer)."""
     pixels = np.ascontiguousarray(pixels, dtype=np.float32)
