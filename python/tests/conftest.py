@@ -86,3 +86,14 @@ def hdr_frame(seed=1, width=96, height=64, alpha=True, extra=0):
 @pytest.fixture(scope="session")
 def frame_exr(tmp_path_factory):
     return write_exr(tmp_path_factory.mktemp("in") / "frame.exr", hdr_frame(), list("RGBA"))
+
+
+LIGHTS = TESTDATA / "cornell_box.lights.json"
+
+
+@pytest.fixture(scope="session")
+def gbuffer(tmp_path_factory):
+    """A small G-buffer of the Cornell box, rendered by dhdr-gbuffer."""
+    path = tmp_path_factory.mktemp("gbuf") / "g.exr"
+    run_tool("dhdr-gbuffer", TESTDATA / "cornell_box.gltf", "--size", "64x48", "-o", path)
+    return path

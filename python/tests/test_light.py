@@ -5,17 +5,9 @@ import numpy as np
 import pytest
 
 import dhdr
-from conftest import TESTDATA, read_channels, run_tool, tool_error, write_exr
+from conftest import LIGHTS, TESTDATA, read_channels, run_tool, tool_error, write_exr
 from test_tonemap import same_bits
 
-LIGHTS = TESTDATA / "cornell_box.lights.json"
-
-
-@pytest.fixture(scope="session")
-def gbuffer(tmp_path_factory):
-    path = tmp_path_factory.mktemp("gbuf") / "g.exr"
-    run_tool("dhdr-gbuffer", TESTDATA / "cornell_box.gltf", "--size", "64x48", "-o", path)
-    return path
 
 
 def light_tool(gbuffer, out, *args, channels=tuple("RGBA")):
