@@ -130,31 +130,30 @@ ImageOp bloomOp(const Image&, float threshold, float key, float sigma, float str
     };
 }
 
-// The normal (3 channels) or depth (1) as its own float image: an Image of that many channels,
-// or `names` of `from` (src or a G-buffer).
-std::shared_ptr<OIIO::ImageBuf> geometry(const py::object& given, const Image* from,
-                                         const std::vector<const char*>& names, const char* what) {
-    auto out = std::make_shared<OIIO::ImageBuf>();
-    std::vector<int> order;
-    Image storage;
-    const Image* image = from;
+// The normal (3 channels) or depth (1) as its own float image: an Image of that many channels
+// as it is (no copy), or the channels `names` of `from` (src or a G-buffer) copied out; null
+// when `from` lacks one.
+std::shared_ptr<ImageView> geometry(const py::object& given, const Image* from,
+                                    const std::vector<const char*>& names, const char* what) {
+    auto out = std::make_shared<ImageView>();
     if (!given.is_none()) {
-        image = &asImage(given, what, storage);
-        if (image->spec().nchannels != int(names.size()))
+        Image storage;
+        const Image& image = asImage(given, what, storage);
+        if (image.spec().nchannels != int(names.size()))
             throw py::value_error(std::string(what) + ": expected " + std::to_string(names.size()) +
-                                  " channel(s), got " + std::to_string(image->spec().nchannels));
-        for (int c = 0; c < int(names.size()); ++c)
-            order.push_back(c);
-    } else {
-        for (const char* n : names) {
-            const int c = image->spec().channelindex(n);
-            if (c < 0) return nullptr;
-            order.push_back(c);
-        }
+                                  " channel(s), got " + std::to_string(image.spec().nchannels));
+        *out = view(image);
+        return out;
     }
-    const ImageView v = view(*image);
-    OIIO::ImageBufAlgo::channels(*out, v.buf, int(order.size()), order.data());
-    out->set_origin(v.buf.spec().x, v.buf.spec().y);
+    std::vector<int> order;
+    for (const char* n : names) {
+        const int c = from->spec().channelindex(n);
+        if (c < 0) return nullptr;
+        order.push_back(c);
+    }
+    const ImageView v = view(*from);
+    OIIO::ImageBufAlgo::channels(out->buf, v.buf, int(order.size()), order.data());
+    out->buf.set_origin(v.buf.spec().x, v.buf.spec().y);
     return out;
 }
 
@@ -174,7 +173,7 @@ ImageOp edgeAAOp(const Image& src, const py::object& normal, const py::object& d
     Image gstorage;
     const Image* from = gbuffer.is_none() ? &src : &asImage(gbuffer, "gbuffer", gstorage);
     const char* source = gbuffer.is_none() ? "src" : "gbuffer";
-    std::shared_ptr<OIIO::ImageBuf> N, Z;
+    std::shared_ptr<ImageView> N, Z;
     if (use != "depth") {
         N = geometry(normal, from, {gbuffer::kNormal[0], gbuffer::kNormal[1], gbuffer::kNormal[2]},
                      "normal");
@@ -195,7 +194,7 @@ ImageOp edgeAAOp(const Image& src, const py::object& normal, const py::object& d
             roi = s.roi();
             roi.chend = colour;
         }
-        return edgeAA(dst, s, N.get(), Z.get(), p, roi, n);
+        return edgeAA(dst, s, N ? &N->buf : nullptr, Z ? &Z->buf : nullptr, p, roi, n);
     };
 }
 
