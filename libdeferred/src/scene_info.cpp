@@ -1,9 +1,8 @@
-#include "scene_info.h"
-
 #include <cstdio>
+#include <dhdr/deferred/scene_info.h>
 #include <glm/gtc/constants.hpp>
 
-namespace dhdr::app {
+namespace dhdr {
 
 namespace {
 
@@ -59,4 +58,4 @@ std::string describeScene(const Scene& scene, const std::string& path) {
     return out;
 }
 
-} // namespace dhdr::app
+} // namespace dhdr
