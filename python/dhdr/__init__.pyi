@@ -144,20 +144,50 @@ def tonemap_frame(src: Image, *, stats: Optional[LuminanceStats] = None, config:
                   bits: Optional[int] = None, dither: bool = True, nthreads: int = 0,
                   **tone: Any) -> Union[Image, np.ndarray]: ...
 
+# Scenes (scene.cpp)
+class Scene:
+    """A glTF 2.0 or OBJ scene loaded as dhdr-gbuffer loads it."""
+    def __init__(self, path: str, *, strict: bool = False,
+                 ground_plane: Optional[Union[bool, float]] = None) -> None: ...
+    @property
+    def path(self) -> str: ...
+    @property
+    def cameras(self) -> List[Dict[str, Any]]: ...
+    @property
+    def lights(self) -> List[Dict[str, Any]]: ...
+    @property
+    def objects(self) -> List[str]: ...
+    @property
+    def materials(self) -> List[str]: ...
+    @property
+    def bounds(self) -> Tuple[Tuple[float, float, float], Tuple[float, float, float]]: ...
+    @property
+    def warnings(self) -> List[str]: ...
+    def info(self) -> str: ...
+
+def render_gbuffer(scene: Scene, *, camera: str = "", lookat: Optional[Sequence[float]] = None,
+                   fov: float = 0.0, size: Tuple[int, int] = (1920, 1080),
+                   frame_all: bool = False, deep: bool = False, nthreads: int = 0) -> Image: ...
+def write_gbuffer(path: str, gbuffer: Image) -> None: ...
+
 # Lighting (lighting.cpp)
 @overload
-def light(dst: Image, src: ImageLike, lights: LightsLike, *, probes: str = "", ao: str = "off",
-          ao_distance: float = 1.0, ao_samples: int = 16,
-          background: Optional[Union[Sequence[float], str]] = None,
-          plate: Optional[Union[ImageLike, str]] = None, brute_force: bool = False,
-          tile: int = 16, shadow_samples: int = 16, env_specular: str = "auto",
-          diffuse: str = "lambert", radiometric: bool = False, denoise: bool = True,
-          aovs: bool = False, roi: Roi = None, nthreads: int = 0) -> bool: ...
-@overload
-def light(src: ImageLike, lights: LightsLike, *, probes: str = "", ao: str = "off",
-          ao_distance: float = 1.0, ao_samples: int = 16,
+def light(src: ImageLike, lights: Optional[LightsLike] = None, *, scene: Optional[Scene] = None,
+          emissive_lights: bool = True, shadows: bool = True, env_samples: int = 16,
+          specular_samples: int = 8, catcher_bounce: int = 16, probes: str = "",
+          ao: str = "off", ao_distance: float = 1.0, ao_samples: int = 16,
           background: Optional[Union[Sequence[float], str]] = None,
           plate: Optional[Union[ImageLike, str]] = None, brute_force: bool = False,
           tile: int = 16, shadow_samples: int = 16, env_specular: str = "auto",
           diffuse: str = "lambert", radiometric: bool = False, denoise: bool = True,
           aovs: bool = False, roi: Roi = None, nthreads: int = 0) -> Image: ...
+@overload
+def light(dst: Image, src: ImageLike, lights: Optional[LightsLike] = None, *,
+          scene: Optional[Scene] = None, emissive_lights: bool = True, shadows: bool = True,
+          env_samples: int = 16, specular_samples: int = 8, catcher_bounce: int = 16,
+          probes: str = "", ao: str = "off", ao_distance: float = 1.0, ao_samples: int = 16,
+          background: Optional[Union[Sequence[float], str]] = None,
+          plate: Optional[Union[ImageLike, str]] = None, brute_force: bool = False,
+          tile: int = 16, shadow_samples: int = 16, env_specular: str = "auto",
+          diffuse: str = "lambert", radiometric: bool = False, denoise: bool = True,
+          aovs: bool = False, roi: Roi = None, nthreads: int = 0) -> bool: ...

@@ -2,10 +2,12 @@
 // another renderer's passes through a channel map), lights from files or Python objects, and
 // light() on a flat G-buffer with dhdr-light's options.
 #include "ops.h"
+#include "scene.h"
 
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <dhdr/deferred/ambient_occlusion.h>
+#include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_import.h>
 #include <dhdr/deferred/lighting.h>
@@ -119,17 +121,34 @@ std::vector<Light> toLights(const py::handle& given, bool radiometric) {
     return lights;
 }
 
-ImageOp lightOp(const Image&, const py::object& lightsGiven, const std::string& probesPath,
-                const std::string& ao, float aoDistance, int aoSamples,
-                const py::object& background, const py::object& plate, bool bruteForce, int tile,
-                int shadowSamples, const std::string& envSpecular, const std::string& diffuse,
-                bool radiometric, bool denoise, bool aovs) {
-    auto lights = std::make_shared<std::vector<Light>>(toLights(lightsGiven, radiometric));
+ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& sceneGiven,
+                bool emissive, bool shadows, int envSamples, int specularSamples, int catcherBounce,
+                const std::string& probesPath, const std::string& ao, float aoDistance,
+                int aoSamples, const py::object& background, const py::object& plate,
+                bool bruteForce, int tile, int shadowSamples, const std::string& envSpecular,
+                const std::string& diffuse, bool radiometric, bool denoise, bool aovs) {
+    // dhdr-light's lights: the scene's own unless lights are given, its emissive meshes, then
+    // the lights given (sceneLightList's order).
+    const SceneHandle* scene = nullptr;
+    if (!sceneGiven.is_none()) {
+        if (!py::isinstance<SceneHandle>(sceneGiven))
+            throw py::type_error("scene: expected a dhdr.Scene");
+        scene = &sceneGiven.cast<const SceneHandle&>();
+    }
+    if (lightsGiven.is_none() && !scene)
+        throw py::value_error("no lights: give lights=, or scene= for the scene's own");
+    auto lights = std::make_shared<std::vector<Light>>(
+        scene ? sceneLightList(*scene->scene, lightsGiven.is_none(), emissive, radiometric)
+              : std::vector<Light>{});
+    if (scene && lightsGiven.is_none() && lights->empty())
+        throw py::value_error(scene->path + ": the scene has no lights and no emissive "
+                                            "surfaces; give lights=");
+    if (!lightsGiven.is_none()) addLights(lightsGiven, radiometric, *lights);
     LightingParams p;
-    if (ao != "off" && ao != "ssao")
-        throw py::value_error("ao must be off or ssao (rt traces the scene, which the Python "
-                              "module does not load yet), got '" +
-                              ao + "'");
+    if (ao != "off" && ao != "ssao" && ao != "rt")
+        throw py::value_error("ao must be off, rt or ssao, got '" + ao + "'");
+    if (ao == "rt" && !scene)
+        throw py::value_error("ao='rt' traces rays in the scene: give scene=");
     if (envSpecular == "auto")
         p.environmentSpecular = IblSpecular::Auto;
     else if (envSpecular == "split-sum")
@@ -145,13 +164,18 @@ ImageOp lightOp(const Image&, const py::object& lightsGiven, const std::string& 
     p.tileSize = tile;
     p.shadowSamples = shadowSamples;
     p.denoise = denoise;
-    p.aoSamples = 0; // ray-traced AO needs a scene
+    p.aoSamples = ao == "rt" ? aoSamples : 0;
+    p.shadows = shadows;
+    p.environmentSamples = envSamples;
+    p.specularSamples = specularSamples;
+    p.catcherBounceSamples = catcherBounce;
     checkRange("ao_distance", aoDistance, 0.0, 1e30, true);
     p.aoDistance = aoDistance;
     if (std::string error; !validate(p, error)) throw py::value_error(error);
     if (aovs) p.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
     p.writeAO = aovs && ao != "off";
     p.writeIndirect = aovs && !probesPath.empty();
+    p.writeSpecular = aovs && scene;
     const bool environment = std::any_of(lights->begin(), lights->end(), [](const Light& l) {
         return l.type == LightType::Environment;
     });
@@ -194,8 +218,12 @@ ImageOp lightOp(const Image&, const py::object& lightsGiven, const std::string& 
         if (!ok) throw py::value_error(probesPath + ": " + error);
     }
     const bool useSsao = ao == "ssao", useProbes = !probesPath.empty();
+    // The scene's rays (shadows, AO, a catcher's bounce light, glossy reflections); the
+    // caller's dhdr.Scene keeps them alive for the call.
+    const RayCaster* caster = scene ? &scene->caster() : nullptr;
     return [=](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n) {
-        LightingInputs inputs{*lights, nullptr};
+        LightingInputs inputs{*lights, caster};
+        inputs.scene = caster;
         OIIO::ImageBuf occlusion;
         if (useSsao) {
             if (!screenSpaceAO(occlusion, gbuf, ssao, n)) {
@@ -303,23 +331,32 @@ attributes (set them with set_attribute when the file has none).)");
         "Lights (a lights file, a dict or a list of them) as the lights file's JSON objects: "
         "edit them and give them to light().");
 
-    defImageOp(m, "light", R"(Deferred lighting of a flat G-buffer (dhdr-light): Lambert (or Burley)
+    defImageOp(
+        m, "light", R"(Deferred lighting of a flat G-buffer (dhdr-light): Lambert (or Burley)
 diffuse plus Cook-Torrance specular under the lights, plus emission; R, G, B, A (then AO,
 indirect.R/G/B and Z, N.X, N.Y, N.Z with aovs). lights: a lights file (docs/lights.md), a
 light as a dict of that file's fields, or a list of them, in order; radiometric divides
-Blender's photometric intensities by 683. probes: a dhdr-probes file (indirect diffuse).
-ao: 'off' or 'ssao' (from the G-buffer, ao_samples kernel points within ao_distance).
+Blender's photometric intensities by 683. scene: the dhdr.Scene the G-buffer was rendered
+from (--scene): shadow rays (shadows=False: none), its emissive meshes as area lights
+(emissive_lights), its own lights when lights is None; env_samples, specular_samples and
+catcher_bounce trace it. probes: a dhdr-probes file (indirect diffuse). ao: 'off', 'rt'
+(ao_samples rays within ao_distance; needs scene) or 'ssao' (from the G-buffer, ao_samples
+kernel points within ao_distance).
 background: (R, G, B[, A]) or 'env'; plate: an image of the frame's size to composite over,
 or 'env'. shadow_samples, tile, env_specular ('auto', 'split-sum', 'quadrature'), denoise,
 diffuse ('lambert', 'burley') and brute_force are dhdr-light's options of those names.
 Without a scene nothing is shadowed, as dhdr-light without --scene.)",
-               &lightOp, py::arg("lights"), py::kw_only(), py::arg("probes") = "",
-               py::arg("ao") = "off", py::arg("ao_distance") = 1.0f, py::arg("ao_samples") = 16,
-               py::arg("background") = py::none(), py::arg("plate") = py::none(),
-               py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
-               py::arg("shadow_samples") = LightingParams{}.shadowSamples,
-               py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
-               py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false);
+        &lightOp, py::arg("lights") = py::none(), py::kw_only(), py::arg("scene") = py::none(),
+        py::arg("emissive_lights") = true, py::arg("shadows") = true,
+        py::arg("env_samples") = LightingParams{}.environmentSamples,
+        py::arg("specular_samples") = LightingParams{}.specularSamples,
+        py::arg("catcher_bounce") = LightingParams{}.catcherBounceSamples, py::arg("probes") = "",
+        py::arg("ao") = "off", py::arg("ao_distance") = 1.0f, py::arg("ao_samples") = 16,
+        py::arg("background") = py::none(), py::arg("plate") = py::none(),
+        py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
+        py::arg("shadow_samples") = LightingParams{}.shadowSamples,
+        py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
+        py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false);
 }
 
 } // namespace dhdr::python

@@ -5,6 +5,7 @@ namespace dhdr::python {
 void bindImageIO(py::module_& m);
 void bindTonemap(py::module_& m);
 void bindLighting(py::module_& m);
+void bindScene(py::module_& m);
 } // namespace dhdr::python
 
 PYBIND11_MODULE(_dhdr, m) {
@@ -14,5 +15,6 @@ PYBIND11_MODULE(_dhdr, m) {
     dhdr::python::bindImage(m);
     dhdr::python::bindImageIO(m);
     dhdr::python::bindTonemap(m);
+    dhdr::python::bindScene(m);
     dhdr::python::bindLighting(m);
 }

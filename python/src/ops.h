@@ -27,6 +27,18 @@ bool runInto(Image& dst, const Image& src, OIIO::ROI roi, int nthreads, const Im
 template <class... Args, class... Extra>
 void defImageOp(py::module_& m, const char* name, const char* doc,
                 ImageOp (*prepare)(const Image&, Args...), const Extra&... extra) {
+    // The return form first: op(src, lights) must not be taken for op(dst, src) when an
+    // argument after src may be positional (light's lights); op(dst, src, ...) has one
+    // positional argument too many for it.
+    m.def(
+        name,
+        [prepare](const py::object& src, Args... args, const py::object& roi, int nthreads) {
+            Image storage;
+            const Image& in = asImage(src, "src", storage);
+            const ImageOp op = prepare(in, args...);
+            return runNew(in, toRoi(roi), nthreads, op);
+        },
+        py::arg("src"), extra..., py::arg("roi") = py::none(), py::arg("nthreads") = 0, doc);
     m.def(
         name,
         [prepare](Image& dst, const py::object& src, Args... args, const py::object& roi,
@@ -38,15 +50,6 @@ void defImageOp(py::module_& m, const char* name, const char* doc,
         },
         py::arg("dst"), py::arg("src"), extra..., py::arg("roi") = py::none(),
         py::arg("nthreads") = 0, doc);
-    m.def(
-        name,
-        [prepare](const py::object& src, Args... args, const py::object& roi, int nthreads) {
-            Image storage;
-            const Image& in = asImage(src, "src", storage);
-            const ImageOp op = prepare(in, args...);
-            return runNew(in, toRoi(roi), nthreads, op);
-        },
-        py::arg("src"), extra..., py::arg("roi") = py::none(), py::arg("nthreads") = 0, doc);
 }
 
 // Raises ValueError "NAME: V is outside RANGE" (the tools' words) unless v is finite and in

@@ -67,7 +67,7 @@ def test_light_errors_name_what_is_wrong(gbuffer, tmp_path):
         dhdr.light(g, str(tmp_path / "none.json"))
     assert str(e.value) == tool_error(bad)
     with pytest.raises(ValueError, match="ao must be"):
-        dhdr.light(g, str(LIGHTS), ao="rt")
+        dhdr.light(g, str(LIGHTS), ao="hbao")
     with pytest.raises(ValueError, match="--shadow-samples"):
         dhdr.light(g, str(LIGHTS), shadow_samples=0)
     # A colour image is no G-buffer: the tool's message.
