@@ -191,3 +191,14 @@ def light(dst: Image, src: ImageLike, lights: Optional[LightsLike] = None, *,
           tile: int = 16, shadow_samples: int = 16, env_specular: str = "auto",
           diffuse: str = "lambert", radiometric: bool = False, denoise: bool = True,
           aovs: bool = False, roi: Roi = None, nthreads: int = 0) -> bool: ...
+
+# Bakes (bakes.cpp)
+def bake_ibl(environment: str, out: str, *, levels: int = 6, base_width: int = 256,
+             samples: int = 128, dfg_size: int = 128, dfg_samples: int = 1024,
+             sun_threshold: float = 10.0, nthreads: int = 0) -> Dict[str, Any]: ...
+def bake_probes(scene: Scene, out: str, lights: Optional[LightsLike] = None, *,
+                spacing: float = 0.0, grid: Optional[Tuple[int, int, int]] = None,
+                max_probes: int = 512, rays: int = 256, bounces: int = 0,
+                shadow_samples: int = 4, emissive_lights: bool = True,
+                radiometric: bool = False, diffuse: str = "lambert",
+                nthreads: int = 0) -> Dict[str, Any]: ...

@@ -2,6 +2,7 @@
 // another renderer's passes through a channel map), lights from files or Python objects, and
 // light() on a flat G-buffer with dhdr-light's options.
 #include "ops.h"
+#include "python_lights.h"
 #include "scene.h"
 
 #include <OpenImageIO/imageio.h>
@@ -115,11 +116,15 @@ void addLights(const py::handle& given, bool radiometric, std::vector<Light>& li
     lights.insert(lights.end(), more.begin(), more.end());
 }
 
-std::vector<Light> toLights(const py::handle& given, bool radiometric) {
+} // namespace
+
+std::vector<Light> lightsOf(const py::handle& given, bool radiometric) {
     std::vector<Light> lights;
     addLights(given, radiometric, lights);
     return lights;
 }
+
+namespace {
 
 ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& sceneGiven,
                 bool emissive, bool shadows, int envSamples, int specularSamples, int catcherBounce,
@@ -323,7 +328,7 @@ attributes (set them with set_attribute when the file has none).)");
     m.def(
         "read_lights",
         [](const py::object& lights, bool radiometric) {
-            const std::string text = formatLights(toLights(lights, radiometric));
+            const std::string text = formatLights(lightsOf(lights, radiometric));
             const py::object doc = py::module_::import("json").attr("loads")(text);
             return py::object(doc["lights"]);
         },

@@ -6,6 +6,7 @@ void bindImageIO(py::module_& m);
 void bindTonemap(py::module_& m);
 void bindLighting(py::module_& m);
 void bindScene(py::module_& m);
+void bindBakes(py::module_& m);
 } // namespace dhdr::python
 
 PYBIND11_MODULE(_dhdr, m) {
@@ -17,4 +18,5 @@ PYBIND11_MODULE(_dhdr, m) {
     dhdr::python::bindTonemap(m);
     dhdr::python::bindScene(m);
     dhdr::python::bindLighting(m);
+    dhdr::python::bindBakes(m);
 }
