@@ -8,7 +8,7 @@ import OpenImageIO as oiio
 import pytest
 
 import dhdr
-from conftest import hdr_frame, read_file, run_tool, tool_error, write_exr
+from conftest import LIGHTS, hdr_frame, read_file, run_tool, tool_error, write_exr
 from test_tonemap import same_bits
 
 
@@ -179,8 +179,10 @@ def rss_kib():
         return next(int(l.split()[1]) for l in f if l.startswith("VmRSS"))
 
 
-def test_no_leak_over_a_thousand_calls():
+def test_no_leak_over_a_thousand_calls(gbuffer, tmp_path):
     a = np.tile(hdr_frame(), (2, 2, 1))  # 192 x 128 x 4: 393 KB a result
+    g = dhdr.read_gbuffer(str(gbuffer))
+    lights = dhdr.read_lights(str(LIGHTS))
 
     def calls(n):
         for _ in range(n):
@@ -189,6 +191,8 @@ def test_no_leak_over_a_thousand_calls():
             dhdr.bloom(dst, out)
             dhdr.quantize(dhdr.to_display(dst))
             dhdr.meter(dhdr.Image(a))
+            dhdr.edge_aa(dhdr.light(g, lights), gbuffer=g)
+            dhdr.write(str(tmp_path / "x.exr"), dhdr.read(str(gbuffer), layer="albedo", keep_others=False))
 
     calls(100)
     before = rss_kib()
