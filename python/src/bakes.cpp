@@ -59,11 +59,8 @@ py::dict bakeIblFile(const std::string& environment, const std::string& out, int
     }
     if (!ok) raiseError(error);
     if (replaced > 0)
-        PyErr_WarnEx(PyExc_RuntimeWarning,
-                     (environment + ": " + std::to_string(replaced) +
-                      " NaN or infinite texel values replaced by 0")
-                         .c_str(),
-                     1);
+        warn(environment + ": " + std::to_string(replaced) +
+             " NaN or infinite texel values replaced by 0");
     py::dict sun("found"_a = ibl.sun.found());
     if (ibl.sun.found()) {
         sun["direction"] =

@@ -221,6 +221,10 @@ void setAttribute(OIIO::ImageSpec& spec, const std::string& name, const py::hand
     }
 }
 
+void warn(const std::string& message) {
+    if (PyErr_WarnEx(PyExc_RuntimeWarning, message.c_str(), 1) < 0) throw py::error_already_set();
+}
+
 void raiseError(const std::string& message) {
     throw std::runtime_error(message.empty() ? "unknown error" : message);
 }
@@ -293,8 +297,7 @@ converted. Image() is empty: a destination for op(dst, src, ...) forms.)")
         .def("copy",
              [](const Image& i) {
                  Image c = i;
-                 if (!i.empty())
-                     c.setPixels(py::array_t<float>(i.pixels().request()).attr("copy")());
+                 if (!i.empty()) c.setPixels(i.pixels().attr("copy")());
                  return c;
              })
         .def(

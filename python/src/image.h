@@ -66,6 +66,9 @@ OIIO::ROI toRoi(const py::handle& roi);
 py::dict attributesOf(const OIIO::ImageSpec& spec);
 void setAttribute(OIIO::ImageSpec& spec, const std::string& name, const py::handle& value);
 
+// A RuntimeWarning (what a tool prints as a warning); raises when warnings are errors (-W error).
+void warn(const std::string& message);
+
 // The library's message of a failed call as a Python exception.
 [[noreturn]] void raiseError(const std::string& message);
 

@@ -61,7 +61,7 @@ void writeImage(const std::string& path, const OIIO::ImageBuf& buf, OIIO::TypeDe
     }
     if (!error.empty()) raiseError(error);
     for (const std::string& w : warnings)
-        PyErr_WarnEx(PyExc_RuntimeWarning, w.c_str(), 1);
+        warn(w);
 }
 
 } // namespace

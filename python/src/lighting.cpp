@@ -30,7 +30,7 @@ using namespace pybind11::literals;
 
 void warn(const std::vector<std::string>& warnings) {
     for (const std::string& w : warnings)
-        PyErr_WarnEx(PyExc_RuntimeWarning, w.c_str(), 1);
+        python::warn(w);
 }
 
 // A flat dhdr G-buffer whole, as dhdr-light reads it strip by strip: its part found by the

@@ -33,7 +33,7 @@ SceneHandle loadSceneFile(const std::string& path, bool strict, const py::object
         addGroundPlane(*h.scene, groundPlane.cast<float>());
     }
     for (const std::string& w : h.scene->warnings)
-        PyErr_WarnEx(PyExc_RuntimeWarning, (path + ": " + w).c_str(), 1);
+        warn(path + ": " + w);
     return h;
 }
 
@@ -87,7 +87,7 @@ Image render(const SceneHandle& h, const std::string& camera, const py::object& 
                       error, notes, warnings))
         throw py::value_error(error);
     for (const std::string& w : warnings)
-        PyErr_WarnEx(PyExc_RuntimeWarning, w.c_str(), 1);
+        warn(w);
     OIIO::ImageBuf gbuf;
     bool ok = false;
     {
