@@ -103,7 +103,13 @@ py::object attributeValue(const OIIO::ParamValue& p) {
             return py::str(p.get_string());
         }
     };
-    if (n == 1 || t.basetype > OIIO::TypeDesc::DOUBLE) return one(0);
+    const auto b = OIIO::TypeDesc::BASETYPE(t.basetype);
+    const bool known = b == OIIO::TypeDesc::STRING || b == OIIO::TypeDesc::INT ||
+                       b == OIIO::TypeDesc::UINT || b == OIIO::TypeDesc::FLOAT ||
+                       b == OIIO::TypeDesc::DOUBLE;
+    // Other types (half, 8- and 16-bit integers, pointers) as OpenImageIO prints them.
+    if (!known) return py::str(p.get_string());
+    if (n == 1) return one(0);
     py::list values;
     for (int i = 0; i < n; ++i)
         values.append(one(i));

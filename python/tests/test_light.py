@@ -2,6 +2,7 @@
 import json
 
 import numpy as np
+import OpenImageIO as oiio
 import pytest
 
 import dhdr
@@ -23,6 +24,11 @@ def test_gbuffer_channels_and_header(gbuffer):
     header = g.attributes
     assert len(header["worldToCamera"]) == 4 and len(header["worldToNDC"]) == 4
     assert np.isinf(g["Z"][g["A"] == 0]).all()  # the contract's background depth
+    # The name tables, id 0 the background, as OpenImageIO reads them from the file.
+    spec = oiio.ImageInput.open(str(gbuffer)).spec()
+    assert header["dhdr:objectNames"] == list(spec.getattribute("dhdr:objectNames"))
+    assert header["dhdr:objectNames"][0] == "" and "floor" in header["dhdr:objectNames"]
+    assert any(k.endswith("/manifest") and "floor" in v for k, v in header.items())
 
 
 def test_light_equals_tool(gbuffer, tmp_path):
