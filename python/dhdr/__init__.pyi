@@ -193,7 +193,7 @@ def light(dst: Image, src: ImageLike, lights: Optional[LightsLike] = None, *,
           aovs: bool = False, roi: Roi = None, nthreads: int = 0) -> bool: ...
 
 # Bakes (bakes.cpp)
-def bake_ibl(environment: str, out: str, *, levels: int = 6, base_width: int = 256,
+def bake_ibl(environment: Union[str, ImageLike], out: str, *, levels: int = 6, base_width: int = 256,
              samples: int = 128, dfg_size: int = 128, dfg_samples: int = 1024,
              sun_threshold: float = 10.0, nthreads: int = 0) -> Dict[str, Any]: ...
 def bake_probes(scene: Scene, out: str, lights: Optional[LightsLike] = None, *,

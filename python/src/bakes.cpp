@@ -24,7 +24,7 @@ void checkInt(const char* name, int v, int lo, int hi) {
                               std::to_string(lo) + ", " + std::to_string(hi) + "]");
 }
 
-py::dict bakeIblFile(const std::string& environment, const std::string& out, int levels,
+py::dict bakeIblFile(const py::object& environment, const std::string& out, int levels,
                      int baseWidth, int samples, int dfgSize, int dfgSamples, float sunThreshold,
                      int nthreads) {
     IblBakeParams p;
@@ -41,6 +41,12 @@ py::dict bakeIblFile(const std::string& environment, const std::string& out, int
     p.dfgSize = dfgSize;
     p.dfgSamples = dfgSamples;
     p.sunThreshold = sunThreshold;
+    // A file as dhdr-ibl reads it, or an image in memory (its R, G, B by name).
+    const bool file = py::isinstance<py::str>(environment);
+    const std::string name = file ? environment.cast<std::string>() : "environment";
+    Image storage;
+    ImageView pixels;
+    if (!file) pixels = view(asImage(environment, "environment", storage));
     EnvironmentImage env;
     Ibl ibl;
     std::string error;
@@ -48,9 +54,11 @@ py::dict bakeIblFile(const std::string& environment, const std::string& out, int
     bool ok = false;
     {
         py::gil_scoped_release gil;
-        if (!readEnvironmentImage(environment, env, error, &replaced) ||
-            !bakeIbl(env, p, ibl, error, nthreads))
-            error = environment + ": " + error;
+        const bool read =
+            file ? readEnvironmentImage(name, env, error, &replaced)
+                 : environmentFromPixels(pixels.buf.spec(), pixels.data, env, error, &replaced);
+        if (!read || !bakeIbl(env, p, ibl, error, nthreads))
+            error = name + ": " + error;
         else
             ok = writeFileAtomically(
                 out,
@@ -59,7 +67,7 @@ py::dict bakeIblFile(const std::string& environment, const std::string& out, int
     }
     if (!ok) raiseError(error);
     if (replaced > 0)
-        warn(environment + ": " + std::to_string(replaced) +
+        warn(name + ": " + std::to_string(replaced) +
              " NaN or infinite texel values replaced by 0");
     py::dict sun("found"_a = ibl.sun.found());
     if (ibl.sun.found()) {

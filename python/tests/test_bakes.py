@@ -53,6 +53,10 @@ def test_bake_ibl_equals_tool(sky, tmp_path):
                          samples=8, dfg_size=8, dfg_samples=16)
     assert (info["width"], info["height"]) == (64, 32) and info["sun"]["found"]
     same_files(tmp_path / "py.ibl.exr", tmp_path / "tool.ibl.exr")
+    # The same sky held in memory.
+    dhdr.bake_ibl(dhdr.read(str(sky)), str(tmp_path / "mem.ibl.exr"), levels=3, base_width=16,
+                  samples=8, dfg_size=8, dfg_samples=16)
+    same_files(tmp_path / "mem.ibl.exr", tmp_path / "tool.ibl.exr")
     with pytest.raises(ValueError, match="levels: 1 is outside"):
         dhdr.bake_ibl(str(sky), str(tmp_path / "x.exr"), levels=1)
     with pytest.raises(RuntimeError, match="twice as wide"):
