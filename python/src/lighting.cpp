@@ -84,34 +84,50 @@ bool readGBuffer(const std::string& path, int nthreads, OIIO::ImageBuf& gbuf, st
 }
 
 // Lights from a lights file's path, a light as a dict (the file's JSON object), or a list of
-// either, in order.
+// either, in order. A dict, or a list of dicts only, is read as a lights file holding them
+// would be (environment images relative to the working directory, their suns after them).
 void addLights(const py::handle& given, bool radiometric, std::vector<Light>& lights) {
     std::vector<Light> more;
     std::string error;
+    std::vector<std::string> warnings;
+    const bool sequence = py::isinstance<py::list>(given) || py::isinstance<py::tuple>(given);
+    bool dicts = py::isinstance<py::dict>(given);
+    if (sequence) {
+        dicts = py::len(given) > 0;
+        for (const py::handle& item : given)
+            dicts = dicts && py::isinstance<py::dict>(item);
+    }
     if (py::isinstance<py::str>(given) ||
         py::isinstance(given, py::module_::import("os").attr("PathLike"))) {
         const std::string path = py::str(given);
-        std::vector<std::string> warnings;
         bool ok = false;
         {
             py::gil_scoped_release gil;
             ok = readLightsFile(path, more, error, warnings);
         }
         if (!ok) throw py::value_error(error);
-        warn(warnings);
-    } else if (py::isinstance<py::dict>(given)) {
-        const std::string json = py::str(py::module_::import("json").attr("dumps")(given));
-        // A file's object ({"lights": [...]}) or one light.
+    } else if (dicts) {
+        // One light, a file's object ({"lights": [...]}) or a list of lights.
+        const bool document = !sequence && py::cast<py::dict>(given).contains("lights");
+        const py::object doc = document   ? py::reinterpret_borrow<py::object>(given)
+                               : sequence ? py::reinterpret_borrow<py::object>(given)
+                                          : py::object(py::make_tuple(given));
         const std::string text =
-            py::cast<py::dict>(given).contains("lights") ? json : "[" + json + "]";
-        if (!parseLights(text, more, error)) throw py::value_error("lights: " + error);
-    } else if (py::isinstance<py::list>(given) || py::isinstance<py::tuple>(given)) {
+            py::str(py::module_::import("json").attr("dumps")(document ? doc : py::list(doc)));
+        bool ok = parseLights(text, more, error);
+        if (ok) {
+            py::gil_scoped_release gil;
+            ok = loadEnvironmentImages(more, "", error, warnings);
+        }
+        if (!ok) throw py::value_error("lights: " + error);
+    } else if (sequence) {
         for (const py::handle& item : given)
             addLights(item, radiometric, lights);
         return;
     } else {
         throw py::type_error("lights: expected a lights file, a light (dict) or a list of them");
     }
+    warn(warnings);
     if (radiometric) toRadiometricUnits(more);
     lights.insert(lights.end(), more.begin(), more.end());
 }

@@ -69,8 +69,14 @@ def test_baked_environment_lights_like_the_tool(sky, gbuffer, tmp_path):
     lights = tmp_path / "env.json"
     lights.write_text(json.dumps({"lights": [{"type": "environment", "image": "sky.ibl.exr"}]}))
     run_tool("dhdr-light", gbuffer, "--lights", lights, "--type", "float", "-o", tmp_path / "t.exr")
-    mine = dhdr.light(dhdr.read_gbuffer(str(gbuffer)), str(lights))
-    same_bits(mine.pixels, read_file(tmp_path / "t.exr"))
+    g = dhdr.read_gbuffer(str(gbuffer))
+    expected = read_file(tmp_path / "t.exr")
+    same_bits(dhdr.light(g, str(lights)).pixels, expected)
+    # The same light as a dict: its image read and its sun split off as from the file.
+    env = {"type": "environment", "image": str(tmp_path / "sky.ibl.exr")}
+    same_bits(dhdr.light(g, [env]).pixels, expected)
+    with pytest.raises(ValueError, match="environment image .*missing.exr"):
+        dhdr.light(g, {"type": "environment", "image": str(tmp_path / "missing.exr")})
 
 
 def test_bake_probes_equals_tool_and_lights(gbuffer, tmp_path):
