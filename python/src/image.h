@@ -33,7 +33,6 @@ public:
     // Replaces the pixels; the channel names stay when the count is the same.
     void setPixels(const py::object& pixels);
     void setChannels(const std::vector<std::string>& names);
-    float* data() const { return static_cast<float*>(m_pixels.request().ptr); }
     bool writeable() const { return !empty() && m_pixels.writeable(); }
 
     // The last error of an op(dst, …) form that returned False.

@@ -7,6 +7,7 @@ void bindTonemap(py::module_& m);
 void bindLighting(py::module_& m);
 void bindScene(py::module_& m);
 void bindBakes(py::module_& m);
+void bindBench(py::module_& m);
 } // namespace dhdr::python
 
 PYBIND11_MODULE(_dhdr, m) {
@@ -19,4 +20,5 @@ PYBIND11_MODULE(_dhdr, m) {
     dhdr::python::bindScene(m);
     dhdr::python::bindLighting(m);
     dhdr::python::bindBakes(m);
+    dhdr::python::bindBench(m);
 }
