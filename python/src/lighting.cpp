@@ -37,27 +37,13 @@ void warn(const std::vector<std::string>& warnings) {
 // contract, every channel as float, NaN and ±Inf replaced except in Z (whose background is
 // +Inf by contract). Called without the GIL; false with the tool's message.
 bool readGBuffer(const std::string& path, int nthreads, OIIO::ImageBuf& gbuf, std::string& error) {
-    if (!std::filesystem::exists(path)) {
-        error = path + ": no such file";
+    int part = 0;
+    bool deep = false;
+    if (!gbuffer::probeGBufferFile(path, part, deep, error)) return false;
+    if (deep) {
+        error = path + ": a deep G-buffer; the Python module lights flat ones (dhdr-light "
+                       "lights deep ones)";
         return false;
-    }
-    const int part = gbuffer::findGBufferPart(path, error);
-    if (part < 0) {
-        error = error.find("G-buffer") != std::string::npos ? path + ": " + error
-                                                            : cannotRead(path, error);
-        return false;
-    }
-    if (auto probe = OIIO::ImageInput::open(path); probe && probe->seek_subimage(part, 0)) {
-        const OIIO::ImageSpec& s = probe->spec();
-        if (s.deep) {
-            error = path + ": a deep G-buffer; the Python module lights flat ones (dhdr-light "
-                           "lights deep ones)";
-            return false;
-        }
-        if (const std::string e = pixelLimitError(s.width, s.height, s.depth); !e.empty()) {
-            error = path + ": " + e;
-            return false;
-        }
     }
     StripReader reader;
     if (!reader.open(path, part, 0, 1 << 20, nthreads, error)) {
