@@ -117,3 +117,11 @@ def test_replace_non_finite_counts():
     counts = dhdr.replace_non_finite(img, zero_negative=True)
     assert counts == dict(nan=1, positive_inf=1, negative_inf=1, negative=1)
     assert img.pixels.tolist() == [[[0.0, 65504.0, 0.0], [0.0, 0.5, 2.0]]]
+
+
+def test_describe_display_is_what_the_tool_says(frame_exr, tmp_path):
+    out = run_tool("dhdr-tonemap", frame_exr, "--view", "ACES", "-v", "-o", tmp_path / "x.png")
+    said = [l for l in out.stderr.splitlines() if ": display " in l][0].split(": display ", 1)[1]
+    description, colorspace = dhdr.describe_display(view="ACES")
+    assert description == said
+    assert colorspace == "sRGB"  # PNG gets its sRGB chunk
