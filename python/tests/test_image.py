@@ -8,7 +8,7 @@ import OpenImageIO as oiio
 import pytest
 
 import dhdr
-from conftest import LIGHTS, hdr_frame, read_file, run_tool, tool_error, write_exr
+from conftest import LIGHTS, TESTDATA, hdr_frame, read_file, run_tool, tool_error, write_exr
 from test_tonemap import same_bits
 
 
@@ -154,13 +154,21 @@ def test_attributes_and_metadata_pass_through():
     same_bits(dhdr.tone_map(img, roi=(10, 106, 20, 84)).pixels, out.pixels)
 
 
-def test_gil_is_released_while_a_stage_runs():
+@pytest.mark.parametrize("stage", ["tone_map", "render_gbuffer", "light"])
+def test_gil_is_released_while_a_stage_runs(stage, gbuffer):
     big = np.tile(hdr_frame(), (8, 8, 1))  # 768 x 512
+    scene = dhdr.Scene(str(TESTDATA / "cornell_box.gltf"))
+    g = dhdr.read_gbuffer(str(gbuffer))
+    calls = {
+        "tone_map": lambda: dhdr.tone_map(big, op="reinhard-local", nthreads=1),
+        "render_gbuffer": lambda: dhdr.render_gbuffer(scene, size=(512, 512), nthreads=1),
+        "light": lambda: dhdr.light(g, str(LIGHTS), scene=scene, ao="rt", nthreads=1),
+    }
     window = []
 
     def work():
         t0 = time.perf_counter()
-        dhdr.tone_map(big, op="reinhard-local", nthreads=1)
+        calls[stage]()
         window.extend([t0, time.perf_counter()])
 
     thread = threading.Thread(target=work)
