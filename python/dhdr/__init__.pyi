@@ -180,7 +180,8 @@ def light(src: ImageLike, lights: Optional[LightsLike] = None, *, scene: Optiona
           plate: Optional[Union[ImageLike, str]] = None, brute_force: bool = False,
           tile: int = 16, shadow_samples: int = 16, env_specular: str = "auto",
           diffuse: str = "lambert", radiometric: bool = False, denoise: bool = True,
-          aovs: bool = False, roi: Roi = None, nthreads: int = 0) -> Image: ...
+          aovs: bool = False, gi: str = "direct", spp: int = 16, path_bounces: int = 8,
+          roi: Roi = None, nthreads: int = 0) -> Image: ...
 @overload
 def light(dst: Image, src: ImageLike, lights: Optional[LightsLike] = None, *,
           scene: Optional[Scene] = None, emissive_lights: bool = True, shadows: bool = True,
@@ -190,7 +191,8 @@ def light(dst: Image, src: ImageLike, lights: Optional[LightsLike] = None, *,
           plate: Optional[Union[ImageLike, str]] = None, brute_force: bool = False,
           tile: int = 16, shadow_samples: int = 16, env_specular: str = "auto",
           diffuse: str = "lambert", radiometric: bool = False, denoise: bool = True,
-          aovs: bool = False, roi: Roi = None, nthreads: int = 0) -> bool: ...
+          aovs: bool = False, gi: str = "direct", spp: int = 16,
+          path_bounces: int = 8, roi: Roi = None, nthreads: int = 0) -> bool: ...
 
 # Bakes (bakes.cpp)
 def bake_ibl(environment: Union[str, ImageLike], out: str, *, levels: int = 6, base_width: int = 256,

@@ -133,7 +133,8 @@ ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& s
                 const std::string& probesPath, const std::string& ao, float aoDistance,
                 int aoSamples, const py::object& background, const py::object& plate,
                 bool bruteForce, int tile, int shadowSamples, const std::string& envSpecular,
-                const std::string& diffuse, bool radiometric, bool denoise, bool aovs) {
+                const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
+                const std::string& gi, int spp, int pathBounces) {
     // dhdr-light's lights: the scene's own unless lights are given, its emissive meshes, then
     // the lights given (sceneLightList's order).
     const SceneHandle* scene = nullptr;
@@ -176,6 +177,21 @@ ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& s
     p.environmentSamples = envSamples;
     p.specularSamples = specularSamples;
     p.catcherBounceSamples = catcherBounce;
+    // --gi path: the reference path tracer, as dhdr-light checks it.
+    if (gi != "direct" && gi != "path") throw py::value_error("gi must be direct or path");
+    p.pathTrace = gi == "path";
+    p.pathSamples = spp;
+    p.pathBounces = pathBounces;
+    if (!p.pathTrace &&
+        (spp != LightingParams{}.pathSamples || pathBounces != LightingParams{}.pathBounces))
+        throw py::value_error("spp and path_bounces are for gi='path'");
+    if (p.pathTrace) {
+        if (!scene) throw py::value_error("gi='path' traces the scene: give scene=");
+        if (!probesPath.empty())
+            throw py::value_error("gi='path' computes the indirect light itself: drop probes");
+        if (ao != "off") throw py::value_error("gi='path' has no AO: drop ao");
+        p.denoise = false; // the reference is each pixel's own estimate
+    }
     checkRange("ao_distance", aoDistance, 0.0, 1e30, true);
     p.aoDistance = aoDistance;
     if (std::string error; !validate(p, error)) throw py::value_error(error);
@@ -352,6 +368,8 @@ kernel points within ao_distance).
 background: (R, G, B[, A]) or 'env'; plate: an image of the frame's size to composite over,
 or 'env'. shadow_samples, tile, env_specular ('auto', 'split-sum', 'quadrature'), denoise,
 diffuse ('lambert', 'burley') and brute_force are dhdr-light's options of those names.
+gi='path' (with scene): the reference path tracer instead, spp paths of at most
+path_bounces bounces a pixel, undenoised.
 Without a scene nothing is shadowed, as dhdr-light without --scene.)",
         &lightOp, py::arg("lights") = py::none(), py::kw_only(), py::arg("scene") = py::none(),
         py::arg("emissive_lights") = true, py::arg("shadows") = true,
@@ -363,7 +381,9 @@ Without a scene nothing is shadowed, as dhdr-light without --scene.)",
         py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
         py::arg("shadow_samples") = LightingParams{}.shadowSamples,
         py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
-        py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false);
+        py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false,
+        py::arg("gi") = "direct", py::arg("spp") = LightingParams{}.pathSamples,
+        py::arg("path_bounces") = LightingParams{}.pathBounces);
 }
 
 } // namespace dhdr::python

@@ -77,3 +77,15 @@ def test_light_with_scene_equals_tool(cornell, gbuffer, tmp_path):
         dhdr.light(g, str(LIGHTS), ao="rt")
     with pytest.raises(ValueError, match="no lights"):
         dhdr.light(g)
+
+
+def test_path_tracer_equals_tool(cornell, gbuffer, tmp_path):
+    run_tool("dhdr-light", gbuffer, "--scene", CORNELL, "--gi", "path", "--spp", "2",
+             "--path-bounces", "1", "--type", "float", "-o", tmp_path / "path.exr")
+    mine = dhdr.light(dhdr.read_gbuffer(str(gbuffer)), scene=cornell, gi="path", spp=2,
+                      path_bounces=1)
+    same_bits(mine.pixels, read_file(tmp_path / "path.exr"))
+    with pytest.raises(ValueError, match="give scene="):
+        dhdr.light(dhdr.read_gbuffer(str(gbuffer)), str(LIGHTS), gi="path")
+    with pytest.raises(ValueError, match="are for gi='path'"):
+        dhdr.light(dhdr.read_gbuffer(str(gbuffer)), str(LIGHTS), spp=4)
