@@ -22,7 +22,11 @@ configure: deps
 build: configure
 	@cmake --build $(BUILD) -j $(JOBS)
 
+# The Python tests run as one ctest test (pytest fails when it collects none); a build that
+# has lost them fails here rather than passing without them.
 test: build
+	@cd $(BUILD) && ctest -N -R '^Python\.pytest$$' | grep -q 'Total Tests: 1' || \
+		{ echo "make test: the Python tests (Python.pytest) are not registered" >&2; exit 1; }
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 # The suite under AddressSanitizer + UndefinedBehaviorSanitizer (docs/development.md).

@@ -9,6 +9,8 @@ packages=(
   libopencolorio-dev libembree-dev libglm-dev libassimp-dev
   nlohmann-json3-dev libgtest-dev python3
   python3-murmurhash  # an independent MurmurHash3_x86_32 for the Cryptomatte tests
+  pybind11-dev python3-dev python3-numpy  # the dhdr Python module (python/)
+  python3-pytest python3-openimageio      # its tests: pytest, and an independent EXR reader
   slurm-wlm munge     # the farm tests start a single-node Slurm cluster (tests/farm)
 )
 

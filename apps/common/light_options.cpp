@@ -46,14 +46,12 @@ std::string lightOptionsProblem(const LightOptions& o, bool scene) {
 
 std::vector<Light> sceneLights(const Tool& tool, const Scene& scene, const std::string& path,
                                const LightOptions& o) {
-    std::vector<Light> lights = o.files.empty() ? scene.lights : std::vector<Light>{};
-    if (o.emissive != "off") {
-        const std::vector<Light> glowing = emissiveLights(scene);
-        lights.insert(lights.end(), glowing.begin(), glowing.end());
-        tool.info(path + ": " + std::to_string(glowing.size()) + " emissive mesh" +
-                  (glowing.size() == 1 ? "" : "es") + " as area lights");
-    }
-    if (o.radiometric) toRadiometricUnits(lights);
+    size_t glowing = 0;
+    std::vector<Light> lights =
+        sceneLightList(scene, o.files.empty(), o.emissive != "off", o.radiometric, &glowing);
+    if (o.emissive != "off")
+        tool.info(path + ": " + std::to_string(glowing) + " emissive mesh" +
+                  (glowing == 1 ? "" : "es") + " as area lights");
     return lights;
 }
 

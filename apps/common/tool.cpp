@@ -152,33 +152,12 @@ namespace {
 // The colour layer of `path` a tool works on, after printing why there is none.
 bool findColour(const Tool& tool, const std::string& path, const std::string& layer,
                 ColourLayer& chosen) {
-    std::error_code ec;
-    if (!fs::exists(path, ec)) {
-        tool.fail(path + ": no such file");
+    size_t layers = 0;
+    if (std::string error; !findColourLayer(path, layer, chosen, layers, error)) {
+        tool.fail(error);
         return false;
     }
-    std::vector<ColourLayer> layers;
-    std::string error;
-    // Before OpenEXR allocates what its headers claim (frames.cpp does the same per frame).
-    if (!detail::exrHeadersFit(path, error)) {
-        tool.fail(path + ": " + error);
-        return false;
-    }
-    if (!listColourLayers(path, layers, error)) {
-        tool.fail(cannotRead(path, error));
-        return false;
-    }
-    if (!chooseColourLayer(layers, layer, chosen, error)) {
-        tool.fail(path + ": " + error);
-        return false;
-    }
-    // Before any pixel is read or any output opened.
-    if (const std::string e = pixelLimitError(chosen.width, chosen.height, chosen.depth);
-        !e.empty()) {
-        tool.fail(path + ": " + e);
-        return false;
-    }
-    if (layers.size() > 1 || chosen.subimage > 0)
+    if (layers > 1 || chosen.subimage > 0)
         tool.info(path + ": reading layer '" + chosen.name() + "'");
     return true;
 }

@@ -2,7 +2,6 @@
 #include "../common/frames.h"
 #include "../common/tool.h"
 #include "animated_scene.h"
-#include "scene_info.h"
 #include "timing.h"
 
 #include <algorithm>
@@ -13,6 +12,8 @@
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/scene_camera.h>
+#include <dhdr/deferred/scene_info.h>
 #include <dhdr/io/strip_pipeline.h>
 #include <glm/gtc/constants.hpp>
 #include <optional>
@@ -88,7 +89,7 @@ int run(int argc, char** argv) {
         Scene scene;
         std::string error;
         if (!loadScene(path, scene, error, SceneOptions{strict})) return tool.fail(error);
-        std::fputs(app::describeScene(scene, path).c_str(), stdout);
+        std::fputs(describeScene(scene, path).c_str(), stdout);
         return app::kExitSuccess;
     }
     if (timing.frame && timing.time) {
@@ -155,66 +156,28 @@ int run(int argc, char** argv) {
         tool.info(std::to_string(scene.lights.size()) + " lights written to " + lightsPath);
         return true;
     };
-    // The camera of a frame: --lookat's, else the scene's (posed), with --fov and --frame-all.
-    bool announce = true; // say which camera, once a frame
+    // The camera of a frame (chooseCamera: --lookat's, else the scene's, posed, with --fov
+    // and --frame-all); what it says is said once a frame.
+    bool announce = true;
     auto cameraOf = [&](const Scene& scene, const std::string& scenePath, Camera& camera) {
-        if (lookatCamera) {
-            camera = *lookatCamera;
-        } else if (!scene.cameras.empty()) {
-            const SceneCamera* chosen = &scene.cameras[0];
-            if (!cameraName.empty()) {
-                chosen = nullptr;
-                std::string names;
-                for (const SceneCamera& c : scene.cameras) {
-                    if (c.name == cameraName) chosen = &c;
-                    names += (names.empty() ? "" : ", ") + c.name;
-                }
-                if (!chosen) {
-                    tool.fail(scenePath + ": no camera named '" + cameraName +
-                              "' (it has: " + names + ")");
-                    return false;
-                }
-            }
-            if (!chosen->problem.empty()) {
-                tool.fail(scenePath + ": camera '" + chosen->name +
-                          "' cannot be rendered from: " + chosen->problem);
-                return false;
-            }
-            camera = chosen->camera;
-            if (announce) tool.info("camera '" + chosen->name + "'");
-        } else if (frameAll) {
-            // From the front (+Z, glTF's) and a little above.
-            camera = Camera::lookAt({0.0, 0.34, 0.94}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0},
-                                    glm::radians(39.6));
-        } else {
-            tool.fail(scenePath +
-                      ": the scene has no camera; give one with --lookat, or --frame-all");
-            return false;
+        CameraChoice choice;
+        choice.name = cameraName;
+        choice.lookat = lookatCamera;
+        choice.fovDegrees = fov;
+        choice.frameAll = frameAll;
+        std::vector<std::string> notes, warnings;
+        std::string error;
+        const bool chosen =
+            chooseCamera(scene, scenePath, choice, double(params.width) / double(params.height),
+                         camera, error, notes, warnings);
+        if (announce) {
+            for (const std::string& w : warnings)
+                tool.warn(w);
+            for (const std::string& n : notes)
+                tool.info(n);
         }
-        if (fov > 0.0) {
-            if (camera.orthographic) {
-                if (announce) tool.warn("--fov ignored: the camera is orthographic");
-            } else {
-                camera.yfov = glm::radians(fov);
-            }
-        }
-        if (frameAll) {
-            camera = frameScene(scene, camera, double(params.width) / double(params.height));
-            if (const std::string why = camera.problem(); !why.empty()) {
-                const glm::dvec3 lo = scene.boundsMin(), hi = scene.boundsMax();
-                char bounds[160];
-                std::snprintf(bounds, sizeof bounds, "(%g, %g, %g) to (%g, %g, %g)", lo.x, lo.y,
-                              lo.z, hi.x, hi.y, hi.z);
-                tool.fail(scenePath + ": --frame-all cannot frame the scene's bounds, " + bounds +
-                          ": the camera that would fit them cannot be rendered from: " + why);
-                return false;
-            }
-        }
-        if (const std::string why = camera.problem(); !why.empty()) {
-            tool.fail(scenePath + ": the camera cannot be rendered from: " + why);
-            return false;
-        }
-        return true;
+        if (!chosen) tool.fail(error);
+        return chosen;
     };
 
     // The scene is loaded once for all frames that name the same file; animated, it is posed
@@ -267,10 +230,6 @@ int run(int argc, char** argv) {
         if (!cameraOf(scene, scenePath, camera)) return false;
         if (loaded.animated())
             tool.info("time " + std::to_string(time) + " s; motion layer written");
-        tool.info(camera.orthographic
-                      ? "orthographic camera, " + std::to_string(2.0 * camera.ymag) + " units high"
-                      : "perspective camera, vertical fov " +
-                            std::to_string(glm::degrees(camera.yfov)) + " degrees");
 
         const auto t1 = std::chrono::steady_clock::now();
         GBufferParams frameParams = params;

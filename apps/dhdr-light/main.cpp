@@ -385,22 +385,13 @@ int run(int argc, char** argv) {
         if (!channelsArg.empty())
             return app::lightMappedPasses(whole, channelMap, foreignCamera, path, out,
                                           lightFilesOf(in));
+        // Flat or deep, before any pixel is read or any output opened.
         std::string error;
-        const int part = gbuffer::findGBufferPart(path, error);
-        if (part < 0) {
-            tool.fail(error.find("G-buffer") != std::string::npos ? path + ": " + error
-                                                                  : cannotRead(path, error));
-            return false;
-        }
+        int part = 0;
         bool deepInput = false;
-        if (auto probe = OIIO::ImageInput::open(path); probe && probe->seek_subimage(part, 0)) {
-            deepInput = probe->spec().deep;
-            // Flat or deep, before any pixel is read or any output opened.
-            const OIIO::ImageSpec& s = probe->spec();
-            if (const std::string e = pixelLimitError(s.width, s.height, s.depth); !e.empty()) {
-                tool.fail(path + ": " + e);
-                return false;
-            }
+        if (!gbuffer::probeGBufferFile(path, part, deepInput, error)) {
+            tool.fail(error);
+            return false;
         }
         if (deepInput) {
             if (aoMode == "ssao") {

@@ -64,4 +64,14 @@ std::vector<Light> emissiveLights(const Scene& scene) {
     return lights;
 }
 
+std::vector<Light> sceneLightList(const Scene& scene, bool ownLights, bool emissive,
+                                  bool radiometric, size_t* emitters) {
+    std::vector<Light> lights = ownLights ? scene.lights : std::vector<Light>{};
+    const std::vector<Light> glowing = emissive ? emissiveLights(scene) : std::vector<Light>{};
+    lights.insert(lights.end(), glowing.begin(), glowing.end());
+    if (emitters) *emitters = glowing.size();
+    if (radiometric) toRadiometricUnits(lights);
+    return lights;
+}
+
 } // namespace dhdr

@@ -87,7 +87,45 @@ bool colourChannels(const OIIO::ImageSpec& spec, int rgb[3]) {
     return true;
 }
 
+// Why an image of `spec`'s size cannot be an environment, or "".
+std::string shapeProblem(const OIIO::ImageSpec& spec) {
+    if (spec.width != 2 * spec.height || spec.height < 2)
+        return "an equirectangular environment is twice as wide as it is high; this one is " +
+               std::to_string(spec.width) + "x" + std::to_string(spec.height);
+    if (double(spec.width) * double(spec.height) > double(kMaxEnvironmentTexels))
+        return std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+               " is larger than an environment may be (16384x8192)";
+    return "";
+}
+
 } // namespace
+
+bool environmentFromPixels(const OIIO::ImageSpec& spec, const float* pixels, EnvironmentImage& env,
+                           std::string& error, long long* replaced) {
+    if (error = shapeProblem(spec); !error.empty()) return false;
+    int rgb[3];
+    if (!colourChannels(spec, rgb)) {
+        error = "no colour channels (R, G, B or Y)";
+        return false;
+    }
+    const int nch = spec.nchannels;
+    const size_t texels = size_t(spec.width) * size_t(spec.height);
+    env.width = spec.width;
+    env.height = spec.height;
+    env.rgb.assign(texels * 3, 0.0f);
+    long long bad = 0;
+    for (size_t i = 0; i < texels; ++i)
+        for (int c = 0; c < 3; ++c) {
+            float v = pixels[i * size_t(nch) + size_t(rgb[c])];
+            if (!std::isfinite(v)) {
+                v = 0.0f;
+                ++bad;
+            }
+            env.rgb[3 * i + size_t(c)] = v;
+        }
+    if (replaced) *replaced = bad;
+    return true;
+}
 
 bool readEnvironmentImage(const std::string& path, EnvironmentImage& env, std::string& error,
                           long long* replaced, int subimage) {
@@ -106,43 +144,19 @@ bool readEnvironmentImage(const std::string& path, EnvironmentImage& env, std::s
         error = "a deep image is not an environment";
         return false;
     }
-    if (spec.width != 2 * spec.height || spec.height < 2) {
-        error = "an equirectangular environment is twice as wide as it is high; this one is " +
-                std::to_string(spec.width) + "x" + std::to_string(spec.height);
-        return false;
-    }
-    if (double(spec.width) * double(spec.height) > double(kMaxEnvironmentTexels)) {
-        error = std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                " is larger than an environment may be (16384x8192)";
-        return false;
-    }
+    if (error = shapeProblem(spec); !error.empty()) return false;
     int rgb[3];
     if (!colourChannels(spec, rgb)) {
         error = "no colour channels (R, G, B or Y)";
         return false;
     }
     const int nch = spec.nchannels;
-    const size_t texels = size_t(spec.width) * size_t(spec.height);
-    std::vector<float> src(texels * size_t(nch));
+    std::vector<float> src(size_t(spec.width) * size_t(spec.height) * size_t(nch));
     if (!in->read_image(subimage, 0, 0, nch, OIIO::TypeDesc::FLOAT, src.data())) {
         error = "cannot read: " + in->geterror();
         return false;
     }
-    env.width = spec.width;
-    env.height = spec.height;
-    env.rgb.assign(texels * 3, 0.0f);
-    long long bad = 0;
-    for (size_t i = 0; i < texels; ++i)
-        for (int c = 0; c < 3; ++c) {
-            float v = src[i * size_t(nch) + size_t(rgb[c])];
-            if (!std::isfinite(v)) {
-                v = 0.0f;
-                ++bad;
-            }
-            env.rgb[3 * i + size_t(c)] = v;
-        }
-    if (replaced) *replaced = bad;
-    return true;
+    return environmentFromPixels(spec, src.data(), env, error, replaced);
 }
 
 } // namespace dhdr

@@ -4,7 +4,10 @@
 #include <cstdio>
 #include <cstring>
 #include <dhdr/deferred/gbuffer.h>
+#include <dhdr/io/errors.h>
 #include <dhdr/io/exr_header.h>
+#include <dhdr/io/pixel_limit.h>
+#include <filesystem>
 #include <memory>
 #include <utility>
 
@@ -142,6 +145,29 @@ int findGBufferPart(const std::string& path, std::string& error) {
     }
     error = "no channel '" + firstMissing + "' — is this a G-buffer?";
     return -1;
+}
+
+bool probeGBufferFile(const std::string& path, int& part, bool& deep, std::string& error) {
+    deep = false;
+    if (!std::filesystem::exists(path)) {
+        error = path + ": no such file";
+        return false;
+    }
+    part = findGBufferPart(path, error);
+    if (part < 0) {
+        error = error.find("G-buffer") != std::string::npos ? path + ": " + error
+                                                            : cannotRead(path, error);
+        return false;
+    }
+    if (auto probe = OIIO::ImageInput::open(path); probe && probe->seek_subimage(part, 0)) {
+        deep = probe->spec().deep;
+        const OIIO::ImageSpec& s = probe->spec();
+        if (const std::string e = pixelLimitError(s.width, s.height, s.depth); !e.empty()) {
+            error = path + ": " + e;
+            return false;
+        }
+    }
+    return true;
 }
 
 namespace {

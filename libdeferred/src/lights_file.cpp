@@ -386,8 +386,19 @@ bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::st
         error = path + ": " + error;
         return false;
     }
-    // Environment images: relative to the lights file's folder, baked once per image.
-    const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+    // Environment images: relative to the lights file's folder.
+    if (!loadEnvironmentImages(lights, std::filesystem::path(path).parent_path().string(), error,
+                               warnings)) {
+        error = path + ": " + error;
+        return false;
+    }
+    return true;
+}
+
+bool loadEnvironmentImages(std::vector<Light>& lights, const std::string& folderName,
+                           std::string& error, std::vector<std::string>& warnings) {
+    // Each image baked once, whichever lights share it.
+    const std::filesystem::path folder(folderName);
     std::map<std::string, std::shared_ptr<const Ibl>> baked;
     for (size_t i = 0; i < lights.size(); ++i) {
         Light& light = lights[i];
@@ -407,14 +418,14 @@ bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::st
             IblBakeParams params;
             if (light.sunThreshold >= 0.0f) params.sunThreshold = light.sunThreshold;
             if (!loadIbl(light.image, params, *loaded, bakedHere, why, &replaced)) {
-                error = path + ": " + which + why;
+                error = which + why;
                 return false;
             }
             // A bake split its sun (or not) when it was made; a different wish cannot be
             // honoured from its levels.
             if (!bakedHere && light.sunThreshold >= 0.0f &&
                 light.sunThreshold != loaded->params.sunThreshold) {
-                error = path + ": " + which + "\"sun\" applies to images baked when loaded; " +
+                error = which + "\"sun\" applies to images baked when loaded; " +
                         "this file was baked by dhdr-ibl with its sun " +
                         (loaded->params.sunThreshold > 0.0f
                              ? "split at luminance " + std::to_string(loaded->params.sunThreshold)

@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cctype>
 #include <dhdr/io/banded_read.h>
+#include <dhdr/io/errors.h>
+#include <dhdr/io/exr_header.h>
 #include <dhdr/io/layers.h>
+#include <dhdr/io/pixel_limit.h>
+#include <filesystem>
 #include <map>
 #include <memory>
 
@@ -239,6 +243,37 @@ bool readColourLayer(const std::string& path, const ColourLayer& layer, bool kee
     const auto z = std::find(names.begin(), names.end(), "Z");
     spec.z_channel = z == names.end() ? -1 : int(z - names.begin());
     image = std::move(reordered);
+    return true;
+}
+
+bool findColourLayer(const std::string& path, const std::string& wanted, ColourLayer& chosen,
+                     size_t& layerCount, std::string& error) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+        error = path + ": no such file";
+        return false;
+    }
+    std::string why;
+    // Before OpenEXR allocates what its headers claim.
+    if (!detail::exrHeadersFit(path, why)) {
+        error = path + ": " + why;
+        return false;
+    }
+    std::vector<ColourLayer> layers;
+    if (!listColourLayers(path, layers, why)) {
+        error = cannotRead(path, why);
+        return false;
+    }
+    layerCount = layers.size();
+    if (!chooseColourLayer(layers, wanted, chosen, why)) {
+        error = path + ": " + why;
+        return false;
+    }
+    if (const std::string e = pixelLimitError(chosen.width, chosen.height, chosen.depth);
+        !e.empty()) {
+        error = path + ": " + e;
+        return false;
+    }
     return true;
 }
 

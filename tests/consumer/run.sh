@@ -18,3 +18,11 @@ cmake -S "$here" -B "$work/build" -DCMAKE_PREFIX_PATH="$work/prefix" -DCMAKE_BUI
 cmake --build "$work/build" -j2 >/dev/null
 "$work/build/consumer"
 "$work/prefix/bin/dhdr-light" --version
+# The Python module (built unless under the sanitizers), importable from the prefix's
+# dist-packages (docs/python.md).
+if [ -d "$build/python/dhdr" ]; then
+  site=$(echo "$work"/prefix/lib/python3*/dist-packages)
+  test -f "$site/dhdr/__init__.pyi"
+  (cd "$work" && PYTHONPATH="$site" /usr/bin/python3 -c \
+    'import dhdr, numpy; assert dhdr.tone_map(numpy.ones((2, 2, 3), numpy.float32)).width == 2')
+fi

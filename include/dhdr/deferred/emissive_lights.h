@@ -19,4 +19,11 @@ inline constexpr float kEmitterCutoff = 1e-4f;
 // the mean of its emissive texture when it has one), named after its object, in mesh order.
 std::vector<Light> emissiveLights(const Scene& scene);
 
+// The lights a scene gives a render, in the one order dhdr-light, dhdr-probes and the Python
+// module use: its own punctual lights (unless `ownLights` is false: lights files replace
+// them), then its emissive meshes as area lights (with `emissive`), in radiometric units with
+// `radiometric` (toRadiometricUnits). `emitters` receives how many are emissive meshes.
+std::vector<Light> sceneLightList(const Scene& scene, bool ownLights, bool emissive,
+                                  bool radiometric, size_t* emitters = nullptr);
+
 } // namespace dhdr

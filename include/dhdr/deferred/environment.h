@@ -1,9 +1,14 @@
 // Equirectangular HDR environments: the light arriving from every direction.
 #pragma once
 
+#include <OpenImageIO/oiioversion.h>
 #include <glm/glm.hpp>
 #include <string>
 #include <vector>
+
+OIIO_NAMESPACE_BEGIN
+class ImageSpec;
+OIIO_NAMESPACE_END
 
 namespace dhdr {
 
@@ -43,5 +48,10 @@ inline constexpr long long kMaxEnvironmentTexels = 16384LL * 8192LL;
 // the path).
 bool readEnvironmentImage(const std::string& path, EnvironmentImage& env, std::string& error,
                           long long* replaced = nullptr, int subimage = 0);
+
+// The same from float pixels held in memory (interleaved, spec.nchannels a texel, channels
+// named by `spec`): the Python module's environments that were never written to a file.
+bool environmentFromPixels(const OIIO::ImageSpec& spec, const float* pixels, EnvironmentImage& env,
+                           std::string& error, long long* replaced = nullptr);
 
 } // namespace dhdr

@@ -202,6 +202,11 @@ bool findLayout(const OIIO::ImageSpec& spec, Layout& layout, std::string& missin
 // −1 with `error` saying why when none does; `error` names the file's problem, not the file.
 int findGBufferPart(const std::string& path, std::string& error);
 
+// What dhdr-light (and the Python module) check of a G-buffer file before reading a pixel: it
+// exists, a part holds a G-buffer (findGBufferPart: `part`), whether that part is deep, and
+// that it is within the pixel limit. False with `error` naming the file.
+bool probeGBufferFile(const std::string& path, int& part, bool& deep, std::string& error);
+
 // What the header says of the camera that rendered the buffer.
 struct CameraInfo {
     glm::dmat4 worldToCamera{1.0};

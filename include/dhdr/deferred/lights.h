@@ -92,6 +92,14 @@ bool parseLights(const std::string& json, std::vector<Light>& lights, std::strin
 bool readLightsFile(const std::string& path, std::vector<Light>& lights, std::string& error,
                     std::vector<std::string>& warnings);
 
+// What readLightsFile does after parsing: the images of the environment lights among `lights`
+// read (relative to `folder` unless absolute; "" is the working directory) and baked, or read
+// as baked, each image once; then each environment's sun added as a directional light after
+// the lights. False with `error` naming the light and the image (without a file); NaN texels
+// repaired are added to `warnings`. Lights parsed from text (parseLights) need it before use.
+bool loadEnvironmentImages(std::vector<Light>& lights, const std::string& folder,
+                           std::string& error, std::vector<std::string>& warnings);
+
 // Blender's glTF exporter writes point and spot intensities in candela and directional ones in
 // lux (photometric, W × 683 / 4π); Cycles lights with watts. Divides those three types'
 // intensities by 683 lm/W, so that such lights light as in Cycles (docs/interop.md); area,

@@ -36,6 +36,14 @@ bool listColourLayers(const std::string& path, std::vector<ColourLayer>& layers,
 bool chooseColourLayer(const std::vector<ColourLayer>& layers, const std::string& wanted,
                        ColourLayer& chosen, std::string& error);
 
+// What a tool does before reading the colour of `path`: the file exists, its headers fit in
+// memory, its layers are listed and `wanted` chosen among them (chooseColourLayer), and the
+// layer is within the pixel limit (pixel_limit.h) — all before any pixel is read. False with
+// `error` naming the file ("PATH: no such file", …); `layerCount` receives how many colour
+// layers the file has. The tools and the Python module find colour through this one call.
+bool findColourLayer(const std::string& path, const std::string& wanted, ColourLayer& chosen,
+                     size_t& layerCount, std::string& error);
+
 // The pixels of a chosen layer as float, reordered so that channels 0–2 (3) are its R, G, B
 // (A) under their own names; with `keepOthers`, the part's other channels follow unchanged,
 // else they are left out. `formats` receives each resulting channel's type in the file.

@@ -1,10 +1,9 @@
-#include "scene_info.h"
-
 #include <cstdio>
+#include <dhdr/deferred/scene_info.h>
 #include <dhdr/deferred/scene_rig.h>
 #include <glm/gtc/constants.hpp>
 
-namespace dhdr::app {
+namespace dhdr {
 
 namespace {
 
@@ -73,4 +72,4 @@ std::string describeScene(const Scene& scene, const std::string& path) {
     return out;
 }
 
-} // namespace dhdr::app
+} // namespace dhdr

@@ -1,0 +1,96 @@
+"""bake_ibl and bake_probes against dhdr-ibl and dhdr-probes, file for file, and their files
+used by light()."""
+import json
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+import dhdr
+from conftest import LIGHTS, TESTDATA, read_file, run_tool, write_exr
+from test_tonemap import same_bits
+
+CORNELL = str(TESTDATA / "cornell_box.gltf")
+
+
+def parts(path):
+    """Every subimage's pixels (as stored) and header attributes but the software's."""
+    inp = oiio.ImageInput.open(str(path))
+    assert inp, oiio.geterror()
+    out, i = [], 0
+    while inp.seek_subimage(i, 0):
+        spec = inp.spec()
+        attrs = {a.name: a.value for a in spec.extra_attribs
+                 if a.name not in ("Software", "DateTime")}
+        out.append((inp.read_image(spec.format), attrs))
+        i += 1
+    inp.close()
+    return out
+
+
+def same_files(a, b):
+    pa, pb = parts(a), parts(b)
+    assert len(pa) == len(pb)
+    for (pixels_a, attrs_a), (pixels_b, attrs_b) in zip(pa, pb):
+        same_bits(pixels_a, pixels_b)
+        assert attrs_a == attrs_b
+
+
+@pytest.fixture(scope="module")
+def sky(tmp_path_factory):
+    """A 64x32 sky with a small bright sun."""
+    rng = np.random.default_rng(5)
+    env = (0.2 + 0.3 * rng.random((32, 64, 3))).astype(np.float32)
+    env[6:8, 40:42] = 5000.0
+    return write_exr(tmp_path_factory.mktemp("sky") / "sky.exr", env, list("RGB"))
+
+
+def test_bake_ibl_equals_tool(sky, tmp_path):
+    small = ["--levels", "3", "--base-width", "16", "--samples", "8", "--dfg-size", "8",
+             "--dfg-samples", "16"]
+    run_tool("dhdr-ibl", sky, *small, "-o", tmp_path / "tool.ibl.exr")
+    info = dhdr.bake_ibl(str(sky), str(tmp_path / "py.ibl.exr"), levels=3, base_width=16,
+                         samples=8, dfg_size=8, dfg_samples=16)
+    assert (info["width"], info["height"]) == (64, 32) and info["sun"]["found"]
+    same_files(tmp_path / "py.ibl.exr", tmp_path / "tool.ibl.exr")
+    # The same sky held in memory.
+    dhdr.bake_ibl(dhdr.read(str(sky)), str(tmp_path / "mem.ibl.exr"), levels=3, base_width=16,
+                  samples=8, dfg_size=8, dfg_samples=16)
+    same_files(tmp_path / "mem.ibl.exr", tmp_path / "tool.ibl.exr")
+    with pytest.raises(ValueError, match="levels: 1 is outside"):
+        dhdr.bake_ibl(str(sky), str(tmp_path / "x.exr"), levels=1)
+    with pytest.raises(RuntimeError, match="twice as wide"):
+        square = write_exr(tmp_path / "square.exr", np.ones((8, 8, 3), np.float32), list("RGB"))
+        dhdr.bake_ibl(str(square), str(tmp_path / "x.exr"))
+
+
+def test_baked_environment_lights_like_the_tool(sky, gbuffer, tmp_path):
+    dhdr.bake_ibl(str(sky), str(tmp_path / "sky.ibl.exr"), levels=3, base_width=16, samples=8)
+    lights = tmp_path / "env.json"
+    lights.write_text(json.dumps({"lights": [{"type": "environment", "image": "sky.ibl.exr"}]}))
+    run_tool("dhdr-light", gbuffer, "--lights", lights, "--type", "float", "-o", tmp_path / "t.exr")
+    g = dhdr.read_gbuffer(str(gbuffer))
+    expected = read_file(tmp_path / "t.exr")
+    same_bits(dhdr.light(g, str(lights)).pixels, expected)
+    # The same light as a dict: its image read and its sun split off as from the file.
+    env = {"type": "environment", "image": str(tmp_path / "sky.ibl.exr")}
+    same_bits(dhdr.light(g, [env]).pixels, expected)
+    with pytest.raises(ValueError, match="environment image .*missing.exr"):
+        dhdr.light(g, {"type": "environment", "image": str(tmp_path / "missing.exr")})
+
+
+def test_bake_probes_equals_tool_and_lights(gbuffer, tmp_path):
+    scene = dhdr.Scene(CORNELL)
+    run_tool("dhdr-probes", CORNELL, "--grid", "2,2,2", "--rays", "32", "--bounces", "1",
+             "-o", tmp_path / "tool.probes.exr")
+    info = dhdr.bake_probes(scene, str(tmp_path / "py.probes.exr"), grid=(2, 2, 2), rays=32,
+                            bounces=1)
+    assert info["counts"] == (2, 2, 2) and info["active"] + info["relocated"] + info["off"] == 8
+    same_files(tmp_path / "py.probes.exr", tmp_path / "tool.probes.exr")
+    run_tool("dhdr-light", gbuffer, "--scene", CORNELL, "--probes", tmp_path / "tool.probes.exr",
+             "--type", "float", "-o", tmp_path / "lit.exr")
+    mine = dhdr.light(dhdr.read_gbuffer(str(gbuffer)), scene=scene,
+                      probes=str(tmp_path / "py.probes.exr"))
+    same_bits(mine.pixels, read_file(tmp_path / "lit.exr"))
+    with pytest.raises(ValueError, match="--rays"):
+        dhdr.bake_probes(scene, str(tmp_path / "x.exr"), rays=1)

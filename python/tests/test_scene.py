@@ -1,0 +1,91 @@
+"""Scenes, render_gbuffer and light(scene=...) against dhdr-gbuffer and dhdr-light."""
+import numpy as np
+import pytest
+
+import dhdr
+from conftest import LIGHTS, TESTDATA, read_channels, read_file, run_tool, tool_error
+from test_tonemap import same_bits
+
+CORNELL = str(TESTDATA / "cornell_box.gltf")
+
+
+@pytest.fixture(scope="module")
+def cornell():
+    return dhdr.Scene(CORNELL)
+
+
+def test_scene_information_is_the_tools(cornell):
+    assert cornell.info() == run_tool("dhdr-gbuffer", CORNELL, "--info").stdout
+    assert cornell.cameras[0]["name"] and "yfov_degrees" in cornell.cameras[0]
+    assert cornell.objects and cornell.materials
+    lo, hi = cornell.bounds
+    assert all(a < b for a, b in zip(lo, hi))
+    assert isinstance(cornell.lights, list)
+    with pytest.raises(RuntimeError, match="nothing.gltf"):
+        dhdr.Scene(str(TESTDATA / "nothing.gltf"))
+
+
+@pytest.mark.parametrize("args, kwargs", [
+    ([], {}),
+    (["--lookat", "0.3,0.3,-0.9,0.28,0.27,0.28", "--fov", "50"],
+     dict(lookat=(0.3, 0.3, -0.9, 0.28, 0.27, 0.28), fov=50)),
+    (["--frame-all"], dict(frame_all=True)),
+])
+def test_render_gbuffer_equals_tool(cornell, tmp_path, args, kwargs):
+    run_tool("dhdr-gbuffer", CORNELL, "--size", "48x32", *args, "-o", tmp_path / "tool.exr")
+    g = dhdr.render_gbuffer(cornell, size=(48, 32), **kwargs)
+    assert g.channels[:2] == ["A", "Z"] and g["N.X"].shape == (32, 48)
+    dhdr.write_gbuffer(str(tmp_path / "py.exr"), g)
+    tool, mine = dhdr.read_gbuffer(str(tmp_path / "tool.exr")), dhdr.read_gbuffer(
+        str(tmp_path / "py.exr"))
+    assert tool.channels == mine.channels
+    same_bits(mine.pixels, tool.pixels)
+    for key in ["worldToCamera", "worldToNDC", "dhdr:sceneSHA1"]:
+        assert mine.attributes[key] == tool.attributes[key]
+
+
+def test_camera_errors_are_the_tools(cornell, tmp_path):
+    bad = run_tool("dhdr-gbuffer", CORNELL, "--camera", "Nope", "-o", tmp_path / "x.exr",
+                   check=False)
+    with pytest.raises(ValueError) as e:
+        dhdr.render_gbuffer(cornell, camera="Nope", size=(8, 8))
+    assert str(e.value) == tool_error(bad)
+    with pytest.raises(ValueError, match="deep"):
+        dhdr.render_gbuffer(cornell, deep=True)
+    with pytest.raises(ValueError, match="6 or 9 numbers"):
+        dhdr.render_gbuffer(cornell, lookat=(0, 0, 1))
+
+
+def test_light_with_scene_equals_tool(cornell, gbuffer, tmp_path):
+    g = dhdr.read_gbuffer(str(gbuffer))
+    run_tool("dhdr-light", gbuffer, "--scene", CORNELL, "--type", "float",
+             "-o", tmp_path / "own.exr")
+    same_bits(dhdr.light(g, scene=cornell).pixels, read_file(tmp_path / "own.exr"))
+    channels = ["R", "G", "B", "A", "AO", "specular.R", "specular.G", "specular.B", "Z",
+                "N.X", "N.Y", "N.Z"]
+    run_tool("dhdr-light", gbuffer, "--scene", CORNELL, "--lights", LIGHTS, "--ao", "rt",
+             "--ao-distance", "0.3", "--aovs", "--emissive-lights", "off", "--type", "float",
+             "-o", tmp_path / "rt.exr")
+    mine = dhdr.light(g, str(LIGHTS), scene=cornell, ao="rt", ao_distance=0.3, aovs=True,
+                      emissive_lights=False)
+    assert mine.channels == channels
+    same_bits(mine.pixels, read_channels(tmp_path / "rt.exr", channels))
+    unshadowed = dhdr.light(g, str(LIGHTS), scene=cornell, shadows=False,
+                            emissive_lights=False, env_samples=0)
+    assert not np.array_equal(unshadowed.pixels, mine.pixels[..., :4])
+    with pytest.raises(ValueError, match="give scene="):
+        dhdr.light(g, str(LIGHTS), ao="rt")
+    with pytest.raises(ValueError, match="no lights"):
+        dhdr.light(g)
+
+
+def test_path_tracer_equals_tool(cornell, gbuffer, tmp_path):
+    run_tool("dhdr-light", gbuffer, "--scene", CORNELL, "--gi", "path", "--spp", "2",
+             "--path-bounces", "1", "--type", "float", "-o", tmp_path / "path.exr")
+    mine = dhdr.light(dhdr.read_gbuffer(str(gbuffer)), scene=cornell, gi="path", spp=2,
+                      path_bounces=1)
+    same_bits(mine.pixels, read_file(tmp_path / "path.exr"))
+    with pytest.raises(ValueError, match="give scene="):
+        dhdr.light(dhdr.read_gbuffer(str(gbuffer)), str(LIGHTS), gi="path")
+    with pytest.raises(ValueError, match="are for gi='path'"):
+        dhdr.light(dhdr.read_gbuffer(str(gbuffer)), str(LIGHTS), spp=4)
