@@ -3,8 +3,10 @@
 #include "animation_writer.h"
 #include "tool_test.h"
 
+#include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <glm/glm.hpp>
 
 using namespace dhdr::test;
@@ -406,4 +408,43 @@ TEST_F(AnimationTools, FlatShadedMeshesTurnWithTheirNode) {
         }
     EXPECT_GT(covered, 200);
     EXPECT_NEAR(value(b, "N.X", 32, 32), std::sin(2 * half), 1e-3); // the baked one turned
+}
+
+// A shot's stochastic terms (soft shadows, ray-traced AO) draw per-pixel sequences that do not
+// depend on the frame: where nothing moves, two frames are the same bits (no crawling noise),
+// while the square that moves changes its pixels.
+TEST_F(AnimationTools, WhatStaysStillIsLitTheSameInEveryFrame) {
+    nlohmann::json doc = squareAndCamera();
+    doc["nodes"].push_back({{"name", "mover"}, {"mesh", 0}, {"translation", {1.3, 1.3, 0.0}}});
+    doc["scenes"][0]["nodes"] = {0, 1, 2};
+    // 5.3 pixels a frame down the image.
+    addChannel(doc, 0, 2, "translation", {0.0f, 0.5f}, {1.3, 1.3, 0, 1.3, -1.3, 0});
+    writeJson(path("shot.gltf"), doc);
+    std::ofstream(path("soft.lights.json"))
+        << R"({"lights": [{"type": "sphere", "position": [0.5, 0.8, 2.0], "radius": 0.4,)"
+           R"( "intensity": 40}]})";
+    ASSERT_EQ(run("dhdr-gbuffer " + path("shot.gltf") + " --size 64x64 --frames 5-6 -o " +
+                  path("shot.####.gbuf.exr"))
+                  .status,
+              0);
+    for (int f = 5; f <= 6; ++f) {
+        char in[32], out[32];
+        std::snprintf(in, sizeof in, "shot.%04d.gbuf.exr", f);
+        std::snprintf(out, sizeof out, "shot.%04d.hdr.exr", f);
+        const Result r = run("dhdr-light " + path(in) + " --scene " + path("shot.gltf") +
+                             " --lights " + path("soft.lights.json") +
+                             " --ao rt --ao-samples 8 --denoise off --type float -o " + path(out));
+        ASSERT_EQ(r.status, 0) << r.err;
+    }
+    const ImageBuf a = read("shot.0005.hdr.exr"), b = read("shot.0006.hdr.exr");
+    // The still square: pixels 24..39 (the centre unit); the mover stays right of x = 48.
+    int same = 0;
+    for (int y = 24; y < 40; ++y)
+        for (int x = 24; x < 40; ++x)
+            for (int c = 0; c < 3; ++c) {
+                ASSERT_EQ(a.getchannel(x, y, 0, c), b.getchannel(x, y, 0, c)) << x << "," << y;
+                same += a.getchannel(x, y, 0, c) > 0.0f;
+            }
+    EXPECT_GT(same, 600);                                                  // lit, not black
+    EXPECT_GT(OIIO::ImageBufAlgo::compare(a, b, 1e-6f, 1e-6f).nfail, 50u); // the mover moved
 }
