@@ -18,6 +18,6 @@ step "$tools/dhdr-light" "$out/mb.gbuf.exr" --lights "$here/testdata/cornell_box
 step "$tools/dhdr-motionblur" "$out/mb.hdr.exr" --gbuffer "$out/mb.gbuf.exr" --shutter 1 \
   -o "$out/mb.blurred.exr" -v
 # One exposure for both: the blurred frame's own metering would differ a little.
-step "$tools/dhdr-tonemap" "$out/mb.hdr.exr" -o "$out/mb.sharp.png" -q --op exposure
-step "$tools/dhdr-tonemap" "$out/mb.blurred.exr" -o "$out/mb.blurred.png" -q --op exposure
+step "$tools/dhdr-tonemap" "$out/mb.hdr.exr" -o "$out/mb.sharp.png" -q --op exposure --exposure -1.5
+step "$tools/dhdr-tonemap" "$out/mb.blurred.exr" -o "$out/mb.blurred.png" -q --op exposure --exposure -1.5
 step oiiotool "$out/mb.sharp.png" "$out/mb.blurred.png" --mosaic 2x1 -o "$out/motion_blur.png"
