@@ -113,6 +113,16 @@ def edge_aa(src: ImageLike, *, normal: Optional[ImageLike] = None,
             use: str = "both", normal_weight: float = 1.0, depth_weight: float = 1.0,
             max_offset: float = 0.5, roi: Roi = None, nthreads: int = 0) -> Image: ...
 @overload
+def motion_blur(dst: Image, src: ImageLike, *, motion: Optional[ImageLike] = None,
+                depth: Optional[ImageLike] = None, gbuffer: Optional[ImageLike] = None,
+                shutter: float = 0.5, samples: int = 15, max_blur: int = 32,
+                depth_softness: float = 0.01, roi: Roi = None, nthreads: int = 0) -> bool: ...
+@overload
+def motion_blur(src: ImageLike, *, motion: Optional[ImageLike] = None,
+                depth: Optional[ImageLike] = None, gbuffer: Optional[ImageLike] = None,
+                shutter: float = 0.5, samples: int = 15, max_blur: int = 32,
+                depth_softness: float = 0.01, roi: Roi = None, nthreads: int = 0) -> Image: ...
+@overload
 def to_display(dst: Image, src: ImageLike, *, config: str = "", colorspace: str = "",
                display: str = "", view: str = "", look: str = "", roi: Roi = None,
                nthreads: int = 0) -> bool: ...

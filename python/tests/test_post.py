@@ -76,3 +76,49 @@ def test_edge_aa_missing_geometry_names_the_channel():
         dhdr.edge_aa(hdr_frame(), normal=np.zeros((64, 96, 2)), use="normal")
     with pytest.raises(ValueError, match="use must be"):
         dhdr.edge_aa(gbuffer_frame(), use="edges")
+
+
+def motion_frame(seed=5, width=96, height=80):
+    """An HDR frame (R, G, B, A) and its G-buffer (Z, motion.X..W): bands at two depths moving
+    sideways over a static background."""
+    rng = np.random.default_rng(seed)
+    colour = np.concatenate([rng.uniform(0.0, 4.0, (height, width, 3)),
+                             np.ones((height, width, 1))], axis=-1).astype(np.float32)
+    y, x = np.mgrid[0:height, 0:width]
+    band = (y // 10) % 2 == 1
+    u = np.where(band, 6.0 + (x % 3), 0.0)
+    z = np.where(band, 2.0, 20.0)
+    g = np.stack([z, -u, np.zeros_like(u), -u, np.zeros_like(u)], axis=-1).astype(np.float32)
+    return colour, g
+
+
+MOTION = ["Z", "motion.X", "motion.Y", "motion.Z", "motion.W"]
+
+
+def test_motion_blur_equals_tool(tmp_path):
+    colour, g = motion_frame()
+    src = write_exr(tmp_path / "in.exr", colour, list("RGBA"))
+    gbuf = write_exr(tmp_path / "g.exr", g, MOTION)
+    run_tool("dhdr-motionblur", src, "--gbuffer", gbuf, "--shutter", "1", "--samples", "9",
+             "-o", tmp_path / "tool.exr")
+    expected = read_file(tmp_path / "tool.exr")
+    img = dhdr.read(str(src))
+    same_bits(dhdr.motion_blur(img, gbuffer=dhdr.Image(g, MOTION), shutter=1.0, samples=9).pixels,
+              expected)
+    # Motion and depth as plain arrays; Blender's channel names.
+    same_bits(dhdr.motion_blur(img, motion=g[..., 1:], depth=g[..., 0], shutter=1.0,
+                               samples=9).pixels, expected)
+    blender = ["ViewLayer.Depth.Z"] + ["ViewLayer.Vector." + c for c in "XYZW"]
+    same_bits(dhdr.motion_blur(img, gbuffer=dhdr.Image(g, blender), shutter=1.0,
+                               samples=9).pixels, expected)
+    assert not np.array_equal(expected, colour)
+
+
+def test_motion_blur_errors_name_what_is_wrong():
+    colour, g = motion_frame()
+    with pytest.raises(ValueError, match="no motion channels"):
+        dhdr.motion_blur(colour)
+    with pytest.raises(ValueError, match="motion: expected 4 channel"):
+        dhdr.motion_blur(colour, motion=g[..., 1:3], depth=g[..., 0])
+    with pytest.raises(ValueError, match="shutter"):
+        dhdr.motion_blur(colour, motion=g[..., 1:], depth=g[..., 0], shutter=3.0)
