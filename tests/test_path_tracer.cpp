@@ -43,6 +43,63 @@ bool covered(const ImageBuf& gbuf, int x, int y) {
     return px(gbuf, x, y)[gbuf.spec().channelindex("A")] > 0.0f;
 }
 
+// A 2 × 2 × 2 room (white floor, ceiling and back wall, a red left and a green right wall, and
+// with `closed` a white front wall) around a 0.6 × 0.9 × 0.6 box of `metal`.
+Scene metalBoxInARoom(const glm::vec3& metalColour, float roughness, bool closed) {
+    Scene scene = emptyScene();
+    Material red = scene.materials[0], green = red, metal = red;
+    red.baseColor = glm::vec3(0.7f, 0.05f, 0.05f);
+    green.baseColor = glm::vec3(0.1f, 0.6f, 0.1f);
+    metal.baseColor = metalColour;
+    metal.metallic = 1.0f;
+    metal.roughness = roughness;
+    scene.materials.insert(scene.materials.end(), {red, green, metal});
+    const float s = 1.0f;
+    addQuad(scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s});                 // floor
+    addQuad(scene, {-s, 2 * s, -s}, {s, 2 * s, -s}, {s, 2 * s, s}, {-s, 2 * s, s}); // ceiling
+    addQuad(scene, {-s, 0, -s}, {s, 0, -s}, {s, 2 * s, -s}, {-s, 2 * s, -s});       // back
+    addQuad(scene, {-s, 0, -s}, {-s, 2 * s, -s}, {-s, 2 * s, s}, {-s, 0, s}, 1);    // left, red
+    addQuad(scene, {s, 0, -s}, {s, 0, s}, {s, 2 * s, s}, {s, 2 * s, -s}, 2);        // right, green
+    if (closed) addQuad(scene, {-s, 0, s}, {-s, 2 * s, s}, {s, 2 * s, s}, {s, 0, s}); // front
+    const size_t before = scene.meshes.size();
+    addBox(scene, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.9f, 0.3f});
+    for (size_t m = before; m < scene.meshes.size(); ++m)
+        scene.meshes[m].material = 3;
+    return scene;
+}
+
+// The room's camera, and its light: a point light under the ceiling.
+const Camera kRoomCamera = Camera::lookAt({0.3, 1.0, 0.95}, {0.0, 0.45, 0.0}, {0, 1, 0}, 1.1);
+
+Light roomLight() {
+    Light light;
+    light.type = LightType::Point;
+    light.position = glm::vec3(0.2f, 1.8f, 0.4f);
+    light.intensity = 2.0f;
+    light.range = 20.0f;
+    return light;
+}
+
+// The means of `a` and `b` over the pixels of the box (x, z within 0.3, y up to 0.9, and above
+// `floorY`), and how many.
+int boxMeans(const ImageBuf& gbuf, int W, int H, const ImageBuf& a, const ImageBuf& b,
+             glm::dvec3& meanA, glm::dvec3& meanB, float top = 0.901f, float floorY = -1.0f) {
+    meanA = meanB = glm::dvec3(0.0);
+    int n = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const glm::vec3 P = positionOf(gbuf, x, y);
+            if (!covered(gbuf, x, y) || std::abs(P.x) > 0.301f || std::abs(P.z) > 0.301f ||
+                P.y > top || P.y < floorY)
+                continue;
+            meanA += glm::dvec3(glm::make_vec3(px(a, x, y)));
+            meanB += glm::dvec3(glm::make_vec3(px(b, x, y)));
+            ++n;
+        }
+    if (n > 0) meanA /= double(n), meanB /= double(n);
+    return n;
+}
+
 } // namespace
 
 // A white furnace: every surface a white metal (F0 = 1, whose reflectance with multiple
@@ -264,32 +321,10 @@ TEST(PathTracer, WithoutBouncesItAgreesWithTheDirectPassForAreaLightsAndTheSky) 
 // each channel within 3 % of the path tracer's (256 paths; measured 0.4 %; the issue asks for
 // 10 %), which the direct light alone misses ninefold.
 TEST(PathTracer, TheSpecularIndirectLightIsTheRoomInTheMetal) {
-    Scene scene = emptyScene();
-    Material red = scene.materials[0], green = red, metal = red;
-    red.baseColor = glm::vec3(0.7f, 0.05f, 0.05f);
-    green.baseColor = glm::vec3(0.1f, 0.6f, 0.1f);
-    metal.baseColor = glm::vec3(1.0f);
-    metal.metallic = 1.0f;
-    metal.roughness = 0.3f;
-    scene.materials.insert(scene.materials.end(), {red, green, metal});
-    const float s = 1.0f;
-    addQuad(scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s});                 // floor
-    addQuad(scene, {-s, 2 * s, -s}, {s, 2 * s, -s}, {s, 2 * s, s}, {-s, 2 * s, s}); // ceiling
-    addQuad(scene, {-s, 0, -s}, {s, 0, -s}, {s, 2 * s, -s}, {-s, 2 * s, -s});       // back
-    addQuad(scene, {-s, 0, -s}, {-s, 2 * s, -s}, {-s, 2 * s, s}, {-s, 0, s}, 1);    // left, red
-    addQuad(scene, {s, 0, -s}, {s, 0, s}, {s, 2 * s, s}, {s, 2 * s, -s}, 2);        // right, green
-    const size_t before = scene.meshes.size();
-    addBox(scene, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.9f, 0.3f});
-    for (size_t m = before; m < scene.meshes.size(); ++m)
-        scene.meshes[m].material = 3;
-    const Camera camera = Camera::lookAt({0.3, 1.0, 0.95}, {0.0, 0.45, 0.0}, {0, 1, 0}, 1.1);
-    const ImageBuf gbuf = gbufferOf(scene, camera, 48, 48);
+    const Scene scene = metalBoxInARoom(glm::vec3(1.0f), 0.3f, false);
+    const ImageBuf gbuf = gbufferOf(scene, kRoomCamera, 48, 48);
     const RayCaster caster(scene);
-    Light light;
-    light.type = LightType::Point;
-    light.position = glm::vec3(0.2f, 1.8f, 0.4f);
-    light.intensity = 2.0f;
-    light.range = 20.0f;
+    const Light light = roomLight();
     auto deferred = [&](int samples) {
         LightingParams p;
         p.specularSamples = samples;
@@ -302,22 +337,12 @@ TEST(PathTracer, TheSpecularIndirectLightIsTheRoomInTheMetal) {
     };
     const ImageBuf with = deferred(64), without = deferred(0);
     const ImageBuf path = pathTraced(gbuf, {light}, caster, 256, 1);
-    glm::dvec3 a(0.0), b(0.0), c(0.0);
-    int n = 0;
-    for (int y = 0; y < 48; ++y)
-        for (int x = 0; x < 48; ++x) {
-            const glm::vec3 P = positionOf(gbuf, x, y);
-            if (!covered(gbuf, x, y) || std::abs(P.x) > 0.301f || std::abs(P.z) > 0.301f ||
-                P.y > 0.901f)
-                continue;
-            a += glm::dvec3(glm::make_vec3(px(with, x, y)));
-            b += glm::dvec3(glm::make_vec3(px(path, x, y)));
-            c += glm::dvec3(glm::make_vec3(px(without, x, y)));
-            ++n;
-        }
+    glm::dvec3 a, b, c, unused;
+    const int n = boxMeans(gbuf, 48, 48, with, path, a, b);
+    boxMeans(gbuf, 48, 48, without, path, c, unused);
     std::printf("the metal box over %d pixels: with specular indirect %.4f %.4f %.4f, path "
                 "traced %.4f %.4f %.4f, direct only %.4f %.4f %.4f\n",
-                n, a.r / n, a.g / n, a.b / n, b.r / n, b.g / n, b.b / n, c.r / n, c.g / n, c.b / n);
+                n, a.r, a.g, a.b, b.r, b.g, b.b, c.r, c.g, c.b);
     ASSERT_GT(n, 300);
     for (int k = 0; k < 3; ++k) {
         EXPECT_NEAR(a[k] / b[k], 1.0, 0.03) << "channel " << k;
@@ -330,33 +355,10 @@ TEST(PathTracer, TheSpecularIndirectLightIsTheRoomInTheMetal) {
 // bake's hits do. Over the metal box's pixels, the frame's colour and mean against 256 paths of
 // 8 bounces, within 10 % per channel (issue 23's goal for a metal in a coloured box).
 TEST(PathTracer, ARoughMetalInTheRoomTakesTheProbesLight) {
-    Scene scene = emptyScene();
-    Material red = scene.materials[0], green = red, metal = red;
-    red.baseColor = glm::vec3(0.7f, 0.05f, 0.05f);
-    green.baseColor = glm::vec3(0.1f, 0.6f, 0.1f);
-    metal.baseColor = glm::vec3(0.95f, 0.9f, 0.85f);
-    metal.metallic = 1.0f;
-    metal.roughness = 0.7f;
-    scene.materials.insert(scene.materials.end(), {red, green, metal});
-    const float s = 1.0f;
-    addQuad(scene, {-s, 0, -s}, {-s, 0, s}, {s, 0, s}, {s, 0, -s});                 // floor
-    addQuad(scene, {-s, 2 * s, -s}, {s, 2 * s, -s}, {s, 2 * s, s}, {-s, 2 * s, s}); // ceiling
-    addQuad(scene, {-s, 0, -s}, {s, 0, -s}, {s, 2 * s, -s}, {-s, 2 * s, -s});       // back
-    addQuad(scene, {-s, 0, -s}, {-s, 2 * s, -s}, {-s, 2 * s, s}, {-s, 0, s}, 1);    // left, red
-    addQuad(scene, {s, 0, -s}, {s, 0, s}, {s, 2 * s, s}, {s, 2 * s, -s}, 2);        // right, green
-    addQuad(scene, {-s, 0, s}, {-s, 2 * s, s}, {s, 2 * s, s}, {s, 0, s});           // front
-    const size_t before = scene.meshes.size();
-    addBox(scene, {-0.3f, 0.0f, -0.3f}, {0.3f, 0.9f, 0.3f});
-    for (size_t m = before; m < scene.meshes.size(); ++m)
-        scene.meshes[m].material = 3;
-    const Camera camera = Camera::lookAt({0.3, 1.0, 0.95}, {0.0, 0.45, 0.0}, {0, 1, 0}, 1.1);
-    const ImageBuf gbuf = gbufferOf(scene, camera, 48, 48);
+    const Scene scene = metalBoxInARoom(glm::vec3(0.95f, 0.9f, 0.85f), 0.7f, true);
+    const ImageBuf gbuf = gbufferOf(scene, kRoomCamera, 48, 48);
     const RayCaster caster(scene);
-    Light light;
-    light.type = LightType::Point;
-    light.position = glm::vec3(0.2f, 1.8f, 0.4f);
-    light.intensity = 2.0f;
-    light.range = 20.0f;
+    const Light light = roomLight();
     ProbeBakeParams bake;
     bake.spacing = 0.25;
     ProbeVolume probes;
@@ -370,21 +372,11 @@ TEST(PathTracer, ARoughMetalInTheRoomTakesTheProbesLight) {
     LightingStats stats;
     ASSERT_TRUE(shadeGBuffer(with, gbuf, inputs, p, {}, 0, &stats)) << with.geterror();
     const ImageBuf path = pathTraced(gbuf, {light}, caster, 256, 8);
-    glm::dvec3 a(0.0), b(0.0);
-    int n = 0;
-    for (int y = 0; y < 48; ++y)
-        for (int x = 0; x < 48; ++x) {
-            const glm::vec3 P = positionOf(gbuf, x, y);
-            if (!covered(gbuf, x, y) || std::abs(P.x) > 0.301f || std::abs(P.z) > 0.301f ||
-                P.y > 0.901f)
-                continue;
-            a += glm::dvec3(glm::make_vec3(px(with, x, y)));
-            b += glm::dvec3(glm::make_vec3(px(path, x, y)));
-            ++n;
-        }
+    glm::dvec3 a, b;
+    const int n = boxMeans(gbuf, 48, 48, with, path, a, b);
     std::printf("the rough metal box over %d pixels: probes %.4f %.4f %.4f, path traced %.4f "
                 "%.4f %.4f; %lld specular rays\n",
-                n, a.r / n, a.g / n, a.b / n, b.r / n, b.g / n, b.b / n, stats.specularRays);
+                n, a.r, a.g, a.b, b.r, b.g, b.b, stats.specularRays);
     ASSERT_GT(n, 300);
     EXPECT_EQ(stats.specularRays, 0);
     for (int k = 0; k < 3; ++k)
@@ -395,7 +387,7 @@ TEST(PathTracer, ARoughMetalInTheRoomTakesTheProbesLight) {
 // probes: what its rays hit is lit as the frame is, the sky's diffuse light through the probes
 // only (not also by the environment's irradiance) and the hit's rough specular lobe by the
 // probes too. Over the box's pixels within 5 % of 256 paths of 8 bounces per channel; with the
-// sky's diffuse light counted twice at the hits the box was ~+20 % (the floor's reflection).
+// sky's diffuse light counted twice at the hits the box was +70 % (the floor's reflection).
 TEST(PathTracer, TheSkyIsCountedOnceWhereReflectionsHitWithProbes) {
     Scene scene = emptyScene();
     Material metal = scene.materials[0];
@@ -428,21 +420,11 @@ TEST(PathTracer, TheSkyIsCountedOnceWhereReflectionsHitWithProbes) {
     ImageBuf with;
     ASSERT_TRUE(shadeGBuffer(with, gbuf, inputs, p)) << with.geterror();
     const ImageBuf path = pathTraced(gbuf, {sky}, caster, 256, 8);
-    glm::dvec3 a(0.0), b(0.0);
-    int n = 0;
-    for (int y = 0; y < 36; ++y)
-        for (int x = 0; x < 48; ++x) {
-            const glm::vec3 P = positionOf(gbuf, x, y);
-            if (!covered(gbuf, x, y) || std::abs(P.x) > 0.301f || std::abs(P.z) > 0.301f ||
-                P.y > 0.601f || P.y < 0.001f)
-                continue;
-            a += glm::dvec3(glm::make_vec3(px(with, x, y)));
-            b += glm::dvec3(glm::make_vec3(px(path, x, y)));
-            ++n;
-        }
+    glm::dvec3 a, b;
+    const int n = boxMeans(gbuf, 48, 36, with, path, a, b, 0.601f, 0.001f);
     std::printf("the metal box under the sky over %d pixels: deferred with probes %.4f %.4f %.4f, "
                 "path traced %.4f %.4f %.4f\n",
-                n, a.r / n, a.g / n, a.b / n, b.r / n, b.g / n, b.b / n);
+                n, a.r, a.g, a.b, b.r, b.g, b.b);
     ASSERT_GT(n, 100);
     for (int k = 0; k < 3; ++k)
         EXPECT_NEAR(a[k] / b[k], 1.0, 0.05) << "channel " << k;
