@@ -4,6 +4,7 @@
 namespace dhdr::python {
 void bindImageIO(py::module_& m);
 void bindTonemap(py::module_& m);
+void bindGeometryOps(py::module_& m);
 void bindLighting(py::module_& m);
 void bindScene(py::module_& m);
 void bindBakes(py::module_& m);
@@ -17,6 +18,7 @@ PYBIND11_MODULE(_dhdr, m) {
     dhdr::python::bindImage(m);
     dhdr::python::bindImageIO(m);
     dhdr::python::bindTonemap(m);
+    dhdr::python::bindGeometryOps(m);
     dhdr::python::bindScene(m);
     dhdr::python::bindLighting(m);
     dhdr::python::bindBakes(m);
