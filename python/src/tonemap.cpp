@@ -5,7 +5,6 @@
 
 #include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
-#include <dhdr/deferred/gbuffer.h>
 #include <dhdr/io/sanitize.h>
 #include <dhdr/tonemap/adaptation.h>
 #include <dhdr/tonemap/bloom.h>
