@@ -101,11 +101,13 @@ namespace {
 std::string checkAsFloat(const std::string& v, double d, const CommandLine::Range& range) {
     if (!range.contains(d)) return v + " is outside " + range.text();
     // Against the range's ends as floats too: 1e30 is not a float, and the float nearest it
-    // is a little larger.
-    const float f = float(d);
-    const CommandLine::Range asFloat{double(float(range.lo)), double(float(range.hi)), range.openLo,
-                                     range.openHi};
-    if (!asFloat.contains(double(f))) {
+    // is a little larger. Compared float to float, so that the value and the ends are rounded
+    // alike whatever the optimizer keeps in double (with -O3 -fPIC, GCC 12 compared the rounded
+    // value against the unrounded end and refused the end itself).
+    const float f = float(d), lo = float(range.lo), hi = float(range.hi);
+    const bool inside =
+        std::isfinite(f) && (range.openLo ? f > lo : f >= lo) && (range.openHi ? f < hi : f <= hi);
+    if (!inside) {
         char text[32];
         std::snprintf(text, sizeof text, "%g", double(f));
         return v + " is outside " + range.text() + " as a float (" + text + ")";
