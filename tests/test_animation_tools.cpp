@@ -199,6 +199,15 @@ TEST_F(AnimationTools, FramesOutsideTheAnimationHoldItsEnds) {
     EXPECT_GT(value(g, "A", 32, 32), 0.0f);
     EXPECT_EQ(value(g, "motion.X", 32, 32), 0.0f);
     EXPECT_EQ(value(g, "motion.Z", 32, 32), 0.0f);
+    // The header says which moment it is: frame 200 at 24 fps.
+    EXPECT_FLOAT_EQ(g.spec().get_float_attribute("dhdr:animationTime", -1.0f), 200.0f / 24.0f);
+    EXPECT_FLOAT_EQ(g.spec().get_float_attribute("dhdr:fps", -1.0f), 24.0f);
+    // A file without animation says nothing of time.
+    ASSERT_EQ(run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 16x16 -o " +
+                  path("still_scene.exr"))
+                  .status,
+              0);
+    EXPECT_EQ(read("still_scene.exr").spec().find_attribute("dhdr:animationTime"), nullptr);
 }
 
 // --info lists the animations with their durations; --animation picks one, and an unknown

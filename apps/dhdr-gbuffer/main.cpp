@@ -241,6 +241,14 @@ int run(int argc, char** argv) {
         }
         OIIO::ImageSpec spec = renderer.spec();
         spec.attribute("dhdr:source", scenePath);
+        // When the file plays, which moment of it this is (seconds, and the frame rate that
+        // put frames there), so that a compositor or a later stage can tell.
+        auto stampTime = [&](OIIO::ImageSpec& s) {
+            if (!loaded.animated()) return;
+            s.attribute("dhdr:animationTime", float(time));
+            s.attribute("dhdr:fps", float(timing.fps));
+        };
+        stampTime(spec);
         if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
             spec.attribute(gbuffer::kSceneFingerprint, sha);
         constexpr int kStrip = 64;
@@ -308,6 +316,7 @@ int run(int argc, char** argv) {
                     deepSpec.height = params.height;
                     deepSpec.channelformats = deepFormats;
                     deepSpec.attribute("dhdr:source", scenePath);
+                    stampTime(deepSpec);
                     if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())
                         deepSpec.attribute(gbuffer::kSceneFingerprint, sha);
                     if (file.file().openDeep(deepSpec)) return true;
