@@ -100,6 +100,17 @@ int boxMeans(const ImageBuf& gbuf, int W, int H, const ImageBuf& a, const ImageB
     return n;
 }
 
+// Probes baked for `lights` at `spacing` (the bake's defaults otherwise).
+ProbeVolume bakedProbes(const Scene& scene, const RayCaster& caster,
+                        const std::vector<Light>& lights, double spacing) {
+    ProbeBakeParams bake;
+    bake.spacing = spacing;
+    ProbeVolume probes;
+    std::string error;
+    EXPECT_TRUE(bakeProbes(scene, caster, lights, true, bake, probes, error)) << error;
+    return probes;
+}
+
 } // namespace
 
 // A white furnace: every surface a white metal (F0 = 1, whose reflectance with multiple
@@ -359,11 +370,7 @@ TEST(PathTracer, ARoughMetalInTheRoomTakesTheProbesLight) {
     const ImageBuf gbuf = gbufferOf(scene, kRoomCamera, 48, 48);
     const RayCaster caster(scene);
     const Light light = roomLight();
-    ProbeBakeParams bake;
-    bake.spacing = 0.25;
-    ProbeVolume probes;
-    std::string error;
-    ASSERT_TRUE(bakeProbes(scene, caster, {light}, true, bake, probes, error)) << error;
+    const ProbeVolume probes = bakedProbes(scene, caster, {light}, 0.25);
     LightingParams p;
     LightingInputs inputs{{light}, &caster};
     inputs.scene = &caster;
@@ -405,11 +412,7 @@ TEST(PathTracer, TheSkyIsCountedOnceWhereReflectionsHitWithProbes) {
     const RayCaster caster(scene);
     Light sky = uniformSky();
     sky.intensity = 0.5f;
-    ProbeBakeParams bake;
-    bake.spacing = 0.3;
-    ProbeVolume probes;
-    std::string error;
-    ASSERT_TRUE(bakeProbes(scene, caster, {sky}, true, bake, probes, error)) << error;
+    const ProbeVolume probes = bakedProbes(scene, caster, {sky}, 0.3);
     LightingParams p;
     p.specularSamples = 64;
     p.environmentSamples = 64;
@@ -443,11 +446,7 @@ TEST(PathTracer, WithProbesRoughSurfacesTraceNoEnvironmentRays) {
     const RayCaster caster(scene);
     Light sky = uniformSky();
     sky.intensity = 0.5f;
-    ProbeBakeParams bake;
-    bake.spacing = 0.5;
-    ProbeVolume probes;
-    std::string error;
-    ASSERT_TRUE(bakeProbes(scene, caster, {sky}, true, bake, probes, error)) << error;
+    const ProbeVolume probes = bakedProbes(scene, caster, {sky}, 0.5);
     auto frame = [&](int environmentSamples, LightingStats& stats) {
         LightingParams p;
         p.environmentSamples = environmentSamples;
