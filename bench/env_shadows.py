@@ -4,7 +4,7 @@
 For each Poly Haven HDRI that Debian's blender-data ships (studiolights/world, CC0) and the
 generated sky of scripts/ibl_demo.sh (a 0.4° sun of radiance 30,000): the bundled spheres on
 a shadow-catching ground plane (dhdr-gbuffer --ground-plane), lit with --scene at
---env-samples 16, 64 and 256. Prints, per sample count, the covered pixels that are exactly
+--env-samples 16, 64 and 256 (--samples). Prints, per sample count, the covered pixels that are exactly
 black although the unshadowed render lights them, the RMS error against a 1024-sample render
 without denoising (idiff), and wall time; --denoise off measures the per-pixel estimates.
 
@@ -48,6 +48,7 @@ def main():
     ap.add_argument("--bin", default="build/apps")
     ap.add_argument("--size", default="320x180")
     ap.add_argument("--denoise", default="on", choices=["on", "off"])
+    ap.add_argument("--samples", default="16,64,256", help="--env-samples values, comma-separated")
     args = ap.parse_args()
     tool = lambda name: os.path.join(args.bin, name)
     with tempfile.TemporaryDirectory() as d:
@@ -86,7 +87,7 @@ def main():
             reference = os.path.join(d, "ref.exr")
             light(1024, reference)
             unshadowed = pixels(open_)
-            for samples in (16, 64, 256):
+            for samples in [int(v) for v in args.samples.split(",")]:
                 out = os.path.join(d, f"lit{samples}.exr")
                 wall = light(samples, out)
                 lit = pixels(out)

@@ -5,12 +5,16 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <cmath>
+#include <cstring>
 #include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/visibility.h>
 #include <gtest/gtest.h>
+#include <limits>
+#include <vector>
 
 using namespace dhdr;
 using namespace dhdr::test;
@@ -195,4 +199,30 @@ TEST(RayOrigins, ASurfaceInAnEmittersPlaneGetsNoLightFromIt) {
     EXPECT_GT(ceiling, 1000);
     EXPECT_GT(inside, 20);
     EXPECT_GT(floorLit, 100);
+}
+
+// The ray origin's one-float step is std::nextafter's, done on the bits: the same float for
+// zeros of either sign, denormals, the largest finite floats, infinities and ordinary values.
+TEST(RayOrigins, NextFloatStepsAsNextafter) {
+    std::vector<float> values = {0.0f,
+                                 -0.0f,
+                                 1.0f,
+                                 -1.0f,
+                                 1e-40f,
+                                 -1e-40f,
+                                 std::numeric_limits<float>::denorm_min(),
+                                 -std::numeric_limits<float>::denorm_min(),
+                                 std::numeric_limits<float>::max(),
+                                 -std::numeric_limits<float>::max(),
+                                 INFINITY,
+                                 -INFINITY};
+    for (int i = 0; i < 10000; ++i)
+        values.push_back(std::ldexp(float(i % 997) / 997.0f + 0.5f, i % 80 - 40) *
+                         (i % 2 ? 1.0f : -1.0f));
+    for (const float v : values) {
+        const float up = nextFloatUp(v), down = nextFloatDown(v);
+        const float upRef = std::nextafter(v, INFINITY), downRef = std::nextafter(v, -INFINITY);
+        ASSERT_EQ(std::memcmp(&up, &upRef, sizeof up), 0) << v;
+        ASSERT_EQ(std::memcmp(&down, &downRef, sizeof down), 0) << v;
+    }
 }

@@ -186,6 +186,15 @@ bool liveLanes(const std::vector<EstimateState>& state, const vbool4& surface, i
     return any;
 }
 
+// A lobe's direction: exp(−(1 − d_p·d_q) / σ_p²) for pixels p = (y, x…x+3), taps q.
+OIIO_FORCEINLINE vfloat4 lobeWeight(const EstimateState& s, int y, int x, int qy, int qx) {
+    vfloat4 dot(0.0f);
+    for (int k = 0; k < 3; ++k)
+        dot += vfloat4(s.direction[k]->row(y) + x) * vfloat4(s.direction[k]->row(qy) + qx);
+    const vfloat4 width(s.width->row(y) + x);
+    return expNegative4(vfloat4(0.0f) - max(vfloat4(1.0f) - dot, vfloat4(0.0f)) / (width * width));
+}
+
 float signalOf(float shadowed, float total, int count) {
     if (count == 2) return total > 0.0f ? shadowed / total : 1.0f;
     return shadowed;
@@ -246,6 +255,19 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
             state[e].active = next[e].active = &lobes.back();
         }
         if (!in.direction) continue;
+        // Estimates guided by the same lobes share their planes, and so their lobe weight.
+        const auto same = std::find_if(
+            estimates.begin(), estimates.begin() + long(e), [&](const DenoiseEstimate& o) {
+                return o.direction == in.direction && o.width == in.width;
+            });
+        if (same != estimates.begin() + long(e)) {
+            const EstimateState& shared = state[size_t(same - estimates.begin())];
+            for (EstimateState* s : {&state[e], &next[e]}) {
+                std::copy(shared.direction, shared.direction + 3, s->direction);
+                s->width = shared.width;
+            }
+            continue;
+        }
         for (int k = 0; k < 4; ++k) {
             lobes.emplace_back();
             newPlanes(lobes.back(), guide);
@@ -337,6 +359,8 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                                 if (none(geometry > vfloat4(0.0f))) continue;
                                 const vfloat4 kernel =
                                     geometry * vfloat4(kKernel[i + 2] * kKernel[j + 2]);
+                                const Planes* lobeOf = nullptr;
+                                vfloat4 lobe(1.0f);
                                 for (size_t e = 0; e < m; ++e) {
                                     if (none(live[e])) continue;
                                     const EstimateState& s = state[e];
@@ -346,16 +370,11 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                                         kernel *
                                         expNegative4(vfloat4(0.0f) - difference * inverseSpread[e]);
                                     if (s.width && !same) {
-                                        // A lobe's direction: exp(−(1 − d_p·d_q) / σ_p²).
-                                        vfloat4 dot(0.0f);
-                                        for (int k = 0; k < 3; ++k)
-                                            dot += vfloat4(s.direction[k]->row(y) + x) *
-                                                   vfloat4(s.direction[k]->row(qy) + qx);
-                                        const vfloat4 width(s.width->row(y) + x);
-                                        weight = weight * expNegative4(vfloat4(0.0f) -
-                                                                       max(vfloat4(1.0f) - dot,
-                                                                           vfloat4(0.0f)) /
-                                                                           (width * width));
+                                        if (s.width != lobeOf) {
+                                            lobe = lobeWeight(s, y, x, qy, qx);
+                                            lobeOf = s.width;
+                                        }
+                                        weight = weight * lobe;
                                     }
                                     weights[e] += weight;
                                     var[e] += weight * weight * vfloat4(s.variance.row(qy) + qx);
