@@ -159,7 +159,8 @@ float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec
             weight[n] = (s.L.r + s.L.g + s.L.b) * cosTheta / s.pdf;
             batch[n++] = towards(at, s);
         }
-        visibility.test(batch, size_t(n), transmittance);
+        // From one point towards one light: traced together.
+        visibility.testCoherent(batch, size_t(n), transmittance);
         if (rays) *rays += n;
         for (int i = 0; i < n; ++i) {
             total += weight[i];

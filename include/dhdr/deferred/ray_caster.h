@@ -66,7 +66,7 @@ public:
 
     // The same for rays that run side by side (a tile's rays towards one light), in packets
     // of 16 (rtcOccluded16, coherent); bench/occlusion.cpp compares it with test().
-    void testCoherent(const ShadowRay* rays, size_t count, float* transmittance) const;
+    void testCoherent(const ShadowRay* rays, size_t count, float* transmittance) const override;
 
 private:
     struct Impl;

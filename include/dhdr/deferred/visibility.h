@@ -25,6 +25,11 @@ public:
     // 1 when nothing is in the way, 0 when an opaque surface is, the product of (1 − α) of
     // the partly transparent surfaces crossed otherwise. Safe from many threads.
     virtual void test(const ShadowRay* rays, size_t count, float* transmittance) const = 0;
+    // The same for rays that run side by side (from one point towards one small light), which
+    // an implementation may trace together; the same answers as test().
+    virtual void testCoherent(const ShadowRay* rays, size_t count, float* transmittance) const {
+        test(rays, count, transmittance);
+    }
 
     float transmittance(const ShadowRay& ray) const {
         float t = 0.0f;
