@@ -3,14 +3,17 @@
 the farm (docs/animation.md, "A shot on the farm"): the Cornell box for one second (24 frames
 at 24 fps, animation "shot") in which
 
-- the tall block turns 45 degrees about its own vertical axis (a pivot node above it, so the
+- the tall block turns 90 degrees about its own vertical axis (a pivot node above it, so the
   turn is exact between keys) and the short block hops 6 cm (CUBICSPLINE, as in
   cornell_animated.gltf);
 - a skinned arm (one box mesh, two joints: shoulder on the floor, elbow) leans and bends at
   the elbow; the vertices near the elbow are weighted between the two joints, so the mesh
   bends rather than breaks;
-- the camera dollies in from outside the box and pans a little to the left, so the frame goes
-  from black borders to the lit room: eye adaptation has something to follow.
+- the camera dollies in from outside the box and pans a little to the left;
+- a third light, a bright spot near the ceiling at the front, swings from pointing out of the
+  box (lighting nothing in view) down onto the floor, towards the back, between 0.2 s and
+  0.6 s: the frame gets brighter, and eye adaptation has something to follow. dhdr-gbuffer
+  --lights-out writes it where it points at each frame.
 
 Python 3 standard library only; the helpers come from make_cornell_animated.py.
 """
@@ -42,6 +45,12 @@ def roll(degrees):
     """A rotation about +z as a quaternion (x, y, z, w): negative angles tip +y towards +x."""
     h = math.radians(degrees) / 2
     return [0.0, 0.0, math.sin(h), math.cos(h)]
+
+
+def pitch(degrees):
+    """A rotation about +x as a quaternion (x, y, z, w)."""
+    h = math.radians(degrees) / 2
+    return [math.sin(h), 0.0, 0.0, math.cos(h)]
 
 
 def elbow_weight(height):
@@ -140,17 +149,32 @@ def main():
     anim = gltf.animation("shot")
     end = DURATION
 
-    gltf.channel(anim, "tall_block_pivot", "rotation", [0.0, end], yaw(0) + yaw(-45), "VEC4")
+    gltf.channel(anim, "tall_block_pivot", "rotation", [0.0, end / 2, end],
+                 yaw(0) + yaw(-45) + yaw(-90), "VEC4")
     zero = [0.0, 0.0, 0.0]
     # In-tangent, value, out-tangent per key: up 6 cm and back, at rest at the ends.
     gltf.channel(anim, "short_block", "translation", [0.0, end / 2, end],
                  zero * 4 + [0, 0.06, 0] + zero * 4, "VEC3", "CUBICSPLINE")
 
-    # The arm leans away from the wall while the elbow bends towards it.
+    # The arm leans away from the wall while the elbow bends towards it, then straightens a
+    # little (a wave: fast enough to blur).
     gltf.channel(anim, "shoulder", "rotation", [0.0, end / 2, end],
-                 roll(0) + roll(12) + roll(8), "VEC4")
+                 roll(0) + roll(15) + roll(5), "VEC4")
     gltf.channel(anim, "elbow", "rotation", [0.0, end / 2, end],
-                 roll(0) + roll(-60) + roll(-100), "VEC4")
+                 roll(0) + roll(-110) + roll(-50), "VEC4")
+
+    # The sweeping spot: glTF lights shine down their node's -z; turning the node about +x by
+    # -125 degrees takes -z (out of the box) through straight down to (0, -0.82, 0.57).
+    lights = doc["extensions"]["KHR_lights_punctual"]["lights"]
+    lights.append({"name": "sweep", "type": "spot", "color": [1.0, 0.9, 0.75],
+                   "intensity": 5.0, "range": 2.0,
+                   "spot": {"innerConeAngle": 0.35, "outerConeAngle": 0.6}})
+    doc["nodes"].append({"name": "sweep", "translation": [0.278, 0.5, 0.05],
+                         "extensions": {"KHR_lights_punctual": {"light": len(lights) - 1}}})
+    doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
+    gltf.nodes["sweep"] = len(doc["nodes"]) - 1
+    gltf.channel(anim, "sweep", "rotation", [0.2 * end, 0.6 * end],
+                 pitch(0) + pitch(-125), "VEC4")
 
     # The camera dollies in from outside the box (its front edge in view) to inside its
     # opening, sinking a little, and pans left towards the arm.
