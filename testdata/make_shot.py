@@ -40,6 +40,13 @@ BLEND = (0.13, 0.19)
 # The tall block's vertical axis (the centre of its footprint in cornell_box.gltf, metres).
 TALL_CENTRE = (0.3685, 0.0, 0.3515)
 
+# The keys, (seconds, degrees), LINEAR; tests/farm/test_shot.py poses the scene from these.
+TALL_TURN = [(0.0, 0.0), (0.5, -45.0), (1.0, -90.0)]  # about +y
+SHOULDER_ROLL = [(0.0, 0.0), (0.5, 15.0), (1.0, 5.0)]  # about +z
+ELBOW_ROLL = [(0.0, 0.0), (0.5, -110.0), (1.0, -50.0)]  # about +z
+SWEEP_PITCH = [(0.2, 0.0), (0.6, -125.0)]  # about +x
+HOP = 0.06  # the short block's rise at 0.5 s, metres (CUBICSPLINE, tangents 0)
+
 
 def roll(degrees):
     """A rotation about +z as a quaternion (x, y, z, w): negative angles tip +y towards +x."""
@@ -149,19 +156,19 @@ def main():
     anim = gltf.animation("shot")
     end = DURATION
 
-    gltf.channel(anim, "tall_block_pivot", "rotation", [0.0, end / 2, end],
-                 yaw(0) + yaw(-45) + yaw(-90), "VEC4")
+    def keys(table, quaternion):
+        return [t * end for t, _ in table], sum((quaternion(a) for _, a in table), [])
+
+    gltf.channel(anim, "tall_block_pivot", "rotation", *keys(TALL_TURN, yaw), "VEC4")
     zero = [0.0, 0.0, 0.0]
     # In-tangent, value, out-tangent per key: up 6 cm and back, at rest at the ends.
     gltf.channel(anim, "short_block", "translation", [0.0, end / 2, end],
-                 zero * 4 + [0, 0.06, 0] + zero * 4, "VEC3", "CUBICSPLINE")
+                 zero * 4 + [0, HOP, 0] + zero * 4, "VEC3", "CUBICSPLINE")
 
     # The arm leans away from the wall while the elbow bends towards it, then straightens a
     # little (a wave: fast enough to blur).
-    gltf.channel(anim, "shoulder", "rotation", [0.0, end / 2, end],
-                 roll(0) + roll(15) + roll(5), "VEC4")
-    gltf.channel(anim, "elbow", "rotation", [0.0, end / 2, end],
-                 roll(0) + roll(-110) + roll(-50), "VEC4")
+    gltf.channel(anim, "shoulder", "rotation", *keys(SHOULDER_ROLL, roll), "VEC4")
+    gltf.channel(anim, "elbow", "rotation", *keys(ELBOW_ROLL, roll), "VEC4")
 
     # The sweeping spot: glTF lights shine down their node's -z; turning the node about +x by
     # -125 degrees takes -z (out of the box) through straight down to (0, -0.82, 0.57).
@@ -173,8 +180,7 @@ def main():
                          "extensions": {"KHR_lights_punctual": {"light": len(lights) - 1}}})
     doc["scenes"][0]["nodes"].append(len(doc["nodes"]) - 1)
     gltf.nodes["sweep"] = len(doc["nodes"]) - 1
-    gltf.channel(anim, "sweep", "rotation", [0.2 * end, 0.6 * end],
-                 pitch(0) + pitch(-125), "VEC4")
+    gltf.channel(anim, "sweep", "rotation", *keys(SWEEP_PITCH, pitch), "VEC4")
 
     # The camera dollies in from outside the box (its front edge in view) to inside its
     # opening, sinking a little, and pans left towards the arm.
