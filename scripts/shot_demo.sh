@@ -27,13 +27,15 @@ start=$(date +%s.%N)
 step "$tools/dhdr-farm" submit "$pipeline" --frames 1-24 --chunk 8 --engine local -j 2 \
   --bin "$tools" --state "$state"
 end=$(date +%s.%N)
-echo "== the shot (24 frames, 320x240, 6 stages) took $(python3 -c "print(round($end - $start, 1))") s"
+took=$(python3 -c "print(round($end - $start, 1))")
+echo "== the shot (24 frames, 320x240, 6 stages) took $took s"
 
 # The contact sheet: the final PNGs in frame order, alpha dropped (the background outside the
 # box is black, as the frames show it).
 sheet=()
 for f in $(seq -f %04g 1 24); do sheet+=("$here/$frames/shot.$f.png"); done
-echo "== oiiotool $frames/shot.{0001..0024}.png --mosaic:pad=2 6x4 --ch R,G,B -o $out/shot_sheet.png"
+echo "== oiiotool $frames/shot.{0001..0024}.png --mosaic:pad=2 6x4 --ch R,G,B" \
+  "-o $out/shot_sheet.png"
 oiiotool "${sheet[@]}" --mosaic:pad=2 6x4 --ch R,G,B -o "$out/shot_sheet.png"
 
 # Frame 10 (the elbow bends 9 degrees a frame, the block turns 3.75) without motion blur: the

@@ -161,7 +161,8 @@ def candidates(points, vertices, tris, tolerance=1e-4):
     unit = n / area2[:, None]
     d = points[:, None, :] - a[None, :, :]  # points x triangles x 3
     height = np.abs(np.einsum("ptk,tk->pt", d, unit))
-    # P - a = u (b - a) + v (c - a): u = ((P - a) x (c - a)).n / |n|^2, v = ((b - a) x (P - a)).n / |n|^2.
+    # P - a = u (b - a) + v (c - a), so u = ((P - a) x (c - a)).n / |n|^2 and
+    # v = ((b - a) x (P - a)).n / |n|^2.
     w_b = np.einsum("ptk,tk->pt", np.cross(d, (c - a)[None]), unit) / area2
     w_c = np.einsum("ptk,tk->pt", np.cross(b - a, d), unit) / area2
     w_a = 1 - w_b - w_c
