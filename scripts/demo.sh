@@ -34,10 +34,17 @@ bash "$here/scripts/glass_demo.sh" "$tools" "$out"
 # Global illumination from light probes, without and with (docs/gi.md).
 bash "$here/scripts/gi_demo.sh" "$tools" "$out"
 
+# An animated shot (docs/animation.md): testdata/shot.gltf through the whole chain with motion
+# blur and eye adaptation, run by dhdr-farm's local engine; a contact sheet and a frame
+# without and with motion blur.
+bash "$here/scripts/shot_demo.sh" "$tools" "$out"
+
 echo
 echo "Outputs:"
 for f in cornell.gbuf.exr cornell.lights.json cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png \
   sky.exr sky.ibl.exr spheres.gbuf.exr spheres.hdr.exr spheres.png \
-  glass.gbuf.exr glass.hdr.exr glass.deep.exr glass.png cornell.probes.exr gi.png; do
+  glass.gbuf.exr glass.hdr.exr glass.deep.exr glass.png cornell.probes.exr gi.png \
+  shot_sheet.png shot_blur.png; do
   echo "  $out/$f"
 done
+echo "  out/shot/shot.0001.png ... shot.0024.png (and each stage's EXRs beside them)"

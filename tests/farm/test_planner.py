@@ -129,12 +129,33 @@ class Pipelines(unittest.TestCase):
         for other in ("out/h.###.exr", "out/b.####.exr", "h.####.exr"):
             parse({"stages": [light, dict(bloom, output=other)]}, "p.json")
 
-    def test_the_shipped_example_is_valid(self):
-        path = os.path.join(fx.SOURCE, "docs", "examples", "cornell.farm.json")
-        with open(path) as f:
-            p = parse(json.load(f), path)
-        self.assertEqual([s.name for s in p.stages],
-                         ["gbuffer", "light", "aa", "bloom", "tonemap"])
+    def test_the_shipped_examples_are_valid(self):
+        for name, stages in (("cornell", ["gbuffer", "light", "aa", "bloom", "tonemap"]),
+                             ("shot", ["gbuffer", "light", "aa", "motionblur", "bloom",
+                                       "tonemap"])):
+            path = os.path.join(fx.SOURCE, "docs", "examples", name + ".farm.json")
+            with open(path) as f:
+                p = parse(json.load(f), path)
+            self.assertEqual([s.name for s in p.stages], stages)
+
+    def test_adaptation_runs_at_the_animation_frame_rate(self):
+        # Issue 24: frame N shows time N / fps; the eye must adapt at that frame rate too.
+        gbuffer = {"tool": "dhdr-gbuffer", "inputs": ["shot.gltf"], "output": "g.####.exr",
+                   "options": ["--fps", "30"]}
+        tonemap = {"tool": "dhdr-tonemap", "inputs": ["g.####.exr"], "output": "p.####.png",
+                   "adapt": True}
+        self.assertEqual(parse({"stages": [gbuffer, tonemap]}, "p.json").stages[1].fps, 30.0)
+        spelt = dict(gbuffer, options=["--fps=30"])
+        self.assertEqual(parse({"stages": [spelt, tonemap]}, "p.json").stages[1].fps, 30.0)
+        self.assertEqual(parse({"stages": [gbuffer, dict(tonemap, fps=30)]}, "p.json")
+                         .stages[1].fps, 30.0)
+        self.assertIn("stages[1] (tonemap) adapts at \"fps\" 24 but stages[0] (gbuffer) "
+                      "renders the animation at --fps 30",
+                      self.error({"stages": [gbuffer, dict(tonemap, fps=24)]}))
+        # Without --fps the G-buffer's frame rate is the tools' default and "fps" stands.
+        plain = dict(gbuffer, options=[])
+        self.assertEqual(parse({"stages": [plain, dict(tonemap, fps=25)]}, "p.json")
+                         .stages[1].fps, 25.0)
 
     def test_the_schema_knows_every_key(self):
         from dhdr_farm.pipeline import STAGE_KEYS, TOP_KEYS
@@ -281,6 +302,21 @@ class Plans(unittest.TestCase):
         self.assertIn("lights.0001.json (stage light)", missing[1])
         self.touch("scene.gltf", "lights.0001.json", "lights.0002.json")
         self.assertEqual(check_inputs(self.plan(1, 2)), [])
+
+    def test_files_an_earlier_stage_writes_through_its_options_are_made(self):
+        # An animated shot's lights, one file a frame from dhdr-gbuffer --lights-out, are the
+        # lighting stage's --lights: none exists before the G-buffer stage runs.
+        doc = fx.pipeline("out", lights="out/posed")
+        doc["stages"][0]["inputs"] = ["scene.gltf"]
+        doc["stages"][0]["options"] += ["--lights-out", "out/posed.####.json"]
+        self.touch("scene.gltf")
+        plan = make_plan(parse(doc, self.path), 1, 2, 4)
+        self.assertEqual(check_inputs(plan), [])
+        # Written by no stage: still missing.
+        doc["stages"][0]["options"][-1] = "out/other.####.json"
+        plan = make_plan(parse(doc, self.path), 1, 2, 4)
+        self.assertEqual(len(check_inputs(plan)), 1)
+        self.assertIn("posed.0001.json (stage light)", check_inputs(plan)[0])
 
 
 if __name__ == "__main__":

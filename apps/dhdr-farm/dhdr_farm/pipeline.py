@@ -23,6 +23,7 @@ class Stage:
     def __init__(self, name, tool, inputs, output, options, adapt, fps):
         self.name, self.tool, self.inputs, self.output = name, tool, inputs, output
         self.options, self.adapt, self.fps = options, adapt, fps
+        self.fps_given = False  # "fps" written in the file, not the default
 
     def __repr__(self):
         return "Stage(%s, %s)" % (self.name, self.tool)
@@ -38,6 +39,23 @@ class Pipeline:
 
     def resolve(self, path):
         return path if os.path.isabs(path) else os.path.join(self.root, path)
+
+
+def _option_number(options, name):
+    """The value of `name N` or `name=N` among a stage's options as a float, or None when it
+    is not there or not a number (the tool itself says what is wrong with it then)."""
+    for i, o in enumerate(options):
+        if o == name and i + 1 < len(options):
+            text = options[i + 1]
+        elif o.startswith(name + "="):
+            text = o.split("=", 1)[1]
+        else:
+            continue
+        try:
+            return float(text)
+        except ValueError:
+            return None
+    return None
 
 
 def _strings(value):
@@ -130,6 +148,26 @@ def parse(doc, path="pipeline.json"):
         if "fps" in s and not adapt:
             bad("\"fps\" goes with \"adapt\": true")
         stages.append(Stage(stage_name, tool, inputs, output, options, adapt, float(fps)))
+        stages[-1].fps_given = "fps" in s
+    # Frame N of an animated scene shows time N / fps (dhdr-gbuffer --fps, default 24), and
+    # eye adaptation steps 1 / fps a frame: the two must agree, or the eye adapts slower or
+    # faster than the shot plays. An adapting dhdr-tonemap without "fps" takes the
+    # G-buffer's.
+    for i, stage in enumerate(stages):
+        if stage.tool != "dhdr-gbuffer":
+            continue
+        shot_fps = _option_number(stage.options, "--fps")
+        if shot_fps is None:
+            continue
+        for j, other in enumerate(stages):
+            if not other.adapt:
+                continue
+            if not other.fps_given:
+                other.fps = shot_fps
+            elif other.fps != shot_fps:
+                fail("stages[%d] (%s) adapts at \"fps\" %g but stages[%d] (%s) renders the "
+                     "animation at --fps %g; give both the same frame rate" % (
+                         j, other.name, other.fps, i, stage.name, shot_fps))
     # Two stages writing one pattern would overwrite each other's frames (and each would
     # find the other's chunks complete). The same files are the same pattern however it is
     # spelt: out/a.####.exr, ./out/a.%04d.exr.

@@ -153,7 +153,10 @@ OUTPUT_OPTIONS = {"--lights-out", "--deep-out", "--stats-out"}
 
 def check_inputs(plan):
     """Plain inputs and patterned inputs no earlier stage makes must exist for every frame:
-    a missing scene is an error at submission, not a failed job an hour later."""
+    a missing scene is an error at submission, not a failed job an hour later. An earlier
+    stage makes its output and the files its output options name: an animated shot's lights,
+    posed per frame by dhdr-gbuffer --lights-out lights.####.json, are read by dhdr-light
+    --lights lights.####.json before any of them exists."""
     made = set()
     missing = []
     for stage in plan.pipeline.stages:
@@ -172,4 +175,7 @@ def check_inputs(plan):
                     missing.append("%s (stage %s)" % (path, stage.name))
                     break
         made.add(FramePattern(plan.pipeline.resolve(stage.output)).text)
+        for i, o in enumerate(stage.options[1:], 1):
+            if stage.options[i - 1] in OUTPUT_OPTIONS:
+                made.add(FramePattern(plan.pipeline.resolve(o)).text)
     return missing
