@@ -1,7 +1,7 @@
 // dhdr-gbuffer: a scene in, a multi-channel EXR G-buffer out (docs/tools.md).
+#include "../common/animated_scene.h"
 #include "../common/frames.h"
 #include "../common/tool.h"
-#include "animated_scene.h"
 #include "timing.h"
 
 #include <algorithm>

@@ -31,9 +31,13 @@ bool AnimatedScene::pose(double t, double dt,
         if (!cameraOf(scene, frame->nextCamera)) return false;
         for (const Mesh& m : scene.meshes)
             frame->next.push_back(m.positions);
-        poser->pose(t);
         motion = frame;
     }
+    return pose(t, error);
+}
+
+bool AnimatedScene::pose(double t, std::string& error) {
+    if (animated()) poser->pose(t);
     if (!caster) {
         caster = std::make_shared<RayCaster>(scene, moving);
     } else if (!caster->updateMeshes(moving)) {
