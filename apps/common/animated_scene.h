@@ -29,6 +29,11 @@ struct AnimatedScene {
     // `error` (the file's animations listed) when the selection matches none.
     bool selectAnimations(const std::string& selection, std::string& error);
 
+    // Plays the animations `indices` (playable ones of the scene; none: it stands still). The
+    // meshes they move get a BVH that can be refitted: the ray caster is built again at the
+    // next pose.
+    void play(std::vector<int> indices);
+
     // Moves the scene to time `t` (when it is animated) and the ray caster with it (built the
     // first time). False with `error` when Embree fails.
     bool pose(double t, std::string& error);
