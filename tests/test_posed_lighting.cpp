@@ -1,6 +1,7 @@
 // dhdr-light over an animated shot (issue 24), as a user runs it: --scene posed at the moment
 // each G-buffer records, so that a moving object's shadow and the scene's own lights move with
-// it; G-buffers that record no moment lit as before.
+// it; G-buffers that record no moment lit as before; motion vectors passed through, Blender's
+// Vector pass included.
 #include "animation_writer.h"
 #include "tool_test.h"
 
@@ -237,4 +238,120 @@ TEST_F(PosedLighting, TheScenesOwnLightsMoveWithIt) {
     const ImageBuf a = read("lamps.exr");
     EXPECT_TRUE(sameBits(a, read("lamps_baked.exr")));
     EXPECT_FALSE(sameBits(a, read("lamps_rest.exr")));
+}
+
+// --aovs passes the G-buffer's motion layer through, dhdr's own and Blender's Vector pass read
+// through --channels blender alike, so that dhdr-motionblur needs no --gbuffer: the same bits
+// as with it.
+TEST_F(PosedLighting, MotionPassesThroughDhdrLightWithAovs) {
+    const ImageBuf g = read("anim6.gbuf.exr");
+    const OIIO::ImageSpec& gs = g.spec();
+    // The frame as Blender writes its passes (ViewLayer.*, Z-up, 1e10 behind, no matrices),
+    // with its Vector pass.
+    const std::vector<std::string> names = {
+        "ViewLayer.Depth.Z",    "ViewLayer.Position.X", "ViewLayer.Position.Y",
+        "ViewLayer.Position.Z", "ViewLayer.Normal.X",   "ViewLayer.Normal.Y",
+        "ViewLayer.Normal.Z",   "ViewLayer.Vector.X",   "ViewLayer.Vector.Y",
+        "ViewLayer.Vector.Z",   "ViewLayer.Vector.W"};
+    OIIO::ImageSpec spec(gs.width, gs.height, int(names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    ImageBuf b(spec);
+    auto at = [&](int x, int y, const char* name) {
+        return g.getchannel(x, y, 0, gs.channelindex(name));
+    };
+    for (int y = 0; y < gs.height; ++y)
+        for (int x = 0; x < gs.width; ++x) {
+            const bool covered = at(x, y, "A") > 0.0f;
+            const float v[] = {covered ? at(x, y, "Z") : 1e10f,
+                               at(x, y, "P.X"),
+                               -at(x, y, "P.Z"),
+                               at(x, y, "P.Y"),
+                               at(x, y, "N.X"),
+                               -at(x, y, "N.Z"),
+                               at(x, y, "N.Y"),
+                               at(x, y, "motion.X"),
+                               at(x, y, "motion.Y"),
+                               at(x, y, "motion.Z"),
+                               at(x, y, "motion.W")};
+            b.setpixel(x, y, v);
+        }
+    ASSERT_TRUE(b.write(path("blender6.exr")));
+    // A lamp near the block, so that its top is brighter than the floor: edges to blur.
+    std::ofstream(path("lamp.lights.json"))
+        << R"({"lights": [{"type": "point", "position": [0.5, 0, 1.5], "intensity": 3}]})";
+    const std::string sun = " --lights " + path("lamp.lights.json") + " --type float";
+    const Result r =
+        run("dhdr-light " + path("blender6.exr") + sun + " --channels blender --camera-from " +
+            path("anim.gltf") + " --aovs -o " + path("bl.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    ASSERT_EQ(
+        run("dhdr-light " + path("anim6.gbuf.exr") + sun + " --aovs -o " + path("own.exr")).status,
+        0);
+    const ImageBuf bl = read("bl.exr"), own = read("own.exr");
+    const char* motion[4] = {"motion.X", "motion.Y", "motion.Z", "motion.W"};
+    for (const ImageBuf* out : {&bl, &own}) {
+        const int m = out->spec().channelindex("motion.X");
+        ASSERT_GE(m, 0);
+        int moving = 0;
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < 64; ++x)
+                for (int c = 0; c < 4; ++c) {
+                    const float want = at(x, y, motion[c]);
+                    ASSERT_EQ(out->getchannel(x, y, 0, m + c), want) << x << "," << y;
+                    moving += want != 0.0f;
+                }
+        EXPECT_GT(moving, 60); // the block's pixels, X and Z
+    }
+    // dhdr-motionblur on the lit frame alone equals it with the G-buffer given.
+    for (const char* file : {"bl.exr", "own.exr"}) {
+        ASSERT_EQ(
+            run(std::string("dhdr-motionblur ") + path(file) + " -o " + path("mb_self.exr")).status,
+            0)
+            << file;
+        ASSERT_EQ(run(std::string("dhdr-motionblur ") + path(file) + " --gbuffer " +
+                      path("anim6.gbuf.exr") + " -o " + path("mb_g.exr"))
+                      .status,
+                  0);
+        const ImageBuf self = read("mb_self.exr"), given = read("mb_g.exr");
+        EXPECT_TRUE(sameBits(self, given)) << file;
+        EXPECT_FALSE(sameBits(self, read(file))) << file; // it did blur
+    }
+    // A channel map names the vectors itself; scale −1 turns their sign around. Three names
+    // for them is an error naming the map.
+    const std::string axes =
+        R"("depth": {"channels": ["ViewLayer.Depth.Z"]},)"
+        R"( "position": {"channels": ["ViewLayer.Position.X",)"
+        R"( "ViewLayer.Position.Y", "ViewLayer.Position.Z"], "axes": "z-up"},)"
+        R"( "normal": {"channels": ["ViewLayer.Normal.X", "ViewLayer.Normal.Y",)"
+        R"( "ViewLayer.Normal.Z"], "axes": "z-up"},)";
+    std::ofstream(path("vectors.map.json"))
+        << "{" << axes
+        << R"( "motion": {"channels": ["ViewLayer.Vector.X", "ViewLayer.Vector.Y",)"
+           R"( "ViewLayer.Vector.Z", "ViewLayer.Vector.W"], "scale": -1}})";
+    const Result mapped =
+        run("dhdr-light " + path("blender6.exr") + sun + " --channels " + path("vectors.map.json") +
+            " --camera-from " + path("anim.gltf") + " --aovs -o " + path("mapped.exr"));
+    ASSERT_EQ(mapped.status, 0) << mapped.err;
+    const ImageBuf m = read("mapped.exr");
+    const int mx = m.spec().channelindex("motion.X");
+    ASSERT_GE(mx, 0);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x)
+            ASSERT_EQ(m.getchannel(x, y, 0, mx + 2), -at(x, y, "motion.Z")) << x << "," << y;
+    std::ofstream(path("three.map.json"))
+        << "{" << axes << R"( "motion": {"channels": ["A", "B", "C"]}})";
+    const Result three =
+        run("dhdr-light " + path("blender6.exr") + sun + " --channels " + path("three.map.json") +
+            " --camera-from " + path("anim.gltf") + " -o " + path("three.exr"));
+    EXPECT_EQ(three.status, 1);
+    EXPECT_NE(three.err.find("three.map.json: motion: needs 4 channel names"), std::string::npos)
+        << three.err;
+    EXPECT_FALSE(fs::exists(path("three.exr")));
+    // Without --aovs the output is R, G, B, A as before.
+    ASSERT_EQ(run("dhdr-light " + path("blender6.exr") + sun +
+                  " --channels blender --camera-from " + path("anim.gltf") + " -o " +
+                  path("bl_plain.exr"))
+                  .status,
+              0);
+    EXPECT_EQ(read("bl_plain.exr").nchannels(), 4);
 }

@@ -94,14 +94,15 @@ int run(int argc, char** argv) {
               "on a small frame or a crop to check a fast render; docs/gi.md; default direct)");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
     cl.flag("--aovs", aovs,
-            "also write the G-buffer's Z and N.X N.Y N.Z channels, AO, the probes' "
-            "indirect.R/G/B and the specular indirect light specular.R/G/B");
+            "also write the G-buffer's Z and N.X N.Y N.Z channels (and its motion layer, "
+            "motion.X-W, when it has one), AO, the probes' indirect.R/G/B and the specular "
+            "indirect light specular.R/G/B");
     cl.option("--type", dataType, "half|float", "pixel type of the output EXR (default half)");
     std::string deepOut, probesPath, channelsArg, cameraFrom;
     cl.option("--channels", channelsArg, "MAP|blender",
               "read another renderer's passes through a channel map (JSON, docs/interop.md); "
-              "blender: Cycles' Depth, Position, Normal and the BaseColor, Roughness, Metallic "
-              "AOVs");
+              "blender: Cycles' Depth, Position, Normal, Vector and the BaseColor, Roughness, "
+              "Metallic AOVs");
     cl.option("--camera-from", cameraFrom, "SCENE[:CAMERA]",
               "with --channels, the camera of the scene file the passes were rendered from "
               "(default its first camera)");
@@ -368,6 +369,15 @@ int run(int argc, char** argv) {
         if (moved || animatedLights) {
             lights = sceneLights;
             lights.insert(lights.end(), fileLights.begin(), fileLights.end());
+        }
+        // --aovs: the motion layer too, where the G-buffer has one (dhdr's, or another
+        // renderer's vectors through --channels), so that dhdr-motionblur needs no --gbuffer.
+        if (aovs) {
+            params.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
+            if (std::all_of(std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion),
+                            [&](const char* c) { return gspec.channelindex(c) >= 0; }))
+                params.passThrough.insert(params.passThrough.end(), std::begin(gbuffer::kMotion),
+                                          std::end(gbuffer::kMotion));
         }
         return true;
     };
