@@ -68,8 +68,7 @@ bool PosedScene::poseFor(const Tool& tool, const std::string& gbuffer, const OII
             for (size_t i = 0; i < animations.size(); ++i)
                 names += (i ? ", " : "") + std::to_string(i) + " '" + animations[i].name + "'";
             tool.fail(gbuffer + ": rendered with animation " + std::to_string(a) + ", which " +
-                      m_path + " does not have (" +
-                      (names.empty() ? "it has none" : "it has: " + names) +
+                      m_path + " does not have (it has: " + names +
                       "): is it the scene the G-buffer was rendered from?");
             return false;
         }
