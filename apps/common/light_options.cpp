@@ -44,6 +44,10 @@ std::string lightOptionsProblem(const LightOptions& o, bool scene) {
     return "";
 }
 
+std::vector<Light> sceneLights(const Scene& scene, const LightOptions& o) {
+    return sceneLightList(scene, o.files.empty(), o.emissive != "off", o.radiometric);
+}
+
 std::vector<Light> sceneLights(const Tool& tool, const Scene& scene, const std::string& path,
                                const LightOptions& o) {
     size_t glowing = 0;

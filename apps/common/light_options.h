@@ -41,6 +41,8 @@ DiffuseModel diffuseModel(const LightOptions& options);
 // radiometric units with --radiometric.
 std::vector<Light> sceneLights(const Tool& tool, const Scene& scene, const std::string& path,
                                const LightOptions& options);
+// The same without a word (a scene posed again for another frame).
+std::vector<Light> sceneLights(const Scene& scene, const LightOptions& options);
 
 // Appends the lights of `files` in order (their warnings as the tool's), in radiometric units
 // with --radiometric. False (after the tool's error) when a file cannot be read.

@@ -1,7 +1,7 @@
 // dhdr-gbuffer: a scene in, a multi-channel EXR G-buffer out (docs/tools.md).
+#include "../common/animated_scene.h"
 #include "../common/frames.h"
 #include "../common/tool.h"
-#include "animated_scene.h"
 #include "timing.h"
 
 #include <algorithm>
@@ -11,6 +11,7 @@
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/deferred/gbuffer_time.h>
 #include <dhdr/deferred/scene.h>
 #include <dhdr/deferred/scene_camera.h>
 #include <dhdr/deferred/scene_info.h>
@@ -241,12 +242,16 @@ int run(int argc, char** argv) {
         }
         OIIO::ImageSpec spec = renderer.spec();
         spec.attribute("dhdr:source", scenePath);
-        // When the file plays, which moment of it this is (seconds, and the frame rate that
-        // put frames there), so that a compositor or a later stage can tell.
+        // When the file plays, which moment of it this is (seconds, the frame rate that put
+        // frames there, the animations that played), so that a compositor can tell and
+        // dhdr-light --scene poses the scene where the pixels are.
         auto stampTime = [&](OIIO::ImageSpec& s) {
             if (!loaded.animated()) return;
-            s.attribute("dhdr:animationTime", float(time));
-            s.attribute("dhdr:fps", float(timing.fps));
+            gbuffer::Moment moment;
+            moment.time = time;
+            moment.fps = timing.fps;
+            moment.animations = loaded.playing;
+            gbuffer::writeMoment(s, moment);
         };
         stampTime(spec);
         if (const std::string sha = sceneFingerprint(scenePath); !sha.empty())

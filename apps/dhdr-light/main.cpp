@@ -3,6 +3,7 @@
 #include "../common/light_options.h"
 #include "../common/param_options.h"
 #include "../common/tool.h"
+#include "posed_scene.h"
 #include "whole_frame.h"
 
 #include <algorithm>
@@ -52,7 +53,8 @@ int run(int argc, char** argv) {
     app::addLightOptions(cl, lightOptions);
     cl.option("--scene", scenePath, "FILE",
               "the scene the G-buffer was rendered from: shadows, emissive lights, --ao rt, and "
-              "its own lights when no --lights is given");
+              "its own lights when no --lights is given; posed at the time and with the "
+              "animations an animated G-buffer records (docs/animation.md)");
     bool strict = false;
     cl.flag("--strict", strict,
             "with --scene or --camera-from: a texture the scene names that cannot be read is an "
@@ -92,14 +94,15 @@ int run(int argc, char** argv) {
               "on a small frame or a crop to check a fast render; docs/gi.md; default direct)");
     cl.flag("--brute-force", bruteForce, "evaluate every light at every pixel (the reference)");
     cl.flag("--aovs", aovs,
-            "also write the G-buffer's Z and N.X N.Y N.Z channels, AO, the probes' "
-            "indirect.R/G/B and the specular indirect light specular.R/G/B");
+            "also write the G-buffer's Z and N.X N.Y N.Z channels (and its motion layer, "
+            "motion.X-W, when it has one), AO, the probes' indirect.R/G/B and the specular "
+            "indirect light specular.R/G/B");
     cl.option("--type", dataType, "half|float", "pixel type of the output EXR (default half)");
     std::string deepOut, probesPath, channelsArg, cameraFrom;
     cl.option("--channels", channelsArg, "MAP|blender",
               "read another renderer's passes through a channel map (JSON, docs/interop.md); "
-              "blender: Cycles' Depth, Position, Normal and the BaseColor, Roughness, Metallic "
-              "AOVs");
+              "blender: Cycles' Depth, Position, Normal, Vector and the BaseColor, Roughness, "
+              "Metallic AOVs");
     cl.option("--camera-from", cameraFrom, "SCENE[:CAMERA]",
               "with --channels, the camera of the scene file the passes were rendered from "
               "(default its first camera)");
@@ -211,19 +214,16 @@ int run(int argc, char** argv) {
     if (aoMode == "ssao")
         if (const std::string e = checkRanges(ssao, kSsaoParamTable); !e.empty())
             return usage(e + " with --ao ssao");
-    // The scene: its triangles for shadow and AO rays, its emissive meshes and its lights.
-    Scene scene;
-    std::unique_ptr<RayCaster> caster;
+    // The scene: its triangles for shadow and AO rays, its emissive meshes and its lights,
+    // posed at each G-buffer's time (its ray caster is built for the first G-buffer).
+    const bool withScene = !scenePath.empty();
+    app::PosedScene posed;
     std::string sceneSHA;
     std::vector<Light> sceneLights;
-    if (!scenePath.empty()) {
+    if (withScene) {
         const auto t = std::chrono::steady_clock::now();
-        std::string error;
-        if (!loadScene(scenePath, scene, error, SceneOptions{strict})) return tool.fail(error);
-        for (const std::string& warning : scene.warnings)
-            tool.info(scenePath + ": " + warning);
-        caster = std::make_unique<RayCaster>(scene);
-        if (!caster->ok()) return tool.fail(scenePath + ": " + caster->error());
+        if (!posed.load(tool, scenePath, SceneOptions{strict})) return app::kExitFailure;
+        const Scene& scene = posed.scene();
         sceneSHA = sceneFingerprint(scenePath);
         sceneLights = app::sceneLights(tool, scene, scenePath, lightOptions);
         if (lightsPaths.empty() && sceneLights.empty())
@@ -242,18 +242,17 @@ int run(int argc, char** argv) {
     app::FramePlan plan;
     if (const int status = app::planFrames(tool, paths, plan); status >= 0) return status;
 
-    auto readLights = [&](const std::vector<std::string>& files, std::vector<Light>& lights) {
-        lights = sceneLights;
-        return app::addLightsFiles(tool, files, lightOptions, lights);
-    };
     // Lights files without a frame pattern hold the same lights for every frame: read once.
+    // A frame's lights are the scene's (as posed for it) and then the files'.
     const bool animatedLights =
         std::any_of(plan.inputs.begin() + 1, plan.inputs.end(),
                     [](const app::FramePattern& p) { return p.isSequence(); });
+    std::vector<Light> fileLights;
+    if (!animatedLights && !app::addLightsFiles(tool, lightsPaths, lightOptions, fileLights))
+        return app::kExitFailure;
     std::vector<Light> lights = sceneLights;
-    if (!animatedLights && !readLights(lightsPaths, lights)) return app::kExitFailure;
-    LightingInputs inputs{lights, caster.get()};
-    inputs.scene = caster.get();
+    lights.insert(lights.end(), fileLights.begin(), fileLights.end());
+    LightingInputs inputs{lights, nullptr};
     // Another renderer's passes: the channel map, and the camera they were rendered with.
     ChannelMap channelMap;
     if (!channelsArg.empty()) {
@@ -332,7 +331,7 @@ int run(int argc, char** argv) {
 
     const app::FramePattern deepOutput(deepOut);
     auto checkScene = [&](const std::string& path, const OIIO::ImageSpec& gspec) {
-        if (!caster) return;
+        if (!withScene) return;
         const std::string recorded = gspec.get_string_attribute(gbuffer::kSceneFingerprint);
         if (recorded.empty())
             tool.info(path + ": the G-buffer does not record its scene; trusting --scene");
@@ -359,6 +358,27 @@ int run(int argc, char** argv) {
         }
         if (inputs.plate) plate.set_origin(gspec.x, gspec.y);
         checkScene(path, gspec);
+        // The scene at the moment the G-buffer shows, and the lights it gives there.
+        bool moved = false;
+        if (withScene) {
+            if (!posed.poseFor(tool, path, gspec, moved)) return false;
+            inputs.visibility = posed.caster();
+            inputs.scene = posed.caster();
+            if (moved) sceneLights = app::sceneLights(posed.scene(), lightOptions);
+        }
+        if (moved || animatedLights) {
+            lights = sceneLights;
+            lights.insert(lights.end(), fileLights.begin(), fileLights.end());
+        }
+        // --aovs: the motion layer too, where the G-buffer has one (dhdr's, or another
+        // renderer's vectors through --channels), so that dhdr-motionblur needs no --gbuffer.
+        if (aovs) {
+            params.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
+            if (std::all_of(std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion),
+                            [&](const char* c) { return gspec.channelindex(c) >= 0; }))
+                params.passThrough.insert(params.passThrough.end(), std::begin(gbuffer::kMotion),
+                                          std::end(gbuffer::kMotion));
+        }
         return true;
     };
     auto since = [](auto t) {
@@ -376,7 +396,11 @@ int run(int argc, char** argv) {
     };
     return app::runFrames(tool, plan, [&](int frameNumber, const auto& in, const auto& out) {
         const std::string& path = in[0];
-        if (animatedLights && !readLights({in.begin() + 1, in.end()}, lights)) return false;
+        if (animatedLights) {
+            fileLights.clear();
+            if (!app::addLightsFiles(tool, {in.begin() + 1, in.end()}, lightOptions, fileLights))
+                return false;
+        }
         const auto start = std::chrono::steady_clock::now();
         if (!std::filesystem::exists(path)) {
             tool.fail(path + ": no such file");
@@ -430,7 +454,7 @@ int run(int argc, char** argv) {
         const bool halo =
             params.denoise &&
             (params.environmentSamples > 0 || params.aoSamples > 0 ||
-             (caster && (params.catcherBounceSamples > 0 || params.specularSamples > 0)));
+             (withScene && (params.catcherBounceSamples > 0 || params.specularSamples > 0)));
         const int rows = aoMode == "ssao"
                              ? gspec.height
                              : params.tileSize * std::max(1, (halo ? 512 : 128) / params.tileSize);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <dhdr/io/errors.h>
 #include <dhdr/io/layers.h>
+#include <dhdr/io/motion_channels.h>
 #include <dhdr/io/pixel_limit.h>
 #include <dhdr/io/strip_pipeline.h>
 #include <dhdr/io/strip_reader.h>
@@ -17,41 +18,6 @@
 using namespace dhdr;
 
 namespace {
-
-// Where a file's motion (4 channels in order) and depth are: dhdr's motion.X … motion.W and
-// Z, or Blender's <layer>.Vector.X … W and <layer>.Depth.Z; −1 when absent.
-struct MotionChannels {
-    int motion = -1, depth = -1;
-    std::string motionName, depthName;
-};
-
-bool endsWith(const std::string& s, const std::string& tail) {
-    return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
-MotionChannels findMotion(const OIIO::ImageSpec& spec) {
-    MotionChannels m;
-    for (int c = 0; c + 3 < spec.nchannels && m.motion < 0; ++c) {
-        const std::string& name = spec.channelnames[size_t(c)];
-        const bool ours = name == "motion.X";
-        if (!ours && name != "Vector.X" && !endsWith(name, ".Vector.X")) continue;
-        const std::string base = name.substr(0, name.size() - 1);
-        if (spec.channelnames[size_t(c + 1)] == base + "Y" &&
-            spec.channelnames[size_t(c + 2)] == base + "Z" &&
-            spec.channelnames[size_t(c + 3)] == base + "W") {
-            m.motion = c;
-            m.motionName = name;
-        }
-    }
-    for (int c = 0; c < spec.nchannels && m.depth < 0; ++c) {
-        const std::string& name = spec.channelnames[size_t(c)];
-        if (name == "Z" || name == "Depth.Z" || endsWith(name, ".Depth.Z")) {
-            m.depth = c;
-            m.depthName = name;
-        }
-    }
-    return m;
-}
 
 // The part of `path` that holds motion channels (a multi-part file), and its spec.
 bool openGeometry(app::Tool& tool, const std::string& path, StripReader& reader,
@@ -67,7 +33,7 @@ bool openGeometry(app::Tool& tool, const std::string& path, StripReader& reader,
     }
     int part = 0;
     for (int s = 0; probe->seek_subimage(s, 0); ++s)
-        if (findMotion(probe->spec()).motion >= 0) {
+        if (findMotionChannels(probe->spec()).motion >= 0) {
             part = s;
             break;
         }
@@ -77,7 +43,7 @@ bool openGeometry(app::Tool& tool, const std::string& path, StripReader& reader,
         tool.fail(path + ": " + e);
         return false;
     }
-    channels = findMotion(spec);
+    channels = findMotionChannels(spec);
     if (channels.motion < 0) {
         tool.fail(path + ": no motion channels (motion.X motion.Y motion.Z motion.W, or "
                          "Blender's Vector pass) — render the G-buffer with animation");

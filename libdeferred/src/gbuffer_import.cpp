@@ -1,7 +1,9 @@
 #include <OpenImageIO/imagebufalgo_util.h>
+#include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_import.h>
+#include <dhdr/io/motion_channels.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -27,6 +29,9 @@ ChannelMap blenderChannelMap() {
     m.metallic.channels = {v + "Metallic.X"};
     m.metallic.value = 0.0f;
     m.emission.channels = {v + "Emit.R", v + "Emit.G", v + "Emit.B"};
+    // Blender's Vector pass is in the motion layer's convention: found as dhdr-motionblur finds
+    // it, under whatever view layer it is.
+    m.motionByName = true;
     return m;
 }
 
@@ -44,7 +49,7 @@ bool readChannelMap(const std::string& path, ChannelMap& map, std::string& error
         const std::pair<const char*, ChannelSource*> fields[] = {
             {"depth", &map.depth},       {"position", &map.position},   {"normal", &map.normal},
             {"albedo", &map.albedo},     {"roughness", &map.roughness}, {"metallic", &map.metallic},
-            {"emission", &map.emission}, {"coverage", &map.coverage}};
+            {"emission", &map.emission}, {"coverage", &map.coverage},   {"motion", &map.motion}};
         for (const auto& [key, source] : fields) {
             if (!doc.contains(key)) continue;
             const nlohmann::json& f = doc.at(key);
@@ -64,7 +69,12 @@ bool readChannelMap(const std::string& path, ChannelMap& map, std::string& error
             if (axes != "y-up" && axes != "z-up")
                 throw std::runtime_error(std::string(key) + ": axes must be y-up or z-up");
             source->zUp = axes == "z-up";
-            const size_t n = std::string(key) == "position" || std::string(key) == "normal" ||
+            const bool motion = std::string(key) == "motion";
+            if (motion && (f.contains("axes") || f.contains("fallback") || f.contains("value")))
+                throw std::runtime_error("motion: only channels, scale and required apply (screen "
+                                         "vectors have no axes, and no constant stands for them)");
+            const size_t n = motion ? 4
+                             : std::string(key) == "position" || std::string(key) == "normal" ||
                                      std::string(key) == "albedo" || std::string(key) == "emission"
                                  ? 3
                                  : 1;
@@ -151,7 +161,30 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
         !pick("roughness", map.roughness, roughness) || !pick("metallic", map.metallic, metallic) ||
         !pick("emission", map.emission, emission) || !pick("coverage", map.coverage, coverage))
         return false;
+    // Motion: the channels the map names (all four, or none with a warning), or those found by
+    // name; no constant stands in for them.
+    std::vector<int> motion;
+    if (!map.motion.channels.empty()) {
+        for (const std::string& name : map.motion.channels)
+            motion.push_back(in.channelindex(name));
+        if (std::any_of(motion.begin(), motion.end(), [](int c) { return c < 0; })) {
+            motion.clear();
+            if (map.motion.required) {
+                error = "no channel '" + map.motion.channels.front() +
+                        "' for the motion (channel map " + map.name + ")";
+                return false;
+            }
+            warnings.push_back("motion: no " + map.motion.channels.front() + ", no motion layer");
+        }
+    } else if (map.motionByName) {
+        if (const int first = findMotionChannels(in).motion; first >= 0)
+            motion = {first, first + 1, first + 2, first + 3};
+    }
+    const float motionScale = map.motion.channels.empty() ? 1.0f : map.motion.scale;
     std::vector<std::string> names = gbuffer::channelNames();
+    const size_t motionAt = names.size();
+    if (!motion.empty())
+        names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
     OIIO::ImageSpec spec = in;
     spec.nchannels = int(names.size());
     spec.channelnames = names;
@@ -187,6 +220,9 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
                     !std::isfinite(z) || z >= map.backgroundDepth ||
                     (!coverage.empty() && !(get(coverage, map.coverage, 0) > 0.0f));
                 std::fill(o, o + spec.nchannels, 0.0f);
+                // Motion as it is, background too (Blender's vectors of the world behind).
+                for (size_t k = 0; k < motion.size(); ++k)
+                    o[motionAt + k] = p[motion[k]] * motionScale;
                 if (background) {
                     o[L.depth] = INFINITY;
                     continue;

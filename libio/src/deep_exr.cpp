@@ -5,6 +5,7 @@
 #include <OpenEXR/ImfDeepFrameBuffer.h>
 #include <OpenEXR/ImfDeepScanLineInputPart.h>
 #include <OpenEXR/ImfDeepScanLineOutputFile.h>
+#include <OpenEXR/ImfDoubleAttribute.h>
 #include <OpenEXR/ImfFloatAttribute.h>
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfIntAttribute.h>
@@ -194,6 +195,9 @@ bool DeepScanlineWriter::open(const std::string& path, const OIIO::ImageSpec& sp
                 header.insert(name, Imf::V2fAttribute(Imath::V2f(v[0], v[1])));
             } else if (t == OIIO::TypeFloat) {
                 header.insert(name, Imf::FloatAttribute(p.get_float()));
+            } else if (t == OIIO::TypeDesc::DOUBLE) {
+                // A G-buffer's time (gbuffer_time.h): every bit of the double kept.
+                header.insert(name, Imf::DoubleAttribute(*static_cast<const double*>(p.data())));
             } else if (t == OIIO::TypeInt) {
                 header.insert(name, Imf::IntAttribute(p.get_int()));
             }

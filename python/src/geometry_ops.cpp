@@ -5,6 +5,7 @@
 
 #include <OpenImageIO/imagebufalgo.h>
 #include <dhdr/deferred/gbuffer.h>
+#include <dhdr/io/motion_channels.h>
 #include <dhdr/tonemap/edge_aa.h>
 #include <dhdr/tonemap/motion_blur.h>
 #include <memory>
@@ -43,28 +44,17 @@ std::shared_ptr<ImageView> geometry(const py::object& given, const Image* from,
     return out;
 }
 
-// The first run of 4 channels named motion.X … motion.W or <layer>.Vector.X … W (Blender's
-// Vector pass), and the depth Z, Depth.Z or <layer>.Depth.Z, as dhdr-motionblur finds them.
+// The motion channels (4) or the depth channel of `image`, as dhdr-motionblur finds them
+// (findMotionChannels: motion.X … W or Blender's <layer>.Vector.X … W; Z, Depth.Z or
+// <layer>.Depth.Z); empty when absent.
 std::vector<const char*> motionNames(const Image& image, std::vector<std::string>& storage,
                                      bool depth) {
-    auto endsWith = [](const std::string& s, const std::string& tail) {
-        return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-    };
     const std::vector<std::string>& names = image.spec().channelnames;
+    const MotionChannels found = findMotionChannels(image.spec());
     storage.clear();
-    for (size_t c = 0; c < names.size(); ++c) {
-        const std::string& n = names[c];
-        if (depth) {
-            if (n == "Z" || n == "Depth.Z" || endsWith(n, ".Depth.Z")) storage = {n};
-        } else if ((n == "motion.X" || n == "Vector.X" || endsWith(n, ".Vector.X")) &&
-                   c + 3 < names.size()) {
-            const std::string base = n.substr(0, n.size() - 1);
-            if (names[c + 1] == base + "Y" && names[c + 2] == base + "Z" &&
-                names[c + 3] == base + "W")
-                storage = {n, base + "Y", base + "Z", base + "W"};
-        }
-        if (!storage.empty()) break;
-    }
+    if (depth && found.depth >= 0) storage = {names[size_t(found.depth)]};
+    if (!depth && found.motion >= 0)
+        storage.assign(names.begin() + found.motion, names.begin() + found.motion + 4);
     std::vector<const char*> out;
     for (const std::string& n : storage)
         out.push_back(n.c_str());

@@ -23,20 +23,27 @@ struct ChannelSource {
 struct ChannelMap {
     std::string name;
     ChannelSource depth, position, normal, albedo, roughness, metallic, emission, coverage;
+    // Motion vectors in Blender's Vector-pass convention (4 channels), which become the
+    // G-buffer's motion layer (gbuffer::kMotion); none named: no motion layer, unless
+    // `motionByName` finds one as dhdr-motionblur does (findMotionChannels).
+    ChannelSource motion;
+    bool motionByName = false;
     // A pixel is background when its depth is at least this (Blender writes 1e10 there).
     float backgroundDepth = 1e9f;
 };
 
 // The map of Blender's Cycles/EEVEE passes: ViewLayer.Depth.Z, ViewLayer.Position.* and
 // ViewLayer.Normal.* (Z-up), the AOVs ViewLayer.BaseColor.* , ViewLayer.Roughness.X and
-// ViewLayer.Metallic.X that a user adds for this, DiffCol as the albedo without them.
+// ViewLayer.Metallic.X that a user adds for this, DiffCol as the albedo without them; the
+// Vector pass, when there is one, as the motion layer.
 ChannelMap blenderChannelMap();
 
 // Parses a channel map file (JSON, docs/interop.md). False with `error` saying why.
 bool readChannelMap(const std::string& path, ChannelMap& map, std::string& error);
 
 // Builds a flat G-buffer of the contract's channels (A, Z, P, N, albedo, roughness, metallic,
-// emission) from `src` (float pixels in memory) by `map`; the camera matrices are not set
+// emission; then motion.X … W when the map finds motion, copied as they are, background
+// pixels included) from `src` (float pixels in memory) by `map`; the camera matrices are not set
 // (gbuffer::writeCamera). `warnings` says which fallbacks and constants were used. False with
 // `error` naming a missing required channel.
 bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::ImageBuf& dst,

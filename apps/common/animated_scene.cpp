@@ -5,15 +5,22 @@
 namespace dhdr::app {
 
 bool AnimatedScene::selectAnimations(const std::string& selection, std::string& error) {
-    playing.clear();
-    moving.clear();
     const std::vector<Animation> none;
     const std::vector<Animation>& animations = scene.rig ? scene.rig->animations : none;
-    if (!dhdr::selectAnimations(animations, selection, playing, error)) return false;
-    if (!animated()) return true;
+    std::vector<int> chosen;
+    if (!dhdr::selectAnimations(animations, selection, chosen, error)) return false;
+    play(std::move(chosen));
+    return true;
+}
+
+void AnimatedScene::play(std::vector<int> indices) {
+    playing = scene.rig ? std::move(indices) : std::vector<int>{};
+    moving.clear();
+    poser.reset();
+    caster.reset();
+    if (!animated()) return;
     moving = scene.rig->movingMeshes(playing);
     poser = std::make_unique<ScenePoser>(scene, playing);
-    return true;
 }
 
 bool AnimatedScene::pose(double t, double dt,
@@ -31,9 +38,13 @@ bool AnimatedScene::pose(double t, double dt,
         if (!cameraOf(scene, frame->nextCamera)) return false;
         for (const Mesh& m : scene.meshes)
             frame->next.push_back(m.positions);
-        poser->pose(t);
         motion = frame;
     }
+    return pose(t, error);
+}
+
+bool AnimatedScene::pose(double t, std::string& error) {
+    if (animated()) poser->pose(t);
     if (!caster) {
         caster = std::make_shared<RayCaster>(scene, moving);
     } else if (!caster->updateMeshes(moving)) {

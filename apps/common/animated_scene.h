@@ -1,6 +1,6 @@
-// dhdr-gbuffer's scene across the frames of one run: loaded once, posed at each frame's time,
-// its BVH refitted rather than rebuilt, and the previous and next frames' positions kept for the
-// motion layer (docs/animation.md).
+// A scene across the frames of one run (dhdr-gbuffer, dhdr-light): loaded once, posed at each
+// frame's time, its BVH refitted rather than rebuilt, and for dhdr-gbuffer's motion layer the
+// previous and next frames' positions kept (docs/animation.md).
 #pragma once
 
 #include <dhdr/deferred/gbuffer_render.h>
@@ -29,9 +29,17 @@ struct AnimatedScene {
     // `error` (the file's animations listed) when the selection matches none.
     bool selectAnimations(const std::string& selection, std::string& error);
 
-    // Moves the scene to time `t` and the ray caster with it (built the first time). With
-    // animation, `motion` receives the scene at t − dt and t + dt, the camera of each given by
-    // `cameraOf` (false: it failed and said why).
+    // Plays the animations `indices` (playable ones of the scene; none: it stands still). The
+    // meshes they move get a BVH that can be refitted: the ray caster is built again at the
+    // next pose.
+    void play(std::vector<int> indices);
+
+    // Moves the scene to time `t` (when it is animated) and the ray caster with it (built the
+    // first time). False with `error` when Embree fails.
+    bool pose(double t, std::string& error);
+
+    // The same, and with animation `motion` receives the scene at t − dt and t + dt, the camera
+    // of each given by `cameraOf` (false: it failed and said why).
     bool pose(double t, double dt, const std::function<bool(const Scene&, Camera&)>& cameraOf,
               std::shared_ptr<FrameMotion>& motion, std::string& error);
 };
