@@ -85,7 +85,7 @@ int run(int argc, char** argv) {
     cl.option("--denoise", denoise, "on|off",
               "filter the environments' shadow rays (--env-samples) and --ao rt over\n"
               "neighbouring pixels of the same surface, guided by the G-buffer's normals,\n"
-              "positions and object ids (edge-avoiding a-trous, 30 pixels' reach; flat\n"
+              "positions and object ids (edge-avoiding a-trous, 32 pixels' reach; flat\n"
               "G-buffers); off: each pixel's unbiased estimate (default on)");
     cl.option("--gi", gi, "direct|path",
               "direct: deferred shading (indirect light from --probes when given); path: the\n"

@@ -13,13 +13,15 @@ using OIIO::simd::vbool4;
 using OIIO::simd::vfloat4;
 using OIIO::simd::vint4;
 
-constexpr float kKernel[5] = {1.0f / 16, 1.0f / 4, 3.0f / 8, 1.0f / 4, 1.0f / 16};
+// The B-spline of the filter's taps (1/4, 1/2, 1/4): 3 × 3 taps a pass.
+constexpr int kRadius = 1;
+constexpr float kKernel[2 * kRadius + 1] = {1.0f / 4, 1.0f / 2, 1.0f / 4};
 // SVGF's σ_l: how many standard deviations of the estimate a difference may be and still mix.
 constexpr float kSignalSigma = 4.0f;
 // The filter runs on four pixels of a row at once; rows are padded with pixels without a
 // surface by the widest step's reach on either side, so that no tap needs a bounds check.
 constexpr int kLanes = 4;
-constexpr int kPad = 2 << (kDenoiseIterations - 1);
+constexpr int kPad = std::max(2, kRadius << (kDenoiseIterations - 1));
 
 // Cephes' expf on four lanes: x = z ln 2 + r with ln 2 in two parts (z ln 2 exact for the
 // reduction), |r| ≤ ½ ln 2, e^r by its polynomial, times 2^z from the exponent bits. Plain
@@ -152,7 +154,7 @@ private:
 constexpr int reachBefore(int pass) {
     int r = kDenoiseReach;
     for (int later = pass + 1; later < kDenoiseIterations; ++later)
-        r += 2 << later;
+        r += kRadius << later;
     return r;
 }
 
@@ -347,10 +349,10 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                     std::fill(var.begin(), var.end(), vfloat4(0.0f));
                     if (any) {
                         // Taps in a fixed order: the same sums whatever the threads.
-                        for (int j = -2; j <= 2; ++j) {
+                        for (int j = -kRadius; j <= kRadius; ++j) {
                             const int qy = y + j * step;
                             if (qy < 0 || qy >= h) continue;
-                            for (int i = -2; i <= 2; ++i) {
+                            for (int i = -kRadius; i <= kRadius; ++i) {
                                 const int qx = x + i * step;
                                 const bool same = i == 0 && j == 0;
                                 const vfloat4 geometry =
@@ -358,7 +360,7 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                                          : geometryWeight(guide, c, qy, qx);
                                 if (none(geometry > vfloat4(0.0f))) continue;
                                 const vfloat4 kernel =
-                                    geometry * vfloat4(kKernel[i + 2] * kKernel[j + 2]);
+                                    geometry * vfloat4(kKernel[i + kRadius] * kKernel[j + kRadius]);
                                 const Planes* lobeOf = nullptr;
                                 vfloat4 lobe(1.0f);
                                 for (size_t e = 0; e < m; ++e) {

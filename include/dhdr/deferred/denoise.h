@@ -8,10 +8,11 @@
 
 namespace dhdr {
 
-// Iterations of the filter (steps 1, 2, 4, 8 pixels) and how far it reaches: a pixel's result
-// depends on the pixels within kDenoiseReach rows and columns of it.
-inline constexpr int kDenoiseIterations = 4;
-inline constexpr int kDenoiseReach = 2 * (1 + 2 + 4 + 8);
+// Iterations of the filter (steps 1, 2, 4, 8, 16 pixels) and how far it reaches: a pixel's
+// result depends on the pixels within kDenoiseReach rows and columns of it (the taps' 31, and
+// the first variance estimate's 5 × 5 reaches one pixel further).
+inline constexpr int kDenoiseIterations = 5;
+inline constexpr int kDenoiseReach = 2 + 2 + 4 + 8 + 16;
 
 // What tells surfaces apart, per pixel of a width × height image (row-major).
 struct DenoiseGuide {
@@ -24,8 +25,9 @@ struct DenoiseGuide {
 // Filters `planes` in place: one plane (an estimate, such as AO) or two (the sums of a ratio
 // estimate, shadowed and unshadowed light, filtered alike so that their ratio stays one;
 // Heitz, Hill & McGuire 2018), width × height values each, one after the other.
-// kDenoiseIterations passes of the 5 × 5 B3-spline kernel (1/16, 1/4, 3/8, 1/4, 1/16) with
-// holes of 2^i pixels (Dammertz et al. 2010), each tap weighted by
+// kDenoiseIterations passes of the 3 × 3 B-spline kernel (1/4, 1/2, 1/4) with holes of 2^i
+// pixels (Dammertz et al. 2010 use the 5 × 5 B3-spline in four passes: as clean on our skies,
+// at 2.2× the taps; bench/README.md, session 13), each tap weighted by
 //   - the normals' agreement, max(0, n_p · n_q)^64;
 //   - how far q lies off p's tangent plane for its distance, exp(−(|n_p · (P_q − P_p)| /
 //     (0.05 |P_q − P_p|))²): a crease or a step in depth stops the filter, a curved surface
