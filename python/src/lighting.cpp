@@ -1,6 +1,7 @@
 // The lighting stage (libdeferred): G-buffers read as dhdr-light reads them (its own, or
 // another renderer's passes through a channel map), lights from files or Python objects, and
 // light() on a flat G-buffer with dhdr-light's options.
+#include "deep.h"
 #include "ops.h"
 #include "python_lights.h"
 #include "scene.h"
@@ -33,18 +34,15 @@ void warn(const std::vector<std::string>& warnings) {
         python::warn(w);
 }
 
-// A flat dhdr G-buffer whole, as dhdr-light reads it strip by strip: its part found by the
-// contract, every channel as float, NaN and ±Inf replaced except in Z (whose background is
-// +Inf by contract). Called without the GIL; false with the tool's message.
-bool readGBuffer(const std::string& path, int nthreads, OIIO::ImageBuf& gbuf, std::string& error) {
+// A dhdr G-buffer whole, as dhdr-light reads it: a flat one strip by strip, its part found by
+// the contract, every channel as float, NaN and ±Inf replaced except in Z (whose background is
+// +Inf by contract); a deep one into `deep` (deep.h). Called without the GIL; false with the
+// tool's message.
+bool readGBuffer(const std::string& path, int nthreads, OIIO::ImageBuf& gbuf, DeepHandle& deep,
+                 bool& isDeep, std::string& error) {
     int part = 0;
-    bool deep = false;
-    if (!gbuffer::probeGBufferFile(path, part, deep, error)) return false;
-    if (deep) {
-        error = path + ": a deep G-buffer; the Python module lights flat ones (dhdr-light "
-                       "lights deep ones)";
-        return false;
-    }
+    if (!gbuffer::probeGBufferFile(path, part, isDeep, error)) return false;
+    if (isDeep) return readDeep(path, part, *deep.g, error);
     StripReader reader;
     if (!reader.open(path, part, 0, 1 << 20, nthreads, error)) {
         error = cannotRead(path, error);
@@ -128,13 +126,26 @@ std::vector<Light> lightsOf(const py::handle& given, bool radiometric) {
 
 namespace {
 
-ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& sceneGiven,
-                bool emissive, bool shadows, int envSamples, int specularSamples, int catcherBounce,
-                const std::string& probesPath, const std::string& ao, float aoDistance,
-                int aoSamples, const py::object& background, const py::object& plate,
-                bool bruteForce, int tile, int shadowSamples, const std::string& envSpecular,
-                const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
-                const std::string& gi, int spp, int pathBounces) {
+// What light() needs for a call, prepared from its keywords with the GIL held (ValueError for
+// bad ones), shared by the flat and the deep forms.
+struct LightingSetup {
+    std::shared_ptr<std::vector<Light>> lights;
+    LightingParams p;
+    SsaoParams ssao;
+    std::shared_ptr<ProbeVolume> probes;
+    std::shared_ptr<ImageView> plateImage;
+    const RayCaster* caster = nullptr;
+    bool useSsao = false, useProbes = false;
+};
+
+LightingSetup setupLighting(const py::object& lightsGiven, const py::object& sceneGiven,
+                            bool emissive, bool shadows, int envSamples, int specularSamples,
+                            int catcherBounce, const std::string& probesPath, const std::string& ao,
+                            float aoDistance, int aoSamples, const py::object& background,
+                            const py::object& plate, bool bruteForce, int tile, int shadowSamples,
+                            const std::string& envSpecular, const std::string& diffuse,
+                            bool radiometric, bool denoise, bool aovs, const std::string& gi,
+                            int spp, int pathBounces) {
     // dhdr-light's lights: the scene's own unless lights are given, its emissive meshes, then
     // the lights given (sceneLightList's order).
     const SceneHandle* scene = nullptr;
@@ -244,30 +255,106 @@ ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& s
     // The scene's rays (shadows, AO, a catcher's bounce light, glossy reflections); the
     // caller's dhdr.Scene keeps them alive for the call.
     const RayCaster* caster = scene ? &scene->caster() : nullptr;
-    return [=](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n) {
-        LightingInputs inputs{*lights, caster};
-        inputs.scene = caster;
+    return LightingSetup{lights, p, ssao, probes, plateImage, caster, useSsao, useProbes};
+}
+
+// The plate, when there is one, laid on the frame's pixels; false with the message on `dst`.
+bool placePlate(const LightingSetup& s, const OIIO::ImageSpec& gs, OIIO::ImageBuf& dst,
+                LightingInputs& inputs) {
+    if (!s.plateImage->buf.initialized()) return true;
+    const OIIO::ImageSpec& ps = s.plateImage->buf.spec();
+    if (ps.width != gs.width || ps.height != gs.height) {
+        dst.errorfmt("the plate is {}x{}, the frame {}x{}", ps.width, ps.height, gs.width,
+                     gs.height);
+        return false;
+    }
+    s.plateImage->buf.set_origin(gs.x, gs.y);
+    inputs.plate = &s.plateImage->buf;
+    return true;
+}
+
+ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& sceneGiven,
+                bool emissive, bool shadows, int envSamples, int specularSamples, int catcherBounce,
+                const std::string& probesPath, const std::string& ao, float aoDistance,
+                int aoSamples, const py::object& background, const py::object& plate,
+                bool bruteForce, int tile, int shadowSamples, const std::string& envSpecular,
+                const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
+                const std::string& gi, int spp, int pathBounces) {
+    auto s = std::make_shared<const LightingSetup>(setupLighting(
+        lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples, catcherBounce,
+        probesPath, ao, aoDistance, aoSamples, background, plate, bruteForce, tile, shadowSamples,
+        envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
+    return [s](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n) {
+        LightingInputs inputs{*s->lights, s->caster};
+        inputs.scene = s->caster;
         OIIO::ImageBuf occlusion;
-        if (useSsao) {
-            if (!screenSpaceAO(occlusion, gbuf, ssao, n)) {
+        if (s->useSsao) {
+            if (!screenSpaceAO(occlusion, gbuf, s->ssao, n)) {
                 dst.errorfmt("{}", occlusion.geterror());
                 return false;
             }
             inputs.ambientOcclusion = &occlusion;
         }
-        if (useProbes) inputs.probes = probes.get();
-        if (plateImage->buf.initialized()) {
-            const OIIO::ImageSpec &ps = plateImage->buf.spec(), &gs = gbuf.spec();
-            if (ps.width != gs.width || ps.height != gs.height) {
-                dst.errorfmt("the plate is {}x{}, the frame {}x{}", ps.width, ps.height, gs.width,
-                             gs.height);
-                return false;
-            }
-            plateImage->buf.set_origin(gs.x, gs.y);
-            inputs.plate = &plateImage->buf;
-        }
-        return shadeGBuffer(dst, gbuf, inputs, p, roi, n);
+        if (s->useProbes) inputs.probes = s->probes.get();
+        if (!placePlate(*s, gbuf.spec(), dst, inputs)) return false;
+        return shadeGBuffer(dst, gbuf, inputs, s->p, roi, n);
     };
+}
+
+// dhdr-light on a deep G-buffer: every sample lit and composited front to back into flat RGBA,
+// the tile lists laid over the whole frame (what the tool's bands share).
+ImageOp deepLightOp(const DeepHandle& src, const py::object& lightsGiven,
+                    const py::object& sceneGiven, bool emissive, bool shadows, int envSamples,
+                    int specularSamples, int catcherBounce, const std::string& probesPath,
+                    const std::string& ao, float aoDistance, int aoSamples,
+                    const py::object& background, const py::object& plate, bool bruteForce,
+                    int tile, int shadowSamples, const std::string& envSpecular,
+                    const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
+                    const std::string& gi, int spp, int pathBounces) {
+    if (ao == "ssao")
+        throw py::value_error("ao='ssao' works on flat G-buffers; a deep one needs ao='rt'");
+    auto s = std::make_shared<const LightingSetup>(setupLighting(
+        lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples, catcherBounce,
+        probesPath, ao, aoDistance, aoSamples, background, plate, bruteForce, tile, shadowSamples,
+        envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
+    const std::shared_ptr<const DeepGBuffer> g = src.g;
+    return [s, g](OIIO::ImageBuf& dst, const OIIO::ImageBuf&, OIIO::ROI roi, int n) {
+        LightingInputs inputs{*s->lights, s->caster};
+        inputs.scene = s->caster;
+        if (s->useProbes) inputs.probes = s->probes.get();
+        if (!placePlate(*s, g->spec, dst, inputs)) return false;
+        LightingParams p = s->p;
+        p.frame = OIIO::get_roi(g->spec);
+        return shadeGBuffer(dst, *g, inputs, p, roi, n);
+    };
+}
+
+// light()'s two forms with a DeepGBuffer as src, registered before the flat ones (whose src
+// takes any object): the result is flat, so they run through runNew and runInto with a
+// placeholder src that the operation does not read.
+template <class... Args, class... Extra>
+void defDeepOp(py::module_& m, const char* name, const char* doc,
+               ImageOp (*prepare)(const DeepHandle&, Args...), const Extra&... extra) {
+    auto placeholder = [] {
+        return Image(py::array_t<float>(std::vector<py::ssize_t>{1, 1, 1}), {}, "src");
+    };
+    m.def(
+        name,
+        [prepare, placeholder](const DeepHandle& src, Args... args, const py::object& roi,
+                               int nthreads) {
+            const ImageOp op = prepare(src, args...);
+            return runNew(placeholder(), toRoi(roi), nthreads, op);
+        },
+        py::arg("src"), extra..., py::arg("roi") = py::none(), py::arg("nthreads") = 0, doc);
+    m.def(
+        name,
+        [prepare, placeholder](Image& dst, const DeepHandle& src, Args... args,
+                               const py::object& roi, int nthreads) {
+            const ImageOp op = prepare(src, args...);
+            return runInto(dst, placeholder(), toRoi(roi), nthreads, op);
+        },
+        py::arg("dst"), py::arg("src"), extra..., py::arg("roi") = py::none(),
+        py::arg("nthreads") = 0, doc);
 }
 
 } // namespace
@@ -277,19 +364,24 @@ void bindLighting(py::module_& m) {
         "read_gbuffer",
         [](const std::string& path, int nthreads) {
             OIIO::ImageBuf gbuf;
+            DeepHandle deep;
+            bool isDeep = false;
             std::string error;
             bool ok = false;
             {
                 py::gil_scoped_release gil;
-                ok = readGBuffer(path, nthreads, gbuf, error);
+                ok = readGBuffer(path, nthreads, gbuf, deep, isDeep, error);
             }
             if (!ok) raiseError(error);
-            return Image::fromBuf(std::move(gbuf));
+            if (isDeep) return py::cast(std::move(deep));
+            return py::cast(Image::fromBuf(std::move(gbuf)));
         },
         "path"_a, py::kw_only(), "nthreads"_a = 0,
         R"(A flat dhdr G-buffer (dhdr-gbuffer's EXR) as dhdr-light reads it: every channel as float32
 (image["N.X"], image["albedo.R"], ...), NaN and Inf replaced except in Z, the header (camera
-matrices, name tables, Cryptomatte manifests) in image.attributes.)");
+matrices, name tables, Cryptomatte manifests) in image.attributes. A deep G-buffer (dhdr-gbuffer
+--deep) comes as a DeepGBuffer, its samples sorted front to back, its non-finite values
+other than Z replaced, as dhdr-light reads it.)");
 
     m.def(
         "read_channels",
@@ -354,6 +446,25 @@ attributes (set them with set_attribute when the file has none).)");
         "Lights (a lights file, a dict or a list of them) as the lights file's JSON objects: "
         "edit them and give them to light().");
 
+    defDeepOp(
+        m, "light",
+        "A DeepGBuffer (dhdr-gbuffer --deep, read_gbuffer of a deep file): every sample "
+        "lit as dhdr-light lights a deep G-buffer (shadow and AO rays from each; ao='rt', "
+        "not 'ssao') and composited front to back into flat R, G, B, A. The keywords are "
+        "those below.",
+        &deepLightOp, py::arg("lights") = py::none(), py::kw_only(), py::arg("scene") = py::none(),
+        py::arg("emissive_lights") = true, py::arg("shadows") = true,
+        py::arg("env_samples") = LightingParams{}.environmentSamples,
+        py::arg("specular_samples") = LightingParams{}.specularSamples,
+        py::arg("catcher_bounce") = LightingParams{}.catcherBounceSamples, py::arg("probes") = "",
+        py::arg("ao") = "off", py::arg("ao_distance") = 1.0f, py::arg("ao_samples") = 16,
+        py::arg("background") = py::none(), py::arg("plate") = py::none(),
+        py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
+        py::arg("shadow_samples") = LightingParams{}.shadowSamples,
+        py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
+        py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false,
+        py::arg("gi") = "direct", py::arg("spp") = LightingParams{}.pathSamples,
+        py::arg("path_bounces") = LightingParams{}.pathBounces);
     defImageOp(
         m, "light", R"(Deferred lighting of a flat G-buffer (dhdr-light): Lambert (or Burley)
 diffuse plus Cook-Torrance specular under the lights, plus emission; R, G, B, A (then AO,

@@ -1,0 +1,99 @@
+"""Animated scenes: Scene.animations and render_gbuffer(time=, frame=, fps=, animation=)
+against dhdr-gbuffer --info, --frame, --time, --fps and --animation."""
+import re
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+
+import dhdr
+from conftest import TESTDATA, read_channels, read_file, run_tool, tool_error
+from test_tonemap import same_bits
+
+ANIMATED = str(TESTDATA / "cornell_animated.gltf")
+MOTION = ["motion.X", "motion.Y", "motion.Z", "motion.W"]
+
+
+@pytest.fixture(scope="module")
+def animated():
+    return dhdr.Scene(ANIMATED)
+
+
+def header(path):
+    inp = oiio.ImageInput.open(str(path))
+    assert inp, oiio.geterror()
+    spec = inp.spec()
+    inp.close()
+    return spec
+
+
+def test_animations_are_those_info_lists(animated):
+    line = r"^    (\d+) '(.*)': (\S+) s \(keys from (\S+) to (\S+) s\), (\d+) channels$"
+    listed = re.findall(line, run_tool("dhdr-gbuffer", ANIMATED, "--info").stdout, re.M)
+    assert listed and len(listed) == len(animated.animations)
+    for (index, name, duration, start, end, channels), a in zip(listed, animated.animations):
+        assert a["name"] == name and a["channels"] == int(channels) and a["problem"] == ""
+        for key, text in [("duration", duration), ("start", start), ("end", end)]:
+            assert f"{a[key]:g}" == text
+    assert dhdr.Scene(str(TESTDATA / "cornell_box.gltf")).animations == []
+
+
+@pytest.mark.parametrize("args, kwargs", [
+    (["--frame", "7"], dict(frame=7)),
+    (["--time", "0.3125", "--fps", "30", "--animation", "all"],
+     dict(time=0.3125, fps=30, animation="all")),
+    (["--frame", "40", "--fps", "12", "--animation", "shot"],
+     dict(frame=40, fps=12, animation=0)),  # past the end: the last pose, held
+    ([], {}),  # frame 0 with its motion layer, as the tool renders an animated file
+])
+def test_animated_gbuffer_equals_tool(animated, tmp_path, args, kwargs):
+    run_tool("dhdr-gbuffer", ANIMATED, "--size", "48x32", *args, "-o", tmp_path / "tool.exr")
+    g = dhdr.render_gbuffer(animated, size=(48, 32), **kwargs)
+    assert g.channels[-4:] == MOTION
+    # The motion layer is float in the file: the array holds the tool's very bits.
+    same_bits(np.ascontiguousarray(g.pixels[..., -4:]),
+              read_channels(tmp_path / "tool.exr", MOTION))
+    dhdr.write_gbuffer(str(tmp_path / "py.exr"), g)
+    mine, tool = header(tmp_path / "py.exr"), header(tmp_path / "tool.exr")
+    assert list(mine.channelnames) == list(tool.channelnames)
+    assert [str(t) for t in mine.channelformats] == [str(t) for t in tool.channelformats]
+    same_bits(read_file(tmp_path / "py.exr", oiio.FLOAT), read_file(tmp_path / "tool.exr",
+                                                                   oiio.FLOAT))
+    for key in ["dhdr:animationTime", "dhdr:fps", "worldToCamera", "worldToNDC",
+                "dhdr:sceneSHA1"]:
+        assert mine.getattribute(key) == tool.getattribute(key), key
+    assert g.attributes["dhdr:animationTime"] == tool.getattribute("dhdr:animationTime")
+
+
+def test_moving_frames_differ_and_still_scenes_have_no_motion(animated):
+    a = dhdr.render_gbuffer(animated, size=(24, 16), frame=3)
+    b = dhdr.render_gbuffer(animated, size=(24, 16), time=3 / 24)
+    same_bits(a.pixels, b.pixels)
+    c = dhdr.render_gbuffer(animated, size=(24, 16), frame=12)
+    assert not np.array_equal(a["P.X"], c["P.X"])
+    still = dhdr.render_gbuffer(dhdr.Scene(str(TESTDATA / "cornell_box.gltf")), size=(24, 16))
+    assert "motion.X" not in still.channels and "dhdr:animationTime" not in still.attributes
+    with pytest.warns(RuntimeWarning, match="the scene has no animation"):
+        dhdr.render_gbuffer(dhdr.Scene(str(TESTDATA / "cornell_box.gltf")), size=(8, 8), frame=2)
+
+
+def test_animation_errors_are_the_tools(animated, tmp_path):
+    bad = run_tool("dhdr-gbuffer", ANIMATED, "--animation", "jump", "-o", tmp_path / "x.exr",
+                   check=False)
+    assert bad.returncode == 1
+    with pytest.raises(ValueError) as e:
+        dhdr.render_gbuffer(animated, size=(8, 8), animation="jump")
+    assert str(e.value) == tool_error(bad)
+    assert "no animation 'jump' (the file has: 0 'shot')" in str(e.value)
+    with pytest.raises(ValueError, match="no animation '3'"):
+        dhdr.render_gbuffer(animated, size=(8, 8), animation=3)
+    with pytest.raises(ValueError, match="exclude each other"):
+        dhdr.render_gbuffer(animated, size=(8, 8), frame=1, time=0.5)
+    with pytest.raises(ValueError, match="fps: 0 is outside"):
+        dhdr.render_gbuffer(animated, size=(8, 8), fps=0)
+    with pytest.raises(ValueError, match="frame: 1000000000 is not a frame number"):
+        dhdr.render_gbuffer(animated, size=(8, 8), frame=10**9)
+    with pytest.raises(ValueError, match="time: inf is outside"):
+        dhdr.render_gbuffer(animated, size=(8, 8), time=float("inf"))
+    with pytest.raises(TypeError, match="animation: expected a name"):
+        dhdr.render_gbuffer(animated, size=(8, 8), animation=1.5)
