@@ -1,5 +1,7 @@
 """Animated scenes: Scene.animations and render_gbuffer(time=, frame=, fps=, animation=)
 against dhdr-gbuffer --info, --frame, --time, --fps and --animation."""
+import json
+import pathlib
 import re
 
 import numpy as np
@@ -97,3 +99,18 @@ def test_animation_errors_are_the_tools(animated, tmp_path):
         dhdr.render_gbuffer(animated, size=(8, 8), time=float("inf"))
     with pytest.raises(TypeError, match="animation: expected a name"):
         dhdr.render_gbuffer(animated, size=(8, 8), animation=1.5)
+
+
+def test_an_unplayable_animation_is_the_files_error(tmp_path):
+    # A LINEAR sampler turned CUBICSPLINE: one output a key where three are needed.
+    doc = json.loads(pathlib.Path(ANIMATED).read_text())
+    doc["animations"][0]["samplers"][0]["interpolation"] = "CUBICSPLINE"
+    broken = tmp_path / "broken.gltf"
+    broken.write_text(json.dumps(doc))
+    bad = run_tool("dhdr-gbuffer", broken, "-o", tmp_path / "x.exr", check=False)
+    scene = dhdr.Scene(str(broken))
+    assert "cannot be played" not in scene.animations[0]["problem"]  # the problem, alone
+    assert scene.animations[0]["problem"] and "sampler 0" in scene.animations[0]["problem"]
+    with pytest.raises(RuntimeError) as e:
+        dhdr.render_gbuffer(scene, size=(8, 8))
+    assert str(e.value) == tool_error(bad) and "cannot be played" in str(e.value)
