@@ -220,7 +220,8 @@ class DeepGBuffer:
 def light(src: Union[ImageLike, DeepGBuffer], lights: Optional[LightsLike] = None, *,
           scene: Optional[Scene] = None,
           emissive_lights: bool = True, shadows: bool = True, env_samples: int = 16,
-          specular_samples: int = 8, catcher_bounce: int = 16, probes: str = "",
+          specular_samples: int = 8, catcher_bounce: int = 16,
+          probes: Union[str, "Probes", None] = "",
           ao: str = "off", ao_distance: float = 1.0, ao_samples: int = 16,
           background: Optional[Union[Sequence[float], str]] = None,
           plate: Optional[Union[ImageLike, str]] = None, brute_force: bool = False,
@@ -233,7 +234,8 @@ def light(dst: Image, src: Union[ImageLike, DeepGBuffer],
           lights: Optional[LightsLike] = None, *, scene: Optional[Scene] = None,
           emissive_lights: bool = True, shadows: bool = True,
           env_samples: int = 16, specular_samples: int = 8, catcher_bounce: int = 16,
-          probes: str = "", ao: str = "off", ao_distance: float = 1.0, ao_samples: int = 16,
+          probes: Union[str, "Probes", None] = "", ao: str = "off", ao_distance: float = 1.0,
+          ao_samples: int = 16,
           background: Optional[Union[Sequence[float], str]] = None,
           plate: Optional[Union[ImageLike, str]] = None, brute_force: bool = False,
           tile: int = 16, shadow_samples: int = 16, env_specular: str = "auto",
@@ -245,9 +247,36 @@ def light(dst: Image, src: Union[ImageLike, DeepGBuffer],
 def bake_ibl(environment: Union[str, ImageLike], out: str, *, levels: int = 6, base_width: int = 256,
              samples: int = 128, dfg_size: int = 128, dfg_samples: int = 1024,
              sun_threshold: float = 10.0, nthreads: int = 0) -> Dict[str, Any]: ...
+@overload
+def bake_probes(scene: Scene, out: None = None, lights: Optional[LightsLike] = None, *,
+                spacing: float = 0.0, grid: Optional[Tuple[int, int, int]] = None,
+                max_probes: int = 512, rays: int = 256, bounces: int = 0,
+                shadow_samples: int = 4, emissive_lights: bool = True,
+                radiometric: bool = False, diffuse: str = "lambert",
+                nthreads: int = 0) -> Probes: ...
+@overload
 def bake_probes(scene: Scene, out: str, lights: Optional[LightsLike] = None, *,
                 spacing: float = 0.0, grid: Optional[Tuple[int, int, int]] = None,
                 max_probes: int = 512, rays: int = 256, bounces: int = 0,
                 shadow_samples: int = 4, emissive_lights: bool = True,
                 radiometric: bool = False, diffuse: str = "lambert",
                 nthreads: int = 0) -> Dict[str, Any]: ...
+def read_probes(path: str) -> Probes: ...
+
+class Probes:
+    """Light probes in memory: light(probes=) takes them as it takes a dhdr-probes file."""
+    @property
+    def counts(self) -> Tuple[int, int, int]: ...
+    @property
+    def origin(self) -> Tuple[float, float, float]: ...
+    @property
+    def spacing(self) -> Tuple[float, float, float]: ...
+    @property
+    def rays(self) -> int: ...
+    @property
+    def bounces(self) -> int: ...
+    @property
+    def positions(self) -> npt.NDArray[np.float32]: ...
+    @property
+    def info(self) -> Dict[str, Any]: ...
+    def write(self, path: str) -> None: ...

@@ -3,6 +3,7 @@
 // light() on a flat G-buffer with dhdr-light's options.
 #include "deep.h"
 #include "ops.h"
+#include "probes.h"
 #include "python_lights.h"
 #include "scene.h"
 
@@ -132,7 +133,7 @@ struct LightingSetup {
     std::shared_ptr<std::vector<Light>> lights;
     LightingParams p;
     SsaoParams ssao;
-    std::shared_ptr<ProbeVolume> probes;
+    std::shared_ptr<const ProbeVolume> probes;
     std::shared_ptr<ImageView> plateImage;
     const RayCaster* caster = nullptr;
     bool useSsao = false, useProbes = false;
@@ -140,12 +141,15 @@ struct LightingSetup {
 
 LightingSetup setupLighting(const py::object& lightsGiven, const py::object& sceneGiven,
                             bool emissive, bool shadows, int envSamples, int specularSamples,
-                            int catcherBounce, const std::string& probesPath, const std::string& ao,
+                            int catcherBounce, const py::object& probesGiven, const std::string& ao,
                             float aoDistance, int aoSamples, const py::object& background,
                             const py::object& plate, bool bruteForce, int tile, int shadowSamples,
                             const std::string& envSpecular, const std::string& diffuse,
                             bool radiometric, bool denoise, bool aovs, const std::string& gi,
                             int spp, int pathBounces) {
+    // probes: a file's path or a dhdr.Probes; "" and None are none.
+    const bool hasProbes = !probesGiven.is_none() && !(py::isinstance<py::str>(probesGiven) &&
+                                                       probesGiven.cast<std::string>().empty());
     // dhdr-light's lights: the scene's own unless lights are given, its emissive meshes, then
     // the lights given (sceneLightList's order).
     const SceneHandle* scene = nullptr;
@@ -198,7 +202,7 @@ LightingSetup setupLighting(const py::object& lightsGiven, const py::object& sce
         throw py::value_error("spp and path_bounces are for gi='path'");
     if (p.pathTrace) {
         if (!scene) throw py::value_error("gi='path' traces the scene: give scene=");
-        if (!probesPath.empty())
+        if (hasProbes)
             throw py::value_error("gi='path' computes the indirect light itself: drop probes");
         if (ao != "off") throw py::value_error("gi='path' has no AO: drop ao");
         p.denoise = false; // the reference is each pixel's own estimate
@@ -208,7 +212,7 @@ LightingSetup setupLighting(const py::object& lightsGiven, const py::object& sce
     if (std::string error; !validate(p, error)) throw py::value_error(error);
     if (aovs) p.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
     p.writeAO = aovs && ao != "off";
-    p.writeIndirect = aovs && !probesPath.empty();
+    p.writeIndirect = aovs && hasProbes;
     p.writeSpecular = aovs && scene;
     const bool environment = std::any_of(lights->begin(), lights->end(), [](const Light& l) {
         return l.type == LightType::Environment;
@@ -241,17 +245,8 @@ LightingSetup setupLighting(const py::object& lightsGiven, const py::object& sce
     if (ao == "ssao")
         if (const std::string e = checkRanges(ssao, kSsaoParamTable); !e.empty())
             throw py::value_error(e + " with ao='ssao'");
-    auto probes = std::make_shared<ProbeVolume>();
-    if (!probesPath.empty()) {
-        std::string error;
-        bool ok = false;
-        {
-            py::gil_scoped_release gil;
-            ok = readProbes(probesPath, *probes, error);
-        }
-        if (!ok) throw py::value_error(probesPath + ": " + error);
-    }
-    const bool useSsao = ao == "ssao", useProbes = !probesPath.empty();
+    const std::shared_ptr<const ProbeVolume> probes = probesOf(probesGiven);
+    const bool useSsao = ao == "ssao", useProbes = bool(probes);
     // The scene's rays (shadows, AO, a catcher's bounce light, glossy reflections); the
     // caller's dhdr.Scene keeps them alive for the call.
     const RayCaster* caster = scene ? &scene->caster() : nullptr;
@@ -275,14 +270,14 @@ bool placePlate(const LightingSetup& s, const OIIO::ImageSpec& gs, OIIO::ImageBu
 
 ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& sceneGiven,
                 bool emissive, bool shadows, int envSamples, int specularSamples, int catcherBounce,
-                const std::string& probesPath, const std::string& ao, float aoDistance,
+                const py::object& probesGiven, const std::string& ao, float aoDistance,
                 int aoSamples, const py::object& background, const py::object& plate,
                 bool bruteForce, int tile, int shadowSamples, const std::string& envSpecular,
                 const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
                 const std::string& gi, int spp, int pathBounces) {
     auto s = std::make_shared<const LightingSetup>(setupLighting(
         lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples, catcherBounce,
-        probesPath, ao, aoDistance, aoSamples, background, plate, bruteForce, tile, shadowSamples,
+        probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile, shadowSamples,
         envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
     return [s](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n) {
         LightingInputs inputs{*s->lights, s->caster};
@@ -305,7 +300,7 @@ ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& s
 // the tile lists laid over the whole frame (what the tool's bands share).
 ImageOp deepLightOp(const DeepHandle& src, const py::object& lightsGiven,
                     const py::object& sceneGiven, bool emissive, bool shadows, int envSamples,
-                    int specularSamples, int catcherBounce, const std::string& probesPath,
+                    int specularSamples, int catcherBounce, const py::object& probesGiven,
                     const std::string& ao, float aoDistance, int aoSamples,
                     const py::object& background, const py::object& plate, bool bruteForce,
                     int tile, int shadowSamples, const std::string& envSpecular,
@@ -315,7 +310,7 @@ ImageOp deepLightOp(const DeepHandle& src, const py::object& lightsGiven,
         throw py::value_error("ao='ssao' works on flat G-buffers; a deep one needs ao='rt'");
     auto s = std::make_shared<const LightingSetup>(setupLighting(
         lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples, catcherBounce,
-        probesPath, ao, aoDistance, aoSamples, background, plate, bruteForce, tile, shadowSamples,
+        probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile, shadowSamples,
         envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
     const std::shared_ptr<const DeepGBuffer> g = src.g;
     return [s, g](OIIO::ImageBuf& dst, const OIIO::ImageBuf&, OIIO::ROI roi, int n) {
@@ -473,7 +468,7 @@ light as a dict of that file's fields, or a list of them, in order; radiometric 
 Blender's photometric intensities by 683. scene: the dhdr.Scene the G-buffer was rendered
 from (--scene): shadow rays (shadows=False: none), its emissive meshes as area lights
 (emissive_lights), its own lights when lights is None; env_samples, specular_samples and
-catcher_bounce trace it. probes: a dhdr-probes file (indirect diffuse). ao: 'off', 'rt'
+catcher_bounce trace it. probes: a dhdr-probes file or a dhdr.Probes (indirect diffuse). ao: 'off', 'rt'
 (ao_samples rays within ao_distance; needs scene) or 'ssao' (from the G-buffer, ao_samples
 kernel points within ao_distance).
 background: (R, G, B[, A]) or 'env'; plate: an image of the frame's size to composite over,
