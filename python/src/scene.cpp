@@ -108,6 +108,24 @@ Moment momentOf(const SceneHandle& h, const py::object& animation, std::optional
     return m;
 }
 
+// Scene.posed: a copy of the scene at one moment, its meshes, cameras and lights where the
+// animation puts them (what dhdr-gbuffer --frame renders and --lights-out writes), without its
+// animations, so that it stands still there for render_gbuffer and light(scene=).
+SceneHandle posed(const SceneHandle& h, const py::object& time, const py::object& frame, double fps,
+                  const py::object& animation) {
+    const Moment moment =
+        momentOf(h, animation,
+                 frame.is_none() ? std::nullopt : std::optional<long long>(frame.cast<long long>()),
+                 time.is_none() ? std::nullopt : std::optional<double>(time.cast<double>()), fps);
+    SceneHandle out{h.path, std::make_shared<Scene>(*h.scene)};
+    {
+        py::gil_scoped_release gil;
+        if (!moment.playing.empty()) ScenePoser(*out.scene, moment.playing).pose(moment.time);
+        out.scene->rig.reset();
+    }
+    return out;
+}
+
 py::object render(const SceneHandle& h, const std::string& camera, const py::object& lookat,
                   double fov, std::pair<int, int> size, bool frameAll, bool deep, int maxLayers,
                   const py::object& time, const py::object& frame, double fps,
@@ -273,6 +291,12 @@ lowest point) or a height adds dhdr-gbuffer --ground-plane's shadow catcher.)")
             "The file's animations, as dhdr-gbuffer --info lists them (index = position): name, "
             "duration, start and end (its first and last key, seconds), channels, and the "
             "problem that keeps it from playing (empty when it plays).")
+        .def("posed", &posed, py::kw_only(), "time"_a = py::none(), "frame"_a = py::none(),
+             "fps"_a = 24.0, "animation"_a = py::none(),
+             R"(The scene at one moment of its animation (time seconds, or frame / fps; animation as
+render_gbuffer takes them), standing still there: its meshes, cameras and lights where
+dhdr-gbuffer --frame renders them (lights: what --lights-out writes for that frame), without
+animations. light(scene=...) then traces shadows from the posed geometry.)")
         .def(
             "info", [](const SceneHandle& h) { return describeScene(*h.scene, h.path); },
             "What the scene holds, as dhdr-gbuffer --info prints it.")

@@ -114,3 +114,26 @@ def test_an_unplayable_animation_is_the_files_error(tmp_path):
     with pytest.raises(RuntimeError) as e:
         dhdr.render_gbuffer(scene, size=(8, 8))
     assert str(e.value) == tool_error(bad) and "cannot be played" in str(e.value)
+
+
+def test_posed_scene_is_the_tools_frame(tmp_path):
+    shot = str(TESTDATA / "shot.gltf")
+    scene = dhdr.Scene(shot)
+    run_tool("dhdr-gbuffer", shot, "--frame", "8", "--size", "32x24", "--lights-out",
+             tmp_path / "lights.json", "-o", tmp_path / "g.exr")
+    at8 = scene.posed(frame=8)
+    assert at8.animations == [] and scene.animations
+    # The spot swings: its lights at frame 8 are what --lights-out wrote, not the rest pose's.
+    tool_lights = json.loads((tmp_path / "lights.json").read_text())["lights"]
+    assert at8.lights == tool_lights and scene.lights != tool_lights
+    assert scene.posed(time=8 / 24).lights == tool_lights
+    # Standing still, it renders the frame's surfaces without a motion layer.
+    still = dhdr.render_gbuffer(at8, size=(32, 24))
+    moving = dhdr.render_gbuffer(scene, size=(32, 24), frame=8)
+    assert still.channels == moving.channels[:-4]
+    same_bits(np.ascontiguousarray(still.pixels), np.ascontiguousarray(moving.pixels[..., :-4]))
+    # Its shadows are the posed geometry's.
+    assert not np.array_equal(dhdr.light(moving, scene=at8).pixels,
+                              dhdr.light(moving, scene=scene).pixels)
+    with pytest.raises(ValueError, match="no animation 'walk'"):
+        scene.posed(animation="walk")
