@@ -109,6 +109,9 @@ def test_deep_from_arrays_lights_as_read(glass, tool_deep):
     built = dhdr.DeepGBuffer(g.counts, g.samples.copy(), g.channels,
                              {k: g.attributes[k] for k in ["worldToCamera", "worldToNDC"]})
     same_bits(dhdr.light(built, LIGHTS).pixels, dhdr.light(g, LIGHTS).pixels)
+    # The whole header goes back in as it came out (name tables, vectors, matrices).
+    whole = dhdr.DeepGBuffer(g.counts, g.samples, g.channels, g.attributes)
+    assert whole.attributes == g.attributes
     # Editing the samples is what light() shades: white glass and walls light brighter.
     g2 = dhdr.read_gbuffer(str(tool_deep))
     for c in ["albedo.R", "albedo.G", "albedo.B"]:
