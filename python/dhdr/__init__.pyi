@@ -245,6 +245,18 @@ def light(dst: Image, src: Union[ImageLike, DeepGBuffer],
           aovs: bool = False, gi: str = "direct", spp: int = 16,
           path_bounces: int = 8, roi: Roi = None, nthreads: int = 0) -> bool: ...
 
+def light_samples(src: DeepGBuffer, lights: Optional[LightsLike] = None, *,
+                  scene: Optional[Scene] = None, emissive_lights: bool = True,
+                  shadows: bool = True, env_samples: int = 16, specular_samples: int = 8,
+                  catcher_bounce: int = 16, probes: Union[str, "Probes", None] = "",
+                  ao: str = "off", ao_distance: float = 1.0, ao_samples: int = 16,
+                  background: Optional[Union[Sequence[float], str]] = None,
+                  plate: Optional[Union[ImageLike, str]] = None, brute_force: bool = False,
+                  tile: int = 16, shadow_samples: int = 16, env_specular: str = "auto",
+                  diffuse: str = "lambert", radiometric: bool = False, denoise: bool = True,
+                  aovs: bool = False, gi: str = "direct", spp: int = 16, path_bounces: int = 8,
+                  nthreads: int = 0) -> DeepGBuffer: ...
+
 # Bakes (bakes.cpp)
 def bake_ibl(environment: Union[str, ImageLike], out: str, *, levels: int = 6, base_width: int = 256,
              samples: int = 128, dfg_size: int = 128, dfg_samples: int = 1024,

@@ -324,6 +324,59 @@ ImageOp deepLightOp(const DeepHandle& src, const py::object& lightsGiven,
     };
 }
 
+// dhdr-light --deep-out: each sample of a deep G-buffer lit, premultiplied, with its Z and
+// ZBack, in the G-buffer's order (what the tool writes as a deep RGBA EXR for deep compositing).
+DeepHandle lightSamples(const DeepHandle& src, const py::object& lightsGiven,
+                        const py::object& sceneGiven, bool emissive, bool shadows, int envSamples,
+                        int specularSamples, int catcherBounce, const py::object& probesGiven,
+                        const std::string& ao, float aoDistance, int aoSamples,
+                        const py::object& background, const py::object& plate, bool bruteForce,
+                        int tile, int shadowSamples, const std::string& envSpecular,
+                        const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
+                        const std::string& gi, int spp, int pathBounces, int nthreads) {
+    if (ao == "ssao")
+        throw py::value_error("ao='ssao' works on flat G-buffers; a deep one needs ao='rt'");
+    const LightingSetup s = setupLighting(
+        lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples, catcherBounce,
+        probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile, shadowSamples,
+        envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces);
+    const std::shared_ptr<const DeepGBuffer> g = src.g;
+    DeepHandle out;
+    std::string error;
+    {
+        py::gil_scoped_release gil;
+        LightingInputs inputs{*s.lights, s.caster};
+        inputs.scene = s.caster;
+        if (s.useProbes) inputs.probes = s.probes.get();
+        LightingParams p = s.p;
+        p.frame = OIIO::get_roi(g->spec);
+        OIIO::ImageBuf flat;
+        std::vector<float> rgba;
+        if (!placePlate(s, g->spec, flat, inputs) ||
+            !shadeGBuffer(flat, *g, inputs, p, {}, nthreads, nullptr, &rgba)) {
+            error = flat.geterror();
+        } else {
+            DeepGBuffer& lit = *out.g;
+            const size_t nch = size_t(g->spec.nchannels), n = g->totalSamples();
+            lit.spec = g->spec;
+            lit.spec.nchannels = 6;
+            lit.spec.channelnames = {"R", "G", "B", "A", "Z", "ZBack"};
+            lit.spec.alpha_channel = 3;
+            lit.spec.z_channel = 4;
+            lit.first = g->first;
+            lit.values.resize(n * 6);
+            for (size_t k = 0; k < n; ++k) {
+                for (size_t c = 0; c < 4; ++c)
+                    lit.values[6 * k + c] = rgba[4 * k + c];
+                lit.values[6 * k + 4] = g->values[k * nch + 1]; // Z
+                lit.values[6 * k + 5] = g->values[k * nch + 2]; // ZBack
+            }
+        }
+    }
+    if (!error.empty()) raiseError(error);
+    return out;
+}
+
 // light()'s two forms with a DeepGBuffer as src, registered before the flat ones (whose src
 // takes any object): the result is flat, so they run through runNew and runInto with a
 // placeholder src that the operation does not read.
@@ -490,6 +543,22 @@ Without a scene nothing is shadowed, as dhdr-light without --scene.)",
         py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false,
         py::arg("gi") = "direct", py::arg("spp") = LightingParams{}.pathSamples,
         py::arg("path_bounces") = LightingParams{}.pathBounces);
+    m.def("light_samples", &lightSamples, "src"_a, py::arg("lights") = py::none(), py::kw_only(),
+          py::arg("scene") = py::none(), py::arg("emissive_lights") = true,
+          py::arg("shadows") = true, py::arg("env_samples") = LightingParams{}.environmentSamples,
+          py::arg("specular_samples") = LightingParams{}.specularSamples,
+          py::arg("catcher_bounce") = LightingParams{}.catcherBounceSamples, py::arg("probes") = "",
+          py::arg("ao") = "off", py::arg("ao_distance") = 1.0f, py::arg("ao_samples") = 16,
+          py::arg("background") = py::none(), py::arg("plate") = py::none(),
+          py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
+          py::arg("shadow_samples") = LightingParams{}.shadowSamples,
+          py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
+          py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false,
+          py::arg("gi") = "direct", py::arg("spp") = LightingParams{}.pathSamples,
+          py::arg("path_bounces") = LightingParams{}.pathBounces, py::arg("nthreads") = 0,
+          R"(dhdr-light --deep-out: every sample of a DeepGBuffer lit as light() lights it, kept
+apart: a DeepGBuffer of R, G, B, A (premultiplied) and the samples' Z and ZBack, front to
+back, for deep compositing. The keywords are light()'s.)");
 }
 
 } // namespace dhdr::python

@@ -142,3 +142,17 @@ def test_animated_deep_equals_tool(tmp_path):
     same_bits(mine[2], samples)
     for key in ["dhdr:animationTime", "dhdr:fps"]:
         assert mine[3].getattribute(key) == spec.getattribute(key), key
+
+
+def test_light_samples_equal_tools_deep_out(glass, tool_deep, tmp_path):
+    run_tool("dhdr-light", tool_deep, "--scene", GLASS, "--deep-out", tmp_path / "samples.exr",
+             "--type", "float", "-o", tmp_path / "lit.exr")
+    g = dhdr.read_gbuffer(str(tool_deep))
+    lit = dhdr.light_samples(g, scene=glass)
+    assert lit.channels == ["R", "G", "B", "A", "Z", "ZBack"]
+    names, counts, samples, _ = read_deep(tmp_path / "samples.exr", lit.channels)
+    same_bits(lit.counts, counts)
+    same_bits(lit.samples, samples)
+    same_bits(lit["Z"], np.ascontiguousarray(g["Z"]))
+    with pytest.raises(ValueError, match="ao='ssao' works on flat G-buffers"):
+        dhdr.light_samples(g, LIGHTS, ao="ssao")
