@@ -127,9 +127,15 @@ SceneHandle posed(const SceneHandle& h, const py::object& time, const py::object
 }
 
 py::object render(const SceneHandle& h, const std::string& camera, const py::object& lookat,
-                  double fov, std::pair<int, int> size, bool frameAll, bool deep, int maxLayers,
-                  const py::object& time, const py::object& frame, double fps,
+                  double fov, std::pair<int, int> size, bool frameAll, const py::object& deepGiven,
+                  int maxLayers, const py::object& time, const py::object& frame, double fps,
                   const py::object& animation, int nthreads) {
+    // deep: True (--deep), False (--flat) or 'auto', the tool's default: deep when a partly
+    // transparent surface is in view.
+    const bool autoDeep = py::isinstance<py::str>(deepGiven);
+    if (autoDeep && deepGiven.cast<std::string>() != "auto")
+        throw py::value_error("deep must be True, False or 'auto'");
+    bool deep = !autoDeep && deepGiven.cast<bool>();
     GBufferParams params;
     if (maxLayers < 1 || maxLayers > 64)
         throw py::value_error("max_layers: " + std::to_string(maxLayers) + " is outside [1, 64]");
@@ -208,12 +214,19 @@ py::object render(const SceneHandle& h, const std::string& camera, const py::obj
         if (cameraError.empty() && error.empty() && cameraOf(*scene, cam, true)) {
             const GBufferRenderer renderer = caster ? GBufferRenderer(*scene, cam, params, caster)
                                                     : GBufferRenderer(*scene, cam, params);
+            // Only a Blend material makes a partly transparent surface.
+            const bool blends =
+                std::any_of(scene->materials.begin(), scene->materials.end(),
+                            [](const Material& mat) { return mat.alphaMode == AlphaMode::Blend; });
+            long long transparent = 0;
             if (!renderer.ok()) {
                 error = h.path + ": " + renderer.error();
-            } else if (deep) {
-                ok = renderer.renderDeep(*layers.g, {}, nthreads);
+            } else if (deep || (autoDeep && blends)) {
+                ok = renderer.renderDeep(*layers.g, {}, nthreads, &transparent);
                 if (!ok) error = h.path + ": cannot render the layers";
-            } else {
+                deep = deep || transparent > 0;
+            }
+            if (renderer.ok() && !deep && error.empty()) {
                 ok = renderer.render(gbuf, {}, nthreads);
                 if (!ok) error = h.path + ": " + gbuf.geterror();
             }
@@ -316,7 +329,8 @@ manifests) in attributes. camera: a scene camera by name (default the first); lo
 (eye, target[, up]) instead; fov: vertical degrees; size: (width, height); frame_all: move
 the camera back until the scene fits. write_gbuffer() writes it in the contract's types.
 deep=True (--deep): a DeepGBuffer, per pixel every surface up to the first opaque one, at
-most max_layers (--max-layers) samples a pixel. A scene with animations is posed as dhdr-gbuffer --frame/--time poses it: at time seconds,
+most max_layers (--max-layers) samples a pixel; deep='auto' (the tool's default): a
+DeepGBuffer when a partly transparent surface is in view, else the flat Image. A scene with animations is posed as dhdr-gbuffer --frame/--time poses it: at time seconds,
 or frame / fps (frame 0, time 0, by default); animation: the one that plays, by name or
 index, or 'all' (default the file's first, --animation). Its G-buffer has the motion layer
 (motion.X, .Y, .Z, .W: Blender's Vector pass, pixels) and dhdr:animationTime and dhdr:fps in

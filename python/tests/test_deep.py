@@ -156,3 +156,22 @@ def test_light_samples_equal_tools_deep_out(glass, tool_deep, tmp_path):
     same_bits(lit["Z"], np.ascontiguousarray(g["Z"]))
     with pytest.raises(ValueError, match="ao='ssao' works on flat G-buffers"):
         dhdr.light_samples(g, LIGHTS, ao="ssao")
+
+
+def test_auto_deep_is_the_tools_default(glass, tool_deep, tmp_path):
+    # The glass in view: deep, as dhdr-gbuffer without --deep or --flat writes it.
+    run_tool("dhdr-gbuffer", GLASS, "--size", f"{SIZE[0]}x{SIZE[1]}", "-o", tmp_path / "a.exr")
+    auto = dhdr.render_gbuffer(glass, size=SIZE, deep="auto")
+    assert isinstance(auto, dhdr.DeepGBuffer)
+    names, counts, samples, _ = read_deep(tmp_path / "a.exr", auto.channels)
+    same_bits(auto.counts, counts)
+    same_bits(np.ascontiguousarray(auto["Z"]), samples[:, auto.channels.index("Z")])
+    # No glass in view (looking at the back wall's corner): flat.
+    flat = dhdr.render_gbuffer(glass, size=(8, 8), deep="auto",
+                               lookat=(0.0, 0.05, 0.5, 0.0, 0.05, 0.56))
+    assert isinstance(flat, dhdr.Image) and flat["A"].sum() > 0
+    box = dhdr.render_gbuffer(dhdr.Scene(str(TESTDATA / "cornell_box.gltf")), size=(8, 8),
+                              deep="auto")
+    assert isinstance(box, dhdr.Image)
+    with pytest.raises(ValueError, match="deep must be"):
+        dhdr.render_gbuffer(glass, size=(8, 8), deep="yes")
