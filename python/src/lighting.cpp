@@ -13,15 +13,18 @@
 #include <dhdr/deferred/emissive_lights.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_import.h>
+#include <dhdr/deferred/gbuffer_time.h>
 #include <dhdr/deferred/lighting.h>
 #include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/probes.h>
+#include <dhdr/deferred/scene_rig.h>
 #include <dhdr/io/errors.h>
 #include <dhdr/io/pixel_limit.h>
 #include <dhdr/io/sanitize.h>
 #include <dhdr/io/strip_reader.h>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <pybind11/stl.h>
 
 namespace dhdr::python {
@@ -127,6 +130,52 @@ std::vector<Light> lightsOf(const py::handle& given, bool radiometric) {
 
 namespace {
 
+// The scene as dhdr-light --scene lights a G-buffer (its PosedScene): posed at the moment the
+// G-buffer's header records (gbuffer_time.h) with the animations it records, on a copy with its
+// own ray caster; as loaded (caster null: the dhdr.Scene's own) when the G-buffer records no
+// moment or the file has no animations.
+struct PosedFor {
+    std::shared_ptr<const Scene> scene;
+    std::shared_ptr<const RayCaster> caster;
+};
+
+PosedFor poseFor(const SceneHandle& h, const OIIO::ImageSpec& gspec) {
+    std::optional<gbuffer::Moment> moment;
+    if (std::string error; !gbuffer::readMoment(gspec, moment, error))
+        throw py::value_error("gbuffer: " + error);
+    const std::vector<Animation> none;
+    const std::vector<Animation>& animations = h.scene->rig ? h.scene->rig->animations : none;
+    std::vector<int> playing;
+    if (moment && !animations.empty())
+        playing = moment->animations ? *moment->animations : std::vector<int>{0};
+    else if (!moment && !animations.empty())
+        python::warn(std::string("gbuffer: records no animation time (") + gbuffer::kAnimationTime +
+                     "): shadows and reflections see the rest pose of " + h.path);
+    for (const int a : playing) {
+        if (a < 0 || size_t(a) >= animations.size()) {
+            std::string names;
+            for (size_t i = 0; i < animations.size(); ++i)
+                names += (i ? ", " : "") + std::to_string(i) + " '" + animations[i].name + "'";
+            throw py::value_error("gbuffer: rendered with animation " + std::to_string(a) +
+                                  ", which " + h.path + " does not have (it has: " + names +
+                                  "): is it the scene the G-buffer was rendered from?");
+        }
+        if (!animations[size_t(a)].problem.empty())
+            raiseError(h.path + ": animation '" + animations[size_t(a)].name +
+                       "' cannot be played: " + animations[size_t(a)].problem);
+    }
+    if (playing.empty()) return {h.scene, nullptr};
+    auto posed = std::make_shared<Scene>(*h.scene);
+    std::shared_ptr<RayCaster> caster;
+    {
+        py::gil_scoped_release gil;
+        ScenePoser(*posed, playing).pose(moment->time);
+        caster = std::make_shared<RayCaster>(*posed, posed->rig->movingMeshes(playing));
+    }
+    if (!caster->ok()) raiseError(h.path + ": " + caster->error());
+    return {posed, caster};
+}
+
 // What light() needs for a call, prepared from its keywords with the GIL held (ValueError for
 // bad ones), shared by the flat and the deep forms.
 struct LightingSetup {
@@ -135,15 +184,17 @@ struct LightingSetup {
     SsaoParams ssao;
     std::shared_ptr<const ProbeVolume> probes;
     std::shared_ptr<ImageView> plateImage;
+    PosedFor posed; // keeps the posed scene and its caster alive
     const RayCaster* caster = nullptr;
     bool useSsao = false, useProbes = false;
 };
 
-LightingSetup setupLighting(const py::object& lightsGiven, const py::object& sceneGiven,
-                            bool emissive, bool shadows, int envSamples, int specularSamples,
-                            int catcherBounce, const py::object& probesGiven, const std::string& ao,
-                            float aoDistance, int aoSamples, const py::object& background,
-                            const py::object& plate, bool bruteForce, int tile, int shadowSamples,
+LightingSetup setupLighting(const OIIO::ImageSpec& gspec, const py::object& lightsGiven,
+                            const py::object& sceneGiven, bool emissive, bool shadows,
+                            int envSamples, int specularSamples, int catcherBounce,
+                            const py::object& probesGiven, const std::string& ao, float aoDistance,
+                            int aoSamples, const py::object& background, const py::object& plate,
+                            bool bruteForce, int tile, int shadowSamples,
                             const std::string& envSpecular, const std::string& diffuse,
                             bool radiometric, bool denoise, bool aovs, const std::string& gi,
                             int spp, int pathBounces) {
@@ -160,8 +211,10 @@ LightingSetup setupLighting(const py::object& lightsGiven, const py::object& sce
     }
     if (lightsGiven.is_none() && !scene)
         throw py::value_error("no lights: give lights=, or scene= for the scene's own");
+    // Its lights and glowing meshes where the G-buffer's moment puts them.
+    const PosedFor posed = scene ? poseFor(*scene, gspec) : PosedFor{};
     auto lights = std::make_shared<std::vector<Light>>(
-        scene ? sceneLightList(*scene->scene, lightsGiven.is_none(), emissive, radiometric)
+        scene ? sceneLightList(*posed.scene, lightsGiven.is_none(), emissive, radiometric)
               : std::vector<Light>{});
     if (scene && lightsGiven.is_none() && lights->empty())
         throw py::value_error(scene->path + ": the scene has no lights and no emissive "
@@ -249,8 +302,10 @@ LightingSetup setupLighting(const py::object& lightsGiven, const py::object& sce
     const bool useSsao = ao == "ssao", useProbes = bool(probes);
     // The scene's rays (shadows, AO, a catcher's bounce light, glossy reflections); the
     // caller's dhdr.Scene keeps them alive for the call.
-    const RayCaster* caster = scene ? &scene->caster() : nullptr;
-    return LightingSetup{lights, p, ssao, probes, plateImage, caster, useSsao, useProbes};
+    const RayCaster* caster = posed.caster ? posed.caster.get()
+                              : scene      ? &scene->caster()
+                                           : nullptr;
+    return LightingSetup{lights, p, ssao, probes, plateImage, posed, caster, useSsao, useProbes};
 }
 
 // The plate, when there is one, laid on the frame's pixels; false with the message on `dst`.
@@ -268,7 +323,7 @@ bool placePlate(const LightingSetup& s, const OIIO::ImageSpec& gs, OIIO::ImageBu
     return true;
 }
 
-ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& sceneGiven,
+ImageOp lightOp(const Image& src, const py::object& lightsGiven, const py::object& sceneGiven,
                 bool emissive, bool shadows, int envSamples, int specularSamples, int catcherBounce,
                 const py::object& probesGiven, const std::string& ao, float aoDistance,
                 int aoSamples, const py::object& background, const py::object& plate,
@@ -276,9 +331,9 @@ ImageOp lightOp(const Image&, const py::object& lightsGiven, const py::object& s
                 const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
                 const std::string& gi, int spp, int pathBounces) {
     auto s = std::make_shared<const LightingSetup>(setupLighting(
-        lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples, catcherBounce,
-        probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile, shadowSamples,
-        envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
+        src.spec(), lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples,
+        catcherBounce, probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile,
+        shadowSamples, envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
     return [s](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n) {
         LightingInputs inputs{*s->lights, s->caster};
         inputs.scene = s->caster;
@@ -309,9 +364,9 @@ ImageOp deepLightOp(const DeepHandle& src, const py::object& lightsGiven,
     if (ao == "ssao")
         throw py::value_error("ao='ssao' works on flat G-buffers; a deep one needs ao='rt'");
     auto s = std::make_shared<const LightingSetup>(setupLighting(
-        lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples, catcherBounce,
-        probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile, shadowSamples,
-        envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
+        src.g->spec, lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples,
+        catcherBounce, probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile,
+        shadowSamples, envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
     const std::shared_ptr<const DeepGBuffer> g = src.g;
     return [s, g](OIIO::ImageBuf& dst, const OIIO::ImageBuf&, OIIO::ROI roi, int n) {
         LightingInputs inputs{*s->lights, s->caster};
@@ -337,9 +392,9 @@ DeepHandle lightSamples(const DeepHandle& src, const py::object& lightsGiven,
     if (ao == "ssao")
         throw py::value_error("ao='ssao' works on flat G-buffers; a deep one needs ao='rt'");
     const LightingSetup s = setupLighting(
-        lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples, catcherBounce,
-        probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile, shadowSamples,
-        envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces);
+        src.g->spec, lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples,
+        catcherBounce, probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile,
+        shadowSamples, envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces);
     const std::shared_ptr<const DeepGBuffer> g = src.g;
     DeepHandle out;
     std::string error;
@@ -520,10 +575,11 @@ indirect.R/G/B and Z, N.X, N.Y, N.Z with aovs). lights: a lights file (docs/ligh
 light as a dict of that file's fields, or a list of them, in order; radiometric divides
 Blender's photometric intensities by 683. scene: the dhdr.Scene the G-buffer was rendered
 from (--scene): shadow rays (shadows=False: none), its emissive meshes as area lights
-(emissive_lights), its own lights when lights is None; env_samples, specular_samples and
-catcher_bounce trace it. probes: a dhdr-probes file or a dhdr.Probes (indirect diffuse). ao: 'off', 'rt'
-(ao_samples rays within ao_distance; needs scene) or 'ssao' (from the G-buffer, ao_samples
-kernel points within ao_distance).
+(emissive_lights), its own lights when lights is None, all posed where the G-buffer's
+header says it was rendered (dhdr:animationTime, as dhdr-light does); env_samples,
+specular_samples and catcher_bounce trace it. probes: a dhdr-probes file or a dhdr.Probes
+(indirect diffuse). ao: 'off', 'rt' (ao_samples rays within ao_distance; needs scene) or
+'ssao' (from the G-buffer, ao_samples kernel points within ao_distance).
 background: (R, G, B[, A]) or 'env'; plate: an image of the frame's size to composite over,
 or 'env'. shadow_samples, tile, env_specular ('auto', 'split-sum', 'quadrature'), denoise,
 diffuse ('lambert', 'burley') and brute_force are dhdr-light's options of those names.

@@ -6,6 +6,7 @@
 #include <dhdr/deferred/camera.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
+#include <dhdr/deferred/gbuffer_time.h>
 #include <dhdr/deferred/scene_camera.h>
 #include <dhdr/deferred/scene_info.h>
 #include <dhdr/deferred/scene_rig.h>
@@ -237,8 +238,11 @@ py::object render(const SceneHandle& h, const std::string& camera, const py::obj
             OIIO::ImageSpec& spec = deep ? layers.g->spec : gbuf.specmod();
             spec.attribute("dhdr:source", h.path);
             if (!moment.playing.empty()) {
-                spec.attribute("dhdr:animationTime", float(moment.time));
-                spec.attribute("dhdr:fps", float(fps));
+                gbuffer::Moment m;
+                m.time = moment.time;
+                m.fps = fps;
+                m.animations = moment.playing;
+                gbuffer::writeMoment(spec, m);
             }
             if (const std::string sha = sceneFingerprint(h.path); !sha.empty())
                 spec.attribute(gbuffer::kSceneFingerprint, sha);
@@ -330,11 +334,12 @@ manifests) in attributes. camera: a scene camera by name (default the first); lo
 the camera back until the scene fits. write_gbuffer() writes it in the contract's types.
 deep=True (--deep): a DeepGBuffer, per pixel every surface up to the first opaque one, at
 most max_layers (--max-layers) samples a pixel; deep='auto' (the tool's default): a
-DeepGBuffer when a partly transparent surface is in view, else the flat Image. A scene with animations is posed as dhdr-gbuffer --frame/--time poses it: at time seconds,
+DeepGBuffer when a partly transparent surface is in view, else the flat Image.
+A scene with animations is posed as dhdr-gbuffer --frame/--time poses it: at time seconds,
 or frame / fps (frame 0, time 0, by default); animation: the one that plays, by name or
 index, or 'all' (default the file's first, --animation). Its G-buffer has the motion layer
-(motion.X, .Y, .Z, .W: Blender's Vector pass, pixels) and dhdr:animationTime and dhdr:fps in
-its header. Each animated call poses its own copy of the scene (docs/animation.md).)");
+(motion.X, .Y, .Z, .W: Blender's Vector pass, pixels) and dhdr:animationTime, dhdr:fps and
+dhdr:animation in its header. Each animated call poses its own copy of the scene (docs/animation.md).)");
 
     m.def(
         "write_gbuffer",

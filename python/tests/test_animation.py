@@ -61,8 +61,8 @@ def test_animated_gbuffer_equals_tool(animated, tmp_path, args, kwargs):
     assert [str(t) for t in mine.channelformats] == [str(t) for t in tool.channelformats]
     same_bits(read_file(tmp_path / "py.exr", oiio.FLOAT), read_file(tmp_path / "tool.exr",
                                                                    oiio.FLOAT))
-    for key in ["dhdr:animationTime", "dhdr:fps", "worldToCamera", "worldToNDC",
-                "dhdr:sceneSHA1"]:
+    for key in ["dhdr:animationTime", "dhdr:fps", "dhdr:animation", "worldToCamera",
+                "worldToNDC", "dhdr:sceneSHA1"]:
         assert mine.getattribute(key) == tool.getattribute(key), key
     assert g.attributes["dhdr:animationTime"] == tool.getattribute("dhdr:animationTime")
 
@@ -132,8 +132,30 @@ def test_posed_scene_is_the_tools_frame(tmp_path):
     moving = dhdr.render_gbuffer(scene, size=(32, 24), frame=8)
     assert still.channels == moving.channels[:-4]
     same_bits(np.ascontiguousarray(still.pixels), np.ascontiguousarray(moving.pixels[..., :-4]))
-    # Its shadows are the posed geometry's.
-    assert not np.array_equal(dhdr.light(moving, scene=at8).pixels,
-                              dhdr.light(moving, scene=scene).pixels)
+    # Lit against it, the frame is what light() poses the animated scene for by itself.
+    same_bits(dhdr.light(moving, scene=at8).pixels, dhdr.light(moving, scene=scene).pixels)
     with pytest.raises(ValueError, match="no animation 'walk'"):
         scene.posed(animation="walk")
+
+
+def test_light_poses_the_scene_as_the_tool(animated, tmp_path):
+    # dhdr-light --scene poses the scene at the moment the G-buffer records: the moving block's
+    # shadow is where frame 20 puts it.
+    run_tool("dhdr-gbuffer", ANIMATED, "--size", "48x32", "--frame", "20", "-o", tmp_path / "g.exr")
+    run_tool("dhdr-light", tmp_path / "g.exr", "--scene", ANIMATED, "--type", "float",
+             "-o", tmp_path / "lit.exr")
+    g = dhdr.read_gbuffer(str(tmp_path / "g.exr"))
+    lit = dhdr.light(g, scene=animated)
+    same_bits(lit.pixels, read_file(tmp_path / "lit.exr"))
+    # The scene standing at that moment lights it alike; its rest pose does not.
+    same_bits(dhdr.light(g, scene=animated.posed(frame=20)).pixels, lit.pixels)
+    assert not np.array_equal(dhdr.light(g, scene=animated.posed(frame=0)).pixels, lit.pixels)
+    # A G-buffer that records no moment is lit against the rest pose, with the tool's warning.
+    bare = dhdr.Image(g.pixels, g.channels)
+    for key in ["worldToCamera", "worldToNDC"]:
+        bare.set_attribute(key, g.attributes[key])
+    with pytest.warns(RuntimeWarning, match="records no animation time"):
+        dhdr.light(bare, scene=animated)
+    g.set_attribute("dhdr:animation", "3")
+    with pytest.raises(ValueError, match="rendered with animation 3, which .* does not have"):
+        dhdr.light(g, scene=animated)
