@@ -339,7 +339,8 @@ A scene with animations is posed as dhdr-gbuffer --frame/--time poses it: at tim
 or frame / fps (frame 0, time 0, by default); animation: the one that plays, by name or
 index, or 'all' (default the file's first, --animation). Its G-buffer has the motion layer
 (motion.X, .Y, .Z, .W: Blender's Vector pass, pixels) and dhdr:animationTime, dhdr:fps and
-dhdr:animation in its header. Each animated call poses its own copy of the scene (docs/animation.md).)");
+dhdr:animation in its header. Each animated call poses its own copy of the scene
+(docs/animation.md).)");
 
     m.def(
         "write_gbuffer",
