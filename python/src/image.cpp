@@ -215,15 +215,29 @@ void setAttribute(OIIO::ImageSpec& spec, const std::string& name, const py::hand
         spec.attribute(name, value.cast<int>());
     } else if (py::isinstance<py::float_>(value)) {
         spec.attribute(name, value.cast<float>());
+    } else if ((py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) &&
+               py::len(value) > 0 && py::isinstance<py::str>(value[py::int_(0)])) {
+        // A list of strings: a name table (dhdr:objectNames, dhdr:materialNames).
+        const std::vector<std::string> names = value.cast<std::vector<std::string>>();
+        std::vector<const char*> pointers;
+        for (const std::string& n : names)
+            pointers.push_back(n.c_str());
+        spec.attribute(name, OIIO::TypeDesc(OIIO::TypeDesc::STRING, int(pointers.size())),
+                       pointers.data());
     } else {
-        // A 4x4 matrix, nested or flat (worldToCamera, worldToNDC).
+        // A 4x4 matrix, nested or flat (worldToCamera, worldToNDC), a 3-vector
+        // (dhdr:cameraPosition) or float numbers: what attributes gives back sets again.
         py::array_t<float, py::array::c_style | py::array::forcecast> m =
             py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(value);
-        if (!m || m.size() != 16)
+        if (!m || m.size() == 0 || (m.ndim() != 1 && m.size() != 16))
             throw py::type_error("set_attribute: " + name +
-                                 ": expected a str, int, float or 4x4 matrix, got " +
+                                 ": expected a str, int, float, numbers or 4x4 matrix, got " +
                                  typeName(value));
-        spec.attribute(name, OIIO::TypeMatrix44, m.data());
+        const OIIO::TypeDesc type = m.size() == 16 ? OIIO::TypeMatrix44
+                                    : m.size() == 3
+                                        ? OIIO::TypeVector
+                                        : OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, int(m.size()));
+        spec.attribute(name, type, m.data());
     }
 }
 
@@ -283,7 +297,9 @@ converted. Image() is empty: a destination for op(dst, src, ...) forms.)")
             [](Image& i, const std::string& name, const py::object& value) {
                 setAttribute(i.spec(), name, value);
             },
-            "name"_a, "value"_a)
+            "name"_a, "value"_a,
+            "Sets a header attribute: a str, int, float, numbers (3: a vector), a 4x4 matrix or "
+            "a list of str (a name table), as attributes gives them.")
         .def(
             "channel",
             [](const Image& i, const std::string& name) -> py::object {

@@ -6,6 +6,7 @@ void bindImageIO(py::module_& m);
 void bindTonemap(py::module_& m);
 void bindGeometryOps(py::module_& m);
 void bindLighting(py::module_& m);
+void bindDeep(py::module_& m);
 void bindScene(py::module_& m);
 void bindBakes(py::module_& m);
 void bindBench(py::module_& m);
@@ -19,6 +20,7 @@ PYBIND11_MODULE(_dhdr, m) {
     dhdr::python::bindImageIO(m);
     dhdr::python::bindTonemap(m);
     dhdr::python::bindGeometryOps(m);
+    dhdr::python::bindDeep(m);
     dhdr::python::bindScene(m);
     dhdr::python::bindLighting(m);
     dhdr::python::bindBakes(m);

@@ -7,7 +7,7 @@ import OpenImageIO as oiio
 import pytest
 
 import dhdr
-from conftest import LIGHTS, TESTDATA, read_file, run_tool, write_exr
+from conftest import LIGHTS, TESTDATA, read_channels, read_file, run_tool, write_exr
 from test_tonemap import same_bits
 
 CORNELL = str(TESTDATA / "cornell_box.gltf")
@@ -94,3 +94,32 @@ def test_bake_probes_equals_tool_and_lights(gbuffer, tmp_path):
     same_bits(mine.pixels, read_file(tmp_path / "lit.exr"))
     with pytest.raises(ValueError, match="--rays"):
         dhdr.bake_probes(scene, str(tmp_path / "x.exr"), rays=1)
+
+
+def test_probes_in_memory_light_as_the_tools_file(gbuffer, tmp_path):
+    scene = dhdr.Scene(CORNELL)
+    run_tool("dhdr-probes", CORNELL, "--grid", "2,2,2", "--rays", "32", "--bounces", "1",
+             "-o", tmp_path / "tool.probes.exr")
+    run_tool("dhdr-light", gbuffer, "--scene", CORNELL, "--probes", tmp_path / "tool.probes.exr",
+             "--aovs", "--type", "float", "-o", tmp_path / "lit.exr")
+    probes = dhdr.bake_probes(scene, grid=(2, 2, 2), rays=32, bounces=1)
+    assert isinstance(probes, dhdr.Probes) and probes.counts == (2, 2, 2)
+    assert probes.positions.shape == (8, 3) and probes.rays == 32 and probes.bounces == 1
+    assert probes.info["active"] + probes.info["relocated"] + probes.info["off"] == 8
+    assert not list(tmp_path.glob("*.probes.exr"))[1:]  # nothing written but the tool's
+    g = dhdr.read_gbuffer(str(gbuffer))
+    lit = dhdr.light(g, scene=scene, probes=probes, aovs=True)
+    assert "indirect.R" in lit.channels
+    same_bits(lit.pixels, read_channels(tmp_path / "lit.exr", lit.channels))
+    # Written, the probes are the tool's file; read back, they light alike.
+    probes.write(str(tmp_path / "py.probes.exr"))
+    same_files(tmp_path / "py.probes.exr", tmp_path / "tool.probes.exr")
+    read = dhdr.read_probes(str(tmp_path / "tool.probes.exr"))
+    assert read.counts == probes.counts and read.origin == probes.origin
+    same_bits(dhdr.light(g, scene=scene, probes=read, aovs=True).pixels, lit.pixels)
+    with pytest.raises(ValueError, match="nothing.exr"):
+        dhdr.read_probes(str(tmp_path / "nothing.exr"))
+    with pytest.raises(TypeError, match="probes: expected"):
+        dhdr.light(g, scene=scene, probes=3)
+    with pytest.raises(ValueError, match="drop probes"):
+        dhdr.light(g, scene=scene, probes=probes, gi="path")

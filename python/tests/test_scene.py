@@ -50,8 +50,8 @@ def test_camera_errors_are_the_tools(cornell, tmp_path):
     with pytest.raises(ValueError) as e:
         dhdr.render_gbuffer(cornell, camera="Nope", size=(8, 8))
     assert str(e.value) == tool_error(bad)
-    with pytest.raises(ValueError, match="deep"):
-        dhdr.render_gbuffer(cornell, deep=True)
+    with pytest.raises(ValueError, match="max_layers: 0 is outside"):
+        dhdr.render_gbuffer(cornell, deep=True, max_layers=0)
     with pytest.raises(ValueError, match="6 or 9 numbers"):
         dhdr.render_gbuffer(cornell, lookat=(0, 0, 1))
 
