@@ -688,10 +688,11 @@ TEST(SunExtraction, BakesAndLightsFilesCarryTheSun) {
     std::filesystem::remove_all(dir);
 }
 
-// The specular quadrature (the exact single-scattering lobe, 32 samples reading mips) against
+// The specular quadrature (the exact single-scattering lobe, 32 samples reading prefiltered
+// levels) against
 // the integral of the lobe over the full-resolution sky in double, under an outdoor-like sky
 // (a bright gradient above a dark ground), for a rough gold seen at grazing and moderate
-// angles with its normal tilted off the vertical: within 4 % (measured −1.6 to +0.3 %), where
+// angles with its normal tilted off the vertical: within 4 % (measured −3.0 to −2.1 %), where
 // the split sum (N = V = R) is off by 18-56 %. Where the lobe is narrow (roughness 0.1) and
 // sees a smooth sky, both agree within 3 %.
 TEST(Ibl, SpecularQuadratureMatchesTheExactLobe) {
@@ -699,7 +700,6 @@ TEST(Ibl, SpecularQuadratureMatchesTheExactLobe) {
         return d.y > 0.0f ? gradientSky(d) * 2.0f : glm::vec3(0.08f, 0.07f, 0.05f);
     });
     const Ibl ibl = bake(env);
-    ASSERT_FALSE(ibl.mips.empty());
     PbrSurface gold;
     gold.baseColor = glm::vec3(1.0f, 0.78f, 0.34f);
     gold.metallic = 1.0f;

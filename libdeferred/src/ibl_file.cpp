@@ -189,9 +189,6 @@ bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, boo
         }
     }
     ibl.sampler.build(ibl.levels[0]);
-    ibl.mips.clear();
-    for (const EnvironmentImage* m = &ibl.levels[0]; m->height > 16; m = &ibl.mips.back())
-        ibl.mips.push_back(m->downsampled());
     if (replaced) *replaced = 0;
     return true;
 }

@@ -82,9 +82,6 @@ struct Ibl {
     std::vector<glm::vec2> dfg;
     // Built from level 0 at most 512 wide, when the IBL is baked or loaded.
     EnvironmentSampler sampler;
-    // Level 0 halved again and again down to 32 × 16 (mips[0] is half of level 0), when the
-    // IBL is baked or loaded: what the specular quadrature reads by a sample's solid angle.
-    std::vector<EnvironmentImage> mips;
     // The sun split off before the bake (not found() when there was none): the SH, the levels
     // and the sampler hold the sky without it.
     EnvironmentSun sun;
@@ -143,10 +140,6 @@ bool writeIbl(const std::string& path, const Ibl& ibl, std::string& error);
 // baked here with `params`. `baked` says which it was; `replaced` counts NaN/Inf texels.
 bool loadIbl(const std::string& path, const IblBakeParams& params, Ibl& ibl, bool& baked,
              std::string& error, long long* replaced = nullptr, int nthreads = 0);
-
-// The radiance along d (the environment's frame) of the environment blurred to level of
-// detail `lod` (0: level 0; each step halves it; trilinear between the mips).
-glm::vec3 environmentAtLod(const Ibl& ibl, const glm::vec3& d, float lod);
 
 // How an environment's specular light is computed: the split sum (prefiltered levels × DFG;
 // Karis 2013), which assumes N = V = R and misses the stretched, off-specular lobe of rough
