@@ -179,14 +179,14 @@ int run(int argc, char** argv) {
             relocated += s == ProbeState::Relocated;
             off += s == ProbeState::Off;
         }
+        const std::string when = loaded.animated() ? "time " + std::to_string(time) + " s: " : "";
         char line[400];
         std::snprintf(line, sizeof line,
                       "%s%d probes (%dx%dx%d, spacing %.3g %.3g %.3g): %d in place, %d "
                       "relocated, %d off; %d rays each, %d bounces, %zu lights",
-                      loaded.animated() ? ("time " + std::to_string(time) + " s: ").c_str() : "",
-                      volume.probeCount(), volume.counts.x, volume.counts.y, volume.counts.z,
-                      volume.spacing.x, volume.spacing.y, volume.spacing.z, active, relocated, off,
-                      volume.rays, volume.bounces, lights.size());
+                      when.c_str(), volume.probeCount(), volume.counts.x, volume.counts.y,
+                      volume.counts.z, volume.spacing.x, volume.spacing.y, volume.spacing.z, active,
+                      relocated, off, volume.rays, volume.bounces, lights.size());
         tool.info(outPath + ": " + line);
         auto ms = [](auto a, auto b) {
             return std::to_string(int(std::chrono::duration<double, std::milli>(b - a).count())) +
