@@ -175,6 +175,26 @@ TEST_F(ProbeFrames, TheScenesOwnLightsMoveWithIt) {
     ASSERT_EQ(
         run("dhdr-probes " + path("lamps_baked.gltf") + opts + path("lamps_baked.exr")).status, 0);
     expectSameProbes("lamps.2.exr", "lamps_baked.exr");
+    // Lights files a frame (dhdr-gbuffer --lights-out's): each frame bakes under its own.
+    ASSERT_EQ(run("dhdr-gbuffer " + path("lamps.gltf") + " --size 8x8 --fps 2 --frames 1-2 -o " +
+                  path("lg.#.exr") + " --lights-out " + path("lamp.#.json"))
+                  .status,
+              0);
+    ASSERT_EQ(run("dhdr-probes " + path("lamps.gltf") + " --fps 2 --frames 1-2 --lights " +
+                  path("lamp.#.json") + opts + path("framed.#.exr"))
+                  .status,
+              0);
+    for (const char* lights : {"lamp.2.json", "lamp.1.json"})
+        ASSERT_EQ(run("dhdr-probes " + path("lamps.gltf") + " --fps 2 --frame 2 --lights " +
+                      path(lights) + opts + path(std::string("with_") + lights + ".exr"))
+                      .status,
+                  0);
+    expectSameProbes("framed.2.exr", "with_lamp.2.json.exr");
+    const ImageBuf framed = read("framed.2.exr"), stale = read("with_lamp.1.json.exr");
+    EXPECT_NE(
+        std::memcmp(framed.localpixels(), stale.localpixels(),
+                    framed.spec().image_pixels() * size_t(framed.nchannels()) * sizeof(float)),
+        0); // frame 1's lamp stood 1.25 units away
 }
 
 // Frames before the first key and after the last hold the end poses (glTF 2.0, Appendix C):
