@@ -1,8 +1,8 @@
 // dhdr-gbuffer: a scene in, a multi-channel EXR G-buffer out (docs/tools.md).
 #include "../common/animated_scene.h"
+#include "../common/frame_timing.h"
 #include "../common/frames.h"
 #include "../common/tool.h"
-#include "timing.h"
 
 #include <algorithm>
 #include <chrono>
@@ -68,10 +68,6 @@ int run(int argc, char** argv) {
             "the material shows magenta (1, 0, 1) times its factor, as in Blender)");
     app::FrameTiming timing;
     timing.declare(cl);
-    std::string animation;
-    cl.option("--animation", animation, "NAME|INDEX|all",
-              "the animation that plays (default: the file's first, as glTF viewers play; all: "
-              "every one at once)");
     cl.flag(
         "--info", info,
         "print what the scene holds (bounds, cameras, lights, materials, animations, what is left "
@@ -93,17 +89,7 @@ int run(int argc, char** argv) {
         std::fputs(describeScene(scene, path).c_str(), stdout);
         return app::kExitSuccess;
     }
-    if (timing.frame && timing.time) {
-        std::fprintf(stderr, "dhdr-gbuffer: usage error: --frame and --time exclude each other\n");
-        return app::kExitUsage;
-    }
-    if ((timing.frame || timing.time) &&
-        (app::FramePattern(cl.output()).isSequence() || !cl.frames().empty())) {
-        std::fprintf(stderr, "dhdr-gbuffer: usage error: --frame and --time render one frame "
-                             "into one file: give -o without a frame pattern (or --frames A-B "
-                             "with one)\n");
-        return app::kExitUsage;
-    }
+    if (const int status = timing.check(tool); status >= 0) return status;
     app::FramePlan plan;
     if (const int status = app::planFrames(tool, cl.inputs(), plan); status >= 0) return status;
     const app::FramePattern lightsOutput(lightsOut);
@@ -195,7 +181,7 @@ int run(int argc, char** argv) {
             return tool.fail(error), false;
         for (const std::string& warning : scene.warnings)
             tool.warn(scenePath + ": " + warning);
-        if (!loaded.selectAnimations(animation, error)) {
+        if (!loaded.selectAnimations(timing.animation, error)) {
             tool.fail(scenePath + ": " + error);
             return false;
         }

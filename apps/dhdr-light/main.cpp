@@ -3,6 +3,7 @@
 #include "../common/light_options.h"
 #include "../common/param_options.h"
 #include "../common/tool.h"
+#include "frame_probes.h"
 #include "posed_scene.h"
 #include "whole_frame.h"
 
@@ -108,7 +109,9 @@ int run(int argc, char** argv) {
               "(default its first camera)");
     cl.option("--probes", probesPath, "FILE",
               "light probes baked by dhdr-probes for this scene: indirect diffuse light "
-              "(docs/gi.md)");
+              "(docs/gi.md); one file for every frame, or a frame pattern (probes.####.exr, "
+              "dhdr-probes --frames): each G-buffer takes its own frame's, and one baked at "
+              "another moment than the G-buffer shows is a warning");
     cl.option("--deep-out", deepOut, "FILE",
               "with a deep G-buffer, also write each lit sample as a deep RGBA EXR "
               "(premultiplied, front to back, Z = ZBack) for deep compositing");
@@ -239,13 +242,16 @@ int run(int argc, char** argv) {
     }
     std::vector<std::string> paths = {cl.inputs()[0]};
     paths.insert(paths.end(), lightsPaths.begin(), lightsPaths.end());
+    // Probes with a frame pattern are a frame's input like its G-buffer (the last of them).
+    const bool framedProbes = app::FramePattern(probesPath).isSequence();
+    if (framedProbes) paths.push_back(probesPath);
     app::FramePlan plan;
     if (const int status = app::planFrames(tool, paths, plan); status >= 0) return status;
 
     // Lights files without a frame pattern hold the same lights for every frame: read once.
     // A frame's lights are the scene's (as posed for it) and then the files'.
     const bool animatedLights =
-        std::any_of(plan.inputs.begin() + 1, plan.inputs.end(),
+        std::any_of(plan.inputs.begin() + 1, plan.inputs.end() - (framedProbes ? 1 : 0),
                     [](const app::FramePattern& p) { return p.isSequence(); });
     std::vector<Light> fileLights;
     if (!animatedLights && !app::addLightsFiles(tool, lightsPaths, lightOptions, fileLights))
@@ -288,24 +294,12 @@ int run(int argc, char** argv) {
         if (!foreignCamera)
             return tool.fail(file + ": no camera" + (name.empty() ? "" : " named '" + name + "'"));
     }
-    ProbeVolume probes;
-    if (!probesPath.empty()) {
-        std::string error;
-        const auto t = std::chrono::steady_clock::now();
-        if (!readProbes(probesPath, probes, error)) return tool.fail(probesPath + ": " + error);
-        inputs.probes = &probes;
-        if (probes.diffuse != params.diffuse) {
-            const char* baked = probes.diffuse == DiffuseModel::Burley ? "burley" : "lambert";
-            tool.warn(probesPath + ": baked with --diffuse " + baked + ", shaded here with " +
-                      (params.diffuse == DiffuseModel::Burley ? "burley" : "lambert") +
-                      ": the indirect light will not match the direct (give the same --diffuse "
-                      "to both tools)");
-        }
-        tool.info(probesPath + ": " + std::to_string(probes.probeCount()) + " probes read in " +
-                  std::to_string(int(std::chrono::duration<double, std::milli>(
-                                         std::chrono::steady_clock::now() - t)
-                                         .count())) +
-                  " ms");
+    app::FrameProbes probes(probesPath, plan.frames.size());
+    if (probes.given()) {
+        // One file for every frame is read now; a pattern's files as their frames come.
+        if (!framedProbes && !probes.read(tool, probesPath, plan.frames.front(), params.diffuse))
+            return app::kExitFailure;
+        inputs.probes = &probes.volume();
     }
     OIIO::ImageBuf plate;
     if (!plateArg.empty() && plateArg != "env") {
@@ -358,6 +352,7 @@ int run(int argc, char** argv) {
         }
         if (inputs.plate) plate.set_origin(gspec.x, gspec.y);
         checkScene(path, gspec);
+        if (probes.given() && !probes.checkMoment(tool, path, gspec)) return false;
         // The scene at the moment the G-buffer shows, and the lights it gives there.
         bool moved = false;
         if (withScene) {
@@ -394,7 +389,10 @@ int run(int argc, char** argv) {
             files += (i > 1 ? ", " : "") + in[i];
         return files;
     };
-    return app::runFrames(tool, plan, [&](int frameNumber, const auto& in, const auto& out) {
+    return app::runFrames(tool, plan, [&](int frameNumber, const auto& all, const auto& out) {
+        // The G-buffer and the lights files; the frame's probe file apart.
+        std::vector<std::string> in = all;
+        if (framedProbes) in.pop_back();
         const std::string& path = in[0];
         if (animatedLights) {
             fileLights.clear();
@@ -406,6 +404,9 @@ int run(int argc, char** argv) {
             tool.fail(path + ": no such file");
             return false;
         }
+        // This frame's probes, before any output is opened: a missing file fails the frame.
+        if (framedProbes && !probes.read(tool, all.back(), frameNumber, params.diffuse))
+            return false;
         if (!channelsArg.empty())
             return app::lightMappedPasses(whole, channelMap, foreignCamera, path, out,
                                           lightFilesOf(in));

@@ -1,8 +1,13 @@
-// dhdr-probes: bakes light probes for diffuse global illumination (docs/gi.md).
+// dhdr-probes: bakes light probes for diffuse global illumination (docs/gi.md), for a still
+// scene or for each frame of an animated one (docs/animation.md, "Lighting a shot").
+#include "../common/animated_scene.h"
+#include "../common/frame_timing.h"
+#include "../common/frames.h"
 #include "../common/light_options.h"
 #include "../common/param_options.h"
 #include "../common/tool.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <dhdr/deferred/lights.h>
@@ -17,13 +22,16 @@ namespace {
 int run(int argc, char** argv) {
     app::CommandLine cl(
         "dhdr-probes", "SCENE [--lights FILE...] -o PROBES.exr [options]",
-        "Bakes a grid of light probes through a static glTF/OBJ scene for dhdr-light --probes\n"
+        "Bakes a grid of light probes through a glTF/OBJ scene for dhdr-light --probes\n"
         "(DDGI, Majercik et al. 2019): probes inside geometry are moved into free space or\n"
         "switched off; each casts a spherical Fibonacci set of rays whose hits are lit by the\n"
         "lights (with shadows) and by the previous bounce's probes, and whose misses see the\n"
         "environment; each stores an octahedral map of irradiance and one of distance\n"
         "moments. One two-part EXR: the irradiance and distance atlases, the grid in the\n"
-        "header.");
+        "header. An animated scene is baked posed at a frame's time, as dhdr-gbuffer renders\n"
+        "it (--frame, --time, --fps, --animation; frame 0 by default), or at every frame of\n"
+        "--frames A-B into -o probes.####.exr, the scene loaded once; the file records the\n"
+        "moment as a G-buffer does.");
     app::LightOptions lightOptions;
     std::string grid;
     ProbeBakeParams p;
@@ -39,18 +47,22 @@ int run(int argc, char** argv) {
     cl.flag("--strict", strict,
             "a texture the scene names that cannot be read is an error (default: a warning, and "
             "the material shows magenta (1, 0, 1) times its factor)");
+    app::FrameTiming timing;
+    timing.declare(cl);
     cl.epilog(
-        "Example:\n  dhdr-probes testdata/cornell_box.gltf --spacing 0.1 -o cornell.probes.exr\n"
+        "Examples:\n  dhdr-probes testdata/cornell_box.gltf --spacing 0.1 -o cornell.probes.exr\n"
         "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --probes "
-        "cornell.probes.exr -o frame.hdr.exr");
+        "cornell.probes.exr -o frame.hdr.exr\n"
+        "  dhdr-probes shot.gltf --frames 1-24 -o shot.probes.####.exr\n"
+        "  dhdr-light shot.gbuf.####.exr --scene shot.gltf --probes shot.probes.####.exr "
+        "-o shot.hdr.####.exr");
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-probes", cl);
     if (cl.inputs().size() != 1 || cl.output().empty()) {
         std::fprintf(stderr, "dhdr-probes: usage error: give one scene and -o OUTPUT\n");
         return app::kExitUsage;
     }
-    // The output checks every tool makes: not an input, in a folder that exists.
-    if (const int status = tool.start(cl.inputs()); status >= 0) return status;
+    if (const int status = timing.check(tool); status >= 0) return status;
     if (const std::string problem = app::lightOptionsProblem(lightOptions, true);
         !problem.empty()) {
         std::fprintf(stderr, "dhdr-probes: usage error: %s\n", problem.c_str());
@@ -69,58 +81,124 @@ int run(int argc, char** argv) {
         }
         p.counts = glm::ivec3(int(v[0]), int(v[1]), int(v[2]));
     }
-    const std::string& path = cl.inputs()[0];
-    const auto t0 = std::chrono::steady_clock::now();
-    Scene scene;
-    std::string error;
-    if (!loadScene(path, scene, error, SceneOptions{strict})) return tool.fail(error);
-    // dhdr-probes is often the first to read the scene (before dhdr-gbuffer, which warns the
-    // same way): what the loader repaired, a missing texture among it, is a warning.
-    for (const std::string& warning : scene.warnings)
-        tool.warn(path + ": " + warning);
-    // The lights in dhdr-light's order: the probes' hits are lit as the frame's pixels are.
-    std::vector<Light> lights = app::sceneLights(tool, scene, path, lightOptions);
-    if (!app::addLightsFiles(tool, lightOptions.files, lightOptions, lights))
+    // The frames, as every tool plans them: the output checked (not an input, in a folder
+    // that exists) for each frame; the scene and lights files may be patterns too (a lights
+    // file a frame, from dhdr-gbuffer --lights-out).
+    std::vector<std::string> paths = {cl.inputs()[0]};
+    paths.insert(paths.end(), lightOptions.files.begin(), lightOptions.files.end());
+    app::FramePlan plan;
+    if (const int status = app::planFrames(tool, paths, plan); status >= 0) return status;
+    // Lights files without a pattern hold the same lights for every frame: read once.
+    const bool framedLights =
+        std::any_of(plan.inputs.begin() + 1, plan.inputs.end(),
+                    [](const app::FramePattern& f) { return f.isSequence(); });
+    std::vector<Light> fileLights;
+    if (!framedLights && !app::addLightsFiles(tool, lightOptions.files, lightOptions, fileLights))
         return app::kExitFailure;
-    const RayCaster caster(scene);
-    if (!caster.ok()) return tool.fail(path + ": " + caster.error());
-    const auto t1 = std::chrono::steady_clock::now();
-    ProbeVolume volume;
-    {
-        app::Progress progress(tool, "dhdr-probes: baking");
-        p.progress = [&](float f) { progress.update(f); };
-        if (!bakeProbes(scene, caster, lights, lightOptions.emissive != "off", p, volume, error,
-                        tool.threads()))
-            return tool.fail(path + ": " + error);
-    }
-    const auto t2 = std::chrono::steady_clock::now();
-    if (!tool.writeAtomically(cl.output(), [&](const std::string& temporary, std::string& why) {
-            return writeProbes(temporary, volume, why);
-        }))
-        return app::kExitFailure;
-    const auto t3 = std::chrono::steady_clock::now();
-    int active = 0, relocated = 0, off = 0;
-    for (const ProbeState s : volume.states) {
-        active += s == ProbeState::Active;
-        relocated += s == ProbeState::Relocated;
-        off += s == ProbeState::Off;
-    }
-    char line[300];
-    std::snprintf(line, sizeof line,
-                  "%d probes (%dx%dx%d, spacing %.3g %.3g %.3g): %d in place, %d relocated, %d "
-                  "off; %d rays each, %d bounces, %zu lights",
-                  volume.probeCount(), volume.counts.x, volume.counts.y, volume.counts.z,
-                  volume.spacing.x, volume.spacing.y, volume.spacing.z, active, relocated, off,
-                  volume.rays, volume.bounces, lights.size());
-    tool.info(line);
-    auto ms = [](auto a, auto b) {
-        return std::to_string(int(std::chrono::duration<double, std::milli>(b - a).count())) +
-               " ms";
+
+    // The scene is loaded once for all the frames that name the same file and posed at each
+    // frame's time, its BVH refitted, as dhdr-gbuffer does.
+    app::AnimatedScene loaded;
+    auto load = [&](const std::string& path) {
+        if (loaded.path == path) return !loaded.failed;
+        loaded = app::AnimatedScene{};
+        loaded.path = path;
+        loaded.failed = true; // until it is ready: a failure is reported once
+        std::string error;
+        if (!loadScene(path, loaded.scene, error, SceneOptions{strict}))
+            return tool.fail(error), false;
+        // dhdr-probes is often the first to read the scene (before dhdr-gbuffer, which warns
+        // the same way): what the loader repaired, a missing texture among it, is a warning.
+        for (const std::string& warning : loaded.scene.warnings)
+            tool.warn(path + ": " + warning);
+        if (!loaded.selectAnimations(timing.animation, error)) {
+            tool.fail(path + ": " + error);
+            return false;
+        }
+        if (!loaded.animated() && timing.given)
+            tool.warn(path + ": the scene has no animation; --frame, --time and --fps change "
+                             "nothing");
+        loaded.failed = false;
+        return true;
     };
-    tool.info("load " + ms(t0, t1) + ", bake " + ms(t1, t2) + ", write " + ms(t2, t3));
-    if (active + relocated == 0)
-        tool.warn(path + ": every probe is inside geometry: the volume lights nothing");
-    return app::kExitSuccess;
+    // A still scene under the same lights bakes the same probes at every frame: baked once.
+    ProbeVolume volume;
+    std::string bakedFor;
+
+    return app::runFrames(tool, plan, [&](int frame, const auto& in, const std::string& outPath) {
+        const std::string& path = in[0];
+        const auto t0 = std::chrono::steady_clock::now();
+        if (!load(path)) return false;
+        const double time = timing.timeOf(frame);
+        std::string error;
+        if (!loaded.pose(time, error)) {
+            tool.fail(path + ": " + error);
+            return false;
+        }
+        // The lights in dhdr-light's order, the scene's as posed at this frame: the probes'
+        // hits are lit as the frame's pixels are.
+        std::vector<Light> lights = frame == plan.frames.front()
+                                        ? app::sceneLights(tool, loaded.scene, path, lightOptions)
+                                        : app::sceneLights(loaded.scene, lightOptions);
+        if (framedLights &&
+            !app::addLightsFiles(tool, {in.begin() + 1, in.end()}, lightOptions, lights))
+            return false;
+        lights.insert(lights.end(), fileLights.begin(), fileLights.end());
+        const auto t1 = std::chrono::steady_clock::now();
+        const bool again = loaded.animated() || framedLights || bakedFor != path;
+        if (again) {
+            app::Progress progress(tool, "dhdr-probes: baking");
+            p.progress = [&](float f) { progress.update(f); };
+            if (!bakeProbes(loaded.scene, *loaded.caster, lights, lightOptions.emissive != "off", p,
+                            volume, error, tool.threads())) {
+                bakedFor.clear();
+                tool.fail(path + ": " + error);
+                return false;
+            }
+            bakedFor = path;
+            // Which moment of the animation these probes hold, recorded as G-buffers record
+            // theirs, so that dhdr-light can tell when a G-buffer shows another.
+            volume.moment.reset();
+            if (loaded.animated()) {
+                gbuffer::Moment moment;
+                moment.time = time;
+                moment.fps = timing.fps;
+                moment.animations = loaded.playing;
+                volume.moment = moment;
+            }
+        }
+        const auto t2 = std::chrono::steady_clock::now();
+        if (!tool.writeAtomically(outPath, [&](const std::string& temporary, std::string& why) {
+                return writeProbes(temporary, volume, why);
+            }))
+            return false;
+        const auto t3 = std::chrono::steady_clock::now();
+        int active = 0, relocated = 0, off = 0;
+        for (const ProbeState s : volume.states) {
+            active += s == ProbeState::Active;
+            relocated += s == ProbeState::Relocated;
+            off += s == ProbeState::Off;
+        }
+        const std::string when = loaded.animated() ? "time " + std::to_string(time) + " s: " : "";
+        char line[400];
+        std::snprintf(line, sizeof line,
+                      "%s%d probes (%dx%dx%d, spacing %.3g %.3g %.3g): %d in place, %d "
+                      "relocated, %d off; %d rays each, %d bounces, %zu lights",
+                      when.c_str(), volume.probeCount(), volume.counts.x, volume.counts.y,
+                      volume.counts.z, volume.spacing.x, volume.spacing.y, volume.spacing.z, active,
+                      relocated, off, volume.rays, volume.bounces, lights.size());
+        tool.info(outPath + ": " + line);
+        auto ms = [](auto a, auto b) {
+            return std::to_string(int(std::chrono::duration<double, std::milli>(b - a).count())) +
+                   " ms";
+        };
+        tool.info((frame == plan.frames.front() ? "load and pose " : "pose ") + ms(t0, t1) +
+                  (again ? ", bake " + ms(t1, t2) : ", the last frame's bake (a still scene)") +
+                  ", write " + ms(t2, t3));
+        if (active + relocated == 0)
+            tool.warn(path + ": every probe is inside geometry: the volume lights nothing");
+        return true;
+    });
 }
 
 } // namespace

@@ -37,6 +37,8 @@ void setGrid(OIIO::ImageSpec& spec, const ProbeVolume& v) {
                    OIIO::TypeDesc(OIIO::TypeDesc::FLOAT, int(positions.size())), positions.data());
     spec.attribute("dhdr:probeNormalBias", v.normalBias);
     spec.attribute("dhdr:probeViewBias", v.viewBias);
+    // The same attributes as a G-buffer's (dhdr:animationTime ...): one reader for both.
+    if (v.moment) gbuffer::writeMoment(spec, *v.moment);
 }
 
 } // namespace
@@ -147,6 +149,7 @@ bool readProbes(const std::string& path, ProbeVolume& v, std::string& error) {
         return false;
     }
     v.diffuse = diffuse == "burley" ? DiffuseModel::Burley : DiffuseModel::Lambert;
+    if (!gbuffer::readMoment(irr, v.moment, error)) return false;
     v.normalBias = irr.get_float_attribute("dhdr:probeNormalBias", v.normalBias);
     v.viewBias = irr.get_float_attribute("dhdr:probeViewBias", v.viewBias);
     if (states->type().basetype != OIIO::TypeDesc::FLOAT ||

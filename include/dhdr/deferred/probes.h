@@ -7,9 +7,11 @@
 #pragma once
 
 #include <dhdr/deferred/brdf.h>
+#include <dhdr/deferred/gbuffer_time.h>
 #include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/param_table.h>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -79,6 +81,10 @@ struct ProbeVolume {
     // The diffuse model the bake's hits reflected with (ProbeBakeParams::diffuse); the frame
     // should shade with the same.
     DiffuseModel diffuse = DiffuseModel::Lambert;
+    // The moment of an animated scene the bake saw (dhdr-probes --frame, --frames, --time),
+    // recorded as a G-buffer records it, so that dhdr-light can tell a probe file baked for
+    // another moment than its G-buffer's; none: a still scene (or a file from before).
+    std::optional<gbuffer::Moment> moment;
     std::vector<glm::vec3> positions; // per probe (x fastest, then y, then z), relocated
     std::vector<ProbeState> states;
     // Per probe, its bordered maps in scanline order: irradiance E(n) in W/m² per unit of
