@@ -751,3 +751,52 @@ TEST(Ibl, SpecularQuadratureMatchesTheExactLobe) {
         EXPECT_EQ(shadeIbl(ibl, gold, up, V).specular, a.specular); // Auto: the split sum here
     }
 }
+
+// The quadrature per point under a detailed sky: bright patches 8° apart (10 against 0.3, like
+// a canopy's gaps), a rough metal (roughness 0.5) at normals all over the upper hemisphere,
+// against the exact lobe integrated over the full-resolution sky in double: within 5 %
+// everywhere (measured −3.2 to −0.7 %). Reading box-filtered mips (dhdr until session 13) the
+// 32 directions each saw an 11° texel and the points swung from −7.3 to +5.7 % as the
+// directions crossed the patches (the pinwheels on a sphere); checked by building the old reads.
+TEST(Ibl, SpecularQuadratureIsSmoothUnderADetailedSky) {
+    const EnvironmentImage env = makeEnvironment(512, [](glm::vec3 d) {
+        if (d.y < 0.0f) return glm::vec3(0.05f);
+        const float theta = std::acos(std::clamp(d.y, -1.0f, 1.0f)), phi = std::atan2(d.z, d.x);
+        const bool patch =
+            std::fmod(theta / 0.14f, 1.0f) < 0.5f && std::fmod((phi + kPi) / 0.14f, 1.0f) < 0.5f;
+        return glm::vec3(patch ? 10.0f : 0.3f);
+    });
+    const Ibl ibl = bake(env);
+    PbrSurface metal;
+    metal.baseColor = glm::vec3(0.9f);
+    metal.metallic = 1.0f;
+    metal.roughness = 0.5f;
+    double worst = 0.0;
+    for (int k = 0; k < 12; ++k) {
+        // Normals on a spiral over the upper hemisphere, each seen at N·V 0.8.
+        const float z = 0.3f + 0.65f * float(k) / 11.0f, a = 2.4f * float(k);
+        const glm::vec3 N(std::sqrt(1.0f - z * z) * std::cos(a), z,
+                          std::sqrt(1.0f - z * z) * std::sin(a));
+        glm::vec3 t, b;
+        orthonormalBasis(N, t, b);
+        const glm::vec3 V = glm::normalize(N * 0.8f + t * 0.6f);
+        constexpr int n = 512;
+        glm::dvec3 sum(0.0);
+        for (int i = 0; i < n; ++i) {
+            const double mu = (i + 0.5) / n, sinTheta = std::sqrt(1.0 - mu * mu);
+            for (int j = 0; j < n; ++j) {
+                const double phi = 2.0 * M_PI * (j + 0.5) / n;
+                const glm::vec3 L = t * float(sinTheta * std::cos(phi)) +
+                                    b * float(sinTheta * std::sin(phi)) + N * float(mu);
+                const glm::vec3 f = evaluateBrdf(metal, N, V, L) -
+                                    multipleScatteringBrdf(metal, glm::dot(N, V), float(mu));
+                sum += glm::dvec3(f * env.radiance(L)) * mu;
+            }
+        }
+        const double exact = sum.g * (2.0 * M_PI / (double(n) * n));
+        const double e = specularQuadrature(ibl, metal, N, V).g / exact - 1.0;
+        std::printf("normal %d: quadrature %+.3f\n", k, e);
+        worst = std::max(worst, std::abs(e));
+    }
+    EXPECT_LT(worst, 0.05);
+}
