@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace dhdr::test {
@@ -116,6 +117,27 @@ inline void addSkin(nlohmann::json& doc, const std::vector<int>& joints,
         skin["inverseBindMatrices"] = addFloatAccessor(doc, inverseBind, "MAT4", joints.size());
     doc["skins"] = {skin};
     doc["nodes"][0]["skin"] = 0;
+}
+
+} // namespace dhdr::test
+
+namespace dhdr::test {
+
+// Makes node 2's mesh glow (a copy of mesh 0 with an emissive material) and hangs a point light
+// (KHR_lights_punctual, intensity 2) under node 2 at `lampOffset` in its space, so that both of
+// the scene's own kinds of light ride with whatever moves node 2.
+inline nlohmann::json withGlowAndLamp(nlohmann::json doc, float lampOffset) {
+    doc["materials"].push_back({{"name", "glow"}, {"emissiveFactor", {1.0, 0.8, 0.6}}});
+    doc["meshes"].push_back(doc["meshes"][0]);
+    doc["meshes"][1]["primitives"][0]["material"] = 1;
+    doc["nodes"][2]["mesh"] = 1;
+    doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 2.0}}};
+    doc["nodes"].push_back({{"name", "lamp"},
+                            {"translation", {0.0, 0.0, lampOffset}},
+                            {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    doc["nodes"][2]["children"] = {3};
+    return doc;
 }
 
 } // namespace dhdr::test

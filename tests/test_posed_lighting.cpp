@@ -212,21 +212,8 @@ TEST_F(PosedLighting, TheRecordedAnimationsPlay) {
 // Without --lights the scene lights itself: its punctual lights and its glowing meshes are where
 // the animation puts them at the G-buffer's time, as in the file with the frame baked in.
 TEST_F(PosedLighting, TheScenesOwnLightsMoveWithIt) {
-    auto withLights = [](nlohmann::json doc) {
-        doc["materials"].push_back({{"name", "glow"}, {"emissiveFactor", {1.0, 0.8, 0.6}}});
-        doc["meshes"].push_back(doc["meshes"][0]);
-        doc["meshes"][1]["primitives"][0]["material"] = 1;
-        doc["nodes"][2]["mesh"] = 1; // the block glows
-        doc["extensionsUsed"] = {"KHR_lights_punctual"};
-        doc["extensions"]["KHR_lights_punctual"]["lights"] = {
-            {{"type", "point"}, {"intensity", 2.0}}};
-        // A lamp riding 1 unit above the block, its child.
-        doc["nodes"].push_back({{"name", "lamp"},
-                                {"translation", {0.0, 0.0, 1.0}},
-                                {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
-        doc["nodes"][2]["children"] = {3};
-        return doc;
-    };
+    // The block glows, and a lamp rides 1 unit above it.
+    auto withLights = [](nlohmann::json doc) { return withGlowAndLamp(std::move(doc), 1.0f); };
     writeJson(path("lamps.gltf"), withLights(nlohmann::json::parse(slurp(path("anim.gltf")))));
     writeJson(path("lamps_baked.gltf"),
               withLights(nlohmann::json::parse(slurp(path("baked.gltf")))));

@@ -149,21 +149,8 @@ TEST_F(ProbeFrames, FrameNOfASequenceIsItsOwnBakeAndTheBakedStaticFiles) {
 // meshes are where the animation puts them at the frame's time, as in the file with the frame
 // baked in.
 TEST_F(ProbeFrames, TheScenesOwnLightsMoveWithIt) {
-    auto withLights = [](nlohmann::json doc) {
-        doc["materials"].push_back({{"name", "glow"}, {"emissiveFactor", {1.0, 0.8, 0.6}}});
-        doc["meshes"].push_back(doc["meshes"][0]);
-        doc["meshes"][1]["primitives"][0]["material"] = 1;
-        doc["nodes"][2]["mesh"] = 1; // the panel glows
-        doc["extensionsUsed"] = {"KHR_lights_punctual"};
-        doc["extensions"]["KHR_lights_punctual"]["lights"] = {
-            {{"type", "point"}, {"intensity", 2.0}}};
-        // A lamp 0.5 units in front of the panel (its local +Z is the world's −X), its child.
-        doc["nodes"].push_back({{"name", "lamp"},
-                                {"translation", {0.0, 0.0, 0.5}},
-                                {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
-        doc["nodes"][2]["children"] = {3};
-        return doc;
-    };
+    // The panel glows, and a lamp hangs 0.5 units in front of it (its local +Z is the world's −X).
+    auto withLights = [](nlohmann::json doc) { return withGlowAndLamp(std::move(doc), 0.5f); };
     writeJson(path("lamps.gltf"), withLights(nlohmann::json::parse(slurp(path("anim.gltf")))));
     writeJson(path("lamps_baked.gltf"),
               withLights(nlohmann::json::parse(slurp(path("baked2.gltf")))));
