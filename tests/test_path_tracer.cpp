@@ -620,8 +620,8 @@ Scene twoRooms() {
 // surface's indirect light (as on the Cornell box) in its room's channels within 5 % of the
 // path tracer, whose standard error (from its paths' two halves) is held under 1 %; the path
 // tracer's other channels exactly 0 (no path crosses the wall), the probes' under 1 % of
-// what the other room holds in them. Measured within 3.3 % at this spacing; at 0.167 (the
-// default) up to +6.3 %, at 0.25 up to +12 % (room A's ceiling and walls: the spacing).
+// what the other room holds in them. Measured +0.4 to +4.1 % at this spacing; at the default
+// (512 probes) up to +4.8 %, at 0.25 up to +11 % (room A's ceiling and walls: docs/gi.md).
 TEST(PathTracer, ProbesAgreeWithItPerSurfaceInTheTwoRooms) {
     const Scene scene = twoRooms();
     const RayCaster caster(scene);
@@ -645,7 +645,8 @@ TEST(PathTracer, ProbesAgreeWithItPerSurfaceInTheTwoRooms) {
     // 192 paths over 64 × 64 pixels: a standard error of 0.2-0.8 % per surface (printed; at
     // 128 paths the green block's red channel, its albedo 0.1, was ± 0.95 %).
     // Closed rooms keep most of the light bounce after bounce (room A's red channel: about
-    // 0.8 a bounce), so 8 bounces would leave out 15 % of it; Russian roulette ends the paths.
+    // 0.8 a bounce), so 8 bounces would leave out 0.8⁸ ≈ 17 % of it; Russian roulette ends
+    // the paths.
     constexpr int W = 64, H = 64, kPaths = 192, kBounces = 64;
     // One view into each room from just inside its front wall.
     const double middle[2] = {0.5 * kDividerLo, 0.5 * (kDividerHi + 2.0)};
