@@ -688,6 +688,32 @@ TEST(SunExtraction, BakesAndLightsFilesCarryTheSun) {
     std::filesystem::remove_all(dir);
 }
 
+namespace {
+
+// ∫ f_single(V, L) L(L) cos dω over the hemisphere of N (the BRDF without its
+// multiple-scattering lobe) by the midpoint rule on n × n cells in (cos θ, φ), in double, over
+// the full-resolution sky: the exact answer the specular quadrature approximates.
+glm::dvec3 exactSingleScattering(const EnvironmentImage& env, const PbrSurface& s,
+                                 const glm::vec3& N, const glm::vec3& V, int n) {
+    glm::vec3 t, b;
+    orthonormalBasis(N, t, b);
+    glm::dvec3 sum(0.0);
+    for (int i = 0; i < n; ++i) {
+        const double mu = (i + 0.5) / n, sinTheta = std::sqrt(1.0 - mu * mu);
+        for (int j = 0; j < n; ++j) {
+            const double phi = 2.0 * M_PI * (j + 0.5) / n;
+            const glm::vec3 L = t * float(sinTheta * std::cos(phi)) +
+                                b * float(sinTheta * std::sin(phi)) + N * float(mu);
+            const glm::vec3 f =
+                evaluateBrdf(s, N, V, L) - multipleScatteringBrdf(s, glm::dot(N, V), float(mu));
+            sum += glm::dvec3(f * env.radiance(L)) * mu;
+        }
+    }
+    return sum * (2.0 * M_PI / (double(n) * n));
+}
+
+} // namespace
+
 // The specular quadrature (the exact single-scattering lobe, 32 samples reading prefiltered
 // levels) against
 // the integral of the lobe over the full-resolution sky in double, under an outdoor-like sky
@@ -706,23 +732,7 @@ TEST(Ibl, SpecularQuadratureMatchesTheExactLobe) {
     const glm::vec3 N = glm::normalize(glm::vec3(0.6f, 0.8f, 0.0f));
     glm::vec3 t, b;
     orthonormalBasis(N, t, b);
-    auto exact = [&](const glm::vec3& V) {
-        // ∫ f_single cos L dω by the midpoint rule in (cos θ, φ) about N, in double.
-        constexpr int n = 768;
-        glm::dvec3 sum(0.0);
-        for (int i = 0; i < n; ++i) {
-            const double mu = (i + 0.5) / n, sinTheta = std::sqrt(1.0 - mu * mu);
-            for (int j = 0; j < n; ++j) {
-                const double phi = 2.0 * M_PI * (j + 0.5) / n;
-                const glm::vec3 L = t * float(sinTheta * std::cos(phi)) +
-                                    b * float(sinTheta * std::sin(phi)) + N * float(mu);
-                const glm::vec3 f = evaluateBrdf(gold, N, V, L) -
-                                    multipleScatteringBrdf(gold, glm::dot(N, V), float(mu));
-                sum += glm::dvec3(f * env.radiance(L)) * mu;
-            }
-        }
-        return sum * (2.0 * M_PI / (double(n) * n));
-    };
+    auto exact = [&](const glm::vec3& V) { return exactSingleScattering(env, gold, N, V, 768); };
     for (float roughness : {0.7f, 1.0f})
         for (float NdotV : {0.2f, 0.7f}) {
             gold.roughness = roughness;
@@ -780,20 +790,7 @@ TEST(Ibl, SpecularQuadratureIsSmoothUnderADetailedSky) {
         glm::vec3 t, b;
         orthonormalBasis(N, t, b);
         const glm::vec3 V = glm::normalize(N * 0.8f + t * 0.6f);
-        constexpr int n = 512;
-        glm::dvec3 sum(0.0);
-        for (int i = 0; i < n; ++i) {
-            const double mu = (i + 0.5) / n, sinTheta = std::sqrt(1.0 - mu * mu);
-            for (int j = 0; j < n; ++j) {
-                const double phi = 2.0 * M_PI * (j + 0.5) / n;
-                const glm::vec3 L = t * float(sinTheta * std::cos(phi)) +
-                                    b * float(sinTheta * std::sin(phi)) + N * float(mu);
-                const glm::vec3 f = evaluateBrdf(metal, N, V, L) -
-                                    multipleScatteringBrdf(metal, glm::dot(N, V), float(mu));
-                sum += glm::dvec3(f * env.radiance(L)) * mu;
-            }
-        }
-        const double exact = sum.g * (2.0 * M_PI / (double(n) * n));
+        const double exact = exactSingleScattering(env, metal, N, V, 512).g;
         const double e = specularQuadrature(ibl, metal, N, V).g / exact - 1.0;
         std::printf("normal %d: quadrature %+.3f\n", k, e);
         worst = std::max(worst, std::abs(e));
