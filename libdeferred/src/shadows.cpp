@@ -13,6 +13,50 @@ ShadowRay towards(const SurfacePoint& at, const LightLiSample& s) {
     return {offsetRayOrigin(at, s.wi), s.wi, s.distance * (1.0f - kShadowRayShortening)};
 }
 
+// A sun's disk is wholly seen or wholly hidden from most points. A first set of its rays
+// decides a point when every one is open or every one is blocked; elsewhere all the samples
+// are traced, which gives the value without this step. The first set is a quarter of the
+// samples, each the first of the set in the outer half of the disk's area (u.x ≥ ½) within
+// one sector of angle, since an occluder's edge that cuts into the disk crosses its rim
+// first. It misses an occluder that hides only a sliver of the disk between two of them, so
+// it runs only up to 64 samples (the default is 16); more samples trace every ray.
+// Returns −1 where it does not decide (docs/lighting.md).
+float sunDiskProbe(const Light& light, const SurfacePoint& at, const glm::vec3& N,
+                   const RotatedHammersley& sequence, int samples, const Visibility& visibility,
+                   long long* rays) {
+    if (samples < 8 || samples > 64) return -1.0f;
+    const int cells = samples / 4;
+    int pick[16];
+    std::fill(pick, pick + cells, -1);
+    int found = 0;
+    for (int i = 0; i < samples && found < cells; ++i) {
+        const glm::vec2 u = sequence(std::uint32_t(i), std::uint32_t(samples));
+        if (u.x < 0.5f) continue;
+        const int cell = std::min(int(u.y * float(cells)), cells - 1);
+        if (pick[cell] < 0) {
+            pick[cell] = i;
+            ++found;
+        }
+    }
+    if (found < cells) return -1.0f;
+    ShadowRay batch[16];
+    float transmittance[16];
+    for (int c = 0; c < cells; ++c) {
+        const LightLiSample s =
+            sampleLi(light, at.P, sequence(std::uint32_t(pick[c]), std::uint32_t(samples)));
+        if (s.pdf == 0.0f || !(glm::dot(N, s.wi) > 0.0f) || !(glm::dot(at.Ng, s.wi) > 0.0f))
+            return -1.0f;
+        batch[c] = towards(at, s);
+    }
+    visibility.testCoherent(batch, size_t(cells), transmittance);
+    if (rays) *rays += cells;
+    const float first = transmittance[0];
+    if (first != 0.0f && first != 1.0f) return -1.0f;
+    for (int c = 1; c < cells; ++c)
+        if (transmittance[c] != first) return -1.0f;
+    return first;
+}
+
 } // namespace
 
 // The visible share of an environment's light, by the ratio estimator of Heitz, Hill &
@@ -54,7 +98,7 @@ EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const Su
     constexpr int kBatch = 64;
     thread_local ShadowRay batch[kBatch];
     float diffuseWeight[kBatch], specularWeight[kBatch], occluderShare[kBatch],
-        transmittance[kBatch];
+        skyLuminance[kBatch], transmittance[kBatch];
     for (int begin = 0; begin < samples; begin += kBatch) {
         int n = 0;
         for (int i = begin; i < std::min(samples, begin + kBatch); ++i) {
@@ -97,12 +141,7 @@ EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const Su
             const float y = luminance(radiance * k);
             diffuseWeight[n] = y * cosTheta * mis;
             specularWeight[n] = y * lobeValue * cosTheta * mis;
-            // A blocked glossy sample's occluder: luminance ρ E(−l) / π against the sky's y.
-            occluderShare[n] = 0.0f;
-            if (glossy && lobe->occluderAlbedo > 0.0f && specularWeight[n] > 0.0f)
-                occluderShare[n] =
-                    lobe->occluderAlbedo / kPi *
-                    luminance(light.ibl->irradiance(intoEnvironment(light, -wi)) * k) / y;
+            skyLuminance[n] = y;
             // Black sky weighs nothing either way: not traced.
             if (!(diffuseWeight[n] > 0.0f) && !(specularWeight[n] > 0.0f)) continue;
             batch[n++] = {offsetRayOrigin(at, wi), wi, INFINITY};
@@ -110,6 +149,16 @@ EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const Su
         visibility.test(batch, size_t(n), transmittance);
         if (rays) *rays += n;
         for (int i = 0; i < n; ++i) {
+            // A blocked glossy sample's occluder: luminance ρ E(−l) / π against the sky's y.
+            // Only a blocked sample reads it (it weighs 1 − v), so open ones skip the SH.
+            occluderShare[i] = 0.0f;
+            if (glossy && lobe->occluderAlbedo > 0.0f && specularWeight[i] > 0.0f &&
+                transmittance[i] < 1.0f)
+                occluderShare[i] =
+                    lobe->occluderAlbedo / kPi *
+                    luminance(light.ibl->irradiance(intoEnvironment(light, -batch[i].direction)) *
+                              k) /
+                    skyLuminance[i];
             const auto add = [&](RatioSums& r, float w, float blocked) {
                 if (!(w > 0.0f) || !std::isfinite(w)) return;
                 const double v = transmittance[i];
@@ -143,6 +192,10 @@ float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec
     // Per thread, so that the rays are not value-initialized again at every pixel.
     thread_local ShadowRay batch[kBatch];
     const RotatedHammersley sequence(seed);
+    if (disk) {
+        const float decided = sunDiskProbe(light, at, N, sequence, samples, visibility, rays);
+        if (decided >= 0.0f) return decided;
+    }
     float weight[kBatch];
     float transmittance[kBatch];
     // Sums in double, in sample order: the same value for any thread count. Samples below

@@ -38,8 +38,9 @@ struct IblBakeParams {
 // solid angle), for environment shadow rays.
 struct EnvironmentSampler {
     // One bucket of an alias table (Walker; Vose's construction): keep it with probability
-    // keep / 65536, else take `alias`. Four bytes a bucket keep a 512×256 table within a
-    // core's L2 cache: a sample's random lookups were most of its cost with wider entries.
+    // keep / 65536, else take `alias`. Four bytes a bucket, and a 256×128 table, keep the
+    // buckets and texels (640 KiB) within a core's L2 cache: a sample's random lookups were
+    // most of its cost with wider entries or a 512×256 table.
     struct Bucket {
         std::uint16_t keep = 0xffff;
         std::uint16_t alias = 0;
@@ -80,7 +81,7 @@ struct Ibl {
     // form of Fdez-Agüera 2019): specular = F0 · (y − x) + x, and y is the single-scattering
     // albedo of a white metal.
     std::vector<glm::vec2> dfg;
-    // Built from level 0 at most 512 wide, when the IBL is baked or loaded.
+    // Built from level 0 at most 256 wide, when the IBL is baked or loaded.
     EnvironmentSampler sampler;
     // The sun split off before the bake (not found() when there was none): the SH, the levels
     // and the sampler hold the sky without it.
