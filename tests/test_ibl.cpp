@@ -147,6 +147,38 @@ TEST(Environment, SamplerDrawsEachTexelByItsLuminanceTimesSolidAngle) {
     }
     EXPECT_LT(wrongDensity, n / 1000);
     EXPECT_LT(wrongRadiance, n / 1000);
+    // lookup() finds a sampled direction's texel by the same edges (no acos or atan2): the
+    // density and radiance the sample came with, but for directions rounded onto an edge.
+    int unlike = 0;
+    for (int i = 0; i < n; i += 7) {
+        float pdf = 0.0f;
+        glm::vec3 radiance, found;
+        const glm::vec3 d =
+            sampler.sample(hammersley(std::uint32_t(i), std::uint32_t(n), 7), pdf, radiance);
+        unlike += sampler.lookup(d, found) != pdf || found != radiance;
+    }
+    EXPECT_LT(unlike, n / 7 / 10000);
+    // Any direction: the texel equirectUV puts it in, but within 10⁻⁵ of an edge.
+    int off = 0;
+    for (int i = 0; i < 100000; ++i) {
+        const glm::vec2 u = hammersley(std::uint32_t(i), 100000, 3);
+        const glm::vec3 d = equirectDirection(u);
+        const glm::vec2 uv = equirectUV(d);
+        const int x = std::clamp(int(uv.x * float(W)), 0, W - 1),
+                  y = std::clamp(int(uv.y * float(H)), 0, H - 1);
+        const float fx = uv.x * float(W) - float(x), fy = uv.y * float(H) - float(y);
+        const bool nearEdge = std::min({fx, 1.0f - fx, fy, 1.0f - fy}) < 1e-3f;
+        glm::vec3 found;
+        const float pdf = sampler.lookup(d, found);
+        if (!nearEdge) {
+            const size_t k = size_t(y) * size_t(W) + size_t(x);
+            ASSERT_EQ(found, env.texel(x, y)) << d.x << " " << d.y << " " << d.z;
+            ASSERT_NEAR(pdf, expected[k] / total / env.texelSolidAngle(y),
+                        1e-3 * expected[k] / total / env.texelSolidAngle(y));
+        }
+        off += nearEdge;
+    }
+    EXPECT_LT(off, 1000);
     double worst = 0.0;
     for (size_t k = 0; k < count.size(); ++k) {
         const double p = expected[k] / total;

@@ -137,12 +137,47 @@ glm::vec3 EnvironmentSampler::sample(glm::vec2 u, float& pdf, glm::vec3& radianc
 }
 
 float EnvironmentSampler::lookup(const glm::vec3& d, glm::vec3& radiance) const {
-    const glm::vec2 uv = equirectUV(d);
-    const int x = std::clamp(int(uv.x * float(width)), 0, width - 1);
-    const int y = std::clamp(int(uv.y * float(height)), 0, height - 1);
-    const Texel& t = texels[size_t(y) * size_t(width) + size_t(x)];
-    radiance = t.radiance;
-    return t.pdf;
+    // The texel whose edges, the same rowCos and columnPhi that sample() draws between, hold
+    // d: guessed from polynomial approximations of acos and atan2 (errors below 10⁻⁴ rad, a
+    // texel is 0.025 rad wide) and moved to the neighbour the edges put d in. libm's acos and
+    // atan2 were a tenth of the shadow rays' time, and rounded differently from the edges.
+    const float c = std::clamp(d.y, -1.0f, 1.0f);
+    // Abramowitz & Stegun 4.4.45 for acos(|c|), mirrored for c < 0.
+    const float a = std::abs(c);
+    const float acosA =
+        std::sqrt(1.0f - a) * (1.5707288f + a * (-0.2121144f + a * (0.0742610f + a * -0.0187293f)));
+    const float theta = c < 0.0f ? kPi - acosA : acosA;
+    int y = std::clamp(int(theta * (float(height) / kPi)), 0, height - 1);
+    while (y > 0 && c > rowCos[size_t(y)])
+        --y;
+    while (y < height - 1 && !(c > rowCos[size_t(y) + 1]))
+        ++y;
+    // atan2(z, x) from atan of the octant's ratio in [0, 1] (an odd polynomial, 10⁻⁵ rad).
+    const float ax = std::abs(d.x), az = std::abs(d.z);
+    const float lo = std::min(ax, az), hi = std::max(ax, az);
+    const float t = hi > 0.0f ? lo / hi : 0.0f, t2 = t * t;
+    float phi =
+        t *
+        (0.99997726f +
+         t2 * (-0.33262347f +
+               t2 * (0.19354346f + t2 * (-0.11643287f + t2 * (0.05265332f + t2 * -0.01172120f)))));
+    if (az > ax) phi = 0.5f * kPi - phi;
+    if (d.x < 0.0f) phi = kPi - phi;
+    if (d.z < 0.0f) phi = -phi;
+    int x = int((0.5f + phi / (2.0f * kPi)) * float(width));
+    x = (x % width + width) % width;
+    // d lies at or after column x's left edge when (cos φ_x, sin φ_x) × (d.x, d.z) ≥ 0.
+    auto after = [&](int column) {
+        const glm::vec2 e = columnPhi[size_t(column)];
+        return e.x * d.z - e.y * d.x >= 0.0f;
+    };
+    if (!after(x))
+        x = (x + width - 1) % width;
+    else if (after((x + 1) % width) && ax + az > 0.0f)
+        x = (x + 1) % width;
+    const Texel& texel = texels[size_t(y) * size_t(width) + size_t(x)];
+    radiance = texel.radiance;
+    return texel.pdf;
 }
 
 } // namespace dhdr
