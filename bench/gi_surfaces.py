@@ -5,10 +5,13 @@ with probes (+ the specular indirect light, as dhdr-light does by default with -
 relative error. Prints the bake's and each frame's wall time and peak memory.
 
     /usr/bin/python3 bench/gi_surfaces.py --bin build/apps [--scene testdata/cornell_box.gltf]
-        [--size 320x320] [--spp 256] [--spacing 0.1|auto] [--scale 10]
+        [--size 320x320] [--spp 256] [--spacing 0.1|auto] [--scale 10] [--faces [--bands K]]
 
 --scale S renders a copy of a glTF scene under a root node scaled by S (the Cornell box at 10
-is the 5.5 m box Blender exports; its lights' intensities are unchanged).
+is the 5.5 m box Blender exports; its lights' intensities are unchanged). --faces splits each
+object with more than one face into its faces (pixels of one shading normal, to 0.05, at least
+20 of them), and --bands K each upright face (|N.y| < 0.5) into K bands of height over the
+object's height.
 
 Needs OpenImageIO's Python module (python3-openimageio) and numpy.
 """
@@ -47,6 +50,8 @@ def main():
     ap.add_argument("--spacing", default="0.1", help="probe spacing, or 'auto' for the tool's default")
     ap.add_argument("--scale", type=float, default=1.0, help="scale the glTF scene by this")
     ap.add_argument("--keep", help="keep the images in this folder")
+    ap.add_argument("--faces", action="store_true", help="also per face of each object with several")
+    ap.add_argument("--bands", type=int, default=1, help="with --faces: height bands per upright face")
     args = ap.parse_args()
     work = args.keep or tempfile.mkdtemp(prefix="dhdr_gi_")
     os.makedirs(work, exist_ok=True)
@@ -81,15 +86,36 @@ def main():
     ids = np.rint(ids.astype(np.float64) * 4294967295.0).astype(np.int64)
     names = spec.getattribute("dhdr:objectNames") or ()
     direct, probes, path = (luminance(f(n + ".exr")) for n in ("direct", "probes", "path"))
-    print("%-14s %8s %10s %10s %8s" % ("object", "pixels", "probes", "path", "error"))
+    if args.faces:
+        (nx, ny, nz, py), _ = channels(f("g.exr"), ["N.X", "N.Y", "N.Z", "P.Y"])
+        normal = np.stack([np.rint(nx * 20), np.rint(ny * 20), np.rint(nz * 20)], -1).astype(np.int64)
+
+    def row(label, m):
+        a, b = float((probes - direct)[m].mean()), float((path - direct)[m].mean())
+        print("%-30s %8d %10.5f %10.5f %+7.1f %%" % (label, m.sum(), a, b, 100.0 * (a / b - 1.0) if b > 0 else 0.0))
+
+    print("%-30s %8s %10s %10s %8s" % ("object", "pixels", "probes", "path", "error"))
     for i in sorted(set(int(v) for v in np.unique(ids)) - {0}):
         m = ids == i
-        a, b = float((probes - direct)[m].mean()), float((path - direct)[m].mean())
-        name = names[i] if i < len(names) else str(i)
-        print("%-14s %8d %10.5f %10.5f %+7.1f %%" % (name, m.sum(), a, b, 100.0 * (a / b - 1.0) if b > 0 else 0.0))
+        row(names[i] if i < len(names) else str(i), m)
+        if not args.faces:
+            continue
+        faces = [k for k in np.unique(normal[m], axis=0) if (m & np.all(normal == k, -1)).sum() >= 20]
+        if len(faces) < 2:
+            continue
+        lo, hi = float(py[m].min()), float(py[m].max())
+        for k in faces:
+            mk = m & np.all(normal == k, -1)
+            row("  n = (%+.2f %+.2f %+.2f)" % tuple(k / 20.0), mk)
+            if args.bands > 1 and abs(k[1]) < 10:
+                for j in range(args.bands):
+                    y0, y1 = lo + (hi - lo) * j / args.bands, lo + (hi - lo) * (j + 1) / args.bands
+                    band = mk & (py >= y0) & ((py < y1) if j + 1 < args.bands else (py <= y1))
+                    if band.sum():
+                        row("    y %.2f-%.2f" % (y0, y1), band)
     covered = ids > 0
     a, b = float((probes - direct)[covered].mean()), float((path - direct)[covered].mean())
-    print("%-14s %8d %10.5f %10.5f %+7.1f %%" % ("frame", covered.sum(), a, b, 100.0 * (a / b - 1.0)))
+    print("%-30s %8d %10.5f %10.5f %+7.1f %%" % ("frame", covered.sum(), a, b, 100.0 * (a / b - 1.0)))
     if not args.keep:
         shutil.rmtree(work)
 
