@@ -451,18 +451,14 @@ int run(int argc, char** argv) {
         strips.frame = OIIO::get_roi(gspec);
         // SSAO looks at neighbouring pixels anywhere in the frame: one strip, the whole frame.
         // The denoiser reads kDenoiseReach rows around each pixel: each strip is read with
-        // that halo, and taller, so that the halo's rays are a smaller share: at least 512
-        // rows, and up to kHaloStripPixels (a 1080p frame in one strip, no halo traced twice).
+        // that halo, and taller, so that the halo's rays are a smaller share.
         const bool halo =
             params.denoise &&
             (params.environmentSamples > 0 || params.aoSamples > 0 ||
              (withScene && (params.catcherBounceSamples > 0 || params.specularSamples > 0)));
-        constexpr long long kHaloStripPixels = 1920LL * 1088;
-        const int haloRows = int(std::max<long long>(512, kHaloStripPixels / gspec.width));
-        const int rows =
-            aoMode == "ssao"
-                ? gspec.height
-                : params.tileSize * std::max(1, (halo ? haloRows : 128) / params.tileSize);
+        const int rows = aoMode == "ssao"
+                             ? gspec.height
+                             : params.tileSize * std::max(1, (halo ? 512 : 128) / params.tileSize);
         std::string lightFiles;
         for (size_t i = 1; i < in.size(); ++i)
             lightFiles += (i > 1 ? ", " : "") + in[i];
