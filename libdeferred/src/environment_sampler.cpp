@@ -140,7 +140,7 @@ float EnvironmentSampler::lookup(const glm::vec3& d, glm::vec3& radiance) const 
     // The texel whose edges, the same rowCos and columnPhi that sample() draws between, hold
     // d: guessed from polynomial approximations of acos and atan2 (errors below 10⁻⁴ rad, a
     // texel is 0.025 rad wide) and moved to the neighbour the edges put d in. libm's acos and
-    // atan2 were a tenth of the shadow rays' time, and rounded differently from the edges.
+    // atan2 were most of a lookup's arithmetic, and rounded differently from the edges.
     const float c = std::clamp(d.y, -1.0f, 1.0f);
     // Abramowitz & Stegun 4.4.45 for acos(|c|), mirrored for c < 0.
     const float a = std::abs(c);

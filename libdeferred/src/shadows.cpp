@@ -20,7 +20,7 @@ ShadowRay towards(const SurfacePoint& at, const LightLiSample& s) {
 // one sector of angle, since an occluder's edge that cuts into the disk crosses its rim
 // first. It misses an occluder that hides only a sliver of the disk between two of them, so
 // it runs only up to 64 samples (the default is 16); more samples trace every ray.
-// Returns −1 where it does not decide (docs/lighting.md).
+// Returns −1 where it does not decide (docs/lights.md, `angle`).
 float sunDiskProbe(const Light& light, const SurfacePoint& at, const glm::vec3& N,
                    const RotatedHammersley& sequence, int samples, const Visibility& visibility,
                    long long* rays) {
