@@ -22,6 +22,7 @@
 #include <dhdr/deferred/shading_point.h>
 #include <dhdr/deferred/shadows.h>
 #include <gtest/gtest.h>
+#include <random>
 
 using namespace dhdr;
 using namespace dhdr::test;
@@ -1265,6 +1266,72 @@ TEST(Occlusion, CoherentPacketsAnswerAsSingleRays) {
     }
     EXPECT_GT(blocked, 100);
     EXPECT_LT(blocked, int(rays.size()) - 100);
+}
+
+// Rays that miss the triangles' bounds are answered without Embree (RayCaster's cull): rays
+// aimed at points on a box's faces, 10⁻⁵ inside their edges, from all around it and from
+// within (the box's surface is the bounds, so these graze them), all hit it at the distance
+// of the point aimed at; rays aimed 10⁻⁵ outside the box's silhouette edges, or stopped 10⁻⁵
+// short of the face, do not. Closest hits (intersect), single occlusion rays, batches and
+// packets alike.
+TEST(Occlusion, RaysGrazingTheSceneBoundsAreStillTraced) {
+    Scene scene = emptyScene();
+    const glm::vec3 lo(-0.3f, 0.2f, -0.5f), hi(0.4f, 0.9f, 0.25f);
+    addBox(scene, lo, hi);
+    const RayCaster caster(scene);
+    ASSERT_TRUE(caster.ok());
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    std::vector<ShadowRay> hitting, missing;
+    for (int i = 0; i < 4000; ++i) {
+        // A point on face `axis` (low or high side), its other two coordinates within
+        // [lo + ε, hi − ε] (ε = 10⁻⁵), and an origin outside that face's side.
+        const int axis = i % 3;
+        const bool high = (i / 3) % 2 != 0;
+        const float e = 1e-5f;
+        glm::vec3 target, origin;
+        for (int c = 0; c < 3; ++c)
+            target[c] = lo[c] + e + (hi[c] - lo[c] - 2.0f * e) * unit(rng);
+        target[axis] = high ? hi[axis] : lo[axis];
+        for (int c = 0; c < 3; ++c)
+            origin[c] = target[c] + (unit(rng) - 0.5f) * 6.0f;
+        origin[axis] = target[axis] + (high ? 1.0f : -1.0f) * (0.01f + 2.0f * unit(rng));
+        const glm::vec3 d = glm::normalize(target - origin);
+        const float t = glm::length(target - origin);
+        hitting.push_back({origin, d, t * 1.001f});
+        missing.push_back({origin, d, t * (1.0f - 1e-5f)});
+        const RayHit h = caster.intersect({glm::dvec3(origin), glm::dvec3(d)});
+        ASSERT_TRUE(h.hit) << i;
+        ASSERT_NEAR(h.t, t, 1e-4 * t) << i;
+        // Past a silhouette: the same origin aimed 10⁻⁵ beyond the face's edge, along a
+        // direction that leaves the box's slab of the other two axes before reaching it.
+        glm::vec3 beyond = target;
+        const int other = (axis + 1) % 3;
+        beyond[other] =
+            (target[other] - lo[other] < hi[other] - target[other]) ? lo[other] - e : hi[other] + e;
+        const glm::vec3 o2 = beyond + (beyond - glm::vec3(0.05f, 0.55f, -0.125f)) * 3.0f;
+        const glm::vec3 d2 = glm::normalize(beyond - o2);
+        missing.push_back({o2, d2, glm::length(beyond - o2)});
+    }
+    // From inside the box, every ray hits a face.
+    for (int i = 0; i < 500; ++i) {
+        const glm::vec3 o = lo + (hi - lo) * glm::vec3(unit(rng), unit(rng), unit(rng));
+        const glm::vec3 d = glm::normalize(glm::vec3(unit(rng), unit(rng), unit(rng)) - 0.5f);
+        hitting.push_back({o, d, 10.0f});
+        EXPECT_TRUE(caster.intersect({glm::dvec3(o), glm::dvec3(d)}).hit);
+    }
+    for (const std::vector<ShadowRay>* rays : {&hitting, &missing}) {
+        const float expected = rays == &hitting ? 0.0f : 1.0f;
+        std::vector<float> batch(rays->size()), packets(rays->size());
+        caster.test(rays->data(), rays->size(), batch.data());
+        caster.testCoherent(rays->data(), rays->size(), packets.data());
+        for (size_t i = 0; i < rays->size(); ++i) {
+            const ShadowRay& r = (*rays)[i];
+            ASSERT_EQ(caster.transmittance(r.origin, r.direction, r.tmax), expected) << i;
+            ASSERT_EQ(batch[i], expected) << i;
+            ASSERT_EQ(packets[i], expected) << i;
+        }
+    }
 }
 
 // The filter's own exp against the library's in double, over the whole range it is used on.

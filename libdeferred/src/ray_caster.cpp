@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
@@ -13,6 +14,45 @@ struct RayCaster::Impl {
     const Scene* source = nullptr;
     bool transparent = false;     // some mesh's material masks or blends
     std::vector<float*> vertices; // each geometry's vertex buffer, for updateMeshes
+    // The triangles' bounds, widened by far more than any kernel's rounding: a ray whose
+    // segment misses them hits nothing, so it is answered without a call into Embree (most of
+    // a shadow catcher's rays and of its sky's shadow rays). The same answers, sooner.
+    double lower[3] = {0.0, 0.0, 0.0}, upper[3] = {-1.0, -1.0, -1.0};
+
+    void takeBounds() {
+        RTCBounds b;
+        rtcGetSceneBounds(scene, &b);
+        const double lo[3] = {b.lower_x, b.lower_y, b.lower_z},
+                     hi[3] = {b.upper_x, b.upper_y, b.upper_z};
+        double size = 0.0;
+        for (int c = 0; c < 3; ++c)
+            size = std::max({size, hi[c] - lo[c], std::abs(lo[c]), std::abs(hi[c])});
+        // An empty scene's bounds are empty (lower > upper): every ray misses.
+        const double margin = std::isfinite(size) ? size * 0x1p-12 + 1e-30 : INFINITY;
+        for (int c = 0; c < 3; ++c) {
+            lower[c] = lo[c] - margin;
+            upper[c] = hi[c] + margin;
+        }
+    }
+
+    // Whether the segment (max(tnear, 0), tfar) of the ray may meet the bounds (slab test in
+    // double; a NaN lets the ray through to Embree, as before).
+    bool mayHit(const float o[3], const float d[3], float tnear, float tfar) const {
+        double t0 = std::max(0.0, double(tnear)), t1 = double(tfar);
+        for (int c = 0; c < 3; ++c) {
+            if (d[c] == 0.0f) {
+                if (double(o[c]) < lower[c] || double(o[c]) > upper[c]) return false;
+                continue;
+            }
+            const double inverse = 1.0 / double(d[c]);
+            double a = (lower[c] - double(o[c])) * inverse, b = (upper[c] - double(o[c])) * inverse;
+            if (a > b) std::swap(a, b);
+            if (a > t0) t0 = a;
+            if (b < t1) t1 = b;
+            if (t0 > t1) return false;
+        }
+        return true;
+    }
 
     ~Impl() {
         if (scene) rtcReleaseScene(scene);
@@ -136,6 +176,7 @@ RayCaster::RayCaster(const Scene& scene, const std::vector<int>& moving)
         rtcReleaseGeometry(geom);
     }
     rtcCommitScene(m_impl->scene);
+    m_impl->takeBounds();
     m_plane = scene.hasGroundPlane;
     m_planeY = scene.groundPlaneY;
     if (rtcGetDeviceError(m_impl->device) != RTC_ERROR_NONE)
@@ -158,7 +199,10 @@ bool RayCaster::updateMeshes(const std::vector<int>& meshes) {
         rtcUpdateGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0);
         rtcCommitGeometry(geom);
     }
-    if (!meshes.empty()) rtcCommitScene(m_impl->scene);
+    if (!meshes.empty()) {
+        rtcCommitScene(m_impl->scene);
+        m_impl->takeBounds();
+    }
     if (rtcGetDeviceError(m_impl->device) != RTC_ERROR_NONE) {
         m_error = "Embree could not refit the moved meshes";
         return false;
@@ -188,7 +232,10 @@ RayHit RayCaster::intersect(const Ray& ray, double tnear) const {
     rh.ray.flags = 0;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-    rtcIntersect1(m_impl->scene, &context, &rh);
+    const float o[3] = {rh.ray.org_x, rh.ray.org_y, rh.ray.org_z},
+                d[3] = {rh.ray.dir_x, rh.ray.dir_y, rh.ray.dir_z};
+    if (m_impl->mayHit(o, d, rh.ray.tnear, rh.ray.tfar))
+        rtcIntersect1(m_impl->scene, &context, &rh);
 
     RayHit hit;
     if (m_plane && ray.direction.y != 0.0) {
@@ -231,10 +278,10 @@ void setRay(RTCRay& r, const glm::vec3& origin, const glm::vec3& direction, floa
 
 float RayCaster::transmittance(const glm::vec3& origin, const glm::vec3& direction,
                                float tmax) const {
-    if (m_plane && direction.y != 0.0f) {
-        const float t = (m_planeY - origin.y) / direction.y;
-        if (t > 0.0f && t < tmax) return 0.0f;
-    }
+    if (blockedByPlane(origin, direction, tmax)) return 0.0f;
+    const float o[3] = {origin.x, origin.y, origin.z},
+                d[3] = {direction.x, direction.y, direction.z};
+    if (!m_impl->mayHit(o, d, 0.0f, tmax)) return 1.0f;
     OcclusionQuery query;
     rtcInitIntersectContext(&query.context);
     query.scene = m_impl->source;
@@ -252,27 +299,31 @@ void RayCaster::test(const ShadowRay* rays, size_t count, float* transmittance) 
             transmittance[i] = this->transmittance(rays[i].origin, rays[i].direction, rays[i].tmax);
         return;
     }
+    // The ground plane first; rays that miss the triangles' bounds need nothing more; the rest
+    // go to Embree in batches.
     constexpr size_t kBatch = 64;
     RTCRay batch[kBatch];
-    for (size_t begin = 0; begin < count; begin += kBatch) {
-        const size_t n = std::min(kBatch, count - begin);
-        for (size_t i = 0; i < n; ++i)
-            setRay(batch[i], rays[begin + i].origin, rays[begin + i].direction,
-                   rays[begin + i].tmax);
+    size_t index[kBatch], n = 0;
+    auto flush = [&] {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
         context.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
         rtcOccluded1M(m_impl->scene, &context, batch, unsigned(n), sizeof(RTCRay));
-        for (size_t i = 0; i < n; ++i) {
-            bool open = !(batch[i].tfar < 0.0f);
-            const ShadowRay& r = rays[begin + i];
-            if (m_plane && open && r.direction.y != 0.0f) {
-                const float t = (m_planeY - r.origin.y) / r.direction.y;
-                if (t > 0.0f && t < r.tmax) open = false;
-            }
-            transmittance[begin + i] = open ? 1.0f : 0.0f;
-        }
+        for (size_t i = 0; i < n; ++i)
+            if (batch[i].tfar < 0.0f) transmittance[index[i]] = 0.0f;
+        n = 0;
+    };
+    for (size_t i = 0; i < count; ++i) {
+        const ShadowRay& r = rays[i];
+        transmittance[i] = blockedByPlane(r.origin, r.direction, r.tmax) ? 0.0f : 1.0f;
+        const float o[3] = {r.origin.x, r.origin.y, r.origin.z},
+                    d[3] = {r.direction.x, r.direction.y, r.direction.z};
+        if (transmittance[i] == 0.0f || !m_impl->mayHit(o, d, 0.0f, r.tmax)) continue;
+        setRay(batch[n], r.origin, r.direction, r.tmax);
+        index[n++] = i;
+        if (n == kBatch) flush();
     }
+    if (n > 0) flush();
 }
 
 void RayCaster::testCoherent(const ShadowRay* rays, size_t count, float* transmittance) const {
@@ -284,9 +335,13 @@ void RayCaster::testCoherent(const ShadowRay* rays, size_t count, float* transmi
         const size_t n = std::min<size_t>(16, count - begin);
         alignas(64) RTCRay16 packet;
         alignas(64) int valid[16];
+        bool any = false;
         for (size_t i = 0; i < 16; ++i) {
             const ShadowRay& r = rays[begin + std::min(i, n - 1)];
-            valid[i] = i < n ? -1 : 0;
+            const float o[3] = {r.origin.x, r.origin.y, r.origin.z},
+                        d[3] = {r.direction.x, r.direction.y, r.direction.z};
+            valid[i] = i < n && m_impl->mayHit(o, d, 0.0f, r.tmax) ? -1 : 0;
+            any = any || valid[i] != 0;
             packet.org_x[i] = r.origin.x;
             packet.org_y[i] = r.origin.y;
             packet.org_z[i] = r.origin.z;
@@ -300,20 +355,26 @@ void RayCaster::testCoherent(const ShadowRay* rays, size_t count, float* transmi
             packet.id[i] = unsigned(i);
             packet.flags[i] = 0;
         }
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        rtcOccluded16(valid, m_impl->scene, &context, &packet);
+        if (any) {
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+            rtcOccluded16(valid, m_impl->scene, &context, &packet);
+        }
         for (size_t i = 0; i < n; ++i) {
-            bool open = !(packet.tfar[i] < 0.0f);
             const ShadowRay& r = rays[begin + i];
-            if (m_plane && open && r.direction.y != 0.0f) {
-                const float t = (m_planeY - r.origin.y) / r.direction.y;
-                if (t > 0.0f && t < r.tmax) open = false;
-            }
+            const bool open = !(valid[i] != 0 && packet.tfar[i] < 0.0f) &&
+                              !blockedByPlane(r.origin, r.direction, r.tmax);
             transmittance[begin + i] = open ? 1.0f : 0.0f;
         }
     }
+}
+
+bool RayCaster::blockedByPlane(const glm::vec3& origin, const glm::vec3& direction,
+                               float tmax) const {
+    if (!m_plane || direction.y == 0.0f) return false;
+    const float t = (m_planeY - origin.y) / direction.y;
+    return t > 0.0f && t < tmax;
 }
 
 } // namespace dhdr

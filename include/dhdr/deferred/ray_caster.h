@@ -69,6 +69,8 @@ public:
     void testCoherent(const ShadowRay* rays, size_t count, float* transmittance) const override;
 
 private:
+    // Whether the ground plane lies on the segment (0, tmax) of the ray.
+    bool blockedByPlane(const glm::vec3& origin, const glm::vec3& direction, float tmax) const;
     struct Impl;
     std::unique_ptr<Impl> m_impl;
     bool m_plane = false;
