@@ -1,5 +1,6 @@
 // dhdr-light with the scene, run as a user runs it: shadows, emissive lights, AO, and the
 // errors of its options.
+#include "blender_passes.h"
 #include "tool_test.h"
 
 #include <OpenImageIO/deepdata.h>
@@ -567,43 +568,22 @@ namespace {
 // depth 1e10 on the background, alpha 1 everywhere, no camera matrices; the base colour,
 // roughness and metallic as the AOVs a user adds (or the albedo as DiffCol without them).
 void writeBlenderPasses(const ImageBuf& g, const std::string& out, bool aovs) {
-    const OIIO::ImageSpec& gs = g.spec();
-    std::vector<std::string> names = {
-        "ViewLayer.Combined.R", "ViewLayer.Combined.G", "ViewLayer.Combined.B",
-        "ViewLayer.Combined.A", "ViewLayer.Depth.Z",    "ViewLayer.Position.X",
-        "ViewLayer.Position.Y", "ViewLayer.Position.Z", "ViewLayer.Normal.X",
-        "ViewLayer.Normal.Y",   "ViewLayer.Normal.Z",   "ViewLayer.Emit.R",
-        "ViewLayer.Emit.G",     "ViewLayer.Emit.B"};
-    const std::vector<std::string> colour =
-        aovs ? std::vector<std::string>{"ViewLayer.BaseColor.R", "ViewLayer.BaseColor.G",
-                                        "ViewLayer.BaseColor.B", "ViewLayer.Roughness.X",
-                                        "ViewLayer.Metallic.X"}
-             : std::vector<std::string>{"ViewLayer.DiffCol.R", "ViewLayer.DiffCol.G",
-                                        "ViewLayer.DiffCol.B"};
-    names.insert(names.end(), colour.begin(), colour.end());
-    OIIO::ImageSpec spec(gs.width, gs.height, int(names.size()), OIIO::TypeDesc::FLOAT);
-    spec.channelnames = names;
-    ImageBuf b(spec);
-    auto at = [&](int x, int y, const char* name) {
-        return g.getchannel(x, y, 0, gs.channelindex(name));
-    };
-    for (int y = 0; y < gs.height; ++y)
-        for (int x = 0; x < gs.width; ++x) {
-            const bool covered = at(x, y, "A") > 0.0f;
-            std::vector<float> v = {0.1f, 0.1f, 0.1f, 1.0f, covered ? at(x, y, "Z") : 1e10f,
-                                    // Z-up: (x, y, z) of glTF is (x, −z, y) in Blender.
-                                    at(x, y, "P.X"), -at(x, y, "P.Z"), at(x, y, "P.Y"),
-                                    at(x, y, "N.X"), -at(x, y, "N.Z"), at(x, y, "N.Y"),
-                                    at(x, y, "emission.R"), at(x, y, "emission.G"),
-                                    at(x, y, "emission.B"), at(x, y, "albedo.R"),
-                                    at(x, y, "albedo.G"), at(x, y, "albedo.B")};
-            if (aovs) {
-                v.push_back(at(x, y, "roughness"));
-                v.push_back(at(x, y, "metallic"));
-            }
-            b.setpixel(x, y, v.data());
-        }
-    ASSERT_TRUE(b.write(out));
+    std::vector<BlenderChannel> extra = {
+        {"ViewLayer.Combined.R", "", 0.1f}, {"ViewLayer.Combined.G", "", 0.1f},
+        {"ViewLayer.Combined.B", "", 0.1f}, {"ViewLayer.Combined.A", "", 1.0f},
+        {"ViewLayer.Emit.R", "emission.R"}, {"ViewLayer.Emit.G", "emission.G"},
+        {"ViewLayer.Emit.B", "emission.B"}};
+    if (aovs)
+        extra.insert(extra.end(), {{"ViewLayer.BaseColor.R", "albedo.R"},
+                                   {"ViewLayer.BaseColor.G", "albedo.G"},
+                                   {"ViewLayer.BaseColor.B", "albedo.B"},
+                                   {"ViewLayer.Roughness.X", "roughness"},
+                                   {"ViewLayer.Metallic.X", "metallic"}});
+    else
+        extra.insert(extra.end(), {{"ViewLayer.DiffCol.R", "albedo.R"},
+                                   {"ViewLayer.DiffCol.G", "albedo.G"},
+                                   {"ViewLayer.DiffCol.B", "albedo.B"}});
+    dhdr::test::writeBlenderPasses(g, out, extra);
 }
 
 } // namespace

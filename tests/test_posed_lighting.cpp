@@ -3,6 +3,7 @@
 // it; G-buffers that record no moment lit as before; motion vectors passed through, Blender's
 // Vector pass included.
 #include "animation_writer.h"
+#include "blender_passes.h"
 #include "tool_test.h"
 
 #include <OpenImageIO/imagebufalgo.h>
@@ -232,37 +233,15 @@ TEST_F(PosedLighting, TheScenesOwnLightsMoveWithIt) {
 // as with it.
 TEST_F(PosedLighting, MotionPassesThroughDhdrLightWithAovs) {
     const ImageBuf g = read("anim6.gbuf.exr");
-    const OIIO::ImageSpec& gs = g.spec();
-    // The frame as Blender writes its passes (ViewLayer.*, Z-up, 1e10 behind, no matrices),
-    // with its Vector pass.
-    const std::vector<std::string> names = {
-        "ViewLayer.Depth.Z",    "ViewLayer.Position.X", "ViewLayer.Position.Y",
-        "ViewLayer.Position.Z", "ViewLayer.Normal.X",   "ViewLayer.Normal.Y",
-        "ViewLayer.Normal.Z",   "ViewLayer.Vector.X",   "ViewLayer.Vector.Y",
-        "ViewLayer.Vector.Z",   "ViewLayer.Vector.W"};
-    OIIO::ImageSpec spec(gs.width, gs.height, int(names.size()), OIIO::TypeDesc::FLOAT);
-    spec.channelnames = names;
-    ImageBuf b(spec);
+    // The frame as Blender writes its passes, with its Vector pass.
+    writeBlenderPasses(g, path("blender6.exr"),
+                       {{"ViewLayer.Vector.X", "motion.X"},
+                        {"ViewLayer.Vector.Y", "motion.Y"},
+                        {"ViewLayer.Vector.Z", "motion.Z"},
+                        {"ViewLayer.Vector.W", "motion.W"}});
     auto at = [&](int x, int y, const char* name) {
-        return g.getchannel(x, y, 0, gs.channelindex(name));
+        return g.getchannel(x, y, 0, g.spec().channelindex(name));
     };
-    for (int y = 0; y < gs.height; ++y)
-        for (int x = 0; x < gs.width; ++x) {
-            const bool covered = at(x, y, "A") > 0.0f;
-            const float v[] = {covered ? at(x, y, "Z") : 1e10f,
-                               at(x, y, "P.X"),
-                               -at(x, y, "P.Z"),
-                               at(x, y, "P.Y"),
-                               at(x, y, "N.X"),
-                               -at(x, y, "N.Z"),
-                               at(x, y, "N.Y"),
-                               at(x, y, "motion.X"),
-                               at(x, y, "motion.Y"),
-                               at(x, y, "motion.Z"),
-                               at(x, y, "motion.W")};
-            b.setpixel(x, y, v);
-        }
-    ASSERT_TRUE(b.write(path("blender6.exr")));
     // A lamp near the block, so that its top is brighter than the floor: edges to blur.
     std::ofstream(path("lamp.lights.json"))
         << R"({"lights": [{"type": "point", "position": [0.5, 0, 1.5], "intensity": 3}]})";
