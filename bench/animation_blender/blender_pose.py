@@ -1,6 +1,6 @@
 # blender -b --python blender_pose.py -- SCENE.gltf OUT.exr FRAME EX,EY,EZ TX,TY,TZ FOV_DEG WxH
 # Blender's own glTF importer poses the scene at FRAME (24 fps: frame N is time N / 24, as the
-# importer keys it) and Cycles writes its Position pass from a camera at E looking at T
+# importer keys it) and Cycles writes its Position and Vector passes from a camera at E looking at T
 # (glTF's Y-up coordinates; Blender's are (x, -z, y)). run.sh calls it; compare.py reads it.
 import bpy, sys, math
 import numpy
@@ -52,6 +52,8 @@ r.threads = 2
 vl = sc.view_layers[0]
 vl.use_pass_position = True
 vl.use_pass_normal = True
+vl.use_pass_vector = True  # Blender's motion vectors (written only without motion blur)
+r.use_motion_blur = False
 r.image_settings.file_format = "OPEN_EXR_MULTILAYER"
 r.image_settings.color_depth = "32"
 r.image_settings.exr_codec = "ZIP"

@@ -3,7 +3,8 @@
 cube) in dhdr-gbuffer against Blender's own glTF importer and Cycles' Position pass, frame by
 frame: over the pixels that both cover with their whole 3 x 3 neighbourhood, the distance
 between the two positions in units of a pixel's footprint (median, 99th percentile, largest),
-and the pixels that one covers and the other does not; for contrast the same against the rest
+the pixels that one covers and the other does not, and the motion vectors against Blender's
+Vector pass; for contrast the same against the rest
 pose (frame 0), which must be far off where the file moves.
 
     /usr/bin/python3 bench/animation_blender/compare.py --bin build/apps
@@ -53,8 +54,9 @@ def main():
         sys.exit("compare.py: needs Debian's assimp-testmodels (apt-get install assimp-testmodels)")
     here = os.path.dirname(os.path.abspath(__file__))
     work = tempfile.mkdtemp(prefix="dhdr_anim_blender_")
-    print("%-18s %5s %7s | %8s %8s %8s | %9s | %s" % (
-        "file", "frame", "pixels", "median", "p99", "max", "rest max", "coverage differs: posed / rest"))
+    print("%-18s %5s %7s | %8s %8s %8s | %9s | %-14s | %s" % (
+        "file", "frame", "pixels", "median", "p99", "max", "rest max", "coverage p / r",
+        "vectors: max difference / max motion (px)"))
     for name, scene, eye, target, frames in CASES:
         e = [float(v) for v in eye.split(",")]
         t = [float(v) for v in target.split(",")]
@@ -82,13 +84,20 @@ def main():
             foot = dist * 2.0 * math.tan(math.radians(FOV) / 2) / SIZE
             err = np.linalg.norm(np.stack([px, py, pz], -1) - theirsP, axis=-1) / foot
             restErr = np.linalg.norm(np.stack([rx, ry, rz], -1) - theirsP, axis=-1) / foot
+            # Motion vectors (Blender's Vector pass, the convention dhdr's motion layer follows):
+            # the largest difference in pixels over the same pixels, and the largest motion.
+            bv = channels(theirs, ["ViewLayer.Vector." + c for c in "XYZW"])
+            ov = channels(ours, ["motion." + c for c in "XYZW"])
+            vecErr = max(float(np.abs(o - b)[mask].max()) for o, b in zip(ov, bv))
+            vecMax = max(float(np.abs(b)[mask].max()) for b in bv)
             e_ = err[mask]
             # Coverage: pixels one covers whole and the other not at all (a flat skin bending in
             # its own plane keeps every position on that plane; its outline is what moves).
             differs = lambda a: int(np.sum(((ba > 0.999) & (a < 0.001)) | ((ba < 0.001) & (a > 0.999))))
-            print("%-18s %5d %7d | %8.3f %8.3f %8.3f | %9.2f | %d / %d" % (
+            print("%-18s %5d %7d | %8.3f %8.3f %8.3f | %9.2f | %-14s | %.4f / %.3f" % (
                 name, frame, e_.size, np.median(e_), np.percentile(e_, 99), e_.max(),
-                restErr[restMask].max() if restMask.any() else float("nan"), differs(pa), differs(ra)))
+                restErr[restMask].max() if restMask.any() else float("nan"),
+                "%d / %d" % (differs(pa), differs(ra)), vecErr, vecMax))
     print("(positions in pixels of footprint; Cycles averages 16 positions over each pixel, dhdr takes its centre)")
 
 
