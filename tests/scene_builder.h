@@ -50,16 +50,16 @@ inline void addQuad(Scene& scene, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::ve
 }
 
 // An axis-aligned box as six outward-facing quads.
-inline void addBox(Scene& scene, glm::vec3 lo, glm::vec3 hi) {
+inline void addBox(Scene& scene, glm::vec3 lo, glm::vec3 hi, int material = 0) {
     const glm::vec3 p[8] = {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z},
                             {lo.x, hi.y, lo.z}, {lo.x, lo.y, hi.z}, {hi.x, lo.y, hi.z},
                             {hi.x, hi.y, hi.z}, {lo.x, hi.y, hi.z}};
-    addQuad(scene, p[0], p[3], p[2], p[1]); // −z
-    addQuad(scene, p[4], p[5], p[6], p[7]); // +z
-    addQuad(scene, p[0], p[4], p[7], p[3]); // −x
-    addQuad(scene, p[1], p[2], p[6], p[5]); // +x
-    addQuad(scene, p[0], p[1], p[5], p[4]); // −y
-    addQuad(scene, p[3], p[7], p[6], p[2]); // +y
+    addQuad(scene, p[0], p[3], p[2], p[1], material); // −z
+    addQuad(scene, p[4], p[5], p[6], p[7], material); // +z
+    addQuad(scene, p[0], p[4], p[7], p[3], material); // −x
+    addQuad(scene, p[1], p[2], p[6], p[5], material); // +x
+    addQuad(scene, p[0], p[1], p[5], p[4], material); // −y
+    addQuad(scene, p[3], p[7], p[6], p[2], material); // +y
 }
 
 inline Scene emptyScene() {

@@ -15,11 +15,13 @@ namespace dhdr {
 class BounceLighting {
 public:
     // `hits` gives the light of the surfaces the rays hit.
-    explicit BounceLighting(const HitShading& hits) : m_hits(hits) {}
+    explicit BounceLighting(const HitShading& hits);
 
     // The irradiance at `at` (unit shading normal N) of the light leaving the surfaces that
     // `samples` cosine-weighted rays hit: E = ∫ L(x(ω)) cos θ dω ≈ π/n Σ L(x(ω_i)) (misses
-    // add nothing: lights and the environment are the point's direct light). The directions
+    // add nothing: lights and the environment are the point's direct light; a direction that
+    // misses the sphere round the scene's triangles is such a miss, and is not traced). The
+    // directions
     // follow `directions` (a rotated Hammersley set); hit i's shadow rays draw
     // SeedKey{hits, i, BounceShadow}. `rays` (optional) counts every ray traced.
     glm::vec3 irradiance(const SurfacePoint& at, const glm::vec3& N, std::uint64_t directions,
@@ -35,6 +37,9 @@ public:
 
 private:
     const HitShading& m_hits;
+    bool m_empty = true; // no triangle: every ray misses
+    glm::dvec3 m_centre{0.0};
+    double m_radius = 0.0; // of a sphere that holds the triangles' bounds
 };
 
 } // namespace dhdr

@@ -33,6 +33,8 @@ public:
     // face); the hit's shadow rays draw `key`. `rays` (optional) counts every ray traced.
     glm::vec3 trace(const Ray& ray, const SeedKey& key, long long* rays = nullptr) const;
 
+    const RayCaster& caster() const { return m_caster; }
+
 private:
     const RayCaster& m_caster;
     const DirectLighting& m_direct;

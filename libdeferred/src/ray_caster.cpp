@@ -210,6 +210,17 @@ bool RayCaster::updateMeshes(const std::vector<int>& meshes) {
     return true;
 }
 
+bool RayCaster::bounds(glm::vec3& lower, glm::vec3& upper) const {
+    if (!ok()) return false;
+    for (int c = 0; c < 3; ++c) {
+        if (!(m_impl->lower[c] <= m_impl->upper[c])) return false;
+        // The widened bounds, rounded outwards to float.
+        lower[c] = nextFloatDown(float(m_impl->lower[c]));
+        upper[c] = nextFloatUp(float(m_impl->upper[c]));
+    }
+    return true;
+}
+
 const Scene& RayCaster::scene() const {
     return *m_impl->source;
 }

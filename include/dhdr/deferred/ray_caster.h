@@ -49,6 +49,10 @@ public:
     // Not safe while another thread traces.
     bool updateMeshes(const std::vector<int>& meshes);
 
+    // A box that holds every triangle (not the ground plane): a ray that misses it hits no
+    // triangle. False when there is none.
+    bool bounds(glm::vec3& lower, glm::vec3& upper) const;
+
     // Closest hit along `ray` in (tnear, ∞), the scene's ground plane included. Safe to call
     // from many threads.
     RayHit intersect(const Ray& ray, double tnear = 0.0) const;
