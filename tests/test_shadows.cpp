@@ -776,6 +776,85 @@ TEST(EnvironmentReflections, AMirrorShowsTheSkyFilteredOverItsPixel) {
     EXPECT_LT(filteredMean, 0.6 * pointMean);
 }
 
+// A sun of 0.53° on a mirror sphere covers a hundredth of the pixel whose footprint holds its
+// reflection: read at each pixel's centre it is missed (or, where a centre happens to reflect
+// it, lands in one pixel a hundred times too bright). Filtered over the footprint
+// (shadePunctual's spread) it is spread round its reflection with its energy. The reference:
+// the G-buffer at 8 × 8 the resolution (whose footprints are near the disk's size), shaded and
+// averaged over each pixel. The image's total within 15 % of the reference's, the highlight's
+// centroid within a pixel of the reference's, 80 % of it within 2 pixels of that (measured:
+// −12 %, 0.34 pixel, 0.90 pixel against the reference's 0.76; the centres' reading: 0.05 % of
+// the total).
+TEST(EnvironmentReflections, AMirrorShowsTheSunFilteredOverItsPixel) {
+    Scene scene = emptyScene();
+    scene.materials[0].baseColor = glm::vec3(1.0f);
+    scene.materials[0].roughness = 0.0f;
+    scene.materials[0].metallic = 1.0f;
+    addSphere(scene, {0.0f, 0.0f, 0.0f}, 1.0f, 128);
+    const Camera camera = Camera::lookAt({0.0, 0.3, 4.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.6);
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = -glm::normalize(glm::vec3(0.3f, 0.6f, 1.0f));
+    sun.angle = glm::radians(0.53f);
+    sun.intensity = 1.0f;
+    constexpr int W = 48, S = 8;
+    const ImageBuf gbuf = gbufferOf(scene, camera, W, W);
+    const ImageBuf fine = gbufferOf(scene, camera, W * S, W * S);
+    const ImageBuf lit = shade(gbuf, {sun}, nullptr), fineLit = shade(fine, {sun}, nullptr);
+    GBufferPixels g;
+    ImageBuf errors;
+    ASSERT_TRUE(openGBuffer(gbuf, g, errors));
+    const GBufferView view(*g.pixels, g.layout, g.camera);
+    // Per image: the total, the centroid and how far from it 80 % of the green channel lies.
+    struct Moments {
+        double total = 0.0, x = 0.0, y = 0.0;
+        void add(int px_, int py_, double v) {
+            values.push_back({px_, py_, v});
+            total += v;
+            x += v * px_;
+            y += v * py_;
+        }
+        std::vector<glm::dvec3> values; // x, y, value
+        glm::dvec2 centre() const { return {x / total, y / total}; }
+        // The radius about the centroid that holds 80 % of the total.
+        double radius80() const {
+            const glm::dvec2 c = centre();
+            std::vector<std::pair<double, double>> d;
+            for (const glm::dvec3& v : values)
+                d.push_back({std::hypot(v.x - c.x, v.y - c.y), v.z});
+            std::sort(d.begin(), d.end());
+            double sum = 0.0;
+            for (const auto& [r, v] : d)
+                if ((sum += v) >= 0.8 * total) return r;
+            return INFINITY;
+        }
+    } filtered, reference;
+    double pointTotal = 0.0;
+    for (int y = 0; y < W; ++y)
+        for (int x = 0; x < W; ++x) {
+            double r = 0.0;
+            for (int j = 0; j < S; ++j)
+                for (int i = 0; i < S; ++i)
+                    r += px(fineLit, x * S + i, y * S + j)[1];
+            reference.add(x, y, r / (S * S));
+            filtered.add(x, y, px(lit, x, y)[1]);
+            if (view.samples(x, y) > 0) {
+                const ShadingPoint p = view.at(x, y);
+                pointTotal += shadeLight(sun, p.surface, p.P, p.N, p.V).g;
+            }
+        }
+    const double offset = glm::length(filtered.centre() - reference.centre());
+    std::printf("a sun on a mirror against the supersampled one: total %.3f against %.3f (the "
+                "centres' reading %.3f); centroid %.2f px apart; 80 %% within %.2f px against "
+                "%.2f\n",
+                filtered.total, reference.total, pointTotal, offset, filtered.radius80(),
+                reference.radius80());
+    EXPECT_NEAR(filtered.total / reference.total, 1.0, 0.15);
+    EXPECT_LT(offset, 1.0);
+    EXPECT_LT(filtered.radius80(), 2.0);
+    EXPECT_LT(pointTotal, 0.1 * reference.total); // what the filter is for
+}
+
 TEST(ShadowCatcher, WithNoObjectsTheCatcherIsClear) {
     Scene scene = emptyScene();
     addGroundPlane(scene, 0.0f);

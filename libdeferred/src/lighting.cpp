@@ -219,9 +219,10 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     directOptions.environmentSpecular = params.environmentSpecular;
     directOptions.occludable = aoActive;
     const DirectLighting direct(lights, directOptions);
-    // Environments' specular light is filtered over each flat pixel's footprint.
+    // Environments' and suns' specular light is filtered over each flat pixel's footprint.
     const bool footprint = std::any_of(lights.begin(), lights.end(), [](const Light& l) {
-        return l.type == LightType::Environment && l.ibl;
+        return (l.type == LightType::Environment && l.ibl) ||
+               (l.type == LightType::Directional && l.angle > 0.0f);
     });
     // What secondary rays see (a shadow catcher's bounce light, the specular indirect light):
     // the surfaces they hit lit by every light (each shadowed by one ray; environments

@@ -1,3 +1,6 @@
+#include <algorithm>
+#include <cmath>
+#include <dhdr/deferred/ibl.h>
 #include <dhdr/deferred/lights/punctual.h>
 #include <dhdr/deferred/multiple_scattering.h>
 #include <dhdr/deferred/sampling.h>
@@ -28,7 +31,7 @@ IncidentLight incidentLight(const Light& light, const glm::vec3& P) {
 namespace {
 
 glm::vec3 shadeSunDisk(const Light& light, const PbrSurface& s, const glm::vec3& N,
-                       const glm::vec3& V) {
+                       const glm::vec3& V, float spread) {
     const glm::vec3 L = -light.direction;
     const float NdotL = glm::dot(N, L), NdotV = glm::dot(N, V);
     if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
@@ -50,7 +53,10 @@ glm::vec3 shadeSunDisk(const Light& light, const PbrSurface& s, const glm::vec3&
     glm::vec3 specular(0.0f);
     if (NdotLs > 0.0f) {
         const glm::vec3 H = glm::normalize(Ls + V);
-        const float alpha = s.alpha();
+        const float footprint = kFootprintAlpha * spread;
+        const float alpha =
+            spread > 0.0f ? std::min(1.0f, std::sqrt(s.alpha() * s.alpha() + footprint * footprint))
+                          : s.alpha();
         const float widened = std::min(1.0f, alpha + 0.5f * sinR);
         const float normalization = (alpha / widened) * (alpha / widened);
         specular = schlickFresnel(s.F0(), std::max(glm::dot(V, H), 0.0f)) *
@@ -65,9 +71,9 @@ glm::vec3 shadeSunDisk(const Light& light, const PbrSurface& s, const glm::vec3&
 } // namespace
 
 glm::vec3 shadePunctual(const Light& light, const PbrSurface& s, const glm::vec3& P,
-                        const glm::vec3& N, const glm::vec3& V) {
+                        const glm::vec3& N, const glm::vec3& V, float spread) {
     if (light.type == LightType::Directional && light.angle > 0.0f)
-        return shadeSunDisk(light, s, N, V);
+        return shadeSunDisk(light, s, N, V, spread);
     const IncidentLight in = incidentLight(light, P);
     const float NdotL = glm::dot(N, in.L);
     if (NdotL <= 0.0f || in.illuminance == glm::vec3(0.0f)) return glm::vec3(0.0f);

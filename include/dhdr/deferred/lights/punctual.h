@@ -44,8 +44,12 @@ IncidentLight incidentLight(const Light& light, const glm::vec3& P);
 // its centre, as a point's (the disk's horizon clipping is left out); specular at the disk's
 // point closest to the mirror direction R (Karis 2013, "Real Shading in Unreal Engine 4":
 // representative point), energy-normalized with α' = α + sin r / 2 as the sphere lights are.
+// `spread` (radians, the angle the mirror directions of the pixel's footprint span) widens the
+// sun's lobe as it widens an environment's (shadeIbl): α becomes √(α² + (kFootprintAlpha ·
+// spread)²), so that a mirror shows the sun spread over the pixels its disk falls in, with its
+// energy, instead of in whichever pixel's centre happens to reflect it.
 glm::vec3 shadePunctual(const Light& light, const PbrSurface& s, const glm::vec3& P,
-                        const glm::vec3& N, const glm::vec3& V);
+                        const glm::vec3& N, const glm::vec3& V, float spread = 0.0f);
 
 // A delta light's one direction, or for a sun with an angle a direction uniform in its cone
 // (pbrt-v4 SampleUniformCone) carrying the radiance E / Ω that spreads its illuminance over it.
