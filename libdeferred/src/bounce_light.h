@@ -21,8 +21,7 @@ public:
     // `samples` cosine-weighted rays hit: E = ∫ L(x(ω)) cos θ dω ≈ π/n Σ L(x(ω_i)) (misses
     // add nothing: lights and the environment are the point's direct light; a direction that
     // misses the sphere round the scene's triangles is such a miss, and is not traced). The
-    // directions
-    // follow `directions` (a rotated Hammersley set); hit i's shadow rays draw
+    // directions follow `directions` (a rotated Hammersley set); hit i's shadow rays draw
     // SeedKey{hits, i, BounceShadow}. `rays` (optional) counts every ray traced.
     glm::vec3 irradiance(const SurfacePoint& at, const glm::vec3& N, std::uint64_t directions,
                          std::int64_t hits, int samples, long long* rays = nullptr) const;
