@@ -697,6 +697,25 @@ ImageBuf catcherFrame(const Scene& scene, const Light& light, ImageBuf& gbuf) {
 
 } // namespace
 
+namespace {
+
+// A white mirror sphere of radius 1 at the origin, and a camera 4 units off that fills the
+// frame with it: what the footprint tests below look at.
+Scene mirrorSphere() {
+    Scene scene = emptyScene();
+    scene.materials[0].baseColor = glm::vec3(1.0f);
+    scene.materials[0].roughness = 0.0f;
+    scene.materials[0].metallic = 1.0f;
+    addSphere(scene, {0.0f, 0.0f, 0.0f}, 1.0f, 128);
+    return scene;
+}
+
+Camera mirrorSphereCamera() {
+    return Camera::lookAt({0.0, 0.3, 4.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.6);
+}
+
+} // namespace
+
 // A mirror sphere under a sky of fine checks (32 × 16 cells, 10:1): each pixel covers many
 // checks near the rim, and shows their mean, not the one its centre's mirror direction hits.
 // The reference: the G-buffer at 8 × 8 the resolution, each fine pixel's mirror direction
@@ -705,12 +724,8 @@ ImageBuf catcherFrame(const Scene& scene, const Light& light, ImageBuf& gbuf) {
 // centre's direction, in the mean and at the 95th percentile (measured 0.106 and 0.229
 // against 0.238 and 0.487).
 TEST(EnvironmentReflections, AMirrorShowsTheSkyFilteredOverItsPixel) {
-    Scene scene = emptyScene();
-    scene.materials[0].baseColor = glm::vec3(1.0f);
-    scene.materials[0].roughness = 0.0f;
-    scene.materials[0].metallic = 1.0f;
-    addSphere(scene, {0.0f, 0.0f, 0.0f}, 1.0f, 128);
-    const Camera camera = Camera::lookAt({0.0, 0.3, 4.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.6);
+    const Scene scene = mirrorSphere();
+    const Camera camera = mirrorSphereCamera();
     EnvironmentImage env;
     env.width = 1024;
     env.height = 512;
@@ -786,12 +801,8 @@ TEST(EnvironmentReflections, AMirrorShowsTheSkyFilteredOverItsPixel) {
 // −12 %, 0.34 pixel, 0.90 pixel against the reference's 0.76; the centres' reading: 0.05 % of
 // the total).
 TEST(EnvironmentReflections, AMirrorShowsTheSunFilteredOverItsPixel) {
-    Scene scene = emptyScene();
-    scene.materials[0].baseColor = glm::vec3(1.0f);
-    scene.materials[0].roughness = 0.0f;
-    scene.materials[0].metallic = 1.0f;
-    addSphere(scene, {0.0f, 0.0f, 0.0f}, 1.0f, 128);
-    const Camera camera = Camera::lookAt({0.0, 0.3, 4.0}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.6);
+    const Scene scene = mirrorSphere();
+    const Camera camera = mirrorSphereCamera();
     Light sun;
     sun.type = LightType::Directional;
     sun.direction = -glm::normalize(glm::vec3(0.3f, 0.6f, 1.0f));
