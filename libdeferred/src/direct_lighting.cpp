@@ -54,7 +54,8 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
         if (open) addTo(*open, EnvironmentVisibility{});
         return;
     }
-    const glm::vec3 c = shadeLight(light, p.surface, p.P, p.N, p.V, p.reflectionSpread);
+    const glm::vec3 c =
+        shadeLight(light, p.surface, p.P, p.N, p.V, p.reflectionSpread, p.footprintRadius);
     if (c == glm::vec3(0.0f)) return;
     float v = 1.0f;
     if (given)

@@ -24,6 +24,9 @@ struct LitPoint {
     // The angle the mirror directions of the point's pixel span (radians; 0: a point), for
     // environments' specular light (shadeIbl).
     float reflectionSpread = 0.0f;
+    // The radius of the footprint on the surface (scene units; 0: a point), which moves the
+    // direction towards a nearby light as well (shadePunctual).
+    float footprintRadius = 0.0f;
     // The scene's light in the point's glossy lobe is traced (specular_indirect.h): an
     // environment's blocked glossy samples then count nothing, not a grey occluder's light.
     bool tracedSpecular = false;

@@ -37,7 +37,8 @@ ProbeRayTracer::ProbeRayTracer(const Scene& scene, const RayCaster& caster,
                                const std::vector<Light>& lights, const ProbeBakeParams& params,
                                bool emissiveAreLights)
     : m_scene(scene), m_caster(caster), m_lights(lights), m_diffuse(params.diffuse),
-      m_emissiveAreLights(emissiveAreLights), m_direct(lights, bakeOptions(caster, params)) {}
+      m_emissiveAreLights(emissiveAreLights), m_direct(lights, bakeOptions(caster, params)),
+      m_spread(2.0f * std::acos(1.0f - 2.0f / float(std::max(params.rays, 2)))) {}
 
 // The surface a probe's ray stops at: it passes Mask cut-outs, and a Blend surface of coverage
 // α with probability 1 − α (by a hash of the probe, ray and layer), as occlusion rays pass it
@@ -58,7 +59,7 @@ RayHit ProbeRayTracer::surfaceHit(const Ray& ray, std::int64_t probe, std::int64
 }
 
 ProbeRayTracer::LitHit ProbeRayTracer::light(const SurfaceSample& s, const glm::vec3& towards,
-                                             SeedKey key) const {
+                                             float distance, SeedKey key) const {
     LitHit h;
     h.surface.baseColor = s.albedo;
     h.surface.roughness = s.material->roughness;
@@ -73,8 +74,15 @@ ProbeRayTracer::LitHit ProbeRayTracer::light(const SurfaceSample& s, const glm::
                                                ? specularAlbedo(h.surface, NdotV)
                                                : multipleScatteringAlbedo(h.surface, NdotV));
     key.stream = streamOf(SampleStream::ProbeShadow);
-    const LitPoint point{h.surface, P, N, towards,
-                         SurfacePoint{P, glm::vec3(s.geometric), float(s.positionError)}};
+    // A glossy highlight is filtered over the ray's cone: narrower than the rays' spacing,
+    // it would light whichever probes' rays happen to meet it (blotches on the walls).
+    const LitPoint point{h.surface,
+                         P,
+                         N,
+                         towards,
+                         SurfacePoint{P, glm::vec3(s.geometric), float(s.positionError)},
+                         m_spread,
+                         0.5f * m_spread * distance};
     h.fixed = m_direct.sum(point, key, m_emissiveAreLights ? glm::vec3(0.0f) : s.emission).direct;
     return h;
 }
@@ -110,7 +118,7 @@ ProbeRay ProbeRayTracer::trace(const glm::vec3& origin, const glm::vec3& directi
     r.position = glm::vec3(s.position);
     r.normal = glm::vec3(s.normal);
     const glm::vec3 V = -direction, N = r.normal;
-    const LitHit lit = light(s, V, {key.probe, key.ray});
+    const LitHit lit = light(s, V, float(hit.t), {key.probe, key.ray});
     r.reflectance = lit.reflectance;
     r.fixed = lit.fixed;
     const float NdotV = glm::dot(N, V);
@@ -138,7 +146,8 @@ ProbeRay ProbeRayTracer::trace(const glm::vec3& origin, const glm::vec3& directi
     if (!nextHit.hit) {
         c.fixed = sky(wi);
     } else if (const SurfaceSample n2 = surfaceAt(m_scene, next, nextHit); !n2.backFace) {
-        const LitHit there = light(n2, -wi, {key.probe, key.ray + key.rays});
+        const LitHit there =
+            light(n2, -wi, float(hit.t + nextHit.t), {key.probe, key.ray + key.rays});
         c.hit = true;
         c.position = glm::vec3(n2.position);
         c.normal = glm::vec3(n2.normal);

@@ -58,7 +58,8 @@ public:
 private:
     struct LitHit;
     RayHit surfaceHit(const Ray& ray, std::int64_t probe, std::int64_t index) const;
-    LitHit light(const SurfaceSample& s, const glm::vec3& towards, SeedKey key) const;
+    LitHit light(const SurfaceSample& s, const glm::vec3& towards, float distance,
+                 SeedKey key) const;
     glm::vec3 sky(const glm::vec3& direction) const;
 
     const Scene& m_scene;
@@ -67,6 +68,8 @@ private:
     DiffuseModel m_diffuse;
     bool m_emissiveAreLights;
     DirectLighting m_direct;
+    // The angle of the cone each of a probe's rays stands for (4π / rays steradians).
+    float m_spread;
 };
 
 } // namespace dhdr

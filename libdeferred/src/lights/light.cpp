@@ -3,12 +3,12 @@
 namespace dhdr {
 
 glm::vec3 shadeLight(const Light& light, const PbrSurface& s, const glm::vec3& P,
-                     const glm::vec3& N, const glm::vec3& V, float spread) {
+                     const glm::vec3& N, const glm::vec3& V, float spread, float footprintRadius) {
     switch (light.type) {
     case LightType::Point:
     case LightType::Spot:
     case LightType::Directional:
-        return shadePunctual(light, s, P, N, V, spread);
+        return shadePunctual(light, s, P, N, V, spread, footprintRadius);
     case LightType::Sphere:
     case LightType::Rectangle:
     case LightType::Mesh:

@@ -71,14 +71,27 @@ glm::vec3 shadeSunDisk(const Light& light, const PbrSurface& s, const glm::vec3&
 } // namespace
 
 glm::vec3 shadePunctual(const Light& light, const PbrSurface& s, const glm::vec3& P,
-                        const glm::vec3& N, const glm::vec3& V, float spread) {
+                        const glm::vec3& N, const glm::vec3& V, float spread,
+                        float footprintRadius) {
     if (light.type == LightType::Directional && light.angle > 0.0f)
         return shadeSunDisk(light, s, N, V, spread);
     const IncidentLight in = incidentLight(light, P);
     const float NdotL = glm::dot(N, in.L);
     if (NdotL <= 0.0f || in.illuminance == glm::vec3(0.0f)) return glm::vec3(0.0f);
     // Lo = f · E · cos θ, the rendering equation for a punctual light.
-    return evaluateBrdf(s, N, V, in.L) * in.illuminance * NdotL;
+    glm::vec3 f = evaluateBrdf(s, N, V, in.L);
+    if (spread > 0.0f || footprintRadius > 0.0f) {
+        // The single-scattering lobe filtered over the footprint, as the sun's.
+        const float distance =
+            light.type == LightType::Directional ? INFINITY : glm::length(light.position - P);
+        const float footprint =
+            kFootprintAlpha * spread + (distance > 0.0f ? 0.5f * footprintRadius / distance : 0.0f);
+        PbrSurface wide = s;
+        wide.roughness =
+            std::sqrt(std::min(1.0f, std::sqrt(s.alpha() * s.alpha() + footprint * footprint)));
+        f += singleScatteringBrdf(wide, N, V, in.L) - singleScatteringBrdf(s, N, V, in.L);
+    }
+    return f * in.illuminance * NdotL;
 }
 
 LightLiSample samplePunctual(const Light& light, const glm::vec3& P, glm::vec2 u) {

@@ -12,10 +12,12 @@
 namespace dhdr {
 
 // Radiance reflected towards V from `light` at a surface point, unshadowed. `spread` (radians):
-// the angle the mirror directions of the pixel's footprint span, over which a sun's highlight
-// is filtered (shadePunctual); 0: a point.
+// the angle the mirror directions of the pixel's footprint span, and `footprintRadius` (scene
+// units) its radius on the surface, over which a punctual light's highlight is filtered
+// (shadePunctual); 0: a point.
 glm::vec3 shadeLight(const Light& light, const PbrSurface& s, const glm::vec3& P,
-                     const glm::vec3& N, const glm::vec3& V, float spread = 0.0f);
+                     const glm::vec3& N, const glm::vec3& V, float spread = 0.0f,
+                     float footprintRadius = 0.0f);
 
 // Samples `light` from the point P with u in [0, 1)² (the family's sample function); L / pdf
 // weights agree with shadeLight's unshadowed value.

@@ -47,9 +47,13 @@ IncidentLight incidentLight(const Light& light, const glm::vec3& P);
 // `spread` (radians, the angle the mirror directions of the pixel's footprint span) widens the
 // sun's lobe as it widens an environment's (shadeIbl): α becomes √(α² + (kFootprintAlpha ·
 // spread)²), so that a mirror shows the sun spread over the pixels its disk falls in, with its
-// energy, instead of in whichever pixel's centre happens to reflect it.
+// energy, instead of in whichever pixel's centre happens to reflect it. A point or spot light
+// at distance d is filtered the same way, and further by the footprint's radius r on the
+// surface, which turns the direction towards the light by r / d: the half vector moves by half
+// of each, so the widening is kFootprintAlpha · spread + r / (2 d).
 glm::vec3 shadePunctual(const Light& light, const PbrSurface& s, const glm::vec3& P,
-                        const glm::vec3& N, const glm::vec3& V, float spread = 0.0f);
+                        const glm::vec3& N, const glm::vec3& V, float spread = 0.0f,
+                        float footprintRadius = 0.0f);
 
 // A delta light's one direction, or for a sun with an angle a direction uniform in its cone
 // (pbrt-v4 SampleUniformCone) carrying the radiance E / Ω that spreads its illuminance over it.
