@@ -286,128 +286,120 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
     }
     // The variance per pixel from the 5 × 5 neighbourhood of the same surface (SVGF's spatial
     // estimate where no history is); each tap's geometry weight serves every estimate.
-    OIIO::parallel_for(
-        0, h,
-        [&](int64_t yy) {
-            const int y = int(yy);
-            std::vector<vfloat4> s(m), s2(m);
-            std::vector<vbool4> live(m);
-            for (int x = 0; x < w; x += kLanes) {
-                const GuideCentre centre(guide, y, x);
-                const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
-                if (!liveLanes(state, surface, y, x, -1, live)) continue;
-                std::fill(s.begin(), s.end(), vfloat4(0.0f));
-                std::fill(s2.begin(), s2.end(), vfloat4(0.0f));
-                vfloat4 weights(0.0f);
-                for (int j = -2; j <= 2; ++j) {
-                    const int qy = y + j;
-                    if (qy < 0 || qy >= h) continue;
-                    for (int i = -2; i <= 2; ++i) {
-                        const vfloat4 wq = i == 0 && j == 0
-                                               ? select(surface, vfloat4(1.0f), vfloat4(0.0f))
-                                               : geometryWeight(guide, centre, qy, x + i);
-                        for (size_t e = 0; e < m; ++e) {
-                            if (none(live[e])) continue;
-                            const vfloat4 v(state[e].signal.row(qy) + x + i);
-                            s[e] += wq * v;
-                            s2[e] += wq * v * v;
-                        }
-                        weights += wq;
+    parallelRows(0, h, nthreads, [&](int64_t yy) {
+        const int y = int(yy);
+        std::vector<vfloat4> s(m), s2(m);
+        std::vector<vbool4> live(m);
+        for (int x = 0; x < w; x += kLanes) {
+            const GuideCentre centre(guide, y, x);
+            const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
+            if (!liveLanes(state, surface, y, x, -1, live)) continue;
+            std::fill(s.begin(), s.end(), vfloat4(0.0f));
+            std::fill(s2.begin(), s2.end(), vfloat4(0.0f));
+            vfloat4 weights(0.0f);
+            for (int j = -2; j <= 2; ++j) {
+                const int qy = y + j;
+                if (qy < 0 || qy >= h) continue;
+                for (int i = -2; i <= 2; ++i) {
+                    const vfloat4 wq = i == 0 && j == 0
+                                           ? select(surface, vfloat4(1.0f), vfloat4(0.0f))
+                                           : geometryWeight(guide, centre, qy, x + i);
+                    for (size_t e = 0; e < m; ++e) {
+                        if (none(live[e])) continue;
+                        const vfloat4 v(state[e].signal.row(qy) + x + i);
+                        s[e] += wq * v;
+                        s2[e] += wq * v * v;
                     }
-                }
-                const vfloat4 safe = select(surface, weights, vfloat4(1.0f));
-                for (size_t e = 0; e < m; ++e) {
-                    if (none(live[e])) continue;
-                    const vfloat4 mean = s[e] / safe;
-                    const vfloat4 v = max(vfloat4(0.0f), s2[e] / safe - mean * mean);
-                    select(live[e], v, vfloat4(0.0f)).store(state[e].variance.row(y) + x);
+                    weights += wq;
                 }
             }
-        },
-        perItem(nthreads));
+            const vfloat4 safe = select(surface, weights, vfloat4(1.0f));
+            for (size_t e = 0; e < m; ++e) {
+                if (none(live[e])) continue;
+                const vfloat4 mean = s[e] / safe;
+                const vfloat4 v = max(vfloat4(0.0f), s2[e] / safe - mean * mean);
+                select(live[e], v, vfloat4(0.0f)).store(state[e].variance.row(y) + x);
+            }
+        }
+    });
     for (int pass = 0; pass < kDenoiseIterations; ++pass) {
         const int step = 1 << pass;
-        OIIO::parallel_for(
-            0, h,
-            [&](int64_t yy) {
-                const int y = int(yy);
-                std::vector<vfloat4> sum(2 * m), weights(m), var(m), inverseSpread(m), centre(m);
-                std::vector<vbool4> live(m);
-                for (int x = 0; x < w; x += kLanes) {
-                    const GuideCentre c(guide, y, x);
-                    const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
-                    const bool any = liveLanes(state, surface, y, x, pass, live);
-                    for (size_t e = 0; e < m; ++e) {
-                        centre[e] = vfloat4(state[e].signal.row(y) + x);
-                        inverseSpread[e] =
-                            vfloat4(1.0f) /
-                            (vfloat4(kSignalSigma) * sqrt(vfloat4(state[e].variance.row(y) + x)) +
-                             vfloat4(1e-4f));
-                    }
-                    std::fill(sum.begin(), sum.end(), vfloat4(0.0f));
-                    std::fill(weights.begin(), weights.end(), vfloat4(0.0f));
-                    std::fill(var.begin(), var.end(), vfloat4(0.0f));
-                    if (any) {
-                        // Taps in a fixed order: the same sums whatever the threads.
-                        for (int j = -kRadius; j <= kRadius; ++j) {
-                            const int qy = y + j * step;
-                            if (qy < 0 || qy >= h) continue;
-                            for (int i = -kRadius; i <= kRadius; ++i) {
-                                const int qx = x + i * step;
-                                const bool same = i == 0 && j == 0;
-                                const vfloat4 geometry =
-                                    same ? select(surface, vfloat4(1.0f), vfloat4(0.0f))
-                                         : geometryWeight(guide, c, qy, qx);
-                                if (none(geometry > vfloat4(0.0f))) continue;
-                                const vfloat4 kernel =
-                                    geometry * vfloat4(kKernel[i + kRadius] * kKernel[j + kRadius]);
-                                const Planes* lobeOf = nullptr;
-                                vfloat4 lobe(1.0f);
-                                for (size_t e = 0; e < m; ++e) {
-                                    if (none(live[e])) continue;
-                                    const EstimateState& s = state[e];
-                                    const vfloat4 difference =
-                                        abs(vfloat4(s.signal.row(qy) + qx) - centre[e]);
-                                    vfloat4 weight =
-                                        kernel *
-                                        expNegative4(vfloat4(0.0f) - difference * inverseSpread[e]);
-                                    if (s.width && !same) {
-                                        if (s.width != lobeOf) {
-                                            lobe = lobeWeight(s, y, x, qy, qx);
-                                            lobeOf = s.width;
-                                        }
-                                        weight = weight * lobe;
+        parallelRows(0, h, nthreads, [&](int64_t yy) {
+            const int y = int(yy);
+            std::vector<vfloat4> sum(2 * m), weights(m), var(m), inverseSpread(m), centre(m);
+            std::vector<vbool4> live(m);
+            for (int x = 0; x < w; x += kLanes) {
+                const GuideCentre c(guide, y, x);
+                const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
+                const bool any = liveLanes(state, surface, y, x, pass, live);
+                for (size_t e = 0; e < m; ++e) {
+                    centre[e] = vfloat4(state[e].signal.row(y) + x);
+                    inverseSpread[e] =
+                        vfloat4(1.0f) /
+                        (vfloat4(kSignalSigma) * sqrt(vfloat4(state[e].variance.row(y) + x)) +
+                         vfloat4(1e-4f));
+                }
+                std::fill(sum.begin(), sum.end(), vfloat4(0.0f));
+                std::fill(weights.begin(), weights.end(), vfloat4(0.0f));
+                std::fill(var.begin(), var.end(), vfloat4(0.0f));
+                if (any) {
+                    // Taps in a fixed order: the same sums whatever the threads.
+                    for (int j = -kRadius; j <= kRadius; ++j) {
+                        const int qy = y + j * step;
+                        if (qy < 0 || qy >= h) continue;
+                        for (int i = -kRadius; i <= kRadius; ++i) {
+                            const int qx = x + i * step;
+                            const bool same = i == 0 && j == 0;
+                            const vfloat4 geometry =
+                                same ? select(surface, vfloat4(1.0f), vfloat4(0.0f))
+                                     : geometryWeight(guide, c, qy, qx);
+                            if (none(geometry > vfloat4(0.0f))) continue;
+                            const vfloat4 kernel =
+                                geometry * vfloat4(kKernel[i + kRadius] * kKernel[j + kRadius]);
+                            const Planes* lobeOf = nullptr;
+                            vfloat4 lobe(1.0f);
+                            for (size_t e = 0; e < m; ++e) {
+                                if (none(live[e])) continue;
+                                const EstimateState& s = state[e];
+                                const vfloat4 difference =
+                                    abs(vfloat4(s.signal.row(qy) + qx) - centre[e]);
+                                vfloat4 weight =
+                                    kernel *
+                                    expNegative4(vfloat4(0.0f) - difference * inverseSpread[e]);
+                                if (s.width && !same) {
+                                    if (s.width != lobeOf) {
+                                        lobe = lobeWeight(s, y, x, qy, qx);
+                                        lobeOf = s.width;
                                     }
-                                    weights[e] += weight;
-                                    var[e] += weight * weight * vfloat4(s.variance.row(qy) + qx);
-                                    sum[2 * e] += weight * vfloat4(s.plane[0].row(qy) + qx);
-                                    sum[2 * e + 1] += weight * vfloat4(s.plane[1].row(qy) + qx);
+                                    weight = weight * lobe;
                                 }
+                                weights[e] += weight;
+                                var[e] += weight * weight * vfloat4(s.variance.row(qy) + qx);
+                                sum[2 * e] += weight * vfloat4(s.plane[0].row(qy) + qx);
+                                sum[2 * e + 1] += weight * vfloat4(s.plane[1].row(qy) + qx);
                             }
                         }
                     }
-                    // Pixels without a surface, or without the estimate, keep what they had.
-                    for (size_t e = 0; e < m; ++e) {
-                        const EstimateState& s = state[e];
-                        EstimateState& o = next[e];
-                        const vbool4 on = live[e];
-                        const vfloat4 safe = select(on, weights[e], vfloat4(1.0f));
-                        const vfloat4 a =
-                            select(on, sum[2 * e] / safe, vfloat4(s.plane[0].row(y) + x));
-                        const vfloat4 b =
-                            select(on, sum[2 * e + 1] / safe, vfloat4(s.plane[1].row(y) + x));
-                        a.store(o.plane[0].row(y) + x);
-                        b.store(o.plane[1].row(y) + x);
-                        select(on, var[e] / (safe * safe), vfloat4(s.variance.row(y) + x))
-                            .store(o.variance.row(y) + x);
-                        for (int l = 0; l < kLanes; ++l)
-                            o.signal.row(y)[x + l] =
-                                signalOf(o.plane[0].row(y)[x + l], o.plane[1].row(y)[x + l],
-                                         estimates[e].count);
-                    }
                 }
-            },
-            perItem(nthreads));
+                // Pixels without a surface, or without the estimate, keep what they had.
+                for (size_t e = 0; e < m; ++e) {
+                    const EstimateState& s = state[e];
+                    EstimateState& o = next[e];
+                    const vbool4 on = live[e];
+                    const vfloat4 safe = select(on, weights[e], vfloat4(1.0f));
+                    const vfloat4 a = select(on, sum[2 * e] / safe, vfloat4(s.plane[0].row(y) + x));
+                    const vfloat4 b =
+                        select(on, sum[2 * e + 1] / safe, vfloat4(s.plane[1].row(y) + x));
+                    a.store(o.plane[0].row(y) + x);
+                    b.store(o.plane[1].row(y) + x);
+                    select(on, var[e] / (safe * safe), vfloat4(s.variance.row(y) + x))
+                        .store(o.variance.row(y) + x);
+                    for (int l = 0; l < kLanes; ++l)
+                        o.signal.row(y)[x + l] = signalOf(
+                            o.plane[0].row(y)[x + l], o.plane[1].row(y)[x + l], estimates[e].count);
+                }
+            }
+        });
         state.swap(next);
     }
     for (size_t e = 0; e < m; ++e)

@@ -59,66 +59,60 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     // Where the bounce and the specular estimates exist: the filter skips the other pixels.
     std::vector<unsigned char> catcherPixels(bouncing ? n : 0), specularPixels(specular ? n : 0);
     std::atomic<long long> shadowCount{0}, aoCount{0}, bounceCount{0}, specularCount{0};
-    OIIO::parallel_for(
-        held.ybegin, held.yend,
-        [&](int64_t yy) {
-            const int y = int(yy);
-            long long shadowLocal = 0, aoLocal = 0, bounceLocal = 0, specularLocal = 0;
-            for (int x = held.xbegin; x < held.xend; ++x) {
-                if (view.samples(x, y) == 0) continue;
-                const size_t p = index(x, y);
-                const ShadingPoint sp = view.at(x, y);
-                guide.surface[p] = 1;
-                guide.position[p] = sp.P;
-                guide.normal[p] = sp.N;
-                guide.object[p] =
-                    layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
-                // The seeds of a flat pixel's shading (lighting.cpp, deep sample 0).
-                const LitPoint point{sp.surface, sp.P, sp.N, sp.V, sp.origin};
-                const bool traceSpecular =
-                    specular && SpecularIndirect::traced(point, traced.probes);
-                const SpecularLobe lobe{sp.V, sp.surface.alpha(),
-                                        traceSpecular ? 0.0f : kOccluderAlbedo};
-                mirror[p] = glm::reflect(-sp.V, sp.N);
-                lobeWidth[p] = std::max(2.0f * lobe.alpha, 0.02f);
-                // With probes, a rough lobe's point takes nothing from environments (their
-                // diffuse and its specular light come through the probes): no rays.
-                const bool lit = !(traced.probes && sp.surface.roughness >= kProbeGlossyRoughness);
-                for (size_t j = 0; j < filtered.size() && lit; ++j) {
-                    const EnvironmentVisibilitySums v = environmentVisibilitySums(
-                        lights[filtered[j]], sp.origin, sp.N, &lobe,
-                        sampleSeed(x, y, filtered[j], streamOf(SampleStream::Shadow)),
-                        params.environmentSamples, *shadowRays, &shadowLocal);
-                    m_diffuse[j][p] = float(v.diffuse.seen);
-                    m_diffuse[j][n + p] = float(v.diffuse.total);
-                    m_specularRatio[j][p] = float(v.specular.seen);
-                    m_specularRatio[j][n + p] = float(v.specular.total);
-                }
-                if (ao)
-                    m_ao[p] = rayTracedOcclusion(
-                        sp.origin, sp.N,
-                        sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion)),
-                        params.aoSamples, params.aoDistance, *aoRays, &aoLocal);
-                if (bouncing && guide.object[p] == traced.catcher)
-                    m_bounce[p] = luminance(
-                        diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
-                        traced.bounce->irradianceAt(sp.origin, sp.N, x, y, 0,
-                                                    params.catcherBounceSamples, &bounceLocal));
-                if (bouncing) catcherPixels[p] = guide.object[p] == traced.catcher;
-                if (traceSpecular) {
-                    specularPixels[p] = 1;
-                    const glm::vec3 L = traced.specular->radiance(
-                        point, x, y, 0, params.specularSamples, &specularLocal);
-                    for (int c = 0; c < 3; ++c)
-                        m_specular[c][p] = L[c];
-                }
+    parallelRows(held.ybegin, held.yend, nthreads, [&](int64_t yy) {
+        const int y = int(yy);
+        long long shadowLocal = 0, aoLocal = 0, bounceLocal = 0, specularLocal = 0;
+        for (int x = held.xbegin; x < held.xend; ++x) {
+            if (view.samples(x, y) == 0) continue;
+            const size_t p = index(x, y);
+            const ShadingPoint sp = view.at(x, y);
+            guide.surface[p] = 1;
+            guide.position[p] = sp.P;
+            guide.normal[p] = sp.N;
+            guide.object[p] = layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
+            // The seeds of a flat pixel's shading (lighting.cpp, deep sample 0).
+            const LitPoint point{sp.surface, sp.P, sp.N, sp.V, sp.origin};
+            const bool traceSpecular = specular && SpecularIndirect::traced(point, traced.probes);
+            const SpecularLobe lobe{sp.V, sp.surface.alpha(),
+                                    traceSpecular ? 0.0f : kOccluderAlbedo};
+            mirror[p] = glm::reflect(-sp.V, sp.N);
+            lobeWidth[p] = std::max(2.0f * lobe.alpha, 0.02f);
+            // With probes, a rough lobe's point takes nothing from environments (their
+            // diffuse and its specular light come through the probes): no rays.
+            const bool lit = !(traced.probes && sp.surface.roughness >= kProbeGlossyRoughness);
+            for (size_t j = 0; j < filtered.size() && lit; ++j) {
+                const EnvironmentVisibilitySums v = environmentVisibilitySums(
+                    lights[filtered[j]], sp.origin, sp.N, &lobe,
+                    sampleSeed(x, y, filtered[j], streamOf(SampleStream::Shadow)),
+                    params.environmentSamples, *shadowRays, &shadowLocal);
+                m_diffuse[j][p] = float(v.diffuse.seen);
+                m_diffuse[j][n + p] = float(v.diffuse.total);
+                m_specularRatio[j][p] = float(v.specular.seen);
+                m_specularRatio[j][n + p] = float(v.specular.total);
             }
-            shadowCount += shadowLocal;
-            aoCount += aoLocal;
-            bounceCount += bounceLocal;
-            specularCount += specularLocal;
-        },
-        perItem(nthreads));
+            if (ao)
+                m_ao[p] = rayTracedOcclusion(
+                    sp.origin, sp.N, sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion)),
+                    params.aoSamples, params.aoDistance, *aoRays, &aoLocal);
+            if (bouncing && guide.object[p] == traced.catcher)
+                m_bounce[p] = luminance(
+                    diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
+                    traced.bounce->irradianceAt(sp.origin, sp.N, x, y, 0,
+                                                params.catcherBounceSamples, &bounceLocal));
+            if (bouncing) catcherPixels[p] = guide.object[p] == traced.catcher;
+            if (traceSpecular) {
+                specularPixels[p] = 1;
+                const glm::vec3 L = traced.specular->radiance(
+                    point, x, y, 0, params.specularSamples, &specularLocal);
+                for (int c = 0; c < 3; ++c)
+                    m_specular[c][p] = L[c];
+            }
+        }
+        shadowCount += shadowLocal;
+        aoCount += aoLocal;
+        bounceCount += bounceLocal;
+        specularCount += specularLocal;
+    });
     shadowRayCount = shadowCount;
     aoRayCount = aoCount;
     bounceRayCount = bounceCount;

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <dhdr/common/parallel.h>
 #include <dhdr/deferred/ambient_occlusion.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/ibl.h>
@@ -418,7 +419,10 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     };
     LightingStats total;
     std::mutex totalMutex;
-    OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
+    parallelBands(roi.ybegin, roi.yend, nthreads, [&](int64_t ybegin, int64_t yend) {
+        OIIO::ROI r = roi;
+        r.ybegin = int(ybegin);
+        r.yend = int(yend);
         LightingStats local;
         for (int y = r.ybegin; y < r.yend; ++y)
             for (int x = r.xbegin; x < r.xend; ++x) {
