@@ -1063,6 +1063,59 @@ TEST(ShadowCatcher, BounceLightOfASmallGlowingBoxIsLambertsPolygonFormula) {
     EXPECT_LT(rays, (long long)points * n / 3);
 }
 
+// The directions BounceLighting does not trace (outside the spheres round its meshes) must be
+// only directions that miss: its estimate against every one of the same rays traced, the
+// same bits. Three glowing boxes apart over a floor, lit by a point light, at points between
+// and under them (inside a box's sphere nothing is culled), on a grazing floor normal too.
+TEST(ShadowCatcher, BounceLightCullsOnlyRaysThatMiss) {
+    Scene scene = emptyScene();
+    Material glow = scene.materials[0];
+    glow.name = "glow";
+    glow.emission = glm::vec3(0.3f, 0.5f, 0.7f);
+    scene.materials.push_back(glow);
+    addBox(scene, {-1.2f, 0.2f, -0.2f}, {-0.8f, 0.6f, 0.2f}, 1);
+    addBox(scene, {0.1f, 0.05f, 0.9f}, {0.3f, 1.5f, 1.1f}, 0);
+    addBox(scene, {1.0f, 0.4f, -1.3f}, {1.6f, 0.5f, -0.7f}, 1);
+    const RayCaster caster(scene);
+    std::vector<Light> lights(1);
+    lights[0].type = LightType::Point;
+    lights[0].position = glm::vec3(0.0f, 3.0f, 0.0f);
+    lights[0].intensity = 20.0f;
+    const DirectLighting direct(lights, DirectLightingOptions{&caster});
+    const HitShading hits(caster, direct, nullptr, true, kHitMinRoughness, DiffuseModel::Lambert);
+    const BounceLighting bounce(hits);
+    const int n = 64;
+    long long culled = 0, all = 0;
+    int lit = 0;
+    for (float z = -2.0f; z <= 2.0f; z += 0.2f)
+        for (float x = -2.0f; x <= 2.0f; x += 0.2f) {
+            const glm::vec3 P(x, 0.0f, z);
+            const glm::vec3 N = glm::normalize(glm::vec3(x > 0.0f ? 0.9f : 0.0f, 1.0f, 0.0f));
+            const SurfacePoint at{P, glm::vec3(0.0f, 1.0f, 0.0f), 1e-6f};
+            const std::uint64_t directions = sampleSeed(int(x * 5), int(z * 5), -2);
+            const glm::vec3 fast = bounce.irradiance(at, N, directions, 7, n, &culled);
+            glm::vec3 t, b;
+            orthonormalBasis(N, t, b);
+            const RotatedHammersley sequence(directions);
+            glm::dvec3 sum(0.0);
+            for (int i = 0; i < n; ++i) {
+                const glm::vec3 h = cosineHemisphere(sequence(std::uint32_t(i), std::uint32_t(n)));
+                const glm::vec3 wi = glm::normalize(h.x * t + h.y * b + h.z * N);
+                if (!(glm::dot(at.Ng, wi) > 0.0f)) continue;
+                sum += glm::dvec3(hits.trace({glm::dvec3(offsetRayOrigin(at, wi)), glm::dvec3(wi)},
+                                             SeedKey{7, i, streamOf(SampleStream::BounceShadow)},
+                                             &all));
+            }
+            const glm::vec3 reference(sum * (3.14159265358979323846 / double(n)));
+            for (int c = 0; c < 3; ++c)
+                EXPECT_EQ(fast[c], reference[c]) << x << "," << z << " channel " << c;
+            lit += reference.g > 0.0f;
+        }
+    std::printf("bounce light: %lld of %lld rays traced, %d points lit\n", culled, all, lit);
+    EXPECT_GT(lit, 100);
+    EXPECT_LT(culled, all / 2);
+}
+
 namespace {
 
 // A dim uniform sky of `sky` nits and a sun of 2×2 texels around `sun` holding about as much

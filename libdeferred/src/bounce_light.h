@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/sampling.h>
+#include <vector>
 
 namespace dhdr {
 
@@ -20,7 +21,7 @@ public:
     // The irradiance at `at` (unit shading normal N) of the light leaving the surfaces that
     // `samples` cosine-weighted rays hit: E = ∫ L(x(ω)) cos θ dω ≈ π/n Σ L(x(ω_i)) (misses
     // add nothing: lights and the environment are the point's direct light; a direction that
-    // misses the sphere round the scene's triangles is such a miss, and is not traced). The
+    // misses the spheres round the scene's meshes is such a miss, and is not traced). The
     // directions follow `directions` (a rotated Hammersley set); hit i's shadow rays draw
     // SeedKey{hits, i, BounceShadow}. `rays` (optional) counts every ray traced.
     glm::vec3 irradiance(const SurfacePoint& at, const glm::vec3& N, std::uint64_t directions,
@@ -35,10 +36,15 @@ public:
     }
 
 private:
+    struct Sphere {
+        glm::dvec3 centre{0.0};
+        double radius = 0.0;
+    };
     const HitShading& m_hits;
     bool m_empty = true; // no triangle: every ray misses
-    glm::dvec3 m_centre{0.0};
-    double m_radius = 0.0; // of a sphere that holds the triangles' bounds
+    // Spheres that hold the triangles: one per mesh when the meshes are few (a direction
+    // between the objects of a scene is culled too), else one round the whole scene.
+    std::vector<Sphere> m_spheres;
 };
 
 } // namespace dhdr
