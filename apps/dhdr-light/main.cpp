@@ -456,9 +456,16 @@ int run(int argc, char** argv) {
             params.denoise &&
             (params.environmentSamples > 0 || params.aoSamples > 0 ||
              (withScene && (params.catcherBounceSamples > 0 || params.specularSamples > 0)));
-        const int rows = aoMode == "ssao"
-                             ? gspec.height
-                             : params.tileSize * std::max(1, (halo ? 512 : 128) / params.tileSize);
+        // About 512 rows (128 without a halo), as equal as whole rows of tiles allow: a last
+        // strip of a few rows would cost two halos for little (1080 rows: 2 strips of 544
+        // rather than 512, 512 and 56).
+        const int target = halo ? 512 : 128;
+        const int count = std::max(1, (gspec.height + target * 9 / 8 - 1) / (target * 9 / 8));
+        const int each = (gspec.height + count - 1) / count;
+        const int rows =
+            aoMode == "ssao"
+                ? gspec.height
+                : params.tileSize * std::max(1, (each + params.tileSize - 1) / params.tileSize);
         std::string lightFiles;
         for (size_t i = 1; i < in.size(); ++i)
             lightFiles += (i > 1 ? ", " : "") + in[i];
