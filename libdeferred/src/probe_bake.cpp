@@ -4,6 +4,7 @@
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
 #include <cmath>
+#include <dhdr/common/parallel.h>
 #include <dhdr/deferred/octahedral.h>
 #include <dhdr/deferred/probes.h>
 #include <dhdr/deferred/ray_caster.h>
@@ -135,23 +136,20 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     std::stable_sort(moves.begin(), moves.end(), [](const glm::dvec3& a, const glm::dvec3& b) {
         return glm::dot(a, a) < glm::dot(b, b);
     });
-    OIIO::parallel_for(
-        0, n,
-        [&](int64_t p) {
-            const glm::ivec3 g(int(p % v.counts.x), int(p / v.counts.x % v.counts.y),
-                               int(p / (v.counts.x * v.counts.y)));
-            const glm::dvec3 home = v.gridPoint(g);
-            v.positions[size_t(p)] = glm::vec3(home);
-            if (freeSpace(caster, home, nearest, params.backfaceLimit, scene)) return;
-            v.states[size_t(p)] = ProbeState::Off;
-            for (const glm::dvec3& m : moves)
-                if (freeSpace(caster, home + m, nearest, params.backfaceLimit, scene)) {
-                    v.positions[size_t(p)] = glm::vec3(home + m);
-                    v.states[size_t(p)] = ProbeState::Relocated;
-                    return;
-                }
-        },
-        OIIO::paropt(nthreads));
+    parallelRows(0, n, nthreads, [&](int64_t p) {
+        const glm::ivec3 g(int(p % v.counts.x), int(p / v.counts.x % v.counts.y),
+                           int(p / (v.counts.x * v.counts.y)));
+        const glm::dvec3 home = v.gridPoint(g);
+        v.positions[size_t(p)] = glm::vec3(home);
+        if (freeSpace(caster, home, nearest, params.backfaceLimit, scene)) return;
+        v.states[size_t(p)] = ProbeState::Off;
+        for (const glm::dvec3& m : moves)
+            if (freeSpace(caster, home + m, nearest, params.backfaceLimit, scene)) {
+                v.positions[size_t(p)] = glm::vec3(home + m);
+                v.states[size_t(p)] = ProbeState::Relocated;
+                return;
+            }
+    });
 
     // Each probe's rays, traced once: what they hit, and the light there that no bounce
     // changes (direct light with shadows, and emission no light stands for).
@@ -163,16 +161,13 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     std::vector<ProbeRay> results(size_t(n) * size_t(R));
     std::vector<std::vector<GlossyContinuation>> glossy(static_cast<size_t>(n));
     const ProbeRayTracer tracer(scene, caster, lights, params, emissiveAreLights);
-    OIIO::parallel_for(
-        0, n,
-        [&](int64_t p) {
-            if (v.states[size_t(p)] == ProbeState::Off) return;
-            for (int i = 0; i < R; ++i)
-                results[size_t(p) * size_t(R) + size_t(i)] =
-                    tracer.trace(v.positions[size_t(p)], directions[size_t(i)], {p, i, R},
-                                 maxDistance, glossy[size_t(p)]);
-        },
-        OIIO::paropt(nthreads));
+    parallelRows(0, n, nthreads, [&](int64_t p) {
+        if (v.states[size_t(p)] == ProbeState::Off) return;
+        for (int i = 0; i < R; ++i)
+            results[size_t(p) * size_t(R) + size_t(i)] =
+                tracer.trace(v.positions[size_t(p)], directions[size_t(i)], {p, i, R}, maxDistance,
+                             glossy[size_t(p)]);
+    });
     if (params.progress) params.progress(0.5f);
 
     // Bounces: each round's rays carry the fixed light plus the last round's irradiance at
@@ -189,67 +184,58 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     v.diffuse = params.diffuse;
     for (int bounce = 0; bounce < rounds; ++bounce) {
         const ProbeVolume previous = v; // the last round's irradiance (zero at first)
-        OIIO::parallel_for(
-            0, n,
-            [&](int64_t p) {
-                for (int i = 0; i < R; ++i)
-                    radiance[size_t(p) * size_t(R) + size_t(i)] =
-                        results[size_t(p) * size_t(R) + size_t(i)].radiance(
-                            glossy[size_t(p)], bounce > 0 ? &previous : nullptr,
-                            directions[size_t(i)]);
-            },
-            OIIO::paropt(nthreads));
-        OIIO::parallel_for(
-            0, n,
-            [&](int64_t p) {
-                glm::vec3* irr = &v.irradiance[size_t(p) * size_t(wi * wi)];
-                glm::vec2* dist = &v.distance[size_t(p) * size_t(wd * wd)];
-                const ProbeRay* rr = &results[size_t(p) * size_t(R)];
-                const glm::vec3* L = &radiance[size_t(p) * size_t(R)];
-                if (v.states[size_t(p)] == ProbeState::Off) return;
-                // E(n) = π Σ L cos⁺ / Σ cos⁺: the cosine-weighted mean radiance times π, exact for
-                // a uniform surround (DDGI's normalisation); sums in double in ray order.
-                const int ni = ProbeVolume::kIrradianceTexels;
-                for (int y = 0; y < ni; ++y)
-                    for (int x = 0; x < ni; ++x) {
-                        const glm::vec3 t = texelDirection(x, y, ni);
-                        glm::dvec3 sum(0.0);
-                        double weight = 0.0;
-                        for (int i = 0; i < R; ++i) {
-                            const double c =
-                                std::max(0.0, double(glm::dot(t, directions[size_t(i)])));
-                            sum += glm::dvec3(L[i]) * c;
-                            weight += c;
-                        }
-                        irr[(y + 1) * wi + x + 1] =
-                            weight > 0.0 ? glm::vec3(kPiD * sum / weight) : glm::vec3(0.0f);
+        parallelRows(0, n, nthreads, [&](int64_t p) {
+            for (int i = 0; i < R; ++i)
+                radiance[size_t(p) * size_t(R) + size_t(i)] =
+                    results[size_t(p) * size_t(R) + size_t(i)].radiance(
+                        glossy[size_t(p)], bounce > 0 ? &previous : nullptr, directions[size_t(i)]);
+        });
+        parallelRows(0, n, nthreads, [&](int64_t p) {
+            glm::vec3* irr = &v.irradiance[size_t(p) * size_t(wi * wi)];
+            glm::vec2* dist = &v.distance[size_t(p) * size_t(wd * wd)];
+            const ProbeRay* rr = &results[size_t(p) * size_t(R)];
+            const glm::vec3* L = &radiance[size_t(p) * size_t(R)];
+            if (v.states[size_t(p)] == ProbeState::Off) return;
+            // E(n) = π Σ L cos⁺ / Σ cos⁺: the cosine-weighted mean radiance times π, exact for
+            // a uniform surround (DDGI's normalisation); sums in double in ray order.
+            const int ni = ProbeVolume::kIrradianceTexels;
+            for (int y = 0; y < ni; ++y)
+                for (int x = 0; x < ni; ++x) {
+                    const glm::vec3 t = texelDirection(x, y, ni);
+                    glm::dvec3 sum(0.0);
+                    double weight = 0.0;
+                    for (int i = 0; i < R; ++i) {
+                        const double c = std::max(0.0, double(glm::dot(t, directions[size_t(i)])));
+                        sum += glm::dvec3(L[i]) * c;
+                        weight += c;
                     }
-                fillBorders(irr, ni);
-                if (bounce > 0) return; // distances do not change between bounces
-                // Mean distance and mean squared distance under a sharp cosine lobe: the mean of
-                // squares, not the square of the mean (the variance is their difference).
-                const int nd = ProbeVolume::kDistanceTexels;
-                for (int y = 0; y < nd; ++y)
-                    for (int x = 0; x < nd; ++x) {
-                        const glm::vec3 t = texelDirection(x, y, nd);
-                        double sum = 0.0, sum2 = 0.0, weight = 0.0;
-                        for (int i = 0; i < R; ++i) {
-                            const double c =
-                                std::max(0.0, double(glm::dot(t, directions[size_t(i)])));
-                            if (c <= 0.0) continue;
-                            const double w = std::pow(c, kProbeDistanceSharpness);
-                            const double d = rr[i].distance;
-                            sum += w * d;
-                            sum2 += w * d * d;
-                            weight += w;
-                        }
-                        dist[(y + 1) * wd + x + 1] =
-                            weight > 0.0 ? glm::vec2(float(sum / weight), float(sum2 / weight))
-                                         : glm::vec2(maxDistance, maxDistance * maxDistance);
+                    irr[(y + 1) * wi + x + 1] =
+                        weight > 0.0 ? glm::vec3(kPiD * sum / weight) : glm::vec3(0.0f);
+                }
+            fillBorders(irr, ni);
+            if (bounce > 0) return; // distances do not change between bounces
+            // Mean distance and mean squared distance under a sharp cosine lobe: the mean of
+            // squares, not the square of the mean (the variance is their difference).
+            const int nd = ProbeVolume::kDistanceTexels;
+            for (int y = 0; y < nd; ++y)
+                for (int x = 0; x < nd; ++x) {
+                    const glm::vec3 t = texelDirection(x, y, nd);
+                    double sum = 0.0, sum2 = 0.0, weight = 0.0;
+                    for (int i = 0; i < R; ++i) {
+                        const double c = std::max(0.0, double(glm::dot(t, directions[size_t(i)])));
+                        if (c <= 0.0) continue;
+                        const double w = std::pow(c, kProbeDistanceSharpness);
+                        const double d = rr[i].distance;
+                        sum += w * d;
+                        sum2 += w * d * d;
+                        weight += w;
                     }
-                fillBorders(dist, nd);
-            },
-            OIIO::paropt(nthreads));
+                    dist[(y + 1) * wd + x + 1] =
+                        weight > 0.0 ? glm::vec2(float(sum / weight), float(sum2 / weight))
+                                     : glm::vec2(maxDistance, maxDistance * maxDistance);
+                }
+            fillBorders(dist, nd);
+        });
         v.bounces = bounce + 1;
         // The whole field's irradiance, summed in double in probe and texel order.
         double total = 0.0;
