@@ -1,6 +1,7 @@
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
 #include <cmath>
+#include <dhdr/common/parallel.h>
 #include <dhdr/deferred/ambient_occlusion.h>
 #include <dhdr/deferred/sampling.h>
 #include <dhdr/deferred/shading_point.h>
@@ -88,46 +89,44 @@ bool screenSpaceAO(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const SsaoPa
 
     std::vector<float> raw(size_t(W) * size_t(H), 1.0f);
     std::vector<unsigned char> covered(raw.size(), 0);
-    OIIO::ImageBufAlgo::parallel_image(
-        OIIO::ROI(0, W, 0, H), OIIO::paropt(nthreads), [&](OIIO::ROI r) {
-            for (int y = r.ybegin; y < r.yend; ++y)
-                for (int x = r.xbegin; x < r.xend; ++x) {
-                    const float* g = at(x, y);
-                    if (!(g[layout.coverage] > 0.0f)) continue;
-                    covered[size_t(y) * size_t(W) + size_t(x)] = 1;
-                    const glm::vec3 P(g[layout.position], g[layout.position + 1],
-                                      g[layout.position + 2]);
-                    const glm::vec3 N = glm::normalize(
-                        glm::vec3(g[layout.normal], g[layout.normal + 1], g[layout.normal + 2]));
-                    // The 4 × 4 block's rotation: 16 angles spread evenly, in a fixed shuffle.
-                    static constexpr int kOrder[16] = {0, 8,  2, 10, 12, 4, 14, 6,
-                                                       3, 11, 1, 9,  15, 7, 13, 5};
-                    const float angle = 2.0f * kPi * float(kOrder[(y & 3) * 4 + (x & 3)]) / 16.0f;
-                    glm::vec3 t, b;
-                    orthonormalBasis(N, t, b);
-                    const float c = std::cos(angle), s = std::sin(angle);
-                    const glm::vec3 tr = c * t + s * b, br = -s * t + c * b;
-                    const float depthP = depthOf(P);
-                    float occlusion = 0.0f;
-                    for (const glm::vec3& k : kernel) {
-                        const glm::vec3 S = P + (tr * k.x + br * k.y + N * k.z) * params.radius;
-                        const glm::dvec4 clip = toNDC * glm::dvec4(glm::dvec3(S), 1.0);
-                        if (!(clip.w > 0.0)) continue;
-                        const int sx = int(std::floor((clip.x / clip.w + 1.0) * 0.5 * W));
-                        const int sy = int(std::floor((1.0 - clip.y / clip.w) * 0.5 * H));
-                        if (sx < 0 || sy < 0 || sx >= W || sy >= H) continue;
-                        const float* q = at(sx, sy);
-                        if (!(q[layout.coverage] > 0.0f)) continue;
-                        const float surface = depthOf(glm::vec3(
-                            q[layout.position], q[layout.position + 1], q[layout.position + 2]));
-                        if (surface <= depthOf(S) - params.bias)
-                            occlusion += smoothstep01(params.radius /
-                                                      std::max(std::abs(depthP - surface), 1e-20f));
-                    }
-                    raw[size_t(y) * size_t(W) + size_t(x)] =
-                        1.0f - occlusion / float(params.samples);
+    parallelImageRows(OIIO::ROI(0, W, 0, H), nthreads, [&](OIIO::ROI r) {
+        for (int y = r.ybegin; y < r.yend; ++y)
+            for (int x = r.xbegin; x < r.xend; ++x) {
+                const float* g = at(x, y);
+                if (!(g[layout.coverage] > 0.0f)) continue;
+                covered[size_t(y) * size_t(W) + size_t(x)] = 1;
+                const glm::vec3 P(g[layout.position], g[layout.position + 1],
+                                  g[layout.position + 2]);
+                const glm::vec3 N = glm::normalize(
+                    glm::vec3(g[layout.normal], g[layout.normal + 1], g[layout.normal + 2]));
+                // The 4 × 4 block's rotation: 16 angles spread evenly, in a fixed shuffle.
+                static constexpr int kOrder[16] = {0, 8,  2, 10, 12, 4, 14, 6,
+                                                   3, 11, 1, 9,  15, 7, 13, 5};
+                const float angle = 2.0f * kPi * float(kOrder[(y & 3) * 4 + (x & 3)]) / 16.0f;
+                glm::vec3 t, b;
+                orthonormalBasis(N, t, b);
+                const float c = std::cos(angle), s = std::sin(angle);
+                const glm::vec3 tr = c * t + s * b, br = -s * t + c * b;
+                const float depthP = depthOf(P);
+                float occlusion = 0.0f;
+                for (const glm::vec3& k : kernel) {
+                    const glm::vec3 S = P + (tr * k.x + br * k.y + N * k.z) * params.radius;
+                    const glm::dvec4 clip = toNDC * glm::dvec4(glm::dvec3(S), 1.0);
+                    if (!(clip.w > 0.0)) continue;
+                    const int sx = int(std::floor((clip.x / clip.w + 1.0) * 0.5 * W));
+                    const int sy = int(std::floor((1.0 - clip.y / clip.w) * 0.5 * H));
+                    if (sx < 0 || sy < 0 || sx >= W || sy >= H) continue;
+                    const float* q = at(sx, sy);
+                    if (!(q[layout.coverage] > 0.0f)) continue;
+                    const float surface = depthOf(glm::vec3(
+                        q[layout.position], q[layout.position + 1], q[layout.position + 2]));
+                    if (surface <= depthOf(S) - params.bias)
+                        occlusion += smoothstep01(params.radius /
+                                                  std::max(std::abs(depthP - surface), 1e-20f));
                 }
-        });
+                raw[size_t(y) * size_t(W) + size_t(x)] = 1.0f - occlusion / float(params.samples);
+            }
+    });
 
     OIIO::ImageSpec spec(W, H, 1, OIIO::TypeDesc::FLOAT);
     spec.x = in.x;
@@ -141,29 +140,28 @@ bool screenSpaceAO(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const SsaoPa
     float* out = static_cast<float*>(dst.localpixels());
     // The 4 × 4 box blur of the seed (offsets −2…1), over covered pixels only, undoes the
     // block's rotation pattern.
-    OIIO::ImageBufAlgo::parallel_image(
-        OIIO::ROI(0, W, 0, H), OIIO::paropt(nthreads), [&](OIIO::ROI r) {
-            for (int y = r.ybegin; y < r.yend; ++y)
-                for (int x = r.xbegin; x < r.xend; ++x) {
-                    const size_t i = size_t(y) * size_t(W) + size_t(x);
-                    if (!covered[i]) {
-                        out[i] = 1.0f;
-                        continue;
-                    }
-                    float sum = 0.0f;
-                    int n = 0;
-                    for (int dy = -2; dy < 2; ++dy)
-                        for (int dx = -2; dx < 2; ++dx) {
-                            const int u = x + dx, v = y + dy;
-                            if (u < 0 || v < 0 || u >= W || v >= H) continue;
-                            const size_t j = size_t(v) * size_t(W) + size_t(u);
-                            if (!covered[j]) continue;
-                            sum += raw[j];
-                            ++n;
-                        }
-                    out[i] = std::clamp(sum / float(n), 0.0f, 1.0f);
+    parallelImageRows(OIIO::ROI(0, W, 0, H), nthreads, [&](OIIO::ROI r) {
+        for (int y = r.ybegin; y < r.yend; ++y)
+            for (int x = r.xbegin; x < r.xend; ++x) {
+                const size_t i = size_t(y) * size_t(W) + size_t(x);
+                if (!covered[i]) {
+                    out[i] = 1.0f;
+                    continue;
                 }
-        });
+                float sum = 0.0f;
+                int n = 0;
+                for (int dy = -2; dy < 2; ++dy)
+                    for (int dx = -2; dx < 2; ++dx) {
+                        const int u = x + dx, v = y + dy;
+                        if (u < 0 || v < 0 || u >= W || v >= H) continue;
+                        const size_t j = size_t(v) * size_t(W) + size_t(u);
+                        if (!covered[j]) continue;
+                        sum += raw[j];
+                        ++n;
+                    }
+                out[i] = std::clamp(sum / float(n), 0.0f, 1.0f);
+            }
+    });
     return true;
 }
 

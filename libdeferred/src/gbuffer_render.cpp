@@ -3,6 +3,7 @@
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <atomic>
 #include <cmath>
+#include <dhdr/common/parallel.h>
 #include <dhdr/deferred/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/gbuffer_render.h>
@@ -220,7 +221,7 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
     if (m_params.motion)
         motion.emplace(m_scene, *m_params.motion, m_camera, m_params.width, m_params.height);
     std::atomic<int> rowsDone{0};
-    OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
+    parallelImageRows(roi, nthreads, [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y) {
             for (int x = r.xbegin; x < r.xend; ++x) {
                 float* px = static_cast<float*>(dst.pixeladdr(x, y));
@@ -271,7 +272,7 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
     std::vector<std::vector<float>> values(size_t(roi.height()));
     std::atomic<long long> transparent{0};
     std::atomic<int> rowsDone{0};
-    OIIO::ImageBufAlgo::parallel_image(roi, OIIO::paropt(nthreads), [&](OIIO::ROI r) {
+    parallelImageRows(roi, nthreads, [&](OIIO::ROI r) {
         std::vector<Layer> layers(size_t(m_params.maxLayers));
         long long local = 0;
         for (int y = r.ybegin; y < r.yend; ++y) {

@@ -419,10 +419,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     };
     LightingStats total;
     std::mutex totalMutex;
-    parallelBands(roi.ybegin, roi.yend, nthreads, [&](int64_t ybegin, int64_t yend) {
-        OIIO::ROI r = roi;
-        r.ybegin = int(ybegin);
-        r.yend = int(yend);
+    parallelImageRows(roi, nthreads, [&](OIIO::ROI r) {
         LightingStats local;
         for (int y = r.ybegin; y < r.yend; ++y)
             for (int x = r.xbegin; x < r.xend; ++x) {

@@ -2,6 +2,7 @@
 // loops over rows of very different cost.
 #pragma once
 
+#include <OpenImageIO/imageio.h>
 #include <OpenImageIO/parallel.h>
 #include <algorithm>
 #include <cstdint>
@@ -33,6 +34,18 @@ void parallelRows(int64_t begin, int64_t end, int nthreads, Row&& row) {
     parallelBands(begin, end, nthreads, [&](int64_t b, int64_t e) {
         for (int64_t y = b; y < e; ++y)
             row(y);
+    });
+}
+
+// parallelBands over the rows of `roi`, each band as an ROI of whole rows (for the
+// ImageBufAlgo-style loops that parallel_image ran).
+template <class Region>
+void parallelImageRows(const OIIO::ROI& roi, int nthreads, Region&& region) {
+    parallelBands(roi.ybegin, roi.yend, nthreads, [&](int64_t ybegin, int64_t yend) {
+        OIIO::ROI band = roi;
+        band.ybegin = int(ybegin);
+        band.yend = int(yend);
+        region(band);
     });
 }
 
