@@ -10,7 +10,7 @@ scene="$here/testdata/cornell_box.gltf"
 mkdir -p "$out"
 
 step() { echo "== $*"; "$@"; }
-step "$tools/dhdr-probes" "$scene" --spacing 0.1 -o "$out/cornell.probes.exr" -v
+step "$tools/dhdr-probes" "$scene" -o "$out/cornell.probes.exr" -v
 step "$tools/dhdr-gbuffer" "$scene" --size 640x640 -o "$out/gi.gbuf.exr" -v
 for gi in off on; do
   probes=()

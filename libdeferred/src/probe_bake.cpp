@@ -176,6 +176,25 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     v.irradiance.assign(size_t(n) * size_t(wi * wi), glm::vec3(0.0f));
     v.distance.assign(size_t(n) * size_t(wd * wd), glm::vec2(0.0f));
     std::vector<glm::vec3> radiance(results.size());
+    // The irradiance texels' cosine weights max(0, t·ωᵢ), the same for every probe and bounce:
+    // per texel, the rays in its hemisphere in ray order, and the weights' sum.
+    const int ni = ProbeVolume::kIrradianceTexels;
+    struct TexelRay {
+        int ray;
+        double cosine;
+    };
+    std::vector<TexelRay> texelRays;
+    std::vector<size_t> texelStart(size_t(ni * ni) + 1, 0);
+    std::vector<double> texelWeight(size_t(ni * ni), 0.0);
+    for (int k = 0; k < ni * ni; ++k) {
+        const glm::vec3 t = texelDirection(k % ni, k / ni, ni);
+        for (int i = 0; i < R; ++i) {
+            const double c = std::max(0.0, double(glm::dot(t, directions[size_t(i)])));
+            texelWeight[size_t(k)] += c;
+            if (c > 0.0) texelRays.push_back({i, c});
+        }
+        texelStart[size_t(k) + 1] = texelRays.size();
+    }
     // Until the irradiance converges (bounces 0), or the bounces asked for.
     const bool converge = params.bounces == 0;
     const int rounds = converge ? kProbeMaxBounces : params.bounces;
@@ -198,17 +217,13 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
             if (v.states[size_t(p)] == ProbeState::Off) return;
             // E(n) = π Σ L cos⁺ / Σ cos⁺: the cosine-weighted mean radiance times π, exact for
             // a uniform surround (DDGI's normalisation); sums in double in ray order.
-            const int ni = ProbeVolume::kIrradianceTexels;
             for (int y = 0; y < ni; ++y)
                 for (int x = 0; x < ni; ++x) {
-                    const glm::vec3 t = texelDirection(x, y, ni);
+                    const size_t k = size_t(y * ni + x);
                     glm::dvec3 sum(0.0);
-                    double weight = 0.0;
-                    for (int i = 0; i < R; ++i) {
-                        const double c = std::max(0.0, double(glm::dot(t, directions[size_t(i)])));
-                        sum += glm::dvec3(L[i]) * c;
-                        weight += c;
-                    }
+                    for (size_t j = texelStart[k]; j < texelStart[k + 1]; ++j)
+                        sum += glm::dvec3(L[texelRays[j].ray]) * texelRays[j].cosine;
+                    const double weight = texelWeight[k];
                     irr[(y + 1) * wi + x + 1] =
                         weight > 0.0 ? glm::vec3(kPiD * sum / weight) : glm::vec3(0.0f);
                 }

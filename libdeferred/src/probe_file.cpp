@@ -137,7 +137,7 @@ bool readProbes(const std::string& path, ProbeVolume& v, std::string& error) {
         irr.height != rows * wi || irr.nchannels < 3) {
         error = "the probe atlas does not match its grid (" + std::to_string(wi - 2) + " x " +
                 std::to_string(wi - 2) + " irradiance texels a probe; a file from an earlier " +
-                "dhdr-probes, with 6 x 6, must be baked again)";
+                "dhdr-probes, with 6 x 6 or 8 x 8, must be baked again)";
         return false;
     }
     v.rays = irr.get_int_attribute("dhdr:probeRays");

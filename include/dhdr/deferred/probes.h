@@ -69,9 +69,11 @@ enum class ProbeState : int {
 
 struct ProbeVolume {
     // Texels of the octahedral maps, without their one-texel borders: DDGI's 14 for the
-    // distances, 8 for the irradiance (DDGI's 6 blurs E(n) by about 20° at an axis, between
-    // four texels, and reads the Cornell box's blocks 9-15 % bright: docs/gi.md).
-    static constexpr int kIrradianceTexels = 8;
+    // distances, 16 for the irradiance. Near the folded pole the bilinear lookup reads texels
+    // up to 36° away at 8 (20° at an axis at DDGI's 6), and a probe whose E(n) dips steeply
+    // there (looking out of an opening, or beside a lit surface) reads far above its own E(n):
+    // the real-scale Cornell box's short block +10 % at 8, +1 % at 16 (docs/gi.md).
+    static constexpr int kIrradianceTexels = 16;
     static constexpr int kDistanceTexels = 14;
 
     glm::dvec3 origin{0.0};  // grid point (0, 0, 0)
@@ -88,7 +90,7 @@ struct ProbeVolume {
     std::vector<glm::vec3> positions; // per probe (x fastest, then y, then z), relocated
     std::vector<ProbeState> states;
     // Per probe, its bordered maps in scanline order: irradiance E(n) in W/m² per unit of
-    // the lights' radiance ((8 + 2)² texels), and the distance moments ((14 + 2)² texels).
+    // the lights' radiance ((16 + 2)² texels), and the distance moments ((14 + 2)² texels).
     std::vector<glm::vec3> irradiance;
     std::vector<glm::vec2> distance;
 
