@@ -21,8 +21,8 @@ BounceLighting::BounceLighting(const HitShading& hits) : m_hits(hits) {
     m_empty = !hits.caster().bounds(lower, upper);
     if (m_empty) return;
     const std::vector<Mesh>& meshes = hits.caster().scene().meshes;
-    bool finite = meshes.size() <= kMaxSpheres;
-    for (size_t i = 0; finite && i < meshes.size(); ++i) {
+    bool usable = meshes.size() <= kMaxSpheres;
+    for (size_t i = 0; usable && i < meshes.size(); ++i) {
         const Mesh& mesh = meshes[i];
         if (mesh.triangles.empty() || mesh.positions.empty()) continue;
         glm::dvec3 lo(INFINITY), hi(-INFINITY);
@@ -40,10 +40,10 @@ BounceLighting::BounceLighting(const HitShading& hits) : m_hits(hits) {
         }
         // Widened, as the caster's bounds are, by far more than any kernel's rounding of a hit.
         const double radius = std::sqrt(r2) * (1.0 + 0x1p-20) + size * 0x1p-12;
-        finite = std::isfinite(radius) && std::isfinite(size);
+        usable = std::isfinite(radius) && std::isfinite(size);
         m_spheres.push_back({centre, radius});
     }
-    if (finite && !m_spheres.empty()) return;
+    if (usable && !m_spheres.empty()) return;
     m_spheres.assign(
         1, Sphere{0.5 * (glm::dvec3(lower) + glm::dvec3(upper)),
                   0.5 * glm::length(glm::dvec3(upper) - glm::dvec3(lower)) * (1.0 + 0x1p-20)});
