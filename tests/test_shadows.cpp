@@ -2,11 +2,13 @@
 // penumbrae, closed forms of ambient occlusion, Monte Carlo against exact irradiance, and the
 // culled pass against brute force with shadow rays.
 #include "../libdeferred/src/bounce_light.h"
+#include "../libdeferred/src/denoise_lanes.h"
 #include "scene_builder.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
+#include <cstring>
 #include <dhdr/deferred/ambient_occlusion.h>
 #include <dhdr/deferred/denoise.h>
 #include <dhdr/deferred/emissive_lights.h>
@@ -1594,62 +1596,106 @@ TEST(Denoise, AMaskSkipsThePixelsWithoutTheEstimate) {
     EXPECT_GT(changed, 100);
 }
 
+// A curved floor of two objects with a few pixels without a surface, 203 pixels wide (not a
+// whole number of lanes): sums of varied size, a few noisy shadows, a lobe direction per pixel,
+// a single value in one patch.
+struct FloorEstimates {
+    static constexpr int W = 203, H = 150;
+    static constexpr size_t n = size_t(W) * H;
+    DenoiseGuide guide;
+    std::vector<glm::vec3> direction = std::vector<glm::vec3>(n);
+    std::vector<float> ratio = std::vector<float>(2 * n), value = std::vector<float>(n, 0.0f);
+    std::vector<float> width = std::vector<float>(n, 0.3f);
+    std::vector<unsigned char> patch = std::vector<unsigned char>(n, 0);
+
+    FloorEstimates() {
+        guide.width = W;
+        guide.height = H;
+        guide.position.resize(n);
+        guide.normal.resize(n);
+        guide.object.resize(n);
+        guide.surface.resize(n);
+        auto noise = [](size_t p, int k) {
+            return float(mixBits(p * 4 + size_t(k)) >> 40) * 0x1p-24f;
+        };
+        for (size_t p = 0; p < n; ++p) {
+            const int x = int(p % W), y = int(p / W);
+            const float u = 0.01f * float(x);
+            guide.position[p] = glm::vec3(u, 0.2f * u * u, 0.01f * float(y));
+            guide.normal[p] = glm::normalize(glm::vec3(-0.4f * u, 1.0f, 0.0f));
+            guide.object[p] = x < 120 ? 1.0f : 2.0f;
+            guide.surface[p] = (x + y) % 37 != 0; // a few pixels without a surface
+            direction[p] = glm::normalize(glm::vec3(float(x - W / 2), 100.0f, float(y)));
+            const float total = 0.5f + noise(p, 0);
+            const bool shadowed = (x - 40) * (x - 40) + (y - 30) * (y - 30) < 100 ||
+                                  (x > 150 && x < 160 && y > 110 && y < 118);
+            ratio[p] = shadowed ? total * noise(p, 1) : total;
+            ratio[n + p] = total;
+            patch[p] = (x - 170) * (x - 170) + (y - 20) * (y - 20) < 50;
+            if (patch[p]) value[p] = noise(p, 2);
+        }
+    }
+};
+
 // Far from any shadow a ratio estimate is settled (shadowed = unshadowed sums) and so is a
 // bounce estimate of 0: the filter skips what lies beyond its reach of the unsettled pixels,
-// and the ratios and values are the same bits as filtering everywhere. A curved floor of two
-// objects, sums of varied size, a few noisy shadows; a lobe direction on one estimate.
+// and the ratios and values are the same bits as filtering everywhere.
 TEST(Denoise, SettledNeighbourhoodsAreSkippedWithTheSameResult) {
-    constexpr int W = 203, H = 150;
-    const size_t n = size_t(W) * H;
-    DenoiseGuide guide;
-    guide.width = W;
-    guide.height = H;
-    guide.position.resize(n);
-    guide.normal.resize(n);
-    guide.object.resize(n);
-    guide.surface.resize(n);
-    std::vector<glm::vec3> direction(n);
-    std::vector<float> ratio(2 * n), value(n, 0.0f);
-    const std::vector<float> width(n, 0.3f);
-    auto noise = [](size_t p, int k) { return float(mixBits(p * 4 + size_t(k)) >> 40) * 0x1p-24f; };
-    for (size_t p = 0; p < n; ++p) {
-        const int x = int(p % W), y = int(p / W);
-        const float u = 0.01f * float(x);
-        guide.position[p] = glm::vec3(u, 0.2f * u * u, 0.01f * float(y));
-        guide.normal[p] = glm::normalize(glm::vec3(-0.4f * u, 1.0f, 0.0f));
-        guide.object[p] = x < 120 ? 1.0f : 2.0f;
-        guide.surface[p] = (x + y) % 37 != 0; // a few pixels without a surface
-        direction[p] = glm::normalize(glm::vec3(float(x - W / 2), 100.0f, float(y)));
-        const float total = 0.5f + noise(p, 0);
-        const bool shadowed = (x - 40) * (x - 40) + (y - 30) * (y - 30) < 100 ||
-                              (x > 150 && x < 160 && y > 110 && y < 118);
-        ratio[p] = shadowed ? total * noise(p, 1) : total;
-        ratio[n + p] = total;
-        if ((x - 170) * (x - 170) + (y - 20) * (y - 20) < 50) value[p] = noise(p, 2);
-    }
+    const FloorEstimates f;
+    const size_t n = f.n;
     auto filter = [&](bool skip, std::vector<float>& r, std::vector<float>& v) {
-        r = ratio;
-        v = value;
-        DenoiseEstimate a{&r, 2, &direction, &width}, b{&v, 1};
+        r = f.ratio;
+        v = f.value;
+        DenoiseEstimate a{&r, 2, &f.direction, &f.width}, b{&v, 1};
         a.skipSettled = b.skipSettled = skip;
-        atrousFilter({a, b}, guide);
+        atrousFilter({a, b}, f.guide);
     };
     std::vector<float> r0, v0, r1, v1;
     filter(false, r0, v0);
     filter(true, r1, v1);
     int untouched = 0, filtered = 0;
     for (size_t p = 0; p < n; ++p) {
-        if (!guide.surface[p]) continue;
+        if (!f.guide.surface[p]) continue;
         auto q = [&](const std::vector<float>& r) {
             return r[n + p] > 0.0f ? r[p] / r[n + p] : 1.0f;
         };
         ASSERT_EQ(q(r1), q(r0)) << p;
         ASSERT_EQ(v1[p], v0[p]) << p;
-        untouched += r1[n + p] == ratio[n + p];
+        untouched += r1[n + p] == f.ratio[n + p];
         filtered += q(r0) != 1.0f;
     }
     EXPECT_GT(untouched, int(n / 4)); // skipped
     EXPECT_GT(filtered, 1000);        // the shadows spread over their reach
+}
+
+// The filter on 8 pixels at once (AVX2) gives the bits it gives on 4 (SSE2), for every kind
+// of estimate: a pair with a lobe direction, a single value where a mask says, a pair filtered
+// everywhere; and so does the width this CPU picks (atrousFilter).
+TEST(Denoise, EightLanesGiveTheBitsOfFour) {
+    if (!__builtin_cpu_supports("avx2")) GTEST_SKIP() << "no AVX2 on this CPU";
+    const FloorEstimates f;
+    using Planes = std::vector<std::vector<float>>;
+    auto filter = [&](int lanes) {
+        Planes p{f.ratio, f.value, f.ratio};
+        DenoiseEstimate a{&p[0], 2, &f.direction, &f.width},
+            b{&p[1], 1, &f.direction, &f.width, &f.patch}, c{&p[2], 2};
+        c.skipSettled = false;
+        if (lanes == 0)
+            atrousFilter({a, b, c}, f.guide);
+        else
+            atrousFilterLanes({a, b, c}, f.guide, 0, lanes);
+        return p;
+    };
+    const Planes four = filter(4), eight = filter(8), chosen = filter(0);
+    for (size_t e = 0; e < four.size(); ++e) {
+        ASSERT_EQ(std::memcmp(four[e].data(), eight[e].data(), four[e].size() * sizeof(float)), 0)
+            << "estimate " << e;
+        ASSERT_EQ(std::memcmp(four[e].data(), chosen[e].data(), four[e].size() * sizeof(float)), 0)
+            << "estimate " << e;
+        EXPECT_NE(four[e], e == 1 ? f.value : f.ratio) << "estimate " << e << " not filtered";
+    }
+    const std::string isa = embreeIsaRequested();
+    EXPECT_EQ(atrousLanes(), isa.empty() || isa == "avx2" || isa == "avx512" ? 8 : 4);
 }
 
 // A plane whose left half looks one way and right half another (as a glossy surface's

@@ -1,50 +1,37 @@
-#include <OpenImageIO/parallel.h>
-#include <OpenImageIO/simd.h>
+#include "denoise_lanes.h"
+#include "simd_lanes.h"
+
 #include <algorithm>
 #include <dhdr/common/parallel.h>
 #include <dhdr/deferred/denoise.h>
+#include <dhdr/deferred/ray_caster.h>
 #include <optional>
+
+// The kernels below hold 32-byte vectors in always-inlined helpers (simd_lanes.h).
+#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace dhdr {
 
 namespace {
 
-using OIIO::simd::vbool4;
-using OIIO::simd::vfloat4;
-using OIIO::simd::vint4;
+using simd::any;
+using simd::expNegative;
+using simd::load;
+using simd::Mask;
+using simd::select;
+using simd::splat;
+using simd::store;
 
 // The B-spline of the filter's taps (1/4, 1/2, 1/4): 3 × 3 taps a pass.
 constexpr int kRadius = 1;
 constexpr float kKernel[2 * kRadius + 1] = {1.0f / 4, 1.0f / 2, 1.0f / 4};
 // SVGF's σ_l: how many standard deviations of the estimate a difference may be and still mix.
 constexpr float kSignalSigma = 4.0f;
-// The filter runs on four pixels of a row at once; rows are padded with pixels without a
-// surface by the widest step's reach on either side, so that no tap needs a bounds check.
-constexpr int kLanes = 4;
+// The filter runs on 4 or 8 pixels of a row at once (denoise_lanes.h); rows are padded with
+// pixels without a surface by the widest step's reach on either side, and to a whole number of
+// the widest lanes, so that no tap needs a bounds check.
+constexpr int kMaxLanes = 8;
 constexpr int kPad = std::max(2, kRadius << (kDenoiseIterations - 1));
-
-// Cephes' expf on four lanes: x = z ln 2 + r with ln 2 in two parts (z ln 2 exact for the
-// reduction), |r| ≤ ½ ln 2, e^r by its polynomial, times 2^z from the exponent bits. Plain
-// SSE2 arithmetic without fused multiply-adds, so the same bits on every x86-64 CPU (libm's
-// expf has FMA and non-FMA variants that may differ in the last bit).
-OIIO_FORCEINLINE vfloat4 expNegative4(const vfloat4& x) {
-    const vfloat4 inRange = max(x, vfloat4(-87.0f));
-    const vfloat4 u = min(inRange, vfloat4(0.0f)) * vfloat4(1.44269504088896341f) + vfloat4(0.5f);
-    vfloat4 z = vfloat4(vint4(u)); // truncation, then down to the floor for negative u
-    z = select(z > u, z - vfloat4(1.0f), z);
-    vfloat4 r = min(inRange, vfloat4(0.0f)) - z * vfloat4(0.693359375f);
-    r = r - z * vfloat4(-2.12194440e-4f);
-    vfloat4 p(1.9875691500e-4f);
-    p = p * r + vfloat4(1.3981999507e-3f);
-    p = p * r + vfloat4(8.3334519073e-3f);
-    p = p * r + vfloat4(4.1665795894e-2f);
-    p = p * r + vfloat4(1.6666665459e-1f);
-    p = p * r + vfloat4(5.0000001201e-1f);
-    p = p * (r * r) + r + vfloat4(1.0f);
-    const vfloat4 scale = bitcast_to_float((vint4(z) + vint4(127)) << 23);
-    return select(x > vfloat4(-87.0f), select(x < vfloat4(0.0f), p * scale, vfloat4(1.0f)),
-                  vfloat4(0.0f));
-}
 
 // One plane of floats per quantity, rows padded (kPad each side, width rounded up to lanes).
 struct Planes {
@@ -54,12 +41,12 @@ struct Planes {
     const float* row(int y) const { return values.data() + size_t(y) * size_t(stride) + kPad; }
 };
 
-// The guide laid out for four lanes: positions, normals, object and surface as planes.
+// The guide laid out for the lanes: positions, normals, object and surface as planes.
 struct Guide {
     int width = 0, height = 0, stride = 0;
     Planes px, py, pz, nx, ny, nz, object, surface;
     explicit Guide(const DenoiseGuide& g) : width(g.width), height(g.height) {
-        stride = kPad + (width + kLanes - 1) / kLanes * kLanes + kPad;
+        stride = kPad + (width + kMaxLanes - 1) / kMaxLanes * kMaxLanes + kPad;
         for (Planes* p : {&px, &py, &pz, &nx, &ny, &nz, &object, &surface}) {
             p->stride = stride;
             p->values.assign(size_t(stride) * size_t(height), 0.0f);
@@ -79,33 +66,39 @@ struct Guide {
     }
 };
 
-// Pixel p's side of the guide's weight, for four pixels of a row.
+// Pixel p's side of the guide's weight, for W pixels of a row.
+template <int W>
 struct GuideCentre {
-    vfloat4 px, py, pz, nx, ny, nz, object;
-    GuideCentre(const Guide& g, int y, int x)
-        : px(g.px.row(y) + x), py(g.py.row(y) + x), pz(g.pz.row(y) + x), nx(g.nx.row(y) + x),
-          ny(g.ny.row(y) + x), nz(g.nz.row(y) + x), object(g.object.row(y) + x) {}
+    using F = typename simd::Lanes<W>::F;
+    F px, py, pz, nx, ny, nz, object;
+    [[gnu::always_inline]] GuideCentre(const Guide& g, int y, int x)
+        : px(load<W>(g.px.row(y) + x)), py(load<W>(g.py.row(y) + x)), pz(load<W>(g.pz.row(y) + x)),
+          nx(load<W>(g.nx.row(y) + x)), ny(load<W>(g.ny.row(y) + x)), nz(load<W>(g.nz.row(y) + x)),
+          object(load<W>(g.object.row(y) + x)) {}
 };
 
 // The guide's weight of taps q for pixels p (q ≠ p): normals' agreement max(0, n_p·n_q)^64,
 // distance off p's tangent plane exp(−(n_p·d)² / (0.05 |d|)²), the same object.
-OIIO_FORCEINLINE vfloat4 geometryWeight(const Guide& g, const GuideCentre& c, int qy, int qx) {
-    const vfloat4 facing =
-        max(vfloat4(0.0f), c.nx * vfloat4(g.nx.row(qy) + qx) + c.ny * vfloat4(g.ny.row(qy) + qx) +
-                               c.nz * vfloat4(g.nz.row(qy) + qx));
-    vfloat4 f = facing * facing; // facing^64 by squaring
+template <int W>
+DHDR_LANES_INLINE typename simd::Lanes<W>::F geometryWeight(const Guide& g, const GuideCentre<W>& c,
+                                                            int qy, int qx) {
+    using F = typename simd::Lanes<W>::F;
+    const F facing = simd::max<F>(splat<F>(0.0f), c.nx * load<W>(g.nx.row(qy) + qx) +
+                                                      c.ny * load<W>(g.ny.row(qy) + qx) +
+                                                      c.nz * load<W>(g.nz.row(qy) + qx));
+    F f = facing * facing; // facing^64 by squaring
     for (int k = 0; k < 5; ++k)
         f = f * f;
-    const vfloat4 dx = vfloat4(g.px.row(qy) + qx) - c.px, dy = vfloat4(g.py.row(qy) + qx) - c.py,
-                  dz = vfloat4(g.pz.row(qy) + qx) - c.pz;
-    const vfloat4 d2 = dx * dx + dy * dy + dz * dz;
-    const vfloat4 along = c.nx * dx + c.ny * dy + c.nz * dz;
-    const vbool4 apart = d2 > vfloat4(0.0f);
-    const vfloat4 off = along * along / select(apart, vfloat4(0.0025f) * d2, vfloat4(1.0f));
-    const vfloat4 weight = f * select(apart, expNegative4(vfloat4(0.0f) - off), vfloat4(1.0f));
-    const vbool4 keep = (vfloat4(g.surface.row(qy) + qx) > vfloat4(0.0f)) &
-                        (vfloat4(g.object.row(qy) + qx) == c.object);
-    return select(keep, weight, vfloat4(0.0f));
+    const F dx = load<W>(g.px.row(qy) + qx) - c.px, dy = load<W>(g.py.row(qy) + qx) - c.py,
+            dz = load<W>(g.pz.row(qy) + qx) - c.pz;
+    const F d2 = dx * dx + dy * dy + dz * dz;
+    const F along = c.nx * dx + c.ny * dy + c.nz * dz;
+    const Mask<F> apart = d2 > splat<F>(0.0f);
+    const F off = along * along / select<F>(apart, splat<F>(0.0025f) * d2, splat<F>(1.0f));
+    const F weight = f * select<F>(apart, expNegative<F>(splat<F>(0.0f) - off), splat<F>(1.0f));
+    const Mask<F> keep = (load<W>(g.surface.row(qy) + qx) > splat<F>(0.0f)) &
+                         (load<W>(g.object.row(qy) + qx) == c.object);
+    return select<F>(keep, weight, splat<F>(0.0f));
 }
 
 // Where an estimate is unsettled. It is settled where it says nothing is there to filter: a
@@ -130,15 +123,16 @@ public:
         }
     }
 
-    // Whether an unsettled pixel lies within r rows and columns of (x + l, y), per lane l.
-    vbool4 near(int y, int x, int r) const {
+    // Row y's unsettled pixels within r rows, counted by column up to each x, shifted so that
+    // pixel x has an unsettled one within r rows and columns when counts[x + 2r + 1] −
+    // counts[x] > 0 (x in [0, width rounded up to the lanes)).
+    void rowCounts(int y, int r, std::vector<std::int32_t>& counts) const {
         const int y0 = std::max(y - r, 0), y1 = std::min(y + r + 1, m_h);
-        int lanes[kLanes];
-        for (int l = 0; l < kLanes; ++l) {
-            const int x0 = std::clamp(x + l - r, 0, m_w), x1 = std::clamp(x + l + r + 1, 0, m_w);
-            lanes[l] = at(y1, x1) - at(y0, x1) - at(y1, x0) + at(y0, x0) > 0 ? -1 : 0;
+        counts.resize(size_t(m_w + 2 * r + kMaxLanes + 1));
+        for (size_t i = 0; i < counts.size(); ++i) {
+            const int x = std::clamp(int(i) - r, 0, m_w);
+            counts[i] = at(y1, x) - at(y0, x);
         }
-        return vbool4(lanes[0], lanes[1], lanes[2], lanes[3]);
     }
 
 private:
@@ -173,45 +167,248 @@ void newPlanes(Planes& p, const Guide& g) {
     p.values.assign(size_t(g.stride) * size_t(g.height), 0.0f);
 }
 
-// Per estimate, the lanes of pixels (y, x…x+3) it is filtered at: a surface, and where it
-// exists; whether any lane of any estimate is.
-bool liveLanes(const std::vector<EstimateState>& state, const vbool4& surface, int y, int x,
-               int pass, std::vector<vbool4>& live) {
-    bool any = false;
-    for (size_t e = 0; e < state.size(); ++e) {
-        live[e] = state[e].active ? surface & (vfloat4(state[e].active->row(y) + x) > vfloat4(0.0f))
-                                  : surface;
-        if (state[e].unsettled && OIIO::simd::any(live[e]))
-            live[e] &= state[e].unsettled->near(y, x, reachBefore(pass));
-        any = any || OIIO::simd::any(live[e]);
+// Per row: the unsettled counts of each estimate that skips settled pixels (Unsettled).
+struct RowCounts {
+    std::vector<std::vector<std::int32_t>> counts;
+    RowCounts(const std::vector<EstimateState>& state, int y, int pass) : counts(state.size()) {
+        for (size_t e = 0; e < state.size(); ++e)
+            if (state[e].unsettled) state[e].unsettled->rowCounts(y, reachBefore(pass), counts[e]);
     }
-    return any;
+};
+
+// Per estimate, the lanes of pixels (y, x…x+W−1) it is filtered at, and whether any: a
+// surface, where the estimate exists, near an unsettled pixel. Whether any lane of any estimate.
+template <int W, class M>
+DHDR_LANES_INLINE bool liveLanes(const std::vector<EstimateState>& state, const RowCounts& rows,
+                                 const M& surface, int y, int x, int pass, simd::Array<M>& live,
+                                 std::vector<char>& anyLive) {
+    using F = typename simd::Lanes<W>::F;
+    bool anyEstimate = false;
+    for (size_t e = 0; e < state.size(); ++e) {
+        M lanes = state[e].active
+                      ? surface & (load<W>(state[e].active->row(y) + x) > splat<F>(0.0f))
+                      : surface;
+        if (state[e].unsettled && any(lanes)) {
+            const std::int32_t* counts = rows.counts[e].data() + x;
+            lanes &= simd::load<W>(counts + 2 * reachBefore(pass) + 1) - simd::load<W>(counts) > 0;
+        }
+        live.set(e, lanes);
+        anyLive[e] = any(lanes);
+        anyEstimate = anyEstimate || anyLive[e];
+    }
+    return anyEstimate;
 }
 
-// A lobe's direction: exp(−(1 − d_p·d_q) / σ_p²) for pixels p = (y, x…x+3), taps q.
-OIIO_FORCEINLINE vfloat4 lobeWeight(const EstimateState& s, int y, int x, int qy, int qx) {
-    vfloat4 dot(0.0f);
+// A lobe's direction: exp(−(1 − d_p·d_q) / σ_p²) for pixels p = (y, x…x+W−1), taps q.
+template <int W>
+DHDR_LANES_INLINE typename simd::Lanes<W>::F lobeWeight(const EstimateState& s, int y, int x,
+                                                        int qy, int qx) {
+    using F = typename simd::Lanes<W>::F;
+    F dot = splat<F>(0.0f);
     for (int k = 0; k < 3; ++k)
-        dot += vfloat4(s.direction[k]->row(y) + x) * vfloat4(s.direction[k]->row(qy) + qx);
-    const vfloat4 width(s.width->row(y) + x);
-    return expNegative4(vfloat4(0.0f) - max(vfloat4(1.0f) - dot, vfloat4(0.0f)) / (width * width));
+        dot += load<W>(s.direction[k]->row(y) + x) * load<W>(s.direction[k]->row(qy) + qx);
+    const F width = load<W>(s.width->row(y) + x);
+    return expNegative<F>(splat<F>(0.0f) -
+                          simd::max<F>(splat<F>(1.0f) - dot, splat<F>(0.0f)) / (width * width));
 }
 
+// An estimate's signal: the ratio of a pair, 1 where nothing was seen; a single plane's value.
+// (The filter's rows compute the same in lanes.)
 float signalOf(float shadowed, float total, int count) {
     if (count == 2) return total > 0.0f ? shadowed / total : 1.0f;
     return shadowed;
 }
 
+// What a pass reads and writes: the previous pass's state, the next one's.
+struct Pass {
+    const Guide& guide;
+    const std::vector<DenoiseEstimate>& estimates;
+    std::vector<EstimateState>& state;
+    std::vector<EstimateState>& next;
+};
+
+// The variance per pixel from the 5 × 5 neighbourhood of the same surface (SVGF's spatial
+// estimate where no history is), row y; each tap's geometry weight serves every estimate.
+template <int W>
+DHDR_LANES_INLINE void varianceRow(const Pass& p, int y) {
+    using F = typename simd::Lanes<W>::F;
+    using M = Mask<F>;
+    const Guide& guide = p.guide;
+    std::vector<EstimateState>& state = p.state;
+    const size_t m = state.size();
+    simd::Array<F> s(m), s2(m);
+    simd::Array<M> live(m);
+    std::vector<char> anyLive(m);
+    const RowCounts counts(state, y, -1);
+    for (int x = 0; x < guide.width; x += W) {
+        const GuideCentre<W> centre(guide, y, x);
+        const M surface = load<W>(guide.surface.row(y) + x) > splat<F>(0.0f);
+        if (!liveLanes<W>(state, counts, surface, y, x, -1, live, anyLive)) continue;
+        s.zero();
+        s2.zero();
+        F weights = splat<F>(0.0f);
+        for (int j = -2; j <= 2; ++j) {
+            const int qy = y + j;
+            if (qy < 0 || qy >= guide.height) continue;
+            for (int i = -2; i <= 2; ++i) {
+                const F wq = i == 0 && j == 0 ? select<F>(surface, splat<F>(1.0f), splat<F>(0.0f))
+                                              : geometryWeight<W>(guide, centre, qy, x + i);
+                for (size_t e = 0; e < m; ++e) {
+                    if (!anyLive[e]) continue;
+                    const F v = load<W>(state[e].signal.row(qy) + x + i);
+                    s.set(e, s[e] + wq * v);
+                    s2.set(e, s2[e] + wq * v * v);
+                }
+                weights += wq;
+            }
+        }
+        const F safe = select<F>(surface, weights, splat<F>(1.0f));
+        for (size_t e = 0; e < m; ++e) {
+            if (!anyLive[e]) continue;
+            const F mean = s[e] / safe;
+            const F v = simd::max<F>(splat<F>(0.0f), s2[e] / safe - mean * mean);
+            store(select<F>(live[e], v, splat<F>(0.0f)), state[e].variance.row(y) + x);
+        }
+    }
+}
+
+// One pass of the filter with holes of 2^pass pixels, row y.
+template <int W>
+DHDR_LANES_INLINE void filterRow(const Pass& p, int y, int pass) {
+    using F = typename simd::Lanes<W>::F;
+    using M = Mask<F>;
+    const Guide& guide = p.guide;
+    const std::vector<EstimateState>& state = p.state;
+    const size_t m = state.size();
+    const int step = 1 << pass;
+    simd::Array<F> sum(2 * m), weights(m), var(m), inverseSpread(m), centre(m);
+    simd::Array<M> live(m);
+    std::vector<char> anyLive(m);
+    const RowCounts counts(state, y, pass);
+    for (int x = 0; x < guide.width; x += W) {
+        const GuideCentre<W> c(guide, y, x);
+        const M surface = load<W>(guide.surface.row(y) + x) > splat<F>(0.0f);
+        const bool anyEstimate = liveLanes<W>(state, counts, surface, y, x, pass, live, anyLive);
+        for (size_t e = 0; e < m; ++e) {
+            centre.set(e, load<W>(state[e].signal.row(y) + x));
+            inverseSpread.set(e, splat<F>(1.0f) /
+                                     (splat<F>(kSignalSigma) *
+                                          simd::sqrt<F>(load<W>(state[e].variance.row(y) + x)) +
+                                      splat<F>(1e-4f)));
+        }
+        sum.zero();
+        weights.zero();
+        var.zero();
+        if (anyEstimate) {
+            // Taps in a fixed order: the same sums whatever the threads.
+            for (int j = -kRadius; j <= kRadius; ++j) {
+                const int qy = y + j * step;
+                if (qy < 0 || qy >= guide.height) continue;
+                for (int i = -kRadius; i <= kRadius; ++i) {
+                    const int qx = x + i * step;
+                    const bool same = i == 0 && j == 0;
+                    const F geometry = same ? select<F>(surface, splat<F>(1.0f), splat<F>(0.0f))
+                                            : geometryWeight<W>(guide, c, qy, qx);
+                    if (!any(geometry > splat<F>(0.0f))) continue;
+                    const F kernel =
+                        geometry * splat<F>(kKernel[i + kRadius] * kKernel[j + kRadius]);
+                    const Planes* lobeOf = nullptr;
+                    F lobe = splat<F>(1.0f);
+                    for (size_t e = 0; e < m; ++e) {
+                        if (!anyLive[e]) continue;
+                        const EstimateState& s = state[e];
+                        const F signal = load<W>(s.signal.row(qy) + qx);
+                        const F difference = simd::abs<F>(signal - centre[e]);
+                        F weight =
+                            kernel * expNegative<F>(splat<F>(0.0f) - difference * inverseSpread[e]);
+                        if (s.width && !same) {
+                            if (s.width != lobeOf) {
+                                lobe = lobeWeight<W>(s, y, x, qy, qx);
+                                lobeOf = s.width;
+                            }
+                            weight = weight * lobe;
+                        }
+                        weights.set(e, weights[e] + weight);
+                        var.set(e, var[e] + weight * weight * load<W>(s.variance.row(qy) + qx));
+                        // A single plane is its own signal, and has no second plane (its sum
+                        // stays 0).
+                        if (p.estimates[e].count == 1) {
+                            sum.set(2 * e, sum[2 * e] + weight * signal);
+                            continue;
+                        }
+                        sum.set(2 * e, sum[2 * e] + weight * load<W>(s.plane[0].row(qy) + qx));
+                        sum.set(2 * e + 1,
+                                sum[2 * e + 1] + weight * load<W>(s.plane[1].row(qy) + qx));
+                    }
+                }
+            }
+        }
+        // Pixels without a surface, or without the estimate, keep what they had.
+        for (size_t e = 0; e < m; ++e) {
+            const EstimateState& s = state[e];
+            EstimateState& o = p.next[e];
+            const M on = live[e];
+            const F safe = select<F>(on, weights[e], splat<F>(1.0f));
+            store(select<F>(on, var[e] / (safe * safe), load<W>(s.variance.row(y) + x)),
+                  o.variance.row(y) + x);
+            const F a = select<F>(on, sum[2 * e] / safe, load<W>(s.plane[0].row(y) + x));
+            store(a, o.plane[0].row(y) + x);
+            if (p.estimates[e].count == 1) { // the second plane stays 0
+                store(a, o.signal.row(y) + x);
+                continue;
+            }
+            const F b = select<F>(on, sum[2 * e + 1] / safe, load<W>(s.plane[1].row(y) + x));
+            store(b, o.plane[1].row(y) + x);
+            store(select<F>(b > splat<F>(0.0f), a / b, splat<F>(1.0f)), o.signal.row(y) + x);
+        }
+    }
+}
+
+// A row of a pass (pass −1: the variance estimate), W pixels at a time.
+void row4(const Pass& p, int y, int pass) {
+    if (pass < 0)
+        varianceRow<4>(p, y);
+    else
+        filterRow<4>(p, y, pass);
+}
+
+#if defined(__x86_64__)
+[[gnu::target("avx2")]] void row8(const Pass& p, int y, int pass) {
+    if (pass < 0)
+        varianceRow<8>(p, y);
+    else
+        filterRow<8>(p, y, pass);
+}
+#endif
+
 } // namespace
 
+int atrousLanes() {
+#if defined(__x86_64__)
+    // Once: the CPU, and a kernel asked for in DHDR_EMBREE_ISA, do not change while running.
+    static const int lanes = [] {
+        if (!__builtin_cpu_supports("avx2")) return 4;
+        const std::string isa = embreeIsaRequested();
+        return isa.empty() || isa == "avx2" || isa == "avx512" ? 8 : 4;
+    }();
+    return lanes;
+#else
+    return 4;
+#endif
+}
+
 float expNegative(float x) {
-    float lanes[kLanes];
-    expNegative4(vfloat4(x)).store(lanes);
-    return lanes[0];
+    using F = simd::Lanes<4>::F;
+    return expNegative<F>(splat<F>(x))[0];
 }
 
 void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGuide& dg,
                   int nthreads) {
+    atrousFilterLanes(estimates, dg, nthreads, atrousLanes());
+}
+
+void atrousFilterLanes(const std::vector<DenoiseEstimate>& estimates, const DenoiseGuide& dg,
+                       int nthreads, int lanes) {
     const int w = dg.width, h = dg.height;
     const size_t n = size_t(w) * size_t(h);
     if (n == 0) return;
@@ -237,7 +434,7 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
             newPlanes(s->signal, guide);
             newPlanes(s->variance, guide);
             newPlanes(s->plane[0], guide);
-            newPlanes(s->plane[1], guide);
+            if (in.count == 2) newPlanes(s->plane[1], guide);
         }
         for (int y = 0; y < h; ++y)
             for (int x = 0; x < w; ++x) {
@@ -245,7 +442,8 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                 for (int c = 0; c < in.count; ++c)
                     state[e].plane[c].row(y)[x] = (*in.planes)[size_t(c) * n + i];
                 state[e].signal.row(y)[x] =
-                    signalOf(state[e].plane[0].row(y)[x], state[e].plane[1].row(y)[x], in.count);
+                    signalOf(state[e].plane[0].row(y)[x],
+                             in.count == 2 ? state[e].plane[1].row(y)[x] : 0.0f, in.count);
             }
         if (in.active) {
             lobes.emplace_back();
@@ -284,123 +482,15 @@ void atrousFilter(const std::vector<DenoiseEstimate>& estimates, const DenoiseGu
                 state[e].width = next[e].width = &lobes.back();
         }
     }
-    // The variance per pixel from the 5 × 5 neighbourhood of the same surface (SVGF's spatial
-    // estimate where no history is); each tap's geometry weight serves every estimate.
-    parallelRows(0, h, nthreads, [&](int64_t yy) {
-        const int y = int(yy);
-        std::vector<vfloat4> s(m), s2(m);
-        std::vector<vbool4> live(m);
-        for (int x = 0; x < w; x += kLanes) {
-            const GuideCentre centre(guide, y, x);
-            const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
-            if (!liveLanes(state, surface, y, x, -1, live)) continue;
-            std::fill(s.begin(), s.end(), vfloat4(0.0f));
-            std::fill(s2.begin(), s2.end(), vfloat4(0.0f));
-            vfloat4 weights(0.0f);
-            for (int j = -2; j <= 2; ++j) {
-                const int qy = y + j;
-                if (qy < 0 || qy >= h) continue;
-                for (int i = -2; i <= 2; ++i) {
-                    const vfloat4 wq = i == 0 && j == 0
-                                           ? select(surface, vfloat4(1.0f), vfloat4(0.0f))
-                                           : geometryWeight(guide, centre, qy, x + i);
-                    for (size_t e = 0; e < m; ++e) {
-                        if (none(live[e])) continue;
-                        const vfloat4 v(state[e].signal.row(qy) + x + i);
-                        s[e] += wq * v;
-                        s2[e] += wq * v * v;
-                    }
-                    weights += wq;
-                }
-            }
-            const vfloat4 safe = select(surface, weights, vfloat4(1.0f));
-            for (size_t e = 0; e < m; ++e) {
-                if (none(live[e])) continue;
-                const vfloat4 mean = s[e] / safe;
-                const vfloat4 v = max(vfloat4(0.0f), s2[e] / safe - mean * mean);
-                select(live[e], v, vfloat4(0.0f)).store(state[e].variance.row(y) + x);
-            }
-        }
-    });
-    for (int pass = 0; pass < kDenoiseIterations; ++pass) {
-        const int step = 1 << pass;
-        parallelRows(0, h, nthreads, [&](int64_t yy) {
-            const int y = int(yy);
-            std::vector<vfloat4> sum(2 * m), weights(m), var(m), inverseSpread(m), centre(m);
-            std::vector<vbool4> live(m);
-            for (int x = 0; x < w; x += kLanes) {
-                const GuideCentre c(guide, y, x);
-                const vbool4 surface = vfloat4(guide.surface.row(y) + x) > vfloat4(0.0f);
-                const bool any = liveLanes(state, surface, y, x, pass, live);
-                for (size_t e = 0; e < m; ++e) {
-                    centre[e] = vfloat4(state[e].signal.row(y) + x);
-                    inverseSpread[e] =
-                        vfloat4(1.0f) /
-                        (vfloat4(kSignalSigma) * sqrt(vfloat4(state[e].variance.row(y) + x)) +
-                         vfloat4(1e-4f));
-                }
-                std::fill(sum.begin(), sum.end(), vfloat4(0.0f));
-                std::fill(weights.begin(), weights.end(), vfloat4(0.0f));
-                std::fill(var.begin(), var.end(), vfloat4(0.0f));
-                if (any) {
-                    // Taps in a fixed order: the same sums whatever the threads.
-                    for (int j = -kRadius; j <= kRadius; ++j) {
-                        const int qy = y + j * step;
-                        if (qy < 0 || qy >= h) continue;
-                        for (int i = -kRadius; i <= kRadius; ++i) {
-                            const int qx = x + i * step;
-                            const bool same = i == 0 && j == 0;
-                            const vfloat4 geometry =
-                                same ? select(surface, vfloat4(1.0f), vfloat4(0.0f))
-                                     : geometryWeight(guide, c, qy, qx);
-                            if (none(geometry > vfloat4(0.0f))) continue;
-                            const vfloat4 kernel =
-                                geometry * vfloat4(kKernel[i + kRadius] * kKernel[j + kRadius]);
-                            const Planes* lobeOf = nullptr;
-                            vfloat4 lobe(1.0f);
-                            for (size_t e = 0; e < m; ++e) {
-                                if (none(live[e])) continue;
-                                const EstimateState& s = state[e];
-                                const vfloat4 difference =
-                                    abs(vfloat4(s.signal.row(qy) + qx) - centre[e]);
-                                vfloat4 weight =
-                                    kernel *
-                                    expNegative4(vfloat4(0.0f) - difference * inverseSpread[e]);
-                                if (s.width && !same) {
-                                    if (s.width != lobeOf) {
-                                        lobe = lobeWeight(s, y, x, qy, qx);
-                                        lobeOf = s.width;
-                                    }
-                                    weight = weight * lobe;
-                                }
-                                weights[e] += weight;
-                                var[e] += weight * weight * vfloat4(s.variance.row(qy) + qx);
-                                sum[2 * e] += weight * vfloat4(s.plane[0].row(qy) + qx);
-                                sum[2 * e + 1] += weight * vfloat4(s.plane[1].row(qy) + qx);
-                            }
-                        }
-                    }
-                }
-                // Pixels without a surface, or without the estimate, keep what they had.
-                for (size_t e = 0; e < m; ++e) {
-                    const EstimateState& s = state[e];
-                    EstimateState& o = next[e];
-                    const vbool4 on = live[e];
-                    const vfloat4 safe = select(on, weights[e], vfloat4(1.0f));
-                    const vfloat4 a = select(on, sum[2 * e] / safe, vfloat4(s.plane[0].row(y) + x));
-                    const vfloat4 b =
-                        select(on, sum[2 * e + 1] / safe, vfloat4(s.plane[1].row(y) + x));
-                    a.store(o.plane[0].row(y) + x);
-                    b.store(o.plane[1].row(y) + x);
-                    select(on, var[e] / (safe * safe), vfloat4(s.variance.row(y) + x))
-                        .store(o.variance.row(y) + x);
-                    for (int l = 0; l < kLanes; ++l)
-                        o.signal.row(y)[x + l] = signalOf(
-                            o.plane[0].row(y)[x + l], o.plane[1].row(y)[x + l], estimates[e].count);
-                }
-            }
-        });
-        state.swap(next);
+    void (*row)(const Pass&, int, int) = row4;
+#if defined(__x86_64__)
+    if (lanes == 8 && __builtin_cpu_supports("avx2")) row = row8;
+#endif
+    for (int pass = -1; pass < kDenoiseIterations; ++pass) {
+        const Pass work{guide, estimates, state, next};
+        parallelRows(0, h, nthreads, [&](int64_t y) { row(work, int(y), pass); });
+        // The variance is estimated in place; every filter pass reads the previous one only.
+        if (pass >= 0) state.swap(next);
     }
     for (size_t e = 0; e < m; ++e)
         for (int y = 0; y < h; ++y)
