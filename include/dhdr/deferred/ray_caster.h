@@ -24,7 +24,8 @@ struct RayHit {
 inline constexpr int kGroundPlaneHit = -2;
 
 // The Embree kernel that RayCasters use: the environment variable DHDR_EMBREE_ISA (sse2,
-// sse4.2, avx, avx2 or avx512), empty for Embree's own choice (the widest the CPU has).
+// sse4.2, avx, avx2 or avx512), empty for Embree's own choice (the widest the CPU has). It also
+// keeps the denoiser to 4 lanes below avx2 (denoise_lanes.h; the same bits either way).
 std::string embreeIsaRequested();
 // Whether this CPU runs Embree's kernel `isa` (one of the names above).
 bool embreeIsaSupported(const std::string& isa);
