@@ -35,6 +35,35 @@ namespace {
 
 [[maybe_unused]] auto* const kKernel = ::testing::AddGlobalTestEnvironment(new EmbreeKernel);
 
+// Shades `gbuf` in strips of `rows` rows, each cut with the denoiser's reach of rows above and
+// below (as dhdr-light reads them), with `carry` handed from strip to strip when given: the
+// strips' pixels, and their rays in `stats`.
+ImageBuf shadeInStrips(const ImageBuf& gbuf, LightingInputs inputs, LightingParams params, int rows,
+                       EstimateCarry* carry, LightingStats& stats) {
+    const OIIO::ROI frame = gbuf.roi();
+    params.frame = frame;
+    inputs.carry = carry;
+    ImageBuf out(OIIO::ImageSpec(frame.width(), frame.height(), 4, OIIO::TypeDesc::FLOAT));
+    for (int y = frame.ybegin; y < frame.yend; y += rows) {
+        const OIIO::ROI own(frame.xbegin, frame.xend, y, std::min(frame.yend, y + rows));
+        const OIIO::ROI band(frame.xbegin, frame.xend, std::max(frame.ybegin, y - kDenoiseReach),
+                             std::min(frame.yend, own.yend + kDenoiseReach), 0, 1, 0,
+                             gbuf.nchannels());
+        ImageBuf strip = OIIO::ImageBufAlgo::cut(gbuf, band);
+        strip.set_origin(band.xbegin, band.ybegin);
+        ImageBuf lit;
+        LightingStats part;
+        EXPECT_TRUE(shadeGBuffer(lit, strip, inputs, params, own, 2, &part)) << lit.geterror();
+        stats += part;
+        // paste's position is an offset from the region's own.
+        EXPECT_TRUE(OIIO::ImageBufAlgo::paste(
+            out, 0, 0, 0, 0, lit,
+            OIIO::ROI(own.xbegin, own.xend, own.ybegin, own.yend, 0, 1, 0, 4)))
+            << out.geterror();
+    }
+    return out;
+}
+
 glm::vec3 positionAt(const ImageBuf& gbuf, int x, int y) {
     const float* g = px(gbuf, x, y);
     const int c = gbuf.spec().channelindex("P.X");
@@ -485,21 +514,25 @@ TEST(Shadows, CulledEqualsBruteForceAndThreadsDoNotMatter) {
             }
     EXPECT_LT(worst, 1e-5);
     // Strips of 37 rows, each read with the denoiser's reach of rows above and below (as
-    // dhdr-light reads them), shade every pixel as the whole frame does.
-    LightingParams strips = p;
-    strips.frame = gbuf.roi();
-    for (int y = 0; y < 120; y += 37) {
-        const OIIO::ROI rows(0, 160, y, std::min(120, y + 37));
-        const OIIO::ROI band(0, 160, std::max(0, y - kDenoiseReach),
-                             std::min(120, rows.yend + kDenoiseReach), 0, 1, 0, gbuf.nchannels());
-        ImageBuf strip = OIIO::ImageBufAlgo::cut(gbuf, band);
-        strip.set_origin(0, band.ybegin);
-        ImageBuf lit;
-        ASSERT_TRUE(shadeGBuffer(lit, strip, {lights, &caster}, strips, rows, 2)) << lit.geterror();
-        for (int yy = rows.ybegin; yy < rows.yend; ++yy)
+    // dhdr-light reads them), shade every pixel as the whole frame does; with an EstimateCarry
+    // from strip to strip (as dhdr-light passes one), every row's rays are traced once: as many
+    // as the whole frame's.
+    for (const bool carrying : {false, true}) {
+        EstimateCarry carry;
+        LightingStats total;
+        const ImageBuf lit =
+            shadeInStrips(gbuf, {lights, &caster}, p, 37, carrying ? &carry : nullptr, total);
+        for (int y = 0; y < 120; ++y)
             for (int x = 0; x < 160; ++x)
-                for (int c = 0; c < 5; ++c)
-                    ASSERT_EQ(px(lit, x, yy)[c], px(culled, x, yy)[c]) << x << "," << yy;
+                for (int c = 0; c < 4; ++c)
+                    ASSERT_EQ(px(lit, x, y)[c], px(culled, x, y)[c])
+                        << x << "," << y << (carrying ? ", carried" : "");
+        if (carrying) {
+            EXPECT_EQ(total.shadowRays, culledStats.shadowRays);
+            EXPECT_EQ(total.aoRays, culledStats.aoRays);
+        } else {
+            EXPECT_GT(total.shadowRays, culledStats.shadowRays); // the halos traced again
+        }
     }
 }
 
@@ -1000,6 +1033,21 @@ TEST(ShadowCatcher, CountsTheLightAGlowingWallBouncesOntoIt) {
     EXPECT_LT(exactMean, 0.01);
     EXPECT_LT(exactWorst, 0.05);
     EXPECT_LT(defaultMean, 0.02);
+    // In strips of 20 rows handing their estimates on (dhdr-light's way): the whole frame's
+    // bits, and its bounce rays each traced once.
+    LightingParams p;
+    LightingInputs inputs{{sun}, &caster};
+    inputs.scene = &caster;
+    LightingStats wholeStats, stripStats;
+    ImageBuf whole;
+    ASSERT_TRUE(shadeGBuffer(whole, gbuf, inputs, p, {}, 2, &wholeStats)) << whole.geterror();
+    EstimateCarry carry;
+    const ImageBuf strips = shadeInStrips(gbuf, inputs, p, 20, &carry, stripStats);
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x)
+            ASSERT_EQ(px(strips, x, y)[3], px(whole, x, y)[3]) << x << "," << y;
+    EXPECT_GT(wholeStats.bounceRays, 10000);
+    EXPECT_EQ(stripStats.bounceRays, wholeStats.bounceRays);
 }
 
 // The bounce light that BounceLighting gathers from a small glowing box floating over a floor,

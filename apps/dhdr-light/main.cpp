@@ -451,7 +451,8 @@ int run(int argc, char** argv) {
         strips.frame = OIIO::get_roi(gspec);
         // SSAO looks at neighbouring pixels anywhere in the frame: one strip, the whole frame.
         // The denoiser reads kDenoiseReach rows around each pixel: each strip is read with
-        // that halo, and taller, so that the halo's rays are a smaller share.
+        // that halo, and taller, so that filtering the halo again is a smaller share (its rays
+        // are traced once: EstimateCarry).
         const bool halo =
             params.denoise &&
             (params.environmentSamples > 0 || params.aoSamples > 0 ||
@@ -502,9 +503,12 @@ int run(int argc, char** argv) {
             return false;
         });
         OIIO::ImageBuf ao;
+        // The estimates of the rows two strips share are traced once, by the upper strip.
+        EstimateCarry carry;
         const bool lit = pipeline.run([&](StripContext& strip) {
             const OIIO::ImageBuf& gbuf = *strip.inputs[0];
             LightingInputs stripInputs = inputs;
+            stripInputs.carry = &carry;
             if (aoMode == "ssao") {
                 if (!screenSpaceAO(ao, gbuf, ssao, tool.threads())) {
                     strip.error = path + ": " + ao.geterror();

@@ -18,12 +18,37 @@
 
 namespace dhdr {
 
+struct EstimateCarry::Rows {
+    OIIO::ROI rows;                         // the frame's columns and rows they hold
+    std::vector<std::vector<float>> planes; // FilteredEstimates::planes(), those rows of each
+};
+
+EstimateCarry::EstimateCarry() = default;
+EstimateCarry::~EstimateCarry() = default;
+
+std::vector<float*> FilteredEstimates::planes() {
+    const size_t n = m_held.npixels();
+    std::vector<float*> all;
+    for (auto* pairs : {&m_diffuse, &m_specularRatio})
+        for (std::vector<float>& sums : *pairs) {
+            all.push_back(sums.data());
+            all.push_back(sums.data() + n);
+        }
+    for (std::vector<float>* single :
+         {&m_ao, &m_bounce, &m_specular[0], &m_specular[1], &m_specular[2]})
+        if (!single->empty()) all.push_back(single->data());
+    return all;
+}
+
 FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout,
                                      OIIO::ROI held, const std::vector<Light>& lights,
                                      const LightingParams& params, const Visibility* shadowRays,
                                      const Visibility* aoRays, const TracedEstimates& traced,
-                                     int nthreads)
+                                     int nthreads, EstimateCarry* carry)
     : m_held(held), m_slot(lights.size(), -1) {
+    // What the previous strip left, taken below if it fits; nothing is left for the next
+    // unless this strip estimates.
+    std::unique_ptr<EstimateCarry::Rows> previous = carry ? std::move(carry->rows) : nullptr;
     if (!params.denoise || view.deep()) return;
     std::vector<std::uint32_t> filtered;
     if (shadowRays && params.environmentSamples > 0)
@@ -58,9 +83,24 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     if (bouncing) m_bounce.assign(n, 0.0f);
     // Where the bounce and the specular estimates exist: the filter skips the other pixels.
     std::vector<unsigned char> catcherPixels(bouncing ? n : 0), specularPixels(specular ? n : 0);
+    // The rows the previous strip estimated too (the same frame's columns and estimates).
+    const std::vector<float*> raw = planes();
+    const size_t width = size_t(held.width());
+    int carriedBegin = held.ybegin, carriedEnd = held.ybegin;
+    if (previous && previous->rows.xbegin == held.xbegin && previous->rows.xend == held.xend &&
+        previous->planes.size() == raw.size()) {
+        carriedBegin = std::max(held.ybegin, previous->rows.ybegin);
+        carriedEnd = std::max(carriedBegin, std::min(held.yend, previous->rows.yend));
+        const size_t from = size_t(carriedBegin - previous->rows.ybegin) * width,
+                     to = size_t(carriedBegin - held.ybegin) * width,
+                     count = size_t(carriedEnd - carriedBegin) * width;
+        for (size_t k = 0; k < raw.size(); ++k)
+            std::copy_n(previous->planes[k].data() + from, count, raw[k] + to);
+    }
     std::atomic<long long> shadowCount{0}, aoCount{0}, bounceCount{0}, specularCount{0};
     parallelRows(held.ybegin, held.yend, nthreads, [&](int64_t yy) {
         const int y = int(yy);
+        const bool carried = y >= carriedBegin && y < carriedEnd;
         long long shadowLocal = 0, aoLocal = 0, bounceLocal = 0, specularLocal = 0;
         for (int x = held.xbegin; x < held.xend; ++x) {
             if (view.samples(x, y) == 0) continue;
@@ -77,6 +117,9 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                                     traceSpecular ? 0.0f : kOccluderAlbedo};
             mirror[p] = glm::reflect(-sp.V, sp.N);
             lobeWidth[p] = std::max(2.0f * lobe.alpha, 0.02f);
+            if (bouncing) catcherPixels[p] = guide.object[p] == traced.catcher;
+            if (specular) specularPixels[p] = traceSpecular;
+            if (carried) continue;
             // With probes, a rough lobe's point takes nothing from environments (their
             // diffuse and its specular light come through the probes): no rays.
             const bool lit = !(traced.probes && sp.surface.roughness >= kProbeGlossyRoughness);
@@ -99,9 +142,7 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                     diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
                     traced.bounce->irradianceAt(sp.origin, sp.N, x, y, 0,
                                                 params.catcherBounceSamples, &bounceLocal));
-            if (bouncing) catcherPixels[p] = guide.object[p] == traced.catcher;
             if (traceSpecular) {
-                specularPixels[p] = 1;
                 const glm::vec3 L = traced.specular->radiance(
                     point, x, y, 0, params.specularSamples, &specularLocal);
                 for (int c = 0; c < 3; ++c)
@@ -117,6 +158,17 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     aoRayCount = aoCount;
     bounceRayCount = bounceCount;
     specularRayCount = specularCount;
+    // The last rows, raw, for the next strip (whose halo above they are: dhdr-light's strips
+    // overlap by 2 kDenoiseReach rows); rows it does not find there it traces.
+    if (carry) {
+        carry->rows = std::make_unique<EstimateCarry::Rows>();
+        EstimateCarry::Rows& next = *carry->rows;
+        next.rows = held;
+        next.rows.ybegin = std::max(held.ybegin, held.yend - 2 * kDenoiseReach);
+        const size_t from = size_t(next.rows.ybegin - held.ybegin) * width;
+        for (const float* plane : raw)
+            next.planes.emplace_back(plane + from, plane + n);
+    }
     // Each pair of sums, and AO, keeps its own edges (its own variance guidance); the guide's
     // weights are shared.
     std::vector<DenoiseEstimate> estimates;

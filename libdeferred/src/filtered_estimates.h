@@ -30,14 +30,16 @@ struct TracedEstimates {
 class FilteredEstimates {
 public:
     // Estimates every covered pixel of `held` (a strip's halo rows included) with the seeds
-    // the shading would use: shadow rays of each environment light through `shadowRays`
-    // (null: none), params.aoSamples AO rays through `aoRays` (null: no AO). Nothing when
-    // params.denoise is off, the view is deep, or there is nothing to estimate. With
-    // `traced`, the catcher's bounce light and the specular indirect light too.
+    // the shading would use (the rows `carry` holds from the previous strip are taken from it;
+    // this strip's last 2 kDenoiseReach rows are left in it for the next): shadow rays of each
+    // environment light through `shadowRays` (null: none), params.aoSamples AO rays through
+    // `aoRays` (null: no AO). Nothing when params.denoise is off, the view is deep, or there is
+    // nothing to estimate. With `traced`, the catcher's bounce light and the specular indirect
+    // light too.
     FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout, OIIO::ROI held,
                       const std::vector<Light>& lights, const LightingParams& params,
                       const Visibility* shadowRays, const Visibility* aoRays,
-                      const TracedEstimates& traced, int nthreads);
+                      const TracedEstimates& traced, int nthreads, EstimateCarry* carry = nullptr);
 
     // Whether light i's visibility, or the AO, comes from here.
     bool filters(std::uint32_t light) const { return light < m_slot.size() && m_slot[light] >= 0; }
@@ -60,6 +62,8 @@ public:
     long long shadowRayCount = 0, aoRayCount = 0, bounceRayCount = 0, specularRayCount = 0;
 
 private:
+    // Every plane of raw estimates, n = held.npixels() values each (a pair's two planes apart).
+    std::vector<float*> planes();
     size_t index(int x, int y) const {
         return size_t(y - m_held.ybegin) * size_t(m_held.width()) + size_t(x - m_held.xbegin);
     }

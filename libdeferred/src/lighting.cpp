@@ -260,7 +260,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         rayTracedAO ? inputs.visibility : nullptr,
         TracedEstimates{bounceLight ? &*bounceLight : nullptr, catcherId,
                         specularLight ? &*specularLight : nullptr, probes != nullptr},
-        nthreads);
+        nthreads, inputs.carry);
     // The environment behind the surfaces: the view ray through each pixel's centre, from the
     // inverse of worldToNDC (the near and far planes' points).
     const Light* sky = nullptr;

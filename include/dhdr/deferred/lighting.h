@@ -6,6 +6,7 @@
 #include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/param_table.h>
 #include <dhdr/deferred/visibility.h>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,21 @@ namespace dhdr {
 struct DeepGBuffer;
 struct ProbeVolume;
 class RayCaster;
+
+// The Monte Carlo estimates a strip traced (environment shadow sums, AO, a catcher's bounce light,
+// the specular indirect light) in its last rows, before filtering, handed to the next strip of
+// the same frame, which holds those rows as the halo above its own: they are not traced again.
+// The same bits as tracing them again (every sequence depends only on the pixel); one carry per
+// frame, passed to its strips in order (LightingInputs::carry). Opaque.
+class EstimateCarry {
+public:
+    EstimateCarry();
+    ~EstimateCarry();
+    EstimateCarry(const EstimateCarry&) = delete;
+    EstimateCarry& operator=(const EstimateCarry&) = delete;
+    struct Rows; // filtered_estimates.cpp
+    std::unique_ptr<Rows> rows;
+};
 
 // What lights the G-buffer, besides its own emission.
 struct LightingInputs {
@@ -34,6 +50,9 @@ struct LightingInputs {
     // The scene's closest hits (usually the same RayCaster as `visibility`): a shadow catcher
     // then counts the light the objects bounce onto it (params.catcherBounceSamples).
     const RayCaster* scene = nullptr;
+    // Optional, for strips of one frame shaded in order: the previous strip's estimates in the
+    // rows both hold (read), this strip's for the next (written). Null: every row is traced.
+    EstimateCarry* carry = nullptr;
 };
 
 struct LightingParams {
