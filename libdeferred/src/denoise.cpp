@@ -228,15 +228,16 @@ struct Pass {
 };
 
 // The variance per pixel from the 5 × 5 neighbourhood of the same surface (SVGF's spatial
-// estimate where no history is), row y; each tap's geometry weight serves every estimate.
+// estimate where no history is), row y; each tap's geometry weight serves every estimate, and
+// each estimate's sums stay in registers over its taps.
 template <int W>
 DHDR_LANES_INLINE void varianceRow(const Pass& p, int y) {
     using F = typename simd::Lanes<W>::F;
     using M = Mask<F>;
+    constexpr int kTaps = 25;
     const Guide& guide = p.guide;
     std::vector<EstimateState>& state = p.state;
     const size_t m = state.size();
-    simd::Array<F> s(m), s2(m);
     simd::Array<M> live(m);
     std::vector<char> anyLive(m);
     const RowCounts counts(state, y, -1);
@@ -244,44 +245,47 @@ DHDR_LANES_INLINE void varianceRow(const Pass& p, int y) {
         const GuideCentre<W> centre(guide, y, x);
         const M surface = load<W>(guide.surface.row(y) + x) > splat<F>(0.0f);
         if (!liveLanes<W>(state, counts, surface, y, x, -1, live, anyLive)) continue;
-        s.zero();
-        s2.zero();
+        F wq[kTaps];
+        int tapRow[kTaps], tapColumn[kTaps], taps = 0;
         F weights = splat<F>(0.0f);
         for (int j = -2; j <= 2; ++j) {
             const int qy = y + j;
             if (qy < 0 || qy >= guide.height) continue;
-            for (int i = -2; i <= 2; ++i) {
-                const F wq = i == 0 && j == 0 ? select<F>(surface, splat<F>(1.0f), splat<F>(0.0f))
-                                              : geometryWeight<W>(guide, centre, qy, x + i);
-                for (size_t e = 0; e < m; ++e) {
-                    if (!anyLive[e]) continue;
-                    const F v = load<W>(state[e].signal.row(qy) + x + i);
-                    s.set(e, s[e] + wq * v);
-                    s2.set(e, s2[e] + wq * v * v);
-                }
-                weights += wq;
+            for (int i = -2; i <= 2; ++i, ++taps) {
+                wq[taps] = i == 0 && j == 0 ? select<F>(surface, splat<F>(1.0f), splat<F>(0.0f))
+                                            : geometryWeight<W>(guide, centre, qy, x + i);
+                tapRow[taps] = qy;
+                tapColumn[taps] = x + i;
+                weights += wq[taps];
             }
         }
         const F safe = select<F>(surface, weights, splat<F>(1.0f));
         for (size_t e = 0; e < m; ++e) {
             if (!anyLive[e]) continue;
-            const F mean = s[e] / safe;
-            const F v = simd::max<F>(splat<F>(0.0f), s2[e] / safe - mean * mean);
+            F s = splat<F>(0.0f), s2 = splat<F>(0.0f);
+            for (int t = 0; t < taps; ++t) {
+                const F v = load<W>(state[e].signal.row(tapRow[t]) + tapColumn[t]);
+                s += wq[t] * v;
+                s2 += wq[t] * v * v;
+            }
+            const F mean = s / safe;
+            const F v = simd::max<F>(splat<F>(0.0f), s2 / safe - mean * mean);
             store(select<F>(live[e], v, splat<F>(0.0f)), state[e].variance.row(y) + x);
         }
     }
 }
 
-// One pass of the filter with holes of 2^pass pixels, row y.
+// One pass of the filter with holes of 2^pass pixels, row y. The taps' geometry weights are
+// computed once for every estimate; each estimate's sums stay in registers over its taps.
 template <int W>
 DHDR_LANES_INLINE void filterRow(const Pass& p, int y, int pass) {
     using F = typename simd::Lanes<W>::F;
     using M = Mask<F>;
+    constexpr int kTaps = (2 * kRadius + 1) * (2 * kRadius + 1);
     const Guide& guide = p.guide;
     const std::vector<EstimateState>& state = p.state;
     const size_t m = state.size();
     const int step = 1 << pass;
-    simd::Array<F> sum(2 * m), weights(m), var(m), inverseSpread(m), centre(m);
     simd::Array<M> live(m);
     std::vector<char> anyLive(m);
     const RowCounts counts(state, y, pass);
@@ -289,75 +293,77 @@ DHDR_LANES_INLINE void filterRow(const Pass& p, int y, int pass) {
         const GuideCentre<W> c(guide, y, x);
         const M surface = load<W>(guide.surface.row(y) + x) > splat<F>(0.0f);
         const bool anyEstimate = liveLanes<W>(state, counts, surface, y, x, pass, live, anyLive);
-        for (size_t e = 0; e < m; ++e) {
-            centre.set(e, load<W>(state[e].signal.row(y) + x));
-            inverseSpread.set(e, splat<F>(1.0f) /
-                                     (splat<F>(kSignalSigma) *
-                                          simd::sqrt<F>(load<W>(state[e].variance.row(y) + x)) +
-                                      splat<F>(1e-4f)));
-        }
-        sum.zero();
-        weights.zero();
-        var.zero();
-        if (anyEstimate) {
-            // Taps in a fixed order: the same sums whatever the threads.
-            for (int j = -kRadius; j <= kRadius; ++j) {
-                const int qy = y + j * step;
-                if (qy < 0 || qy >= guide.height) continue;
-                for (int i = -kRadius; i <= kRadius; ++i) {
-                    const int qx = x + i * step;
-                    const bool same = i == 0 && j == 0;
-                    const F geometry = same ? select<F>(surface, splat<F>(1.0f), splat<F>(0.0f))
-                                            : geometryWeight<W>(guide, c, qy, qx);
-                    if (!any(geometry > splat<F>(0.0f))) continue;
-                    const F kernel =
-                        geometry * splat<F>(kKernel[i + kRadius] * kKernel[j + kRadius]);
-                    const Planes* lobeOf = nullptr;
-                    F lobe = splat<F>(1.0f);
-                    for (size_t e = 0; e < m; ++e) {
-                        if (!anyLive[e]) continue;
-                        const EstimateState& s = state[e];
-                        const F signal = load<W>(s.signal.row(qy) + qx);
-                        const F difference = simd::abs<F>(signal - centre[e]);
-                        F weight =
-                            kernel * expNegative<F>(splat<F>(0.0f) - difference * inverseSpread[e]);
-                        if (s.width && !same) {
-                            if (s.width != lobeOf) {
-                                lobe = lobeWeight<W>(s, y, x, qy, qx);
-                                lobeOf = s.width;
-                            }
-                            weight = weight * lobe;
-                        }
-                        weights.set(e, weights[e] + weight);
-                        var.set(e, var[e] + weight * weight * load<W>(s.variance.row(qy) + qx));
-                        // A single plane is its own signal, and has no second plane (its sum
-                        // stays 0).
-                        if (p.estimates[e].count == 1) {
-                            sum.set(2 * e, sum[2 * e] + weight * signal);
-                            continue;
-                        }
-                        sum.set(2 * e, sum[2 * e] + weight * load<W>(s.plane[0].row(qy) + qx));
-                        sum.set(2 * e + 1,
-                                sum[2 * e + 1] + weight * load<W>(s.plane[1].row(qy) + qx));
-                    }
-                }
+        // The taps that reach a surface, in a fixed order (the same sums whatever the threads):
+        // kernel × geometry weight, and where.
+        F kernel[kTaps];
+        int tapRow[kTaps], tapColumn[kTaps], taps = 0, centreTap = -1;
+        for (int j = -kRadius; j <= kRadius && anyEstimate; ++j) {
+            const int qy = y + j * step;
+            if (qy < 0 || qy >= guide.height) continue;
+            for (int i = -kRadius; i <= kRadius; ++i) {
+                const int qx = x + i * step;
+                const bool same = i == 0 && j == 0;
+                const F geometry = same ? select<F>(surface, splat<F>(1.0f), splat<F>(0.0f))
+                                        : geometryWeight<W>(guide, c, qy, qx);
+                if (!any(geometry > splat<F>(0.0f))) continue;
+                if (same) centreTap = taps;
+                kernel[taps] = geometry * splat<F>(kKernel[i + kRadius] * kKernel[j + kRadius]);
+                tapRow[taps] = qy;
+                tapColumn[taps] = qx;
+                ++taps;
             }
         }
-        // Pixels without a surface, or without the estimate, keep what they had.
+        // The lobe weight of each tap, for the estimates guided by one lobe (they share it).
+        F lobe[kTaps];
+        const Planes* lobeOf = nullptr;
         for (size_t e = 0; e < m; ++e) {
             const EstimateState& s = state[e];
             EstimateState& o = p.next[e];
+            F weights = splat<F>(0.0f), var = splat<F>(0.0f), sum0 = splat<F>(0.0f),
+              sum1 = splat<F>(0.0f);
+            const bool single = p.estimates[e].count == 1;
+            if (anyLive[e]) {
+                const F centre = load<W>(s.signal.row(y) + x);
+                const F inverseSpread =
+                    splat<F>(1.0f) /
+                    (splat<F>(kSignalSigma) * simd::sqrt<F>(load<W>(s.variance.row(y) + x)) +
+                     splat<F>(1e-4f));
+                if (s.width && s.width != lobeOf) {
+                    for (int t = 0; t < taps; ++t)
+                        if (t != centreTap)
+                            lobe[t] = lobeWeight<W>(s, y, x, tapRow[t], tapColumn[t]);
+                    lobeOf = s.width;
+                }
+                for (int t = 0; t < taps; ++t) {
+                    const int qy = tapRow[t], qx = tapColumn[t];
+                    const F signal = load<W>(s.signal.row(qy) + qx);
+                    const F difference = simd::abs<F>(signal - centre);
+                    F weight =
+                        kernel[t] * expNegative<F>(splat<F>(0.0f) - difference * inverseSpread);
+                    if (s.width && t != centreTap) weight = weight * lobe[t];
+                    weights += weight;
+                    var += weight * weight * load<W>(s.variance.row(qy) + qx);
+                    // A single plane is its own signal, and has no second plane.
+                    if (single) {
+                        sum0 += weight * signal;
+                        continue;
+                    }
+                    sum0 += weight * load<W>(s.plane[0].row(qy) + qx);
+                    sum1 += weight * load<W>(s.plane[1].row(qy) + qx);
+                }
+            }
+            // Pixels without a surface, or without the estimate, keep what they had.
             const M on = live[e];
-            const F safe = select<F>(on, weights[e], splat<F>(1.0f));
-            store(select<F>(on, var[e] / (safe * safe), load<W>(s.variance.row(y) + x)),
+            const F safe = select<F>(on, weights, splat<F>(1.0f));
+            store(select<F>(on, var / (safe * safe), load<W>(s.variance.row(y) + x)),
                   o.variance.row(y) + x);
-            const F a = select<F>(on, sum[2 * e] / safe, load<W>(s.plane[0].row(y) + x));
+            const F a = select<F>(on, sum0 / safe, load<W>(s.plane[0].row(y) + x));
             store(a, o.plane[0].row(y) + x);
-            if (p.estimates[e].count == 1) { // the second plane stays 0
+            if (single) { // the second plane stays 0
                 store(a, o.signal.row(y) + x);
                 continue;
             }
-            const F b = select<F>(on, sum[2 * e + 1] / safe, load<W>(s.plane[1].row(y) + x));
+            const F b = select<F>(on, sum1 / safe, load<W>(s.plane[1].row(y) + x));
             store(b, o.plane[1].row(y) + x);
             store(select<F>(b > splat<F>(0.0f), a / b, splat<F>(1.0f)), o.signal.row(y) + x);
         }
