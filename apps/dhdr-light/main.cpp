@@ -457,10 +457,11 @@ int run(int argc, char** argv) {
             params.denoise &&
             (params.environmentSamples > 0 || params.aoSamples > 0 ||
              (withScene && (params.catcherBounceSamples > 0 || params.specularSamples > 0)));
-        // About 512 rows (128 without a halo), as equal as whole rows of tiles allow: a last
-        // strip of a few rows would cost two halos for little (1080 rows: 2 strips of 544
-        // rather than 512, 512 and 56).
-        const int target = halo ? 512 : 128;
+        // About 256 rows (128 without a halo), as equal as whole rows of tiles allow: a last
+        // strip of a few rows would filter two halos for little (1080 rows: 4 strips of 272
+        // rather than 256 × 4 and 56). 512 rows took as long at 1080p, in 1.46× the memory
+        // (bench/README.md, session 18).
+        const int target = halo ? 256 : 128;
         const int count = std::max(1, (gspec.height + target * 9 / 8 - 1) / (target * 9 / 8));
         const int each = (gspec.height + count - 1) / count;
         const int rows =
