@@ -452,11 +452,10 @@ int run(int argc, char** argv) {
         // SSAO looks at neighbouring pixels anywhere in the frame: one strip, the whole frame.
         // The denoiser reads kDenoiseReach rows around each pixel: each strip is read with
         // that halo, and taller, so that filtering the halo again is a smaller share (its rays
-        // are traced once: EstimateCarry).
-        const bool halo =
-            params.denoise &&
-            (params.environmentSamples > 0 || params.aoSamples > 0 ||
-             (withScene && (params.catcherBounceSamples > 0 || params.specularSamples > 0)));
+        // are traced once: EstimateCarry). Without a scene no ray is traced: nothing to filter.
+        const bool halo = params.denoise && withScene &&
+                          (params.environmentSamples > 0 || params.aoSamples > 0 ||
+                           params.catcherBounceSamples > 0 || params.specularSamples > 0);
         // About 256 rows (128 without a halo), as equal as whole rows of tiles allow: a last
         // strip of a few rows would filter two halos for little (1080 rows: 4 strips of 272
         // rather than 256 × 4 and 56). 512 rows took as long at 1080p, in 1.46× the memory
