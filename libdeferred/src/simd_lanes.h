@@ -5,7 +5,6 @@
 // width and on every CPU; min and max are SSE's (the second operand when unordered).
 #pragma once
 
-#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -71,7 +70,6 @@ public:
     DHDR_LANES_INLINE void set(size_t i, const V& v) {
         std::memcpy(m_values.data() + i * kWidth, &v, sizeof v);
     }
-    void zero() { std::fill(m_values.begin(), m_values.end(), T(0)); }
 
 private:
     std::vector<T> m_values;
