@@ -1716,6 +1716,43 @@ TEST(Denoise, SettledNeighbourhoodsAreSkippedWithTheSameResult) {
     EXPECT_GT(filtered, 1000);        // the shadows spread over their reach
 }
 
+// A strip's halo is read for its neighbours only: filtering with the wanted rows named gives
+// those rows the bits of filtering every row, and leaves the others as they were.
+TEST(Denoise, WantedRowsGetTheBitsOfTheWholeFilter) {
+    FloorEstimates f;
+    using Planes = std::vector<std::vector<float>>;
+    auto filter = [&](int firstRow, int endRow) {
+        f.guide.firstRow = firstRow;
+        f.guide.endRow = endRow;
+        Planes p{f.ratio, f.value, f.ratio};
+        DenoiseEstimate a{&p[0], 2, &f.direction, &f.width},
+            b{&p[1], 1, &f.direction, &f.width, &f.patch}, c{&p[2], 2};
+        c.skipSettled = false;
+        atrousFilter({a, b, c}, f.guide);
+        return p;
+    };
+    const Planes all = filter(0, -1);
+    // Rows 40–99 of 150: the passes run on fewer rows at each step; a band of one row too.
+    for (const auto& [firstRow, endRow] : {std::pair{40, 100}, std::pair{0, 1}, {149, 150}}) {
+        const Planes some = filter(firstRow, endRow);
+        for (size_t e = 0; e < all.size(); ++e) {
+            const std::vector<float>& input = e == 1 ? f.value : f.ratio;
+            const size_t planes = all[e].size() / f.n;
+            int differ = 0;
+            for (size_t k = 0; k < planes; ++k)
+                for (int y = 0; y < f.H; ++y)
+                    for (int x = 0; x < f.W; ++x) {
+                        const size_t i = k * f.n + size_t(y) * f.W + size_t(x);
+                        const bool wanted = y >= firstRow && y < endRow;
+                        ASSERT_EQ(floatBits(some[e][i]), floatBits(wanted ? all[e][i] : input[i]))
+                            << "estimate " << e << " row " << y << " column " << x;
+                        differ += wanted && all[e][i] != input[i];
+                    }
+            if (e != 1 && endRow - firstRow > 1) EXPECT_GT(differ, 1000) << "estimate " << e;
+        }
+    }
+}
+
 // The filter on 8 pixels at once (AVX2) gives the bits it gives on 4 (SSE2), for every kind
 // of estimate: a pair with a lobe direction, a single value where a mask says, a pair filtered
 // everywhere; and so does the width this CPU picks (atrousFilter).

@@ -5,6 +5,7 @@
 #include <dhdr/common/parallel.h>
 #include <dhdr/deferred/denoise.h>
 #include <dhdr/deferred/ray_caster.h>
+#include <memory>
 #include <optional>
 
 // The kernels below hold 32-byte vectors in always-inlined helpers (simd_lanes.h).
@@ -34,11 +35,27 @@ constexpr int kMaxLanes = 8;
 constexpr int kPad = std::max(2, kRadius << (kDenoiseIterations - 1));
 
 // One plane of floats per quantity, rows padded (kPad each side, width rounded up to lanes).
+// Allocated without initialising: every row is written by the setup's pass (Setup::row), on
+// all threads, so that a strip's planes are not first zeroed on one.
 struct Planes {
     int stride = 0;
-    std::vector<float> values;
-    float* row(int y) { return values.data() + size_t(y) * size_t(stride) + kPad; }
-    const float* row(int y) const { return values.data() + size_t(y) * size_t(stride) + kPad; }
+    std::unique_ptr<float[]> values;
+    float* row(int y) { return values.get() + size_t(y) * size_t(stride) + kPad; }
+    const float* row(int y) const { return values.get() + size_t(y) * size_t(stride) + kPad; }
+    void allocate(int rowStride, int height) {
+        stride = rowStride;
+        values.reset(new float[size_t(stride) * size_t(height)]);
+    }
+    // Row y: values(x) for x in [0, width), zero in the padding.
+    template <class Value>
+    void fill(int y, int width, Value&& value) {
+        float* r = row(y);
+        std::fill(r - kPad, r, 0.0f);
+        for (int x = 0; x < width; ++x)
+            r[x] = value(x);
+        std::fill(r + width, r - kPad + stride, 0.0f);
+    }
+    void zero(int y) { std::fill_n(row(y) - kPad, stride, 0.0f); }
 };
 
 // The guide laid out for the lanes: positions, normals, object and surface as planes.
@@ -47,22 +64,21 @@ struct Guide {
     Planes px, py, pz, nx, ny, nz, object, surface;
     explicit Guide(const DenoiseGuide& g) : width(g.width), height(g.height) {
         stride = kPad + (width + kMaxLanes - 1) / kMaxLanes * kMaxLanes + kPad;
-        for (Planes* p : {&px, &py, &pz, &nx, &ny, &nz, &object, &surface}) {
-            p->stride = stride;
-            p->values.assign(size_t(stride) * size_t(height), 0.0f);
-        }
-        for (int y = 0; y < height; ++y)
-            for (int x = 0; x < width; ++x) {
-                const size_t i = size_t(y) * size_t(width) + size_t(x);
-                px.row(y)[x] = g.position[i].x;
-                py.row(y)[x] = g.position[i].y;
-                pz.row(y)[x] = g.position[i].z;
-                nx.row(y)[x] = g.normal[i].x;
-                ny.row(y)[x] = g.normal[i].y;
-                nz.row(y)[x] = g.normal[i].z;
-                object.row(y)[x] = g.object[i];
-                surface.row(y)[x] = g.surface[i] ? 1.0f : 0.0f;
-            }
+        for (Planes* p : {&px, &py, &pz, &nx, &ny, &nz, &object, &surface})
+            p->allocate(stride, height);
+    }
+    void fill(const DenoiseGuide& g, int y) {
+        const size_t first = size_t(y) * size_t(width);
+        const glm::vec3* P = g.position.data() + first;
+        const glm::vec3* N = g.normal.data() + first;
+        px.fill(y, width, [&](int x) { return P[x].x; });
+        py.fill(y, width, [&](int x) { return P[x].y; });
+        pz.fill(y, width, [&](int x) { return P[x].z; });
+        nx.fill(y, width, [&](int x) { return N[x].x; });
+        ny.fill(y, width, [&](int x) { return N[x].y; });
+        nz.fill(y, width, [&](int x) { return N[x].z; });
+        object.fill(y, width, [&](int x) { return g.object[first + size_t(x)]; });
+        surface.fill(y, width, [&](int x) { return g.surface[first + size_t(x)] ? 1.0f : 0.0f; });
     }
 };
 
@@ -161,11 +177,6 @@ struct EstimateState {
     const Planes* active = nullptr; // 1 where the estimate exists; null: wherever a surface is
     const Unsettled* unsettled = nullptr; // null: filtered wherever it exists
 };
-
-void newPlanes(Planes& p, const Guide& g) {
-    p.stride = g.stride;
-    p.values.assign(size_t(g.stride) * size_t(g.height), 0.0f);
-}
 
 // Per row: the unsettled counts of each estimate that skips settled pixels (Unsettled).
 struct RowCounts {
@@ -424,10 +435,12 @@ void atrousFilterLanes(const std::vector<DenoiseEstimate>& estimates, const Deno
             (e.active && e.active->size() < n))
             return;
     const size_t m = estimates.size();
-    const Guide guide(dg);
-    // Directions and widths of the estimates that have them, padded like the guide.
-    std::vector<Planes> lobes;
-    lobes.reserve(5 * m);
+    Guide guide(dg);
+    // Where each estimate exists, and the directions and widths of those that have them,
+    // padded like the guide; the index of each estimate's planes there (−1: none).
+    std::vector<Planes> lobes(5 * m);
+    std::vector<int> activeOf(m, -1), lobeOf(m, -1);
+    size_t lobeCount = 0;
     std::vector<EstimateState> state(m), next(m);
     std::vector<std::optional<Unsettled>> unsettled(m);
     for (size_t e = 0; e < m; ++e) {
@@ -437,28 +450,15 @@ void atrousFilterLanes(const std::vector<DenoiseEstimate>& estimates, const Deno
             state[e].unsettled = next[e].unsettled = &*unsettled[e];
         }
         for (EstimateState* s : {&state[e], &next[e]}) {
-            newPlanes(s->signal, guide);
-            newPlanes(s->variance, guide);
-            newPlanes(s->plane[0], guide);
-            if (in.count == 2) newPlanes(s->plane[1], guide);
+            s->signal.allocate(guide.stride, h);
+            s->variance.allocate(guide.stride, h);
+            s->plane[0].allocate(guide.stride, h);
+            if (in.count == 2) s->plane[1].allocate(guide.stride, h);
         }
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x) {
-                const size_t i = size_t(y) * size_t(w) + size_t(x);
-                for (int c = 0; c < in.count; ++c)
-                    state[e].plane[c].row(y)[x] = (*in.planes)[size_t(c) * n + i];
-                state[e].signal.row(y)[x] =
-                    signalOf(state[e].plane[0].row(y)[x],
-                             in.count == 2 ? state[e].plane[1].row(y)[x] : 0.0f, in.count);
-            }
         if (in.active) {
-            lobes.emplace_back();
-            newPlanes(lobes.back(), guide);
-            for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x)
-                    lobes.back().row(y)[x] =
-                        (*in.active)[size_t(y) * size_t(w) + size_t(x)] ? 1.0f : 0.0f;
-            state[e].active = next[e].active = &lobes.back();
+            activeOf[e] = int(lobeCount);
+            lobes[lobeCount].allocate(guide.stride, h);
+            state[e].active = next[e].active = &lobes[lobeCount++];
         }
         if (!in.direction) continue;
         // Estimates guided by the same lobes share their planes, and so their lobe weight.
@@ -466,44 +466,73 @@ void atrousFilterLanes(const std::vector<DenoiseEstimate>& estimates, const Deno
             estimates.begin(), estimates.begin() + long(e), [&](const DenoiseEstimate& o) {
                 return o.direction == in.direction && o.width == in.width;
             });
-        if (same != estimates.begin() + long(e)) {
-            const EstimateState& shared = state[size_t(same - estimates.begin())];
-            for (EstimateState* s : {&state[e], &next[e]}) {
-                std::copy(shared.direction, shared.direction + 3, s->direction);
-                s->width = shared.width;
-            }
-            continue;
+        const size_t first = same != estimates.begin() + long(e)
+                                 ? size_t(lobeOf[size_t(same - estimates.begin())])
+                                 : lobeCount;
+        if (first == lobeCount) {
+            lobeOf[e] = int(lobeCount);
+            for (int k = 0; k < 4; ++k)
+                lobes[lobeCount++].allocate(guide.stride, h);
         }
-        for (int k = 0; k < 4; ++k) {
-            lobes.emplace_back();
-            newPlanes(lobes.back(), guide);
-            for (int y = 0; y < h; ++y)
-                for (int x = 0; x < w; ++x) {
-                    const size_t i = size_t(y) * size_t(w) + size_t(x);
-                    lobes.back().row(y)[x] = k < 3 ? (*in.direction)[i][k] : (*in.width)[i];
-                }
-            if (k < 3)
-                state[e].direction[k] = next[e].direction[k] = &lobes.back();
-            else
-                state[e].width = next[e].width = &lobes.back();
+        for (EstimateState* s : {&state[e], &next[e]}) {
+            for (int k = 0; k < 3; ++k)
+                s->direction[k] = &lobes[first + size_t(k)];
+            s->width = &lobes[first + 3];
         }
     }
+    // Every row of every plane, padding included: the inputs, zero where nothing is yet.
+    parallelRows(0, h, nthreads, [&](int64_t yy) {
+        const int y = int(yy);
+        const size_t first = size_t(y) * size_t(w);
+        guide.fill(dg, y);
+        for (size_t e = 0; e < m; ++e) {
+            const DenoiseEstimate& in = estimates[e];
+            EstimateState& s = state[e];
+            const float* values = in.planes->data() + first;
+            s.plane[0].fill(y, w, [&](int x) { return values[x]; });
+            if (in.count == 2) s.plane[1].fill(y, w, [&](int x) { return values[n + size_t(x)]; });
+            s.signal.fill(y, w, [&](int x) {
+                return signalOf(values[x], in.count == 2 ? values[n + size_t(x)] : 0.0f, in.count);
+            });
+            s.variance.zero(y);
+            for (Planes* p : {&next[e].signal, &next[e].variance, &next[e].plane[0]})
+                p->zero(y);
+            if (in.count == 2) next[e].plane[1].zero(y);
+            if (activeOf[e] >= 0)
+                lobes[size_t(activeOf[e])].fill(
+                    y, w, [&](int x) { return (*in.active)[first + size_t(x)] ? 1.0f : 0.0f; });
+            if (lobeOf[e] < 0) continue;
+            const size_t l = size_t(lobeOf[e]);
+            for (int k = 0; k < 3; ++k)
+                lobes[l + size_t(k)].fill(
+                    y, w, [&](int x) { return (*in.direction)[first + size_t(x)][k]; });
+            lobes[l + 3].fill(y, w, [&](int x) { return (*in.width)[first + size_t(x)]; });
+        }
+    });
     void (*row)(const Pass&, int, int) = row4;
 #if defined(__x86_64__)
     if (lanes == 8 && __builtin_cpu_supports("avx2")) row = row8;
 #endif
+    const int firstRow = std::clamp(dg.firstRow, 0, h),
+              endRow = dg.endRow < 0 ? h : std::clamp(dg.endRow, firstRow, h);
     for (int pass = -1; pass < kDenoiseIterations; ++pass) {
         const Pass work{guide, estimates, state, next};
-        parallelRows(0, h, nthreads, [&](int64_t y) { row(work, int(y), pass); });
+        // The rows the later passes' taps read from this one.
+        int reach = 0;
+        for (int later = pass + 1; later < kDenoiseIterations; ++later)
+            reach += kRadius << later;
+        parallelRows(std::max(firstRow - reach, 0), std::min(endRow + reach, h), nthreads,
+                     [&](int64_t y) { row(work, int(y), pass); });
         // The variance is estimated in place; every filter pass reads the previous one only.
         if (pass >= 0) state.swap(next);
     }
-    for (size_t e = 0; e < m; ++e)
-        for (int y = 0; y < h; ++y)
-            for (int x = 0; x < w; ++x)
-                for (int c = 0; c < estimates[e].count; ++c)
-                    (*estimates[e].planes)[size_t(c) * n + size_t(y) * size_t(w) + size_t(x)] =
-                        state[e].plane[c].row(y)[x];
+    parallelRows(firstRow, endRow, nthreads, [&](int64_t yy) {
+        const int y = int(yy);
+        for (size_t e = 0; e < m; ++e)
+            for (int c = 0; c < estimates[e].count; ++c)
+                std::copy_n(state[e].plane[c].row(y), w,
+                            estimates[e].planes->data() + size_t(c) * n + size_t(y) * size_t(w));
+    });
 }
 
 void atrousFilter(std::vector<float>& planes, int count, const DenoiseGuide& guide, int nthreads) {

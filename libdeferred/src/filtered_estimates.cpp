@@ -41,10 +41,11 @@ std::vector<float*> FilteredEstimates::planes() {
 }
 
 FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout,
-                                     OIIO::ROI held, const std::vector<Light>& lights,
-                                     const LightingParams& params, const Visibility* shadowRays,
-                                     const Visibility* aoRays, const TracedEstimates& traced,
-                                     int nthreads, EstimateCarry* carry)
+                                     OIIO::ROI held, OIIO::ROI read,
+                                     const std::vector<Light>& lights, const LightingParams& params,
+                                     const Visibility* shadowRays, const Visibility* aoRays,
+                                     const TracedEstimates& traced, int nthreads,
+                                     EstimateCarry* carry)
     : m_held(held), m_slot(lights.size(), -1) {
     // What the previous strip left, taken below if it fits; nothing is left for the next
     // unless this strip estimates.
@@ -70,6 +71,10 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     guide.normal.assign(n, glm::vec3(0.0f));
     guide.object.assign(n, 0.0f);
     guide.surface.assign(n, 0);
+    if (read.defined()) {
+        guide.firstRow = std::clamp(read.ybegin, held.ybegin, held.yend) - held.ybegin;
+        guide.endRow = std::clamp(read.yend, held.ybegin + guide.firstRow, held.yend) - held.ybegin;
+    }
     // The glossy lobe of each pixel: its mirror direction and angular width (2α, the reflected
     // lobe being about twice the microfacets'; at least 0.02), for the specular sums.
     std::vector<glm::vec3> mirror(n, glm::vec3(0.0f, 0.0f, 1.0f));

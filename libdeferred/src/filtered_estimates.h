@@ -35,11 +35,13 @@ public:
     // environment light through `shadowRays` (null: none), params.aoSamples AO rays through
     // `aoRays` (null: no AO). Nothing when params.denoise is off, the view is deep, or there is
     // nothing to estimate. With `traced`, the catcher's bounce light and the specular indirect
-    // light too.
+    // light too. Only the rows of `read` (within `held`; undefined: all) are read afterwards,
+    // and only their results are filtered to the end.
     FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout, OIIO::ROI held,
-                      const std::vector<Light>& lights, const LightingParams& params,
-                      const Visibility* shadowRays, const Visibility* aoRays,
-                      const TracedEstimates& traced, int nthreads, EstimateCarry* carry = nullptr);
+                      OIIO::ROI read, const std::vector<Light>& lights,
+                      const LightingParams& params, const Visibility* shadowRays,
+                      const Visibility* aoRays, const TracedEstimates& traced, int nthreads,
+                      EstimateCarry* carry = nullptr);
 
     // Whether light i's visibility, or the AO, comes from here.
     bool filters(std::uint32_t light) const { return light < m_slot.size() && m_slot[light] >= 0; }

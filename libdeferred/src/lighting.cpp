@@ -256,7 +256,7 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
     LightingParams estimated = params;
     estimated.denoise = params.denoise && !params.pathTrace;
     const FilteredEstimates filtered(
-        view, layout, source.roi, lights, estimated, shadowRays,
+        view, layout, source.roi, roi, lights, estimated, shadowRays,
         rayTracedAO ? inputs.visibility : nullptr,
         TracedEstimates{bounceLight ? &*bounceLight : nullptr, catcherId,
                         specularLight ? &*specularLight : nullptr, probes != nullptr},

@@ -20,6 +20,10 @@ struct DenoiseGuide {
     std::vector<glm::vec3> position, normal; // world space; normal unit
     std::vector<float> object;               // id.object; pixels of other objects never mix
     std::vector<unsigned char> surface;      // 0: background, never read or written
+    // The rows whose results are read, [firstRow, endRow) (endRow < 0: all): each pass runs
+    // only on the rows those results depend on, and the other rows keep their input values
+    // (a strip's halo, read for its neighbours, is not filtered to the end).
+    int firstRow = 0, endRow = -1;
 };
 
 // Filters `planes` in place: one plane (an estimate, such as AO) or two (the sums of a ratio
