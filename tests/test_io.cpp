@@ -216,23 +216,32 @@ float sanitized(float v) {
 
 // A vertical 3-tap filter of colour (its reach: one row, the halo), run through the pipeline
 // in strips of `rows`, and written; Z is copied as it is.
+// With `share`, a strip's shared rows are copied from the previous strip (counted in `reused`).
 bool filterFrame(const std::string& in, const std::string& out, int rows, bool readAhead,
-                 bool writeBehind, dhdr::NonFiniteCount& replaced, std::string& error) {
+                 bool writeBehind, dhdr::NonFiniteCount& replaced, std::string& error, int halo = 1,
+                 bool share = false, int* reused = nullptr) {
     dhdr::StripReader reader;
     if (!reader.open(in, 0, 0, 4, 2, error)) return false;
     const ImageSpec frame = reader.spec();
     dhdr::ImageFileOutput file(out);
     dhdr::StripPipelineParams params;
     params.rows = rows;
-    params.halo = 1;
+    params.halo = halo;
+    params.shareHalo = share;
     params.readAhead = readAhead;
     params.writeBehind = writeBehind;
     dhdr::StripPipeline pipeline(OIIO::get_roi(frame), params);
-    pipeline.addInput({[&](int y0, int y1, ImageBuf& strip, std::string& e) {
-                           return reader.read(y0, y1, strip, e);
-                       },
-                       in,
-                       {{0, 3}}});
+    dhdr::StripInput input{[&](int y0, int y1, ImageBuf& strip, std::string& e) {
+                               return reader.read(y0, y1, strip, e);
+                           },
+                           in,
+                           {{0, 3}}};
+    input.readReusing = [&](int y0, int y1, const ImageBuf& previous, ImageBuf& strip,
+                            int& copiedEnd, std::string& e) {
+        if (reused) ++*reused;
+        return reader.read(y0, y1, strip, e, &previous, &copiedEnd);
+    };
+    pipeline.addInput(std::move(input));
     // Opened from the first processed strip.
     pipeline.setOutput(file, [&](const ImageBuf& first, std::string& e) {
         ImageSpec spec = first.spec();
@@ -291,13 +300,29 @@ TEST_F(IO, StripPipelineGivesTheWholeFrameWhateverTheStrips) {
                 negative += v == -std::numeric_limits<float>::infinity();
             }
     ASSERT_GT(nan * positive * negative, 0);
-    for (const auto& [rows, readAhead, writeBehind] : std::vector<std::tuple<int, bool, bool>>{
-             {1, false, false}, {7, true, false}, {64, true, true}, {200, false, true}}) {
-        SCOPED_TRACE("rows " + std::to_string(rows));
-        const std::string out = path("filtered" + std::to_string(rows) + ".exr");
+    // Rows, read ahead, write behind, halo, shared halo rows copied (only when halo ≤ rows).
+    for (const auto& [rows, readAhead, writeBehind, halo, share] :
+         std::vector<std::tuple<int, bool, bool, int, bool>>{{1, false, false, 1, false},
+                                                             {7, true, false, 1, false},
+                                                             {64, true, true, 1, false},
+                                                             {200, false, true, 1, false},
+                                                             {1, true, false, 1, true},
+                                                             {7, true, true, 3, true},
+                                                             {16, false, false, 16, true},
+                                                             {10, true, false, 4, true},
+                                                             {3, true, false, 5, true}}) {
+        const std::string name =
+            std::to_string(rows) + "_" + std::to_string(halo) + (share ? "_shared" : "");
+        SCOPED_TRACE("rows " + name);
+        const std::string out = path("filtered" + name + ".exr");
         dhdr::NonFiniteCount replaced;
         std::string error;
-        ASSERT_TRUE(filterFrame(in, out, rows, readAhead, writeBehind, replaced, error)) << error;
+        int reused = 0;
+        ASSERT_TRUE(filterFrame(in, out, rows, readAhead, writeBehind, replaced, error, halo, share,
+                                &reused))
+            << error;
+        // Every strip but the first copies its shared rows, unless the halo is taller than it.
+        EXPECT_EQ(reused, share && halo <= rows ? (height + rows - 1) / rows - 1 : 0);
         EXPECT_EQ(replaced.nan, nan);
         EXPECT_EQ(replaced.positiveInf, positive);
         EXPECT_EQ(replaced.negativeInf, negative);
@@ -322,6 +347,39 @@ TEST_F(IO, StripPipelineGivesTheWholeFrameWhateverTheStrips) {
             }
         EXPECT_EQ(wrong, 0);
     }
+}
+
+// Rows read again with the previous read's buffer: those it holds are copied, the rest
+// decoded, and the strip is the one a plain read gives, bit for bit; without an overlap, or
+// from a buffer of other rows, nothing is copied.
+TEST_F(IO, StripReaderCopiesTheRowsTheLastReadHeld) {
+    const std::string in = writeHostileFrame(path("overlap.exr"), 23, 90);
+    dhdr::StripReader reader;
+    std::string error;
+    ASSERT_TRUE(reader.open(in, 0, 0, 4, 2, error)) << error;
+    auto same = [](const ImageBuf& a, const ImageBuf& b) {
+        return a.roi() == b.roi() &&
+               std::memcmp(a.localpixels(), b.localpixels(), size_t(a.spec().image_bytes())) == 0;
+    };
+    ImageBuf first, second, plain;
+    ASSERT_TRUE(reader.read(10, 40, first, error)) << error;
+    int copiedEnd = -1;
+    ASSERT_TRUE(reader.read(30, 70, second, error, &first, &copiedEnd)) << error;
+    EXPECT_EQ(copiedEnd, 40);
+    ASSERT_TRUE(reader.read(30, 70, plain, error)) << error;
+    EXPECT_TRUE(same(second, plain));
+    // Clamped to the image: rows 80–89 of 90, all held by `second`'s successor.
+    ImageBuf tail, tailPlain;
+    ASSERT_TRUE(reader.read(60, 95, first, error)) << error;
+    ASSERT_TRUE(reader.read(80, 120, tail, error, &first, &copiedEnd)) << error;
+    EXPECT_EQ(copiedEnd, 90);
+    ASSERT_TRUE(reader.read(80, 120, tailPlain, error)) << error;
+    EXPECT_TRUE(same(tail, tailPlain));
+    // No overlap at the strip's first row: decoded.
+    ASSERT_TRUE(reader.read(0, 20, second, error, &plain, &copiedEnd)) << error;
+    EXPECT_EQ(copiedEnd, 0);
+    ASSERT_TRUE(reader.read(0, 20, tailPlain, error)) << error;
+    EXPECT_TRUE(same(second, tailPlain));
 }
 
 // A file that cannot be read half way: the error names it, and nothing is left behind.

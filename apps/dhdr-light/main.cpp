@@ -23,6 +23,7 @@
 #include <dhdr/io/strip_reader.h>
 #include <filesystem>
 #include <future>
+#include <malloc.h>
 #include <memory>
 #include <optional>
 #include <thread>
@@ -487,13 +488,20 @@ int run(int argc, char** argv) {
                                           : (environment ? kFootprintReach : 0);
         streaming.nthreads = tool.threads();
         streaming.progress = progress.over();
+        // The strips' shared rows are decoded once (the shading only reads its G-buffer).
+        streaming.shareHalo = true;
         StripPipeline pipeline(OIIO::get_roi(gspec), streaming);
         // Z is +∞ on the background by contract; every other channel must be finite.
-        pipeline.addInput({[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
-                               return reader.read(y0, y1, s, e);
-                           },
-                           path,
-                           {{0, layout.depth}, {layout.depth + 1, gspec.nchannels}}});
+        StripInput gbufferRows{[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
+                                   return reader.read(y0, y1, s, e);
+                               },
+                               path,
+                               {{0, layout.depth}, {layout.depth + 1, gspec.nchannels}}};
+        gbufferRows.readReusing = [&](int y0, int y1, const OIIO::ImageBuf& previous,
+                                      OIIO::ImageBuf& s, int& copiedEnd, std::string& e) {
+            return reader.read(y0, y1, s, e, &previous, &copiedEnd);
+        };
+        pipeline.addInput(std::move(gbufferRows));
         const OIIO::TypeDesc type =
             dataType == "half" ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT;
         pipeline.setOutput(file.file(), [&](const OIIO::ImageBuf& first, std::string& e) {
@@ -574,5 +582,13 @@ int run(int argc, char** argv) {
 } // namespace
 
 int main(int argc, char** argv) {
+#if defined(M_MMAP_THRESHOLD) && defined(M_TRIM_THRESHOLD)
+    // Every strip allocates and frees the same buffers (the denoiser's planes alone, about
+    // 140 MB a strip at 1080p): glibc keeps them for the next strip instead of returning them
+    // to the kernel and taking page faults again, which cost a sixth of the denoiser's time
+    // (bench/README.md, session 19). The peak stays that of one strip.
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#endif
     return app::guardedMain("dhdr-light", [&] { return run(argc, argv); });
 }

@@ -95,7 +95,8 @@ bool StripReader::open(const std::string& path, int subimage, int chbegin, int c
     return true;
 }
 
-bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string& error) {
+bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string& error,
+                       const OIIO::ImageBuf* reuse, int* copiedEnd) {
     ybegin = std::max(ybegin, m_spec.y);
     yend = std::min(yend, m_spec.y + m_spec.height);
     OIIO::ImageSpec rows = m_spec;
@@ -113,12 +114,32 @@ bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string&
             return false;
         }
     }
+    if (copiedEnd) *copiedEnd = ybegin;
     if (rows.height == 0) return true;
     auto* out = static_cast<float*>(strip.localpixels());
     const size_t rowFloats = size_t(rows.width) * size_t(rows.nchannels);
+    // The rows `reuse` holds from ybegin on, copied.
+    int copied = ybegin;
+    if (reuse && reuse != &strip && reuse->initialized() && reuse->localpixels()) {
+        const OIIO::ImageSpec& r = reuse->spec();
+        if (r.format == OIIO::TypeDesc::FLOAT && r.channelformats.empty() && r.x == rows.x &&
+            r.width == rows.width && r.nchannels == rows.nchannels && r.y <= ybegin &&
+            ybegin < r.y + r.height) {
+            copied = std::min(yend, r.y + r.height);
+            std::memcpy(out, reuse->pixeladdr(rows.x, ybegin),
+                        rowFloats * size_t(copied - ybegin) * sizeof(float));
+        }
+    }
+    if (copiedEnd) *copiedEnd = copied;
+    if (copied == yend) return true;
+    return decode(copied, yend, out + size_t(copied - ybegin) * rowFloats, error);
+}
+
+bool StripReader::decode(int ybegin, int yend, float* out, std::string& error) {
+    const size_t rowFloats = size_t(m_spec.width) * size_t(m_spec.nchannels);
     if (m_whole.initialized()) {
-        std::memcpy(out, m_whole.pixeladdr(rows.x, ybegin),
-                    rowFloats * size_t(rows.height) * sizeof(float));
+        std::memcpy(out, m_whole.pixeladdr(m_spec.x, ybegin),
+                    rowFloats * size_t(yend - ybegin) * sizeof(float));
         return true;
     }
     if (m_deep) {
@@ -129,12 +150,13 @@ bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string&
     }
     if (!m_native_spec) m_native_spec = std::make_unique<OIIO::ImageSpec>(m_in->spec());
     const NativeReader native(*m_native_spec, m_chbegin, m_chend);
-    const size_t rowBytes = size_t(rows.width) * native.bytes;
-    m_native.resize(rowBytes * size_t(rows.height));
+    const int width = m_spec.width, height = yend - ybegin;
+    const size_t rowBytes = size_t(width) * native.bytes;
+    m_native.resize(rowBytes * size_t(height));
     // Bands of 16 rows (a ZIP chunk; a multiple of the others' but DWAB's), decoded and
     // converted by as many workers as there are bands, up to the thread count.
     constexpr int kBand = 64;
-    const int bands = (rows.height + kBand - 1) / kBand;
+    const int bands = (height + kBand - 1) / kBand;
     const int workers = std::clamp(m_workers, 1, bands);
     while (int(m_inputs.size()) < workers) {
         std::unique_ptr<OIIO::ImageInput> in =
@@ -155,7 +177,7 @@ bool StripReader::read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string&
             const int y0 = ybegin + b * kBand, y1 = std::min(y0 + kBand, yend);
             std::byte* band = m_native.data() + size_t(y0 - ybegin) * rowBytes;
             if (!in.read_native_scanlines(m_subimage, 0, y0, y1, 0, m_chbegin, m_chend, band) ||
-                !native.toFloat(band, out + size_t(y0 - ybegin) * rowFloats, rows.width, y1 - y0)) {
+                !native.toFloat(band, out + size_t(y0 - ybegin) * rowFloats, width, y1 - y0)) {
                 std::lock_guard<std::mutex> lock(errorMutex);
                 if (!failed.exchange(true)) error = in.geterror();
             }

@@ -18,6 +18,11 @@ class ImageFileOutput;
 struct StripPipelineParams {
     int rows = 64; // rows a strip, [1, ∞)
     int halo = 0;  // rows read above and below each strip (a filter's reach), [0, ∞)
+    // The rows a strip shares with the previous one (2 × halo) are copied from the previous
+    // strip's inputs instead of being read again, for the inputs that can (StripInput::
+    // readReusing), while that strip is processed: the process must leave its inputs as they
+    // were read. Only when halo ≤ rows.
+    bool shareHalo = false;
     // The next strip is read on another thread while this one is processed.
     bool readAhead = true;
     // This strip is written on another thread while the next one is processed, so that
@@ -58,6 +63,12 @@ struct StripInput {
     // Channel ranges [first, second) where NaN and ±Inf are replaced (sanitize.h) before
     // processing; a G-buffer's Z, +Inf on the background by contract, is left out of them.
     std::vector<std::pair<int, int>> sanitize;
+    // Optional (StripPipelineParams::shareHalo): as `read`, the rows that `previous` (what the
+    // read gave for the strip before) holds from ybegin on copied from it; `copiedEnd` the end
+    // of the rows copied (the strip's first row when none were).
+    std::function<bool(int ybegin, int yend, const OIIO::ImageBuf& previous, OIIO::ImageBuf& strip,
+                       int& copiedEnd, std::string& error)>
+        readReusing = nullptr;
 };
 
 // One strip as the process function sees it.

@@ -25,12 +25,19 @@ public:
     // Rows [ybegin, yend) (clamped to the image) as float pixels into `strip`, whose origin
     // is then (spec().x, ybegin). Uint channels hold their integer values. `strip`'s memory
     // is reused when its size allows.
-    bool read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string& error);
+    // With `reuse` (float rows of this image, as read() gave them, not `strip`): the rows it
+    // holds from ybegin on are copied from it rather than decoded again (the halo that two
+    // strips share); `copiedEnd` (optional) is then the end of those rows (ybegin: none).
+    bool read(int ybegin, int yend, OIIO::ImageBuf& strip, std::string& error,
+              const OIIO::ImageBuf* reuse = nullptr, int* copiedEnd = nullptr);
     // Scanline OpenEXR is read strip by strip; other files (tiled EXR, other formats) are
     // read whole once and served from memory.
     bool streamed() const { return !m_whole.initialized(); }
 
 private:
+    // Rows [ybegin, yend) of the image, decoded into `out` (rows of spec()'s width and channels).
+    bool decode(int ybegin, int yend, float* out, std::string& error);
+
     std::string m_path;
     int m_workers = 1;
     // One reader per worker: a strip's bands of rows are decoded on every core at once
