@@ -2,8 +2,8 @@
 // rtcOccluded1M (RayCaster::transmittance and RayCaster::test), for incoherent rays like
 // soft-shadow and AO rays; then hard-shadow rays from a 1920x1080 frame's first hits towards
 // one point light, tile by tile (16x16), one at a time, in batches and in coherent packets of
-// 16 (RayCaster::testCoherent); then a sun's soft-shadow rays, 16 per pixel from one point
-// over a 0.5° disk, pixel by pixel as the shading traces them, in batches and in packets.
+// 16 (RayCaster::testCoherent); then a sun's soft-shadow rays, 16, 8 or 4 per pixel from one
+// point over a 0.5° disk, pixel by pixel as the shading traces them, in batches and in packets.
 // Usage: dhdr-bench-occlusion SCENE [RAYS]
 #include <chrono>
 #include <cstdio>
@@ -132,22 +132,28 @@ int main(int argc, char** argv) {
         }
     const size_t nd = disk.size();
     std::vector<float> diskBatched(nd), diskPackets(nd);
-    auto d0 = std::chrono::steady_clock::now();
-    for (size_t i = 0; i < nd; i += 16)
-        caster.test(disk.data() + i, 16, diskBatched.data() + i);
-    auto d1 = std::chrono::steady_clock::now();
-    for (size_t i = 0; i < nd; i += 16)
-        caster.testCoherent(disk.data() + i, 16, diskPackets.data() + i);
-    auto d2 = std::chrono::steady_clock::now();
     size_t diskDiffer = 0;
-    for (size_t i = 0; i < nd; ++i)
-        diskDiffer += diskBatched[i] != diskPackets[i];
-    auto diskRate = [&](auto a, auto b) {
-        return double(nd) / std::chrono::duration<double>(b - a).count() / 1e6;
-    };
-    std::printf("%zu sun-disk rays, 16 per pixel from one point\n", nd);
-    std::printf("rtcOccluded1M: %.2f M rays/s (16 a call)\n", diskRate(d0, d1));
-    std::printf("rtcOccluded16: %.2f M rays/s (one coherent packet a pixel)\n", diskRate(d1, d2));
+    // Per pixel 16 rays (a sun's soft shadow), 8, or 4 (the sun's first rays, shadows.cpp's
+    // sunDiskProbe): testCoherent traces them in one packet of 16, 8 or 4.
+    for (const size_t each : {size_t(16), size_t(8), size_t(4)}) {
+        auto d0 = std::chrono::steady_clock::now();
+        for (size_t i = 0; i < nd; i += 16)
+            caster.test(disk.data() + i, each, diskBatched.data() + i);
+        auto d1 = std::chrono::steady_clock::now();
+        for (size_t i = 0; i < nd; i += 16)
+            caster.testCoherent(disk.data() + i, each, diskPackets.data() + i);
+        auto d2 = std::chrono::steady_clock::now();
+        for (size_t i = 0; i < nd; i += 16)
+            for (size_t k = 0; k < each; ++k)
+                diskDiffer += diskBatched[i + k] != diskPackets[i + k];
+        auto diskRate = [&](auto a, auto b) {
+            return double(nd / 16 * each) / std::chrono::duration<double>(b - a).count() / 1e6;
+        };
+        std::printf("%zu sun-disk rays, %zu per pixel from one point\n", nd / 16 * each, each);
+        std::printf("rtcOccluded1M: %.2f M rays/s (%zu a call)\n", diskRate(d0, d1), each);
+        std::printf("rtcOccluded%zu: %.2f M rays/s (one coherent packet a pixel)\n", each,
+                    diskRate(d1, d2));
+    }
     std::printf("answers that differ: %zu\n", diskDiffer);
     return disagree || differ || diskDiffer ? 1 : 0;
 }

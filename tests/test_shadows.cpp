@@ -1493,7 +1493,7 @@ TEST(Shadows, ASunWithAnAngleCastsTheDisksPenumbra) {
     EXPECT_EQ(lightVisibility(sun, {{-0.01f, 0.0f, 0.3f}, up, 1e-6f}, up, 1, 256, caster), 0.0f);
 }
 
-// Coherent packets (rtcOccluded16) answer as single rays do: a box in a room, rays from a
+// Coherent packets (rtcOccluded4/8/16) answer as single rays do: a box in a room, rays from a
 // grid of points on its floor towards a point light, in tile order and one at a time.
 TEST(Occlusion, CoherentPacketsAnswerAsSingleRays) {
     Scene scene = emptyScene();
@@ -1515,6 +1515,14 @@ TEST(Occlusion, CoherentPacketsAnswerAsSingleRays) {
     rays.resize(rays.size() - 5); // a last packet that is not full
     std::vector<float> packets(rays.size());
     caster.testCoherent(rays.data(), rays.size(), packets.data());
+    // And in calls of 1–16 rays: packets of 4, 8 and 16, full or not (a sun's first 4 rays).
+    std::vector<float> small(rays.size());
+    for (size_t begin = 0, k = 0; begin < rays.size(); ++k) {
+        const size_t n = std::min(1 + k % 16, rays.size() - begin);
+        caster.testCoherent(rays.data() + begin, n, small.data() + begin);
+        begin += n;
+    }
+    ASSERT_EQ(small, packets);
     int blocked = 0;
     for (size_t i = 0; i < rays.size(); ++i) {
         ASSERT_EQ(packets[i], caster.transmittance(rays[i].origin, rays[i].direction, rays[i].tmax))

@@ -69,11 +69,15 @@ public:
     // both: 16 vs 12 M rays/s here), else one at a time.
     void test(const ShadowRay* rays, size_t count, float* transmittance) const override;
 
-    // The same for rays that run side by side (a tile's rays towards one light), in packets
-    // of 16 (rtcOccluded16, coherent); bench/occlusion.cpp compares it with test().
+    // The same for rays that run side by side (a tile's rays towards one light), in coherent
+    // packets of 16 (rtcOccluded16), the last of 4 or 8 when that holds the rest (a packet
+    // costs its width, live rays or not); bench/occlusion.cpp compares it with test().
     void testCoherent(const ShadowRay* rays, size_t count, float* transmittance) const override;
 
 private:
+    // n ≤ W rays in one Embree packet of W (4, 8 or 16).
+    template <int W>
+    void occludedPacket(const ShadowRay* rays, size_t n, float* transmittance) const;
     // Whether the ground plane lies on the segment (0, tmax) of the ray.
     bool blockedByPlane(const glm::vec3& origin, const glm::vec3& direction, float tmax) const;
     struct Impl;
