@@ -1533,6 +1533,53 @@ TEST(Occlusion, CoherentPacketsAnswerAsSingleRays) {
     EXPECT_LT(blocked, int(rays.size()) - 100);
 }
 
+// A cone that RayCaster::mayBlockCone calls unblockable has only open rays: cones of 0.5–10°
+// from points around and inside two boxes over a ground plane, each checked with 64 rays from
+// within its radius of the apex in directions across it (its rim included); and it clears
+// most cones from points that look away, so that suns skip their rays there.
+TEST(Occlusion, AConeThatCannotBeBlockedHasOnlyOpenRays) {
+    Scene scene = emptyScene();
+    addBox(scene, {-0.5f, 0.0f, -0.5f}, {0.0f, 0.6f, 0.2f});
+    addBox(scene, {0.4f, 0.2f, 0.1f}, {0.9f, 0.5f, 0.4f});
+    scene.hasGroundPlane = true;
+    scene.groundPlaneY = 0.0f;
+    const RayCaster caster(scene);
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    int cleared = 0, tested = 0;
+    for (int i = 0; i < 3000; ++i) {
+        const glm::vec3 apex(-2.0f + 4.0f * unit(rng), -0.2f + 2.0f * unit(rng),
+                             -2.0f + 4.0f * unit(rng));
+        const glm::vec3 axis =
+            glm::normalize(glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.2f, unit(rng) - 0.5f));
+        const float halfAngle = glm::radians(0.25f + 4.75f * unit(rng)),
+                    radius = i % 3 == 0 ? 0.01f * unit(rng) : 0.0f;
+        if (caster.mayBlockCone(apex, radius, axis, halfAngle)) continue;
+        ++cleared;
+        glm::vec3 t, b;
+        orthonormalBasis(axis, t, b);
+        for (int k = 0; k < 64; ++k) {
+            const float cosMax = std::cos(halfAngle);
+            const glm::vec3 c = uniformCone({unit(rng), k < 16 ? 1.0f - 1e-7f : unit(rng)}, cosMax);
+            const glm::vec3 d = glm::normalize(c.x * t + c.y * b + c.z * axis);
+            const glm::vec3 o =
+                apex + radius * glm::normalize(glm::vec3(unit(rng) - 0.5f, unit(rng) - 0.5f,
+                                                         unit(rng) - 0.5f));
+            ASSERT_EQ(caster.transmittance(o, d, INFINITY), 1.0f) << "cone " << i << " ray " << k;
+            ++tested;
+        }
+    }
+    EXPECT_GT(cleared, 1000);
+    // Towards the boxes, or down onto the plane: may be blocked.
+    EXPECT_TRUE(caster.mayBlockCone({-0.25f, 0.3f, 2.0f}, 0.0f, {0.0f, 0.0f, -1.0f}, 0.01f));
+    EXPECT_TRUE(
+        caster.mayBlockCone({3.0f, 1.0f, 3.0f}, 0.0f, glm::normalize(glm::vec3(1, -1, 0)), 0.01f));
+    // Just above the horizon: its rim reaches the plane only when the cone is wide.
+    const glm::vec3 low = glm::normalize(glm::vec3(0.0f, 0.02f, 1.0f));
+    EXPECT_FALSE(caster.mayBlockCone({0.0f, 0.5f, 3.0f}, 0.0f, low, 0.005f));
+    EXPECT_TRUE(caster.mayBlockCone({0.0f, 0.5f, 3.0f}, 0.0f, low, 0.05f));
+}
+
 // Rays that miss the triangles' bounds are answered without Embree (RayCaster's cull): rays
 // aimed at points on a box's faces, 10⁻⁵ inside their edges, from all around it and from
 // within (the box's surface is the bounds, so these graze them), all hit it at the distance

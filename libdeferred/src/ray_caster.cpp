@@ -427,6 +427,44 @@ void RayCaster::testCoherent(const ShadowRay* rays, size_t count, float* transmi
     }
 }
 
+bool RayCaster::mayBlockCone(const glm::vec3& apex, float radius, const glm::vec3& axis,
+                             float halfAngle) const {
+    // A little wider than asked, for the rounding of the directions sampled within it.
+    const double angle = double(halfAngle) + 1e-4;
+    const glm::dvec3 o(apex), a = glm::normalize(glm::dvec3(axis));
+    const double r = double(radius);
+    if (!(angle < 1.5) || !(r >= 0.0) || !std::isfinite(o.x + o.y + o.z + a.x + a.y + a.z))
+        return true;
+    // From above the ground plane, rays that all climb never reach it.
+    if (m_plane && !(o.y - r > double(m_planeY) && a.y > std::sin(angle))) return true;
+    const double* lower = m_impl->lower;
+    const double* upper = m_impl->upper;
+    if (!(lower[0] <= upper[0] && lower[1] <= upper[1] && lower[2] <= upper[2])) return false;
+    // A ray that enters the box has gone at most D, the box's farthest point from the apex
+    // plus the radius; there it lies within e = r + D·tan(angle) of the axis at the same
+    // length: the axis's segment [0, D] must meet the box grown by e.
+    double far2 = 0.0;
+    for (int c = 0; c < 3; ++c)
+        far2 += std::max(std::abs(o[c] - lower[c]), std::abs(o[c] - upper[c])) *
+                std::max(std::abs(o[c] - lower[c]), std::abs(o[c] - upper[c]));
+    const double D = std::sqrt(far2) + r;
+    const double e = r + D * std::tan(angle) + 1e-6 * (1.0 + D);
+    double t0 = 0.0, t1 = D;
+    for (int c = 0; c < 3; ++c) {
+        const double lo = lower[c] - e, hi = upper[c] + e;
+        if (a[c] == 0.0) {
+            if (o[c] < lo || o[c] > hi) return false;
+            continue;
+        }
+        double near = (lo - o[c]) / a[c], farT = (hi - o[c]) / a[c];
+        if (near > farT) std::swap(near, farT);
+        t0 = std::max(t0, near);
+        t1 = std::min(t1, farT);
+        if (t0 > t1) return false;
+    }
+    return true;
+}
+
 bool RayCaster::blockedByPlane(const glm::vec3& origin, const glm::vec3& direction,
                                float tmax) const {
     if (!m_plane || direction.y == 0.0f) return false;

@@ -193,6 +193,14 @@ float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec
     thread_local ShadowRay batch[kBatch];
     const RotatedHammersley sequence(seed);
     if (disk) {
+        // Where nothing can lie towards the disk (the scene's bounds behind the point), every
+        // ray would be open: the same 1 without them. The rays leave within the offset of
+        // offsetRayOrigin (and an ulp per coordinate) of P.
+        const float offset =
+            at.error * (std::abs(at.Ng.x) + std::abs(at.Ng.y) + std::abs(at.Ng.z)) +
+            1e-6f * (1.0f + std::max({std::abs(at.P.x), std::abs(at.P.y), std::abs(at.P.z)}));
+        if (!visibility.mayBlockCone(at.P, offset, -light.direction, 0.5f * light.angle))
+            return 1.0f;
         const float decided = sunDiskProbe(light, at, N, sequence, samples, visibility, rays);
         if (decided >= 0.0f) return decided;
     }

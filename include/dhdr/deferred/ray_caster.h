@@ -74,6 +74,11 @@ public:
     // costs its width, live rays or not); bench/occlusion.cpp compares it with test().
     void testCoherent(const ShadowRay* rays, size_t count, float* transmittance) const override;
 
+    // False when the cone's rays all miss the triangles' bounds (and do not reach the ground
+    // plane): its axis, within reach of the bounds grown by how far the cone spreads there.
+    bool mayBlockCone(const glm::vec3& apex, float radius, const glm::vec3& axis,
+                      float halfAngle) const override;
+
 private:
     // n ≤ W rays in one Embree packet of W (4, 8 or 16).
     template <int W>

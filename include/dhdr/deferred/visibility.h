@@ -31,6 +31,16 @@ public:
         test(rays, count, transmittance);
     }
 
+    // Whether any ray from within `radius` of `apex`, in a direction within `halfAngle`
+    // (radians) of unit `axis`, may be blocked: false only when none can, so that every such
+    // ray's transmittance is 1 (a sun's disk seen from where nothing lies towards it). The
+    // default: they may.
+    virtual bool mayBlockCone(const glm::vec3& apex, float radius, const glm::vec3& axis,
+                              float halfAngle) const {
+        (void)apex, (void)radius, (void)axis, (void)halfAngle;
+        return true;
+    }
+
     float transmittance(const ShadowRay& ray) const {
         float t = 0.0f;
         test(&ray, 1, &t);
