@@ -236,6 +236,11 @@ struct Pass {
     const std::vector<DenoiseEstimate>& estimates;
     std::vector<EstimateState>& state;
     std::vector<EstimateState>& next;
+    // Per estimate, per group of kMaxLanes pixels: whether any of its pixels is filtered in
+    // the first pass (the widest reach), so in any pass. Written by the first pass; elsewhere
+    // both buffers hold the input (and a variance of 0) throughout, and nothing is stored.
+    std::vector<std::vector<char>>& touched;
+    int groupsPerRow;
 };
 
 // The variance per pixel from the 5 × 5 neighbourhood of the same surface (SVGF's spatial
@@ -281,7 +286,9 @@ DHDR_LANES_INLINE void varianceRow(const Pass& p, int y) {
             }
             const F mean = s / safe;
             const F v = simd::max<F>(splat<F>(0.0f), s2 / safe - mean * mean);
+            // In both buffers: a pixel the passes leave alone is read from either.
             store(select<F>(live[e], v, splat<F>(0.0f)), state[e].variance.row(y) + x);
+            store(select<F>(live[e], v, splat<F>(0.0f)), p.next[e].variance.row(y) + x);
         }
     }
 }
@@ -327,9 +334,13 @@ DHDR_LANES_INLINE void filterRow(const Pass& p, int y, int pass) {
         // The lobe weight of each tap, for the estimates guided by one lobe (they share it).
         F lobe[kTaps];
         const Planes* lobeOf = nullptr;
+        // This group of 8 in the first pass's record (W = 4 takes two groups of 4 each).
+        const size_t group = size_t(y) * size_t(p.groupsPerRow) + size_t(x / kMaxLanes);
         for (size_t e = 0; e < m; ++e) {
             const EstimateState& s = state[e];
             EstimateState& o = p.next[e];
+            if (anyLive[e]) p.touched[e][group] = 1;
+            if (!p.touched[e][group]) continue;
             F weights = splat<F>(0.0f), var = splat<F>(0.0f), sum0 = splat<F>(0.0f),
               sum1 = splat<F>(0.0f);
             const bool single = p.estimates[e].count == 1;
@@ -489,15 +500,17 @@ void atrousFilterLanes(const std::vector<DenoiseEstimate>& estimates, const Deno
             const DenoiseEstimate& in = estimates[e];
             EstimateState& s = state[e];
             const float* values = in.planes->data() + first;
-            s.plane[0].fill(y, w, [&](int x) { return values[x]; });
-            if (in.count == 2) s.plane[1].fill(y, w, [&](int x) { return values[n + size_t(x)]; });
-            s.signal.fill(y, w, [&](int x) {
-                return signalOf(values[x], in.count == 2 ? values[n + size_t(x)] : 0.0f, in.count);
-            });
-            s.variance.zero(y);
-            for (Planes* p : {&next[e].signal, &next[e].variance, &next[e].plane[0]})
-                p->zero(y);
-            if (in.count == 2) next[e].plane[1].zero(y);
+            // Both buffers: a pixel that no pass filters keeps its input in either.
+            for (EstimateState* b : {&s, &next[e]}) {
+                b->plane[0].fill(y, w, [&](int x) { return values[x]; });
+                if (in.count == 2)
+                    b->plane[1].fill(y, w, [&](int x) { return values[n + size_t(x)]; });
+                b->signal.fill(y, w, [&](int x) {
+                    return signalOf(values[x], in.count == 2 ? values[n + size_t(x)] : 0.0f,
+                                    in.count);
+                });
+                b->variance.zero(y);
+            }
             if (activeOf[e] >= 0)
                 lobes[size_t(activeOf[e])].fill(
                     y, w, [&](int x) { return (*in.active)[first + size_t(x)] ? 1.0f : 0.0f; });
@@ -515,8 +528,10 @@ void atrousFilterLanes(const std::vector<DenoiseEstimate>& estimates, const Deno
 #endif
     const int firstRow = std::clamp(dg.firstRow, 0, h),
               endRow = dg.endRow < 0 ? h : std::clamp(dg.endRow, firstRow, h);
+    const int groupsPerRow = (w + kMaxLanes - 1) / kMaxLanes;
+    std::vector<std::vector<char>> touched(m, std::vector<char>(size_t(groupsPerRow) * size_t(h)));
     for (int pass = -1; pass < kDenoiseIterations; ++pass) {
-        const Pass work{guide, estimates, state, next};
+        const Pass work{guide, estimates, state, next, touched, groupsPerRow};
         // The rows the later passes' taps read from this one.
         int reach = 0;
         for (int later = pass + 1; later < kDenoiseIterations; ++later)
