@@ -1,3 +1,4 @@
+#include "denoise_buffers.h"
 #include "denoise_lanes.h"
 #include "simd_lanes.h"
 
@@ -5,7 +6,6 @@
 #include <dhdr/common/parallel.h>
 #include <dhdr/deferred/denoise.h>
 #include <dhdr/deferred/ray_caster.h>
-#include <memory>
 #include <optional>
 
 // The kernels below hold 32-byte vectors in always-inlined helpers (simd_lanes.h).
@@ -24,64 +24,11 @@ using simd::splat;
 using simd::store;
 
 // The B-spline of the filter's taps (1/4, 1/2, 1/4): 3 × 3 taps a pass.
-constexpr int kRadius = 1;
+constexpr int kRadius = kDenoiseRadius;
 constexpr float kKernel[2 * kRadius + 1] = {1.0f / 4, 1.0f / 2, 1.0f / 4};
 // SVGF's σ_l: how many standard deviations of the estimate a difference may be and still mix.
 constexpr float kSignalSigma = 4.0f;
-// The filter runs on 4 or 8 pixels of a row at once (denoise_lanes.h); rows are padded with
-// pixels without a surface by the widest step's reach on either side, and to a whole number of
-// the widest lanes, so that no tap needs a bounds check.
-constexpr int kMaxLanes = 8;
-constexpr int kPad = std::max(2, kRadius << (kDenoiseIterations - 1));
-
-// One plane of floats per quantity, rows padded (kPad each side, width rounded up to lanes).
-// Allocated without initialising: every row is written by the setup's pass (Setup::row), on
-// all threads, so that a strip's planes are not first zeroed on one.
-struct Planes {
-    int stride = 0;
-    std::unique_ptr<float[]> values;
-    float* row(int y) { return values.get() + size_t(y) * size_t(stride) + kPad; }
-    const float* row(int y) const { return values.get() + size_t(y) * size_t(stride) + kPad; }
-    void allocate(int rowStride, int height) {
-        stride = rowStride;
-        values.reset(new float[size_t(stride) * size_t(height)]);
-    }
-    // Row y: values(x) for x in [0, width), zero in the padding.
-    template <class Value>
-    void fill(int y, int width, Value&& value) {
-        float* r = row(y);
-        std::fill(r - kPad, r, 0.0f);
-        for (int x = 0; x < width; ++x)
-            r[x] = value(x);
-        std::fill(r + width, r - kPad + stride, 0.0f);
-    }
-    void zero(int y) { std::fill_n(row(y) - kPad, stride, 0.0f); }
-};
-
-// The guide laid out for the lanes: positions, normals, object and surface as planes.
-struct Guide {
-    int width = 0, height = 0, stride = 0;
-    Planes px, py, pz, nx, ny, nz, object, surface;
-    explicit Guide(const DenoiseGuide& g) : width(g.width), height(g.height) {
-        stride = kPad + (width + kMaxLanes - 1) / kMaxLanes * kMaxLanes + kPad;
-        for (Planes* p : {&px, &py, &pz, &nx, &ny, &nz, &object, &surface})
-            p->allocate(stride, height);
-    }
-    void fill(const DenoiseGuide& g, int y) {
-        const size_t first = size_t(y) * size_t(width);
-        const glm::vec3* P = g.position.data() + first;
-        const glm::vec3* N = g.normal.data() + first;
-        px.fill(y, width, [&](int x) { return P[x].x; });
-        py.fill(y, width, [&](int x) { return P[x].y; });
-        pz.fill(y, width, [&](int x) { return P[x].z; });
-        nx.fill(y, width, [&](int x) { return N[x].x; });
-        ny.fill(y, width, [&](int x) { return N[x].y; });
-        nz.fill(y, width, [&](int x) { return N[x].z; });
-        object.fill(y, width, [&](int x) { return g.object[first + size_t(x)]; });
-        surface.fill(y, width, [&](int x) { return g.surface[first + size_t(x)] ? 1.0f : 0.0f; });
-    }
-};
-
+constexpr int kMaxLanes = kDenoiseMaxLanes;
 // Pixel p's side of the guide's weight, for W pixels of a row.
 template <int W>
 struct GuideCentre {
@@ -117,7 +64,10 @@ DHDR_LANES_INLINE typename simd::Lanes<W>::F geometryWeight(const Guide& g, cons
     return select<F>(keep, weight, splat<F>(0.0f));
 }
 
-// Where an estimate is unsettled. It is settled where it says nothing is there to filter: a
+} // namespace
+
+// Where an estimate is unsettled (outside the anonymous namespace: denoise_buffers.h names
+// it). It is settled where it says nothing is there to filter: a
 // pair whose shadowed and unshadowed sums are equal (nothing blocked: ratio 1), or a single
 // value of 0. A pass over a neighbourhood that is settled everywhere gives exactly that ratio
 // or value again (every tap adds equal sums, or zeros), so each pass is computed only within
@@ -158,6 +108,8 @@ private:
     std::vector<int> m_table; // summed-area table of the unsettled pixels
 };
 
+namespace {
+
 // How far from an unsettled pixel pass `pass` must be computed: the reach of the passes after
 // it (their taps read this pass's results) plus the final result's reach; the variance
 // estimate (pass −1) two pixels further.
@@ -167,16 +119,6 @@ constexpr int reachBefore(int pass) {
         r += kRadius << later;
     return r;
 }
-
-// Per estimate: its signal (the ratio of a pair of planes, shadowed over unshadowed light, 1
-// where nothing was seen; or the one plane's value), its variance and its planes.
-struct EstimateState {
-    Planes signal, variance, plane[2];
-    const Planes* direction[3] = {nullptr, nullptr, nullptr};
-    const Planes* width = nullptr;
-    const Planes* active = nullptr; // 1 where the estimate exists; null: wherever a surface is
-    const Unsettled* unsettled = nullptr; // null: filtered wherever it exists
-};
 
 // Per row: the unsettled counts of each estimate that skips settled pixels (Unsettled).
 struct RowCounts {
@@ -223,22 +165,15 @@ DHDR_LANES_INLINE typename simd::Lanes<W>::F lobeWeight(const EstimateState& s, 
                           simd::max<F>(splat<F>(1.0f) - dot, splat<F>(0.0f)) / (width * width));
 }
 
-// An estimate's signal: the ratio of a pair, 1 where nothing was seen; a single plane's value.
-// (The filter's rows compute the same in lanes.)
-float signalOf(float shadowed, float total, int count) {
-    if (count == 2) return total > 0.0f ? shadowed / total : 1.0f;
-    return shadowed;
-}
-
 // What a pass reads and writes: the previous pass's state, the next one's.
 struct Pass {
     const Guide& guide;
     const std::vector<DenoiseEstimate>& estimates;
     std::vector<EstimateState>& state;
     std::vector<EstimateState>& next;
-    // Per estimate, per group of kMaxLanes pixels: whether any of its pixels is filtered in
-    // the first pass (the widest reach), so in any pass. Written by the first pass; elsewhere
-    // both buffers hold the input (and a variance of 0) throughout, and nothing is stored.
+    // Per estimate, per kMaxLanes pixels of a row: whether a pass has filtered any of them so
+    // far. Elsewhere both buffers hold the input (and a variance of 0) throughout, and the
+    // passes store nothing.
     std::vector<std::vector<char>>& touched;
     int groupsPerRow;
 };
@@ -334,7 +269,7 @@ DHDR_LANES_INLINE void filterRow(const Pass& p, int y, int pass) {
         // The lobe weight of each tap, for the estimates guided by one lobe (they share it).
         F lobe[kTaps];
         const Planes* lobeOf = nullptr;
-        // This group of 8 in the first pass's record (W = 4 takes two groups of 4 each).
+        // Its entry in `touched`, one per kMaxLanes pixels (on 4 lanes, two groups share one).
         const size_t group = size_t(y) * size_t(p.groupsPerRow) + size_t(x / kMaxLanes);
         for (size_t e = 0; e < m; ++e) {
             const EstimateState& s = state[e];
@@ -446,82 +381,15 @@ void atrousFilterLanes(const std::vector<DenoiseEstimate>& estimates, const Deno
             (e.active && e.active->size() < n))
             return;
     const size_t m = estimates.size();
-    Guide guide(dg);
-    // Where each estimate exists, and the directions and widths of those that have them,
-    // padded like the guide; the index of each estimate's planes there (−1: none).
-    std::vector<Planes> lobes(5 * m);
-    std::vector<int> activeOf(m, -1), lobeOf(m, -1);
-    size_t lobeCount = 0;
-    std::vector<EstimateState> state(m), next(m);
+    FilterBuffers buffers(estimates, dg, nthreads);
+    const Guide& guide = buffers.guide;
+    std::vector<EstimateState>&state = buffers.state, &next = buffers.next;
     std::vector<std::optional<Unsettled>> unsettled(m);
-    for (size_t e = 0; e < m; ++e) {
-        const DenoiseEstimate& in = estimates[e];
-        if (in.skipSettled) {
-            unsettled[e].emplace(in, dg);
+    for (size_t e = 0; e < m; ++e)
+        if (estimates[e].skipSettled) {
+            unsettled[e].emplace(estimates[e], dg);
             state[e].unsettled = next[e].unsettled = &*unsettled[e];
         }
-        for (EstimateState* s : {&state[e], &next[e]}) {
-            s->signal.allocate(guide.stride, h);
-            s->variance.allocate(guide.stride, h);
-            s->plane[0].allocate(guide.stride, h);
-            if (in.count == 2) s->plane[1].allocate(guide.stride, h);
-        }
-        if (in.active) {
-            activeOf[e] = int(lobeCount);
-            lobes[lobeCount].allocate(guide.stride, h);
-            state[e].active = next[e].active = &lobes[lobeCount++];
-        }
-        if (!in.direction) continue;
-        // Estimates guided by the same lobes share their planes, and so their lobe weight.
-        const auto same = std::find_if(
-            estimates.begin(), estimates.begin() + long(e), [&](const DenoiseEstimate& o) {
-                return o.direction == in.direction && o.width == in.width;
-            });
-        const size_t first = same != estimates.begin() + long(e)
-                                 ? size_t(lobeOf[size_t(same - estimates.begin())])
-                                 : lobeCount;
-        if (first == lobeCount) {
-            lobeOf[e] = int(lobeCount);
-            for (int k = 0; k < 4; ++k)
-                lobes[lobeCount++].allocate(guide.stride, h);
-        }
-        for (EstimateState* s : {&state[e], &next[e]}) {
-            for (int k = 0; k < 3; ++k)
-                s->direction[k] = &lobes[first + size_t(k)];
-            s->width = &lobes[first + 3];
-        }
-    }
-    // Every row of every plane, padding included: the inputs, zero where nothing is yet.
-    parallelRows(0, h, nthreads, [&](int64_t yy) {
-        const int y = int(yy);
-        const size_t first = size_t(y) * size_t(w);
-        guide.fill(dg, y);
-        for (size_t e = 0; e < m; ++e) {
-            const DenoiseEstimate& in = estimates[e];
-            EstimateState& s = state[e];
-            const float* values = in.planes->data() + first;
-            // Both buffers: a pixel that no pass filters keeps its input in either.
-            for (EstimateState* b : {&s, &next[e]}) {
-                b->plane[0].fill(y, w, [&](int x) { return values[x]; });
-                if (in.count == 2)
-                    b->plane[1].fill(y, w, [&](int x) { return values[n + size_t(x)]; });
-                b->signal.fill(y, w, [&](int x) {
-                    return signalOf(values[x], in.count == 2 ? values[n + size_t(x)] : 0.0f,
-                                    in.count);
-                });
-                b->variance.zero(y);
-            }
-            if (activeOf[e] >= 0)
-                lobes[size_t(activeOf[e])].fill(
-                    y, w, [&](int x) { return (*in.active)[first + size_t(x)] ? 1.0f : 0.0f; });
-            if (lobeOf[e] < 0) continue;
-            const size_t l = size_t(lobeOf[e]);
-            for (int k = 0; k < 3; ++k)
-                lobes[l + size_t(k)].fill(
-                    y, w, [&](int x) { return (*in.direction)[first + size_t(x)][k]; });
-            lobes[l + 3].fill(y, w, [&](int x) { return (*in.width)[first + size_t(x)]; });
-        }
-    });
     void (*row)(const Pass&, int, int) = row4;
 #if defined(__x86_64__)
     if (lanes == 8 && __builtin_cpu_supports("avx2")) row = row8;
