@@ -585,7 +585,7 @@ int main(int argc, char** argv) {
 #if defined(M_MMAP_THRESHOLD) && defined(M_TRIM_THRESHOLD)
     // Every strip allocates and frees the same buffers (the denoiser's planes alone, about
     // 140 MB a strip at 1080p): glibc keeps them for the next strip instead of returning them
-    // to the kernel and taking page faults again, which cost a sixth of the denoiser's time
+    // to the kernel and taking page faults again, about a tenth of the denoiser's time
     // (bench/README.md, session 19). The peak stays that of one strip.
     mallopt(M_MMAP_THRESHOLD, 32 << 20);
     mallopt(M_TRIM_THRESHOLD, 1 << 30);
