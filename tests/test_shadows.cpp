@@ -1803,7 +1803,9 @@ TEST(Denoise, WantedRowsGetTheBitsOfTheWholeFilter) {
                             << "estimate " << e << " row " << y << " column " << x;
                         differ += wanted && all[e][i] != input[i];
                     }
-            if (e != 1 && endRow - firstRow > 1) EXPECT_GT(differ, 1000) << "estimate " << e;
+            if (e != 1 && endRow - firstRow > 1) {
+                EXPECT_GT(differ, 1000) << "estimate " << e;
+            }
         }
     }
 }

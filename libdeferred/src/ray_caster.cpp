@@ -38,14 +38,20 @@ struct RayCaster::Impl {
     // Whether the segment (max(tnear, 0), tfar) of the ray may meet the bounds (slab test in
     // double; a NaN lets the ray through to Embree, as before).
     bool mayHit(const float o[3], const float d[3], float tnear, float tfar) const {
-        double t0 = std::max(0.0, double(tnear)), t1 = double(tfar);
+        const double origin[3] = {o[0], o[1], o[2]}, direction[3] = {d[0], d[1], d[2]};
+        return meets(origin, direction, std::max(0.0, double(tnear)), double(tfar), 0.0);
+    }
+
+    // Whether the segment (t0, t1) of the line o + t d meets the bounds grown by `grow`.
+    bool meets(const double o[3], const double d[3], double t0, double t1, double grow) const {
         for (int c = 0; c < 3; ++c) {
-            if (d[c] == 0.0f) {
-                if (double(o[c]) < lower[c] || double(o[c]) > upper[c]) return false;
+            const double lo = lower[c] - grow, hi = upper[c] + grow;
+            if (d[c] == 0.0) {
+                if (o[c] < lo || o[c] > hi) return false;
                 continue;
             }
-            const double inverse = 1.0 / double(d[c]);
-            double a = (lower[c] - double(o[c])) * inverse, b = (upper[c] - double(o[c])) * inverse;
+            const double inverse = 1.0 / d[c];
+            double a = (lo - o[c]) * inverse, b = (hi - o[c]) * inverse;
             if (a > b) std::swap(a, b);
             if (a > t0) t0 = a;
             if (b < t1) t1 = b;
@@ -444,25 +450,14 @@ bool RayCaster::mayBlockCone(const glm::vec3& apex, float radius, const glm::vec
     // plus the radius; there it lies within e = r + D·tan(angle) of the axis at the same
     // length: the axis's segment [0, D] must meet the box grown by e.
     double far2 = 0.0;
-    for (int c = 0; c < 3; ++c)
-        far2 += std::max(std::abs(o[c] - lower[c]), std::abs(o[c] - upper[c])) *
-                std::max(std::abs(o[c] - lower[c]), std::abs(o[c] - upper[c]));
+    for (int c = 0; c < 3; ++c) {
+        const double farthest = std::max(std::abs(o[c] - lower[c]), std::abs(o[c] - upper[c]));
+        far2 += farthest * farthest;
+    }
     const double D = std::sqrt(far2) + r;
     const double e = r + D * std::tan(angle) + 1e-6 * (1.0 + D);
-    double t0 = 0.0, t1 = D;
-    for (int c = 0; c < 3; ++c) {
-        const double lo = lower[c] - e, hi = upper[c] + e;
-        if (a[c] == 0.0) {
-            if (o[c] < lo || o[c] > hi) return false;
-            continue;
-        }
-        double near = (lo - o[c]) / a[c], farT = (hi - o[c]) / a[c];
-        if (near > farT) std::swap(near, farT);
-        t0 = std::max(t0, near);
-        t1 = std::min(t1, farT);
-        if (t0 > t1) return false;
-    }
-    return true;
+    const double origin[3] = {o.x, o.y, o.z}, direction[3] = {a.x, a.y, a.z};
+    return m_impl->meets(origin, direction, 0.0, D, e);
 }
 
 bool RayCaster::blockedByPlane(const glm::vec3& origin, const glm::vec3& direction,

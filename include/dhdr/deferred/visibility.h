@@ -35,9 +35,8 @@ public:
     // (radians) of unit `axis`, may be blocked: false only when none can, so that every such
     // ray's transmittance is 1 (a sun's disk seen from where nothing lies towards it). The
     // default: they may.
-    virtual bool mayBlockCone(const glm::vec3& apex, float radius, const glm::vec3& axis,
-                              float halfAngle) const {
-        (void)apex, (void)radius, (void)axis, (void)halfAngle;
+    virtual bool mayBlockCone(const glm::vec3& /*apex*/, float /*radius*/,
+                              const glm::vec3& /*axis*/, float /*halfAngle*/) const {
         return true;
     }
 
