@@ -194,7 +194,10 @@ TEST(Probes, FurnaceIsPiTimesTheRadiance) {
 // A white furnace for the specular lobes: white metal plates (F0 = 1: the lobe with its
 // multiple scattering reflects everything) under a uniform sky of radiance 1, one rough (its
 // lobe reflects the irradiance there by its albedo) and one glossy (followed along sampled
-// directions). Above them every probe sees radiance 1 in every direction: E = π.
+// directions). Above them every probe sees radiance 1 in every direction: E = π. The mean over
+// every probe and direction holds the bias (measured 10⁻⁵ and 1.6 × 10⁻⁴); the glossy lobe's
+// one sample a ray leaves noise (a standard deviation of 0.56 %), whose worst over the 507
+// probes' 20 directions is 3.0 %.
 TEST(Probes, WhiteMetalUnderAUniformSkyIsAFurnace) {
     for (const float roughness : {0.8f, 0.3f}) {
         Scene scene;
@@ -210,15 +213,19 @@ TEST(Probes, WhiteMetalUnderAUniformSkyIsAFurnace) {
         p.rays = 512;
         p.bounces = 3;
         const ProbeVolume v = bake(scene, {test::uniformSky()}, p);
-        double worst = 0.0;
+        double worst = 0.0, sum = 0.0;
         for (int probe = 0; probe < v.probeCount(); ++probe)
             for (int i = 0; i < 20; ++i) {
                 const glm::vec3 d = sphericalFibonacci(i, 20);
                 const glm::vec3 E = v.irradianceAt(probe, d);
                 worst = std::max(worst, std::abs(double(E.g) / kPi - 1.0));
+                sum += double(E.g) / kPi;
             }
-        std::printf("roughness %.1f: worst |E/π - 1| %.4f\n", roughness, worst);
-        EXPECT_LT(worst, roughness < 0.5f ? 0.03 : 0.01) << "roughness " << roughness;
+        const double mean = sum / (20.0 * v.probeCount());
+        std::printf("roughness %.1f: mean E/π %.5f, worst |E/π - 1| %.4f\n", roughness, mean,
+                    worst);
+        EXPECT_NEAR(mean, 1.0, 0.002) << "roughness " << roughness;
+        EXPECT_LT(worst, roughness < 0.5f ? 0.04 : 0.01) << "roughness " << roughness;
     }
 }
 
@@ -279,16 +286,16 @@ TEST(Probes, BakesUntilTheIrradianceConverges) {
 }
 
 TEST(Probes, NoLightLeaksThroughAClosedWall) {
-    // Two rooms split by a closed wall whose slab holds a column of grid points: a light in
-    // room A only. Room B's indirect light is below 1 % of room A's, and the probes inside the
-    // wall are moved out of it or switched off.
+    // Two rooms split by a closed wall whose slab holds a column of grid points (x = 0.867 at
+    // spacing 0.3): a light in room A only. Room B's indirect light is below 1 % of room A's,
+    // and the probes inside the wall are moved out of it or switched off.
     Scene scene;
     scene.materials.push_back(lambert("white", glm::vec3(0.8f)));
     addBox(scene, {0, 0, 0}, {2, 1, 1}, 0, true);          // the two rooms' shell
     addBox(scene, {0.86f, 0, 0}, {0.89f, 1, 1}, 0, false); // the wall between them
     const std::vector<Light> lights = {pointLight({0.4f, 0.6f, 0.5f}, 2.0f)};
     ProbeBakeParams p;
-    p.spacing = 0.25;
+    p.spacing = 0.3;
     const ProbeVolume v = bake(scene, lights, p);
     int inWall = 0;
     for (int probe = 0; probe < v.probeCount(); ++probe) {
@@ -446,11 +453,12 @@ TEST(Probes, AGlossyCeilingReflectsTheLitFloor) {
 // A point light 15 cm over a glossy gold floor (roughness 0.25) under a black ceiling: what
 // each probe sees is the floor's highlight, narrower from a probe than the spacing of its 256
 // rays. Each probe's irradiance looking down against a Monte Carlo integral in double of the
-// unfiltered highlight (200,000 cosine-weighted directions), over the 41 probes within 0.6 m
-// of the light: the mean within 12 % (measured −8.6 %), every probe within 60 % (measured
-// −42 % to +47 %). Unfiltered, whether a ray met the highlight decided a probe's light: the
-// mean +22 %, probes from −87 % to +2576 % (blotches on the walls of a Cornell box with a gold
-// block, docs/gi.md).
+// unfiltered highlight (200,000 cosine-weighted directions), over the 54 probes within 0.6 m
+// of the light: the mean within 12 % (measured −2.8 %), every probe within 75 % (measured
+// −42 % to +60 %, the worst 5.6 cm over the floor, where the isotropic filter is narrowest
+// against an oblique footprint). Unfiltered, whether a ray met the highlight decided a probe's
+// light: the mean +22 %, probes from −87 % to +2576 % (blotches on the walls of a Cornell box with
+// a gold block, docs/gi.md).
 TEST(Probes, AGlossyHighlightIsFilteredOverEachRaysCone) {
     Scene scene;
     Material gold = lambert("gold", glm::vec3(1.0f, 0.78f, 0.34f));
@@ -497,7 +505,7 @@ TEST(Probes, AGlossyHighlightIsFilteredOverEachRaysCone) {
     }
     ASSERT_GE(probes, 20);
     EXPECT_NEAR(sumProbes / sumReference, 1.0, 0.12);
-    EXPECT_LT(worst, 0.6);
+    EXPECT_LT(worst, 0.75);
     RecordProperty("mean", std::to_string(sumProbes / sumReference));
     RecordProperty("worst", std::to_string(worst));
     RecordProperty("probes", probes);
@@ -507,10 +515,11 @@ TEST(Probes, AGlossyHighlightIsFilteredOverEachRaysCone) {
 // maxProbes probes: the same probes for a room at any scale (a Cornell box of 0.55 m and of
 // 5.5 m as Blender exports it), and a flat scene spends them along its two long sides.
 TEST(Probes, DefaultSpacingFitsTheBudgetAtAnyScale) {
+    // Outer layers a quarter spacing inside: n probes span (n − 1 + 1/2) spacings.
     auto countsOf = [](glm::dvec3 extent, double spacing) {
         glm::ivec3 n;
         for (int a = 0; a < 3; ++a)
-            n[a] = int(std::max(1.0, std::ceil(extent[a] / spacing - 1e-9)));
+            n[a] = int(std::max(1.0, std::ceil(extent[a] / spacing + 0.5 - 1e-9)));
         return n;
     };
     const double small = probeSpacingFor(glm::dvec3(0.55), 512),
@@ -533,7 +542,11 @@ TEST(Probes, DefaultSpacingFitsTheBudgetAtAnyScale) {
         p.bounces = 1;
         const ProbeVolume v = bake(scene, {pointLight(glm::vec3(0.27f * scale), 1.0f)}, p);
         EXPECT_EQ(v.counts, glm::ivec3(8)) << scale;
-        EXPECT_NEAR(v.spacing.x, small * scale, 1e-6 * scale);
+        for (int a = 0; a < 3; ++a) {
+            EXPECT_NEAR(v.spacing[a], 0.55 * scale / 7.5, 1e-6 * scale);
+            EXPECT_NEAR(v.origin[a], 0.25 * v.spacing[a], 1e-6 * scale);
+        }
+        EXPECT_LE(v.spacing.x, small * scale * (1.0 + 1e-9));
     }
 }
 

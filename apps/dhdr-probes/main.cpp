@@ -38,8 +38,9 @@ int run(int argc, char** argv) {
     double spacing = 0.0;
     app::addLightOptions(cl, lightOptions);
     cl.option("--spacing", spacing, "M",
-              "distance between probes in scene units (default: from the scene's bounds, "
-              "--max-probes)",
+              "distance between probes in scene units, at most (each axis's is the largest "
+              "that puts the outer probes a quarter spacing inside the scene's bounds; "
+              "default: from the bounds and --max-probes)",
               {0.0, 1e6, true, false});
     cl.option("--grid", grid, "NX,NY,NZ", "probe counts along X, Y, Z instead of --spacing");
     app::addParamOptions(cl, p, kProbeBakeParamTable);

@@ -55,11 +55,19 @@ glm::vec3 texelDirection(int i, int j, int n) {
 
 } // namespace
 
+double probesAlong(double extent, double spacing) {
+    return std::max(1.0, std::ceil(extent / spacing + 1.0 - 2.0 * kProbeInset - 1e-9));
+}
+
+double spacingAlong(double extent, double n, double spacing) {
+    return n > 1.0 ? extent / (n - 1.0 + 2.0 * kProbeInset) : spacing;
+}
+
 double probeSpacingFor(const glm::dvec3& extent, int maxProbes) {
     auto count = [&](double spacing) {
         double n = 1.0;
         for (int a = 0; a < 3; ++a)
-            n *= std::max(1.0, std::ceil(extent[a] / spacing - 1e-9));
+            n *= probesAlong(extent[a], spacing);
         return n;
     };
     const double longest = std::max({extent.x, extent.y, extent.z});
@@ -91,7 +99,7 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
         error = "the scene has no geometry to place probes in";
         return false;
     }
-    // The grid over the scene's bounds: probes a spacing apart, centred in the bounds.
+    // The grid over the scene's bounds: its outer layers kProbeInset spacings inside them.
     const glm::dvec3 lo = scene.boundsMin(), hi = scene.boundsMax(), extent = hi - lo;
     const double spacing =
         params.spacing > 0.0 ? params.spacing : probeSpacingFor(extent, params.maxProbes);
@@ -99,11 +107,11 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     for (int a = 0; a < 3; ++a) {
         if (byCounts) {
             v.counts[a] = counts[a];
-            v.spacing[a] = counts[a] > 1 ? extent[a] / counts[a] : std::max(extent[a], 1e-3);
+            v.spacing[a] = spacingAlong(extent[a], counts[a], std::max(extent[a], 1e-3));
         } else {
             // In double, and refused past 256: a tiny spacing must neither overflow an int
             // nor be cut to a grid that no longer covers the scene.
-            const double along = std::max(1.0, std::ceil(extent[a] / spacing - 1e-9));
+            const double along = probesAlong(extent[a], spacing);
             if (!(along <= 256.0) || !(float(spacing) > 0.0f)) {
                 error =
                     "a spacing of " + std::to_string(spacing) + " gives " +
@@ -112,7 +120,7 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                 return false;
             }
             v.counts[a] = int(along);
-            v.spacing[a] = spacing;
+            v.spacing[a] = spacingAlong(extent[a], along, spacing);
         }
         v.origin[a] = lo[a] + 0.5 * (extent[a] - (v.counts[a] - 1) * v.spacing[a]);
     }

@@ -58,11 +58,12 @@ glm::vec3 ProbeVolume::irradianceAt(const glm::vec3& P, const glm::vec3& N,
     // DDGI §5.2: the point is moved off the surface along the normal and towards the eye, so
     // that the visibility test does not self-shadow on the surface it shades.
     const glm::vec3 biased = P + (N * normalBias + V * viewBias) * minSpacing;
-    // The grid is centred in the scene's bounds, so surfaces on the bounds (a room's walls)
-    // lie up to half a spacing outside its outer layers, where the irradiance differs from
-    // theirs (2.4 cm above the Cornell box's floor it is 7 % brighter than on it). There it
-    // is extrapolated linearly from the grid: E(biased) = 2 E(Q) − E(Q'), Q the biased point
-    // clamped into the grid and Q' its mirror image about Q, each interpolated as inside.
+    // Surfaces on the scene's bounds (a room's walls) lie outside the grid's outer layers, a
+    // quarter spacing (kProbeInset; half a spacing in files baked before), where the
+    // irradiance differs from theirs (2.4 cm above the Cornell box's floor it is 7 % brighter
+    // than on it). There it is extrapolated linearly from the grid: E(biased) = 2 E(Q) − E(Q'),
+    // Q the biased point clamped into the grid and Q' its mirror image about Q, each
+    // interpolated as inside.
     const glm::dvec3 local = (glm::dvec3(biased) - origin) / spacing;
     glm::dvec3 inside = local, mirror = local;
     bool outside = false;
@@ -70,7 +71,7 @@ glm::vec3 ProbeVolume::irradianceAt(const glm::vec3& P, const glm::vec3& N,
         const double top = double(std::max(counts[a] - 1, 0));
         if (top == 0.0 || (local[a] >= 0.0 && local[a] <= top)) continue;
         inside[a] = std::clamp(local[a], 0.0, top);
-        // At most half a spacing beyond (the grid's margin), and within the grid.
+        // At most half a spacing beyond (the largest margin a grid has had), and within it.
         const double beyond = std::min(std::abs(local[a] - inside[a]), 0.5);
         mirror[a] = std::clamp(inside[a] + (inside[a] == 0.0 ? beyond : -beyond), 0.0, top);
         outside = true;

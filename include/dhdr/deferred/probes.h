@@ -21,8 +21,10 @@ class RayCaster;
 struct Scene;
 
 struct ProbeBakeParams {
-    // Metres (scene units) between probes, ≥ 0; 0: the smallest spacing that covers the
-    // scene's bounds with at most maxProbes probes (probeSpacingFor). Unused with counts.
+    // Metres (scene units) between probes at most, ≥ 0 (each axis's is the largest up to it that
+    // puts its outer layers kProbeInset spacings inside the bounds); 0: the smallest spacing
+    // that covers the scene's bounds with at most maxProbes probes (probeSpacingFor). Unused
+    // with counts.
     double spacing = 0.0;
     glm::ivec3 counts{0}; // probes along X, Y, Z (each 1–256); 0: from `spacing`
     // The counts: their meaning and ranges are kProbeBakeParamTable's (validated by bakeProbes).
@@ -50,9 +52,22 @@ inline constexpr IntParam<ProbeBakeParams> kProbeBakeParamTable[] = {
      "shadow rays per area light at each ray's hit"},
 };
 
+// The grid's outer layers stand this many spacings inside the scene's bounds, where a room's
+// walls are: near enough that a wall's irradiance is read close to it (and extrapolated a
+// quarter spacing), far enough (over minDistance) that a probe in a corner is not moved.
+// Centred layers (half a spacing in) read the real-scale Cornell box's corners 15-25 % bright
+// (docs/gi.md, "Placement").
+inline constexpr double kProbeInset = 0.25;
+
+// Probes along an axis of `extent` at most `spacing` apart with the outer ones kProbeInset
+// spacings inside: max(1, ⌈extent / spacing + 1 − 2 kProbeInset⌉).
+double probesAlong(double extent, double spacing);
+// Their spacing, extent / (n − 1 + 2 kProbeInset) (at most `spacing`), or `spacing` for one.
+double spacingAlong(double extent, double n, double spacing);
+
 // The smallest spacing (within 1 %) at which a grid over a box of `extent` holds at most
-// `maxProbes` probes (max(1, ⌈extent / spacing⌉) along each axis, at most 256), so that a
-// scene gets the same number of probes at any scale.
+// `maxProbes` probes (probesAlong along each axis, at most 256), so that a scene gets the same
+// number of probes at any scale.
 double probeSpacingFor(const glm::dvec3& extent, int maxProbes);
 
 // Bounces until the light the bounces to come would still add to the sum of every probe's
@@ -105,7 +120,7 @@ struct ProbeVolume {
     // Irradiance arriving at P (normal N, unit V towards the eye) from the 8 probes around it:
     // trilinear weights × back-face wrap × Chebyshev visibility from the distance moments, at
     // P moved by the normal and view biases (DDGI §5.2). Beyond the grid's outer layers (up
-    // to half a spacing, where the scene's bounds are), extrapolated linearly from the grid.
+    // to half a spacing; the scene's bounds are kProbeInset out), extrapolated linearly.
     glm::vec3 irradianceAt(const glm::vec3& P, const glm::vec3& N, const glm::vec3& V) const;
 
     // What surface s at P reflects of the probes' light towards V: its diffuse layer's albedo ×
