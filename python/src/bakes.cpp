@@ -271,7 +271,8 @@ the sun found.)");
           "radiometric"_a = false, "diffuse"_a = "lambert", "nthreads"_a = 0,
           R"(dhdr-probes: bakes light probes through a dhdr.Scene into out (light(probes=out) reads
 it). lights as light() takes them (default the scene's own), then its emissive meshes;
-spacing (scene units) or grid (NX, NY, NZ), else the finest grid of at most max_probes;
+spacing (scene units, at most: the outer probes a quarter spacing inside the bounds) or grid
+(NX, NY, NZ), else the finest grid of at most max_probes;
 rays per probe, bounces (0: until converged), shadow_samples, diffuse as dhdr-probes'
 options. Returns the grid and how many probes are active, relocated and off. Without out
 (None), nothing is written: returns a dhdr.Probes that light(probes=) takes.)");
