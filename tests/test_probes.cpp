@@ -455,8 +455,8 @@ TEST(Probes, AGlossyCeilingReflectsTheLitFloor) {
 // rays. Each probe's irradiance looking down against a Monte Carlo integral in double of the
 // unfiltered highlight (200,000 cosine-weighted directions), over the 54 probes within 0.6 m
 // of the light: the mean within 12 % (measured −2.8 %), every probe within 75 % (measured
-// −42 % to +60 %, the worst 5.6 cm over the floor, where the isotropic filter is narrowest
-// against an oblique footprint). Unfiltered, whether a ray met the highlight decided a probe's
+// −42 % to +60 %, the worst 5.6 cm over the floor; 41 probes and up to +47 % with the grid's
+// outer layers half a spacing in). Unfiltered, whether a ray met the highlight decided a probe's
 // light: the mean +22 %, probes from −87 % to +2576 % (blotches on the walls of a Cornell box with
 // a gold block, docs/gi.md).
 TEST(Probes, AGlossyHighlightIsFilteredOverEachRaysCone) {

@@ -65,8 +65,6 @@ MsFactors factors(const PbrSurface& s, float NdotV) {
     return m;
 }
 
-// T(μ) at kViews view angles (texel centres): a midpoint quadrature of 256 × 256 cells over
-// the hemisphere of l (θ, and φ from v's azimuth by symmetry), in double.
 // cos φ at the midpoints of n steps over [0, π] (the tables' azimuths, doubled by symmetry).
 template <int n>
 std::array<double, n> cosines() {
@@ -76,6 +74,8 @@ std::array<double, n> cosines() {
     return c;
 }
 
+// T(μ) at kViews view angles (texel centres): a midpoint quadrature of 256 × 256 cells over
+// the hemisphere of l (θ, and φ from v's azimuth by symmetry), in double.
 struct DiffuseTable {
     std::array<float, kViews> transmission{};
 
