@@ -624,9 +624,9 @@ Scene twoRooms() {
 // surface's indirect light (as on the Cornell box) in its room's channels within 5 % of the
 // path tracer, whose standard error (from its paths' two halves) is held under 1 %; the path
 // tracer's other channels exactly 0 (no path crosses the wall), the probes' under 1 % of
-// what the other room holds in them. Measured −1.3 to +2.8 % at this spacing, +3.1 % at most
-// at the default (512 probes), +3.9 % at 0.25; with the grid's outer layers half a spacing
-// from the walls instead of a quarter, up to +4.1, +4.8 and +11 % (docs/gi.md).
+// what the other room holds in them. For probes at 0.125, at 0.25 and at the default (512
+// probes): measured −1.3 to +2.8 %, +3.9 % and +3.1 % at most; with the grid's outer layers
+// half a spacing from the walls instead of a quarter, up to +4.1, +11 and +4.8 % (docs/gi.md).
 TEST(PathTracer, ProbesAgreeWithItPerSurfaceInTheTwoRooms) {
     const Scene scene = twoRooms();
     const RayCaster caster(scene);
@@ -637,7 +637,13 @@ TEST(PathTracer, ProbesAgreeWithItPerSurfaceInTheTwoRooms) {
     b.color = glm::vec3(0.0f, 0.0f, 1.0f);
     b.intensity = 1.5f;
     const std::vector<Light> lights = {a, b};
-    const ProbeVolume probes = bakedProbes(scene, caster, lights, 0.125);
+    // Three grids against the same paths: 0.125 (a column of grid points in the wall), 0.25
+    // and the default (512 probes).
+    const double spacings[] = {0.125, 0.25, 0.0};
+    std::vector<ProbeVolume> volumes;
+    for (const double spacing : spacings)
+        volumes.push_back(bakedProbes(scene, caster, lights, spacing));
+    const ProbeVolume& probes = volumes[0];
     int inWall = 0; // grid points inside the divider, which the bake must move or switch off
     for (int p = 0; p < probes.probeCount(); ++p) {
         const double x = probes.gridPoint({p % probes.counts.x, 0, 0}).x;
@@ -655,58 +661,69 @@ TEST(PathTracer, ProbesAgreeWithItPerSurfaceInTheTwoRooms) {
     constexpr int W = 64, H = 64, kPaths = 192, kBounces = 64;
     // One view into each room from just inside its front wall.
     const double middle[2] = {0.5 * kDividerLo, 0.5 * (kDividerHi + 2.0)};
-    std::map<int, IndirectSums> sums; // surface = object × 2 + room
+    std::map<int, IndirectSums> sums[3]; // per grid; surface = object × 2 + room
     for (int room = 0; room < 2; ++room) {
         const Camera camera =
             Camera::lookAt({middle[room], 0.5, 0.97}, {middle[room], 0.45, 0.0}, {0, 1, 0}, 1.3);
         const ImageBuf gbuf = gbufferOf(scene, camera, W, H);
-        const ImageBuf direct = deferredFrame(gbuf, lights, caster, nullptr),
-                       withProbes = deferredFrame(gbuf, lights, caster, &probes);
+        const ImageBuf direct = deferredFrame(gbuf, lights, caster, nullptr);
         const ImageBuf path = pathTraced(gbuf, lights, caster, kPaths, kBounces),
                        half = pathTraced(gbuf, lights, caster, kPaths / 2, kBounces);
         const int idc = gbuf.spec().channelindex("id.object");
         ASSERT_GE(idc, 0);
-        const auto own =
-            indirectPerSurface(gbuf, direct, withProbes, path, &half, [&](int x, int y) {
-                // The divider's faces belong to the rooms they face.
-                const int object = int(std::lround(px(gbuf, x, y)[idc])) - 1;
-                return object * 2 + (positionOf(gbuf, x, y).x > 0.5f * (kDividerLo + kDividerHi));
-            });
-        sums.insert(own.begin(), own.end());
+        for (size_t grid = 0; grid < volumes.size(); ++grid) {
+            const ImageBuf withProbes = deferredFrame(gbuf, lights, caster, &volumes[grid]);
+            const auto own =
+                indirectPerSurface(gbuf, direct, withProbes, path, &half, [&](int x, int y) {
+                    // The divider's faces belong to the rooms they face.
+                    const int object = int(std::lround(px(gbuf, x, y)[idc])) - 1;
+                    return object * 2 +
+                           (positionOf(gbuf, x, y).x > 0.5f * (kDividerLo + kDividerHi));
+                });
+            sums[grid].insert(own.begin(), own.end());
+        }
     }
     // Each room's mean indirect light over its surfaces' pixels, per channel.
     glm::dvec3 roomMean[2] = {glm::dvec3(0.0), glm::dvec3(0.0)};
     int roomPixels[2] = {0, 0};
-    for (const auto& [surface, s] : sums)
+    for (const auto& [surface, s] : sums[0])
         roomMean[surface % 2] += s.path, roomPixels[surface % 2] += s.pixels;
     for (int room = 0; room < 2; ++room)
         roomMean[room] /= double(std::max(roomPixels[room], 1));
     const glm::bvec3 litIn[2] = {{true, true, false}, {false, false, true}};
     int compared = 0;
-    for (const auto& [surface, s] : sums) {
-        const int room = surface % 2, object = surface / 2;
-        const std::string name = std::string(kTwoRoomsObjects[object]) + (room ? " (B)" : " (A)");
-        const glm::dvec3 p = s.probesMean(), t = s.pathMean(), se = s.standardError();
-        std::printf("%-15s %4d px: probes %.4f %.4f %.4f, path traced %.4f %.4f %.4f:",
-                    name.c_str(), s.pixels, p.r, p.g, p.b, t.r, t.g, t.b);
-        for (int k = 0; k < 3; ++k)
-            if (litIn[room][k])
-                std::printf(" %+.1f %% (± %.2f %%)", 100.0 * (p[k] / t[k] - 1.0),
-                            100.0 * se[k] / t[k]);
-        std::printf("\n");
-        for (int k = 0; k < 3; ++k) {
-            if (litIn[room][k]) {
-                if (s.pixels < 100) continue; // a sliver
-                EXPECT_LT(se[k] / t[k], 0.01) << name << " channel " << k;
-                EXPECT_NEAR(p[k] / t[k], 1.0, 0.05) << name << " channel " << k;
-                ++compared;
-            } else {
-                // The other room's light: none in the path tracer, a trace in the probes.
-                EXPECT_EQ(t[k], 0.0) << name << " channel " << k;
-                EXPECT_LT(std::abs(p[k]), 0.01 * roomMean[1 - room][k]) << name << " channel " << k;
+    for (size_t grid = 0; grid < volumes.size(); ++grid) {
+        std::printf("spacing %.4g (%d probes):\n", volumes[grid].spacing.x,
+                    volumes[grid].probeCount());
+        for (const auto& [surface, s] : sums[grid]) {
+            const int room = surface % 2, object = surface / 2;
+            const std::string name =
+                std::string(kTwoRoomsObjects[object]) + (room ? " (B)" : " (A)");
+            const glm::dvec3 p = s.probesMean(), t = s.pathMean(), se = s.standardError();
+            std::printf("%-15s %4d px: probes %.4f %.4f %.4f, path traced %.4f %.4f %.4f:",
+                        name.c_str(), s.pixels, p.r, p.g, p.b, t.r, t.g, t.b);
+            for (int k = 0; k < 3; ++k)
+                if (litIn[room][k])
+                    std::printf(" %+.1f %% (± %.2f %%)", 100.0 * (p[k] / t[k] - 1.0),
+                                100.0 * se[k] / t[k]);
+            std::printf("\n");
+            for (int k = 0; k < 3; ++k) {
+                if (litIn[room][k]) {
+                    if (s.pixels < 100) continue; // a sliver
+                    EXPECT_LT(se[k] / t[k], 0.01) << name << " channel " << k;
+                    EXPECT_NEAR(p[k] / t[k], 1.0, 0.05)
+                        << name << " channel " << k << " spacing " << spacings[grid];
+                    ++compared;
+                } else {
+                    // The other room's light: none in the path tracer, a trace in the probes.
+                    EXPECT_EQ(t[k], 0.0) << name << " channel " << k;
+                    EXPECT_LT(std::abs(p[k]), 0.01 * roomMean[1 - room][k])
+                        << name << " channel " << k << " spacing " << spacings[grid];
+                }
             }
         }
     }
-    // Floor, ceiling, back wall, outer wall, divider and block in each room, in its channels.
-    EXPECT_EQ(compared, 6 * 2 + 6);
+    // Floor, ceiling, back wall, outer wall, divider and block in each room, in its channels,
+    // for each grid.
+    EXPECT_EQ(compared, 3 * (6 * 2 + 6));
 }
