@@ -53,15 +53,18 @@ glm::vec3 texelDirection(int i, int j, int n) {
         {(float(i) + 0.5f) / float(n) * 2.0f - 1.0f, (float(j) + 0.5f) / float(n) * 2.0f - 1.0f});
 }
 
-} // namespace
-
+// Probes along an axis of `extent` at most `spacing` apart with the outer ones kProbeInset
+// spacings inside.
 double probesAlong(double extent, double spacing) {
     return std::max(1.0, std::ceil(extent / spacing + 1.0 - 2.0 * kProbeInset - 1e-9));
 }
 
+// Their spacing, extent / (n − 1 + 2 kProbeInset) (at most `spacing`), or `spacing` for one.
 double spacingAlong(double extent, double n, double spacing) {
     return n > 1.0 ? extent / (n - 1.0 + 2.0 * kProbeInset) : spacing;
 }
+
+} // namespace
 
 double probeSpacingFor(const glm::dvec3& extent, int maxProbes) {
     auto count = [&](double spacing) {

@@ -59,15 +59,9 @@ inline constexpr IntParam<ProbeBakeParams> kProbeBakeParamTable[] = {
 // (docs/gi.md, "Placement").
 inline constexpr double kProbeInset = 0.25;
 
-// Probes along an axis of `extent` at most `spacing` apart with the outer ones kProbeInset
-// spacings inside: max(1, ⌈extent / spacing + 1 − 2 kProbeInset⌉).
-double probesAlong(double extent, double spacing);
-// Their spacing, extent / (n − 1 + 2 kProbeInset) (at most `spacing`), or `spacing` for one.
-double spacingAlong(double extent, double n, double spacing);
-
 // The smallest spacing (within 1 %) at which a grid over a box of `extent` holds at most
-// `maxProbes` probes (probesAlong along each axis, at most 256), so that a scene gets the same
-// number of probes at any scale.
+// `maxProbes` probes (max(1, ⌈extent / spacing + 1 − 2 kProbeInset⌉) along each axis, at most
+// 256), so that a scene gets the same number of probes at any scale.
 double probeSpacingFor(const glm::dvec3& extent, int maxProbes);
 
 // Bounces until the light the bounces to come would still add to the sum of every probe's
