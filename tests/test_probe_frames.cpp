@@ -236,7 +236,9 @@ TEST_F(ProbeFrames, DhdrLightTakesEachFramesOwnProbes) {
     EXPECT_TRUE(sameBits(read("set.1.exr"), lit1));
     const ImageBuf set2 = read("set.2.exr");
     EXPECT_FALSE(sameBits(set2, lit2));
-    EXPECT_EQ(indirect(set2, 4, 12), indirect(lit1, 4, 12)); // the floor there did not move
+    // The floor there did not move; the rays that settle the probes' visibility where their
+    // distance moments spread (docs/gi.md "Shading") see frame 2's scene, the panel gone.
+    EXPECT_NEAR(indirect(set2, 4, 12), indirect(lit1, 4, 12), 0.1 * indirect(lit1, 4, 12));
 }
 
 // A frame whose probe file is missing fails, naming the file, with no output of its own (the

@@ -326,6 +326,75 @@ TEST(Probes, NoLightLeaksThroughAClosedWall) {
     EXPECT_LT(b, 0.01 * a) << "room A " << a << ", room B " << b;
 }
 
+namespace {
+
+// A 3 × 2 × 2 grid of unit spacing whose every probe holds E(n) = 1 + x (its own x, in every
+// direction), and whose distance maps see 100 m in every direction, but the x = 0 layer's,
+// which see a surface 1 cm away: hidden from every point past it.
+ProbeVolume linearField() {
+    ProbeVolume v;
+    v.counts = {3, 2, 2};
+    v.spacing = glm::dvec3(1.0);
+    const int wi = ProbeVolume::kIrradianceTexels + 2, wd = ProbeVolume::kDistanceTexels + 2;
+    for (int p = 0; p < v.probeCount(); ++p) {
+        const glm::ivec3 g(p % 3, p / 3 % 2, p / 6);
+        v.positions.push_back(glm::vec3(v.gridPoint(g)));
+        v.states.push_back(ProbeState::Active);
+        v.irradiance.insert(v.irradiance.end(), size_t(wi * wi), glm::vec3(1.0f + float(g.x)));
+        const float d = g.x == 0 ? 0.01f : 100.0f;
+        v.distance.insert(v.distance.end(), size_t(wd * wd), glm::vec2(d, d * d));
+    }
+    return v;
+}
+
+} // namespace
+
+TEST(Probes, AHiddenProbeGivesWayToItsExtrapolation) {
+    // A surface at x = 0.1 facing +x, the probes behind it (x = 0) hidden. Its biased point
+    // (x = 0.1 + 0.1 + 0.1) lies 0.3 into the cell. Each hidden corner is filled from the
+    // layers x = 1 and 2 beyond it: 2 + ½ (2 − 3) = 1.5 (kProbeFillSlope), so the lookup reads
+    // 0.7 × 1.5 + 0.3 × 2 = 1.65, half-way in slope between the field's 1.3 (a full linear
+    // extrapolation) and the 2 of DDGI's renormalisation over the visible probes alone. The
+    // wrap weights of the x = 1 probes (0.94 to 1.13 here, the fill's 1) are the only
+    // departure.
+    ASSERT_EQ(kProbeFillSlope, 0.5f);
+    const ProbeVolume v = linearField();
+    const glm::vec3 N(1, 0, 0);
+    for (const glm::vec3 P : {glm::vec3(0.1f, 0.5f, 0.5f), glm::vec3(0.1f, 0.2f, 0.7f)}) {
+        const glm::vec3 E = v.irradianceAt(P, N, N);
+        EXPECT_NEAR(E.x, 1.65f, 0.015f) << P.y << " " << P.z;
+    }
+    // A surface facing along y has no hidden probe's x to fill along: the x = 0 probes count
+    // by their Chebyshev weight's floor, and the result is the visible layer's.
+    const glm::vec3 E = v.irradianceAt({0.5f, 0.1f, 0.5f}, {0, 1, 0}, {0, 1, 0});
+    EXPECT_NEAR(E.x, 2.0f, 1e-3f);
+}
+
+TEST(Probes, ARayDecidesWhereTheDistanceMomentsSpread) {
+    // The same grid, every distance map's moments spread as an edge's texels are (half the
+    // rays at 0.2 m, half at 3 m: σ / μ = 0.88), so that Chebyshev sees every probe from a
+    // point 0.9 m away, and the x = 0 layer holding 5 (another room's light) behind a wall at
+    // x = 0.05. With the scene, a ray finds those probes hidden and the lookup reads what it
+    // reads where the distance maps hide them (above; the fill's x = 2 probes, 1.7 m off,
+    // count by Chebyshev at 0.95 each here); without it, the other room's light leaks in.
+    ProbeVolume v = linearField();
+    const glm::vec3 P(0.1f, 0.5f, 0.5f), N(1, 0, 0);
+    const float hidden = v.irradianceAt(P, N, N).x;
+    const int wi = ProbeVolume::kIrradianceTexels + 2, wd = ProbeVolume::kDistanceTexels + 2;
+    const float m1 = 0.5f * (0.2f + 3.0f), m2 = 0.5f * (0.04f + 9.0f);
+    v.distance.assign(size_t(v.probeCount() * wd * wd), glm::vec2(m1, m2));
+    ASSERT_GT(std::sqrt(m2 - m1 * m1) / m1, kProbeTracedSpread[1]);
+    for (int p = 0; p < v.probeCount(); p += 3)
+        std::fill_n(v.irradiance.begin() + p * wi * wi, wi * wi, glm::vec3(5.0f));
+    Scene scene;
+    scene.materials.push_back(lambert("wall", glm::vec3(0.5f)));
+    addQuad(scene, {0.05f, -1, -1}, {0.05f, 2, -1}, {0.05f, 2, 2}, {0.05f, -1, 2}, 0);
+    const RayCaster caster(scene);
+    ASSERT_TRUE(caster.ok());
+    EXPECT_NEAR(v.irradianceAt(P, N, N, &caster).x, hidden, 0.03f);
+    EXPECT_GT(v.irradianceAt(P, N, N).x, 3.0f) << "Chebyshev alone sees the hidden layer";
+}
+
 TEST(Probes, OneBounceBetweenPlatesMatchesAPathTracer) {
     // A floor and a ceiling plate 1 m apart, a point light between them. The irradiance that
     // reaches the middle of the floor after one bounce off the ceiling, from the probes,

@@ -27,7 +27,7 @@ glm::vec3 HitShading::trace(const Ray& ray, const SeedKey& key, long long* rays)
     point.specularFromProbes = m_probes && surface.roughness >= kProbeGlossyRoughness;
     glm::vec3 L = m_direct.sum(point, key, m_emissionAtHits ? s.emission : glm::vec3(0.0f), rays)
                       .total(1.0f, 1.0f);
-    if (m_probes) L += m_probes->reflectedAt(surface, P, N, V, point.specularFromProbes);
+    if (m_probes) L += m_probes->reflectedAt(surface, P, N, V, point.specularFromProbes, &m_caster);
     return L;
 }
 

@@ -376,7 +376,8 @@ bool shadeSource(OIIO::ImageBuf& dst, const Source& source, const LightingInputs
         // ambient terms.
         glm::vec3 indirect(0.0f);
         if (probes) {
-            indirect = probes->reflectedAt(sp.surface, sp.P, sp.N, sp.V, point.specularFromProbes);
+            indirect = probes->reflectedAt(sp.surface, sp.P, sp.N, sp.V, point.specularFromProbes,
+                                           inputs.visibility);
             if (aoActive) indirect *= occlusion;
         }
         // The scene in the glossy lobe, traced (not occluded by AO: its rays see the occluders).

@@ -218,7 +218,8 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
             for (int i = 0; i < R; ++i)
                 radiance[size_t(p) * size_t(R) + size_t(i)] =
                     results[size_t(p) * size_t(R) + size_t(i)].radiance(
-                        glossy[size_t(p)], bounce > 0 ? &previous : nullptr, directions[size_t(i)]);
+                        glossy[size_t(p)], bounce > 0 ? &previous : nullptr, directions[size_t(i)],
+                        &caster);
         });
         parallelRows(0, n, nthreads, [&](int64_t p) {
             glm::vec3* irr = &v.irradiance[size_t(p) * size_t(wi * wi)];

@@ -163,15 +163,17 @@ ProbeRay ProbeRayTracer::trace(const glm::vec3& origin, const glm::vec3& directi
 }
 
 glm::vec3 ProbeRay::radiance(const std::vector<GlossyContinuation>& continuations,
-                             const ProbeVolume* previous, const glm::vec3& direction) const {
+                             const ProbeVolume* previous, const glm::vec3& direction,
+                             const Visibility* scene) const {
     glm::vec3 L = fixed;
     if (hit && !backFace && previous)
-        L += reflectance / kPi * previous->irradianceAt(position, normal, -direction);
+        L += reflectance / kPi * previous->irradianceAt(position, normal, -direction, scene);
     if (glossy >= 0) {
         const GlossyContinuation& c = continuations[size_t(glossy)];
         glm::vec3 next = c.fixed;
         if (c.hit && previous)
-            next += c.reflectance / kPi * previous->irradianceAt(c.position, c.normal, c.towards);
+            next += c.reflectance / kPi *
+                    previous->irradianceAt(c.position, c.normal, c.towards, scene);
         L += c.weight * next;
     }
     return L;

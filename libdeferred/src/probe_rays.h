@@ -35,9 +35,10 @@ struct ProbeRay {
 
     // The radiance it brings the probe from `direction`: the fixed light, plus with the last
     // round's probes (`previous`, null at the first round) what the hit and its
-    // continuation reflect of their irradiance.
+    // continuation reflect of their irradiance, read as the frame reads it (`scene`).
     glm::vec3 radiance(const std::vector<GlossyContinuation>& continuations,
-                       const ProbeVolume* previous, const glm::vec3& direction) const;
+                       const ProbeVolume* previous, const glm::vec3& direction,
+                       const Visibility* scene) const;
 };
 
 // Which ray: probe p's ray i of `rays` (its continuation draws as ray i + rays).

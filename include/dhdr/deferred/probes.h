@@ -18,6 +18,7 @@
 namespace dhdr {
 
 class RayCaster;
+class Visibility;
 struct Scene;
 
 struct ProbeBakeParams {
@@ -112,10 +113,15 @@ struct ProbeVolume {
     glm::vec2 distanceAt(int p, const glm::vec3& d) const;
 
     // Irradiance arriving at P (normal N, unit V towards the eye) from the 8 probes around it:
-    // trilinear weights × back-face wrap × Chebyshev visibility from the distance moments, at
-    // P moved by the normal and view biases (DDGI §5.2). Beyond the grid's outer layers (up
-    // to half a spacing; the scene's bounds are kProbeInset out), extrapolated linearly.
-    glm::vec3 irradianceAt(const glm::vec3& P, const glm::vec3& N, const glm::vec3& V) const;
+    // trilinear weights × back-face wrap × the probe's visibility, at P moved by the normal and
+    // view biases (DDGI §5.2). Visibility is Chebyshev's bound from the distance moments, or,
+    // given the scene, a ray to the probe where those moments spread (kProbeTracedSpread). A
+    // probe hidden from P gives way to its value extrapolated from the visible probes beyond
+    // it (kProbeFillSlope; DDGI's renormalisation takes the visible side's value). Beyond the
+    // grid's outer layers (up to half a spacing; the scene's bounds are kProbeInset out),
+    // extrapolated linearly. docs/gi.md "Shading".
+    glm::vec3 irradianceAt(const glm::vec3& P, const glm::vec3& N, const glm::vec3& V,
+                           const Visibility* scene = nullptr) const;
 
     // What surface s at P reflects of the probes' light towards V: its diffuse layer's albedo ×
     // E(N) / π and, with `specularLobe` (a rough lobe whose light is not traced,
@@ -123,7 +129,8 @@ struct ProbeVolume {
     // dominant direction D (Lagarde & de Rousiers 2014) rather than along N. The frame's
     // pixels and the hits of its secondary rays reflect the probes alike.
     glm::vec3 reflectedAt(const PbrSurface& s, const glm::vec3& P, const glm::vec3& N,
-                          const glm::vec3& V, bool specularLobe) const;
+                          const glm::vec3& V, bool specularLobe,
+                          const Visibility* scene = nullptr) const;
     // The biases, as fractions of the smallest spacing.
     float normalBias = 0.1f, viewBias = 0.1f;
 
@@ -131,7 +138,15 @@ private:
     // The weighted mean of the 8 probes around grid coordinates `local` (clamped into the
     // grid), weighted for the point P (normal N), moved off its surface to `biased`.
     glm::vec3 interpolate(const glm::vec3& P, const glm::vec3& N, const glm::vec3& biased,
-                          const glm::dvec3& local) const;
+                          const glm::dvec3& local, const Visibility* scene) const;
+    // The chance in [0, 1] that probe p sees `biased`: Chebyshev's, or the scene's ray.
+    float visibility(int p, const glm::vec3& biased, const Visibility* scene) const;
+    // E(N) at grid point g (a corner of the cell whose other corners `offset` points away
+    // from), extrapolated from the two probes beyond it along each axis into the cell,
+    // E₁ + kProbeFillSlope (E₁ − E₂), averaged with weights N_a² × their visibilities;
+    // returns the weights' sum (at most 1; 0: E unset).
+    float extrapolated(glm::ivec3 g, glm::ivec3 offset, const glm::vec3& N, const glm::vec3& biased,
+                       glm::vec3& E) const;
 };
 
 // From this roughness up, a specular lobe reflects the probes' irradiance as its albedo does
@@ -139,6 +154,18 @@ private:
 // ray's hit (below it, the lobe is followed along a sampled direction, so that metals show
 // the room), and at a shaded point whose specular indirect light is not traced (lighting.cpp).
 inline constexpr float kProbeGlossyRoughness = 0.5f;
+
+// Where the distance moments towards a point spread, σ / μ from the first to the second (a
+// texel holding an edge's near distances and the far ones past it, whose mean lies beyond a
+// point the edge hides), a ray to the probe decides its visibility, blended in smoothly.
+inline constexpr float kProbeTracedSpread[2] = {0.5f, 0.8f};
+
+// The share of the slope between the two probes beyond a hidden one that its fill carries on
+// (ProbeVolume::irradianceAt): 0 is DDGI's renormalisation (the visible side's value), 1 a
+// linear extrapolation. Near a face the light curves: 1 overshoots (the two rooms' divider
+// −5.2 %, the real-scale Cornell box's tall block +4.0 %), 0 falls short (the project-scale
+// tall block −5.6 %); ½ keeps every surface of the three within 4.6 % (docs/gi.md "Shading").
+inline constexpr float kProbeFillSlope = 0.5f;
 
 // Sharpness of the cosine lobe the distance maps average under, max(0, n·ω)^50 (DDGI's).
 inline constexpr double kProbeDistanceSharpness = 50.0;
