@@ -161,10 +161,11 @@ inline constexpr float kProbeGlossyRoughness = 0.5f;
 inline constexpr float kProbeTracedSpread[2] = {0.5f, 0.8f};
 
 // The share of the slope between the two probes beyond a hidden one that its fill carries on
-// (ProbeVolume::irradianceAt): 0 is DDGI's renormalisation (the visible side's value), 1 a
-// linear extrapolation. Near a face the light curves: 1 overshoots (the two rooms' divider
-// −5.2 %, the real-scale Cornell box's tall block +4.0 %), 0 falls short (the project-scale
-// tall block −5.6 %); ½ keeps every surface of the three within 4.6 % (docs/gi.md "Shading").
+// (ProbeVolume::irradianceAt): 0 takes the neighbour's value, much as DDGI's renormalisation
+// does, 1 extrapolates linearly. Near a face the light curves: 1 overshoots (the two rooms'
+// divider −5.2 %, the real-scale Cornell box's tall block +4.0 %), 0 falls short (the
+// project-scale tall block −5.6 %); ½ keeps every surface of the three within 4.6 % of the
+// path tracer (docs/gi.md "Shading").
 inline constexpr float kProbeFillSlope = 0.5f;
 
 // Sharpness of the cosine lobe the distance maps average under, max(0, n·ω)^50 (DDGI's).
