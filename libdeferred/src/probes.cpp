@@ -83,7 +83,8 @@ glm::vec3 ProbeVolume::irradianceAt(const glm::vec3& P, const glm::vec3& N, cons
     return glm::max(2.0f * a - b, glm::vec3(0.0f));
 }
 
-float ProbeVolume::visibility(int p, const glm::vec3& biased, const Visibility* scene) const {
+float ProbeVolume::chebyshev(int p, const glm::vec3& biased, float* traced, ShadowRay* ray) const {
+    if (traced) *traced = 0.0f;
     const glm::vec3 fromProbe = biased - positions[size_t(p)];
     const float r = glm::length(fromProbe);
     if (!(r > 0.0f)) return 1.0f;
@@ -97,20 +98,18 @@ float ProbeVolume::visibility(int p, const glm::vec3& biased, const Visibility* 
         const float d = r - m.x, c = variance / (variance + d * d);
         chebyshev = c * c * c;
     }
-    if (!scene) return chebyshev;
+    if (!traced) return chebyshev;
     // Moments that spread mix an edge's near distances with the far ones past it: their mean
     // may lie beyond a point the edge hides. There a ray decides (docs/gi.md "Shading").
     const float spread = std::sqrt(variance) / std::max(m.x, 1e-6f);
     const float t = std::clamp((spread - kProbeTracedSpread[0]) /
                                    (kProbeTracedSpread[1] - kProbeTracedSpread[0]),
                                0.0f, 1.0f);
-    const float traced = t * t * (3.0f - 2.0f * t);
-    if (traced == 0.0f) return chebyshev;
-    ShadowRay ray;
-    ray.origin = biased;
-    ray.direction = -fromProbe / r;
-    ray.tmax = r;
-    return (1.0f - traced) * chebyshev + traced * scene->transmittance(ray);
+    *traced = t * t * (3.0f - 2.0f * t);
+    ray->origin = biased;
+    ray->direction = -fromProbe / r;
+    ray->tmax = r;
+    return chebyshev;
 }
 
 float ProbeVolume::extrapolated(glm::ivec3 g, glm::ivec3 offset, const glm::vec3& N,
@@ -129,8 +128,8 @@ float ProbeVolume::extrapolated(glm::ivec3 g, glm::ivec3 offset, const glm::vec3
             continue;
         // The change along N is Σ N_a ∂E/∂x_a: each axis counts by its share N_a² of N. The
         // two probes lie on the point's open side, where the distance maps are reliable.
-        const float w =
-            N[a] * N[a] * visibility(p1, biased, nullptr) * visibility(p2, biased, nullptr);
+        const float w = N[a] * N[a] * chebyshev(p1, biased, nullptr, nullptr) *
+                        chebyshev(p2, biased, nullptr, nullptr);
         if (w == 0.0f) continue;
         const glm::vec3 E1 = irradianceAt(p1, N), E2 = irradianceAt(p2, N);
         sum += w * glm::max(E1 + kProbeFillSlope * (E1 - E2), glm::vec3(0.0f));
@@ -149,6 +148,21 @@ glm::vec3 ProbeVolume::interpolate(const glm::vec3& P, const glm::vec3& N, const
         base[a] = std::clamp(int(std::floor(local[a])), 0, std::max(cells - 1, 0));
         alpha[a] = cells == 0 ? 0.0f : std::clamp(float(local[a] - base[a]), 0.0f, 1.0f);
     }
+    // Each corner's Chebyshev weight, and the rays that decide where the moments spread,
+    // traced together (as a stream of single rays: in packets these diverging rays were
+    // slower, the 1080p frame 4.0 s against 3.75).
+    float visible[8] = {}, traced[8] = {}, open[8] = {};
+    ShadowRay rays[8];
+    int rayOf[8], n = 0;
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::ivec3 offset(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
+        const int p = index(glm::min(base + offset, counts - 1));
+        rayOf[corner] = -1;
+        if (states[size_t(p)] == ProbeState::Off) continue;
+        visible[corner] = chebyshev(p, biased, scene ? &traced[corner] : nullptr, &rays[n]);
+        if (traced[corner] > 0.0f) rayOf[corner] = n++;
+    }
+    if (n > 0) scene->test(rays, size_t(n), open);
     glm::dvec3 sum(0.0);
     double total = 0.0;
     for (int corner = 0; corner < 8; ++corner) {
@@ -159,17 +173,18 @@ glm::vec3 ProbeVolume::interpolate(const glm::vec3& P, const glm::vec3& N, const
         double trilinear = 1.0;
         for (int a = 0; a < 3; ++a)
             trilinear *= offset[a] ? alpha[a] : 1.0f - alpha[a];
+        const float v = rayOf[corner] < 0 ? visible[corner]
+                                          : (1.0f - traced[corner]) * visible[corner] +
+                                                traced[corner] * open[rayOf[corner]];
         glm::dvec3 cornerSum(0.0);
         double cornerTotal = 0.0;
-        float visible = 0.0f;
         if (states[size_t(p)] != ProbeState::Off) {
             // Back-face wrap: a probe behind the surface counts less, smoothly (DDGI eq. 9).
             const glm::vec3 toProbe = glm::normalize(positions[size_t(p)] - P);
             const float wrap = (glm::dot(toProbe, N) + 1.0f) * 0.5f;
-            visible = visibility(p, biased, scene);
             // A floor keeps a point seen by no probe from dividing by zero without letting a
             // hidden probe's light through.
-            const float weight = std::max((wrap * wrap + 0.2f) * visible, 1e-6f);
+            const float weight = std::max((wrap * wrap + 0.2f) * v, 1e-6f);
             cornerSum = glm::dvec3(irradianceAt(p, N)) * double(weight);
             cornerTotal = weight;
         }
@@ -178,9 +193,9 @@ glm::vec3 ProbeVolume::interpolate(const glm::vec3& P, const glm::vec3& N, const
         // would read a face whose probes behind are hidden as its probes in front read it
         // (the Cornell box's blocks 5-10 % dark at the project's scale).
         glm::vec3 filled;
-        const float along = visible < 1.0f ? extrapolated(g, offset, N, biased, filled) : 0.0f;
+        const float along = v < 1.0f ? extrapolated(g, offset, N, biased, filled) : 0.0f;
         if (along > 0.0f) {
-            const double share = double(1.0f - visible) * std::min(double(along), 1.0);
+            const double share = double(1.0f - v) * std::min(double(along), 1.0);
             cornerSum += glm::dvec3(filled) * share;
             cornerTotal += share;
         }

@@ -20,6 +20,7 @@ namespace dhdr {
 class RayCaster;
 class Visibility;
 struct Scene;
+struct ShadowRay;
 
 struct ProbeBakeParams {
     // Metres (scene units) between probes at most, ≥ 0 (each axis's is the largest up to it that
@@ -139,8 +140,9 @@ private:
     // grid), weighted for the point P (normal N), moved off its surface to `biased`.
     glm::vec3 interpolate(const glm::vec3& P, const glm::vec3& N, const glm::vec3& biased,
                           const glm::dvec3& local, const Visibility* scene) const;
-    // The chance in [0, 1] that probe p sees `biased`: Chebyshev's, or the scene's ray.
-    float visibility(int p, const glm::vec3& biased, const Visibility* scene) const;
+    // Chebyshev's bound on the chance that probe p sees `biased`; with `traced`, also the
+    // share of it that the ray `ray` (from `biased` to the probe) should decide instead.
+    float chebyshev(int p, const glm::vec3& biased, float* traced, ShadowRay* ray) const;
     // E(N) at grid point g (a corner of the cell whose other corners `offset` points away
     // from), extrapolated from the two probes beyond it along each axis into the cell,
     // E₁ + kProbeFillSlope (E₁ − E₂), averaged with weights N_a² × their visibilities;
