@@ -110,7 +110,9 @@ int run(int argc, char** argv) {
               "(default its first camera)");
     cl.option("--probes", probesPath, "FILE",
               "light probes baked by dhdr-probes for this scene: indirect diffuse light "
-              "(docs/gi.md); one file for every frame, or a frame pattern (probes.####.exr, "
+              "(docs/gi.md); with --scene, a ray settles a probe's visibility where its "
+              "distance map cannot (at edges); one file for every frame, or a frame pattern "
+              "(probes.####.exr, "
               "dhdr-probes --frames): each G-buffer takes its own frame's, and one baked at "
               "another moment than the G-buffer shows is a warning");
     cl.option("--deep-out", deepOut, "FILE",
