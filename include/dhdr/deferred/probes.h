@@ -136,10 +136,17 @@ struct ProbeVolume {
     float normalBias = 0.1f, viewBias = 0.1f;
 
 private:
+    // The probes' visibilities from one biased point, kept between the lookups of its cells.
+    struct SeenFrom {
+        static constexpr int kSize = 16;
+        int probe[kSize];
+        float visible[kSize];
+        int count = 0;
+    };
     // The weighted mean of the 8 probes around grid coordinates `local` (clamped into the
     // grid), weighted for the point P (normal N), moved off its surface to `biased`.
     glm::vec3 interpolate(const glm::vec3& P, const glm::vec3& N, const glm::vec3& biased,
-                          const glm::dvec3& local, const Visibility* scene) const;
+                          const glm::dvec3& local, const Visibility* scene, SeenFrom& seen) const;
     // Chebyshev's bound on the chance that probe p sees `biased`; with `traced`, also the
     // share of it that the ray `ray` (from `biased` to the probe) should decide instead.
     float chebyshev(int p, const glm::vec3& biased, float* traced, ShadowRay* ray) const;
