@@ -140,29 +140,14 @@ float ProbeVolume::extrapolated(glm::ivec3 g, glm::ivec3 offset, const glm::vec3
     return total;
 }
 
-glm::vec3 ProbeVolume::interpolate(const glm::vec3& P, const glm::vec3& N, const glm::vec3& biased,
-                                   const glm::dvec3& local, const Visibility* scene,
-                                   SeenFrom& seen) const {
-    glm::ivec3 base;
-    glm::vec3 alpha;
-    for (int a = 0; a < 3; ++a) {
-        const int cells = std::max(counts[a] - 1, 0);
-        base[a] = std::clamp(int(std::floor(local[a])), 0, std::max(cells - 1, 0));
-        alpha[a] = cells == 0 ? 0.0f : std::clamp(float(local[a] - base[a]), 0.0f, 1.0f);
-    }
-    // Trilinear weights of the grid points; a corner of weight 0 (on a clamped axis: the
-    // surfaces beyond the outer layers) is not looked at.
-    double trilinear[8];
-    for (int corner = 0; corner < 8; ++corner) {
-        trilinear[corner] = 1.0;
-        for (int a = 0; a < 3; ++a)
-            trilinear[corner] *= (corner >> a) & 1 ? alpha[a] : 1.0f - alpha[a];
-    }
-    // Each corner's Chebyshev weight, and the rays that decide where the moments spread,
-    // traced together (as a stream of single rays: in packets these diverging rays were
-    // slower, the 1080p frame 4.0 s against 3.75). A probe `seen` already holds for the same
-    // biased point (the other of the two cells extrapolated from) is not looked at again.
-    float visible[8] = {}, traced[8] = {}, open[8] = {};
+void ProbeVolume::cornerVisibilities(glm::ivec3 base, const double trilinear[8],
+                                     const glm::vec3& biased, const Visibility* scene,
+                                     SeenFrom& seen, float visible[8]) const {
+    // The rays go as one stream of single rays: in packets these diverging rays were slower
+    // (the 1080p frame 4.0 s against 3.75). A probe `seen` holds was looked at from this
+    // point already, for the other cell of a wall's extrapolation.
+    float traced[8] = {}, open[8] = {};
+    std::fill_n(visible, 8, 0.0f);
     ShadowRay rays[8];
     int rayOf[8], known[8], n = 0;
     for (int corner = 0; corner < 8; ++corner) {
@@ -193,6 +178,28 @@ glm::vec3 ProbeVolume::interpolate(const glm::vec3& P, const glm::vec3& N, const
         seen.probe[seen.count] = p;
         seen.visible[seen.count++] = visible[corner];
     }
+}
+
+glm::vec3 ProbeVolume::interpolate(const glm::vec3& P, const glm::vec3& N, const glm::vec3& biased,
+                                   const glm::dvec3& local, const Visibility* scene,
+                                   SeenFrom& seen) const {
+    glm::ivec3 base;
+    glm::vec3 alpha;
+    for (int a = 0; a < 3; ++a) {
+        const int cells = std::max(counts[a] - 1, 0);
+        base[a] = std::clamp(int(std::floor(local[a])), 0, std::max(cells - 1, 0));
+        alpha[a] = cells == 0 ? 0.0f : std::clamp(float(local[a] - base[a]), 0.0f, 1.0f);
+    }
+    // Trilinear weights of the grid points; a corner of weight 0 (on a clamped axis: the
+    // surfaces beyond the outer layers) is not looked at.
+    double trilinear[8];
+    for (int corner = 0; corner < 8; ++corner) {
+        trilinear[corner] = 1.0;
+        for (int a = 0; a < 3; ++a)
+            trilinear[corner] *= (corner >> a) & 1 ? alpha[a] : 1.0f - alpha[a];
+    }
+    float visible[8];
+    cornerVisibilities(base, trilinear, biased, scene, seen, visible);
     glm::dvec3 sum(0.0);
     double total = 0.0;
     for (int corner = 0; corner < 8; ++corner) {

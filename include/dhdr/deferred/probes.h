@@ -143,6 +143,11 @@ private:
         float visible[kSize];
         int count = 0;
     };
+    // The chance that each corner of the cell at grid point `base` sees `biased` (0 for a
+    // probe that is off or a corner of trilinear weight 0): Chebyshev's, or where the moments
+    // spread, the scene's rays, traced together; from `seen` where it holds the probe.
+    void cornerVisibilities(glm::ivec3 base, const double trilinear[8], const glm::vec3& biased,
+                            const Visibility* scene, SeenFrom& seen, float visible[8]) const;
     // The weighted mean of the 8 probes around grid coordinates `local` (clamped into the
     // grid), weighted for the point P (normal N), moved off its surface to `biased`.
     glm::vec3 interpolate(const glm::vec3& P, const glm::vec3& N, const glm::vec3& biased,
