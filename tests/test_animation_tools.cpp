@@ -188,6 +188,44 @@ TEST_F(AnimationTools, FrameNIsTheStaticSceneWithFrameNsTransforms) {
         }
 }
 
+// A node whose transform no float matrix inverts or holds still shows its mesh where the
+// pose lays it (its world-space stand-in is traced, docs/animation.md): the square flattened
+// along its normal covers its 16 × 16 pixels; scaled to 0 it covers none (8 × 8 half way);
+// under a parent scaled by 10³⁰ over a child scaled by 10³⁰ the run goes on.
+TEST_F(AnimationTools, ANodeThatNoFloatMatrixInvertsIsTracedWhereItLies) {
+    struct Case {
+        std::vector<float> end;
+        double own;
+        int half, last; // pixels covered at frames 12 and 24; −1: not checked
+    };
+    for (const Case& c : {Case{{1, 1, 0}, 1.0, 256, 256}, Case{{0, 0, 0}, 1.0, 64, 0},
+                          Case{{1e30f, 1e30f, 1e30f}, 1e30, -1, -1}}) {
+        SCOPED_TRACE(c.end[0]);
+        nlohmann::json doc = squareAndCamera();
+        doc["nodes"][0]["scale"] = {c.own, c.own, c.own};
+        doc["nodes"].push_back({{"name", "parent"}, {"children", {0}}});
+        doc["scenes"][0]["nodes"] = {1, 2};
+        addChannel(doc, 0, 2, "scale", {0.0f, 1.0f}, {1, 1, 1, c.end[0], c.end[1], c.end[2]});
+        writeJson(path("scaled.gltf"), doc);
+        const Result r = run("dhdr-gbuffer " + path("scaled.gltf") +
+                             " --size 64x64 --frames 12-24 -o " + path("scaled.#.exr"));
+        ASSERT_EQ(r.status, 0) << r.err;
+        int half = 0, last = 0;
+        const ImageBuf h = read("scaled.12.exr"), g = read("scaled.24.exr");
+        for (int y = 0; y < 64; ++y)
+            for (int x = 0; x < 64; ++x) {
+                half += value(h, "A", x, y) > 0.0f;
+                last += value(g, "A", x, y) > 0.0f;
+            }
+        if (c.half >= 0) {
+            EXPECT_EQ(half, c.half);
+        }
+        if (c.last >= 0) {
+            EXPECT_EQ(last, c.last);
+        }
+    }
+}
+
 // Frames past the last key hold its pose: the square stands still (motion 0), at x = 11.
 TEST_F(AnimationTools, FramesOutsideTheAnimationHoldItsEnds) {
     writeSliding("hold.gltf");

@@ -58,8 +58,10 @@ protected:
     }
 
     // Both parts' pixels and the grid's attributes of two probe files, bit for bit (their
-    // recorded moments aside: a static file records none).
-    static void expectSameProbes(const std::string& a, const std::string& b) {
+    // recorded moments aside: a static file records none), or with `relative` > 0 each value
+    // within that share of the larger.
+    static void expectSameProbes(const std::string& a, const std::string& b,
+                                 double relative = 0.0) {
         auto in = OIIO::ImageInput::open(path(a)), other = OIIO::ImageInput::open(path(b));
         ASSERT_TRUE(in && other) << a << " " << b;
         for (int part = 0; part < 2; ++part) {
@@ -80,10 +82,34 @@ protected:
             ASSERT_TRUE(in->read_image(part, 0, 0, s.nchannels, OIIO::TypeDesc::FLOAT, x.data()));
             ASSERT_TRUE(
                 other->read_image(part, 0, 0, t.nchannels, OIIO::TypeDesc::FLOAT, y.data()));
-            EXPECT_EQ(std::memcmp(x.data(), y.data(), x.size() * sizeof(float)), 0)
-                << a << " " << b << ": part " << part << " differs";
+            if (relative == 0.0) {
+                EXPECT_EQ(std::memcmp(x.data(), y.data(), x.size() * sizeof(float)), 0)
+                    << a << " " << b << ": part " << part << " differs";
+                continue;
+            }
+            size_t worst = 0;
+            double excess = 0.0;
+            for (size_t i = 0; i < x.size(); ++i) {
+                const double d =
+                    std::abs(double(x[i]) - double(y[i])) -
+                    relative * std::max(std::abs(double(x[i])), std::abs(double(y[i])));
+                if (!(d <= excess)) {
+                    excess = d;
+                    worst = i;
+                }
+            }
+            EXPECT_EQ(excess, 0.0) << a << " " << b << ": part " << part << " value " << worst
+                                   << ": " << x[worst] << " against " << y[worst];
         }
     }
+
+    // How far a posed frame's probes may lie from the static file's with the pose baked in.
+    // The moving panel is traced as an instance (docs/animation.md): a probe ray's hit on it
+    // is found in the panel's own space, so its barycentrics, and with them the hit's point
+    // and the shading there, may differ in their last bits; its error bound is larger, so the
+    // rays leaving it start a few ulps further off. 2⁻¹⁶ is 256 float ulps of each value
+    // (measured: 1 ulp).
+    static constexpr double kInstanced = 0x1p-16;
 
     static bool sameBits(const ImageBuf& a, const ImageBuf& b) {
         const size_t n = a.spec().image_pixels() * size_t(a.nchannels());
@@ -107,8 +133,9 @@ protected:
 
 } // namespace
 
-// Frame 2 of one --frames run is, bit for bit, the probes of --frame 2 alone and those of the
-// static file with frame 2's translation baked in (whatever the thread count); the file
+// Frame 2 of one --frames run is, bit for bit, the probes of --frame 2 alone, and those of the
+// static file with frame 2's translation baked in within kInstanced (whatever the thread
+// count); the file
 // records the moment as a G-buffer does (time and frame rate as doubles, the animations).
 TEST_F(ProbeFrames, FrameNOfASequenceIsItsOwnBakeAndTheBakedStaticFiles) {
     const Result seq = bake("anim.gltf", "seq.#.probes.exr", "--fps 2 --frames 1-2 --threads 2 -v");
@@ -117,9 +144,9 @@ TEST_F(ProbeFrames, FrameNOfASequenceIsItsOwnBakeAndTheBakedStaticFiles) {
     ASSERT_EQ(bake("anim.gltf", "one2.probes.exr", "--fps 2 --frame 2 --threads 1").status, 0);
     ASSERT_EQ(bake("baked2.gltf", "baked2.probes.exr").status, 0);
     expectSameProbes("seq.2.probes.exr", "one2.probes.exr");
-    expectSameProbes("seq.2.probes.exr", "baked2.probes.exr");
+    expectSameProbes("seq.2.probes.exr", "baked2.probes.exr", kInstanced);
     ASSERT_EQ(bake("baked1.gltf", "baked1.probes.exr").status, 0);
-    expectSameProbes("seq.1.probes.exr", "baked1.probes.exr");
+    expectSameProbes("seq.1.probes.exr", "baked1.probes.exr", kInstanced);
     // --time 1 is frame 2 at 2 frames a second.
     ASSERT_EQ(bake("anim.gltf", "t1.probes.exr", "--time 1 --fps 2").status, 0);
     expectSameProbes("t1.probes.exr", "one2.probes.exr");
@@ -161,7 +188,7 @@ TEST_F(ProbeFrames, TheScenesOwnLightsMoveWithIt) {
     EXPECT_NE(r.err.find("2 lights"), std::string::npos) << r.err; // the lamp and the panel
     ASSERT_EQ(
         run("dhdr-probes " + path("lamps_baked.gltf") + opts + path("lamps_baked.exr")).status, 0);
-    expectSameProbes("lamps.2.exr", "lamps_baked.exr");
+    expectSameProbes("lamps.2.exr", "lamps_baked.exr", kInstanced);
     // Lights files a frame (dhdr-gbuffer --lights-out's): each frame bakes under its own.
     ASSERT_EQ(run("dhdr-gbuffer " + path("lamps.gltf") + " --size 8x8 --fps 2 --frames 1-2 -o " +
                   path("lg.#.exr") + " --lights-out " + path("lamp.#.json"))
@@ -190,12 +217,12 @@ TEST_F(ProbeFrames, TheScenesOwnLightsMoveWithIt) {
 TEST_F(ProbeFrames, FramesOutsideTheAnimationHoldItsEnds) {
     ASSERT_EQ(bake("anim.gltf", "late.probes.exr", "--fps 2 --frame 10").status, 0);
     ASSERT_EQ(bake("baked_end.gltf", "end.probes.exr").status, 0);
-    expectSameProbes("late.probes.exr", "end.probes.exr");
+    expectSameProbes("late.probes.exr", "end.probes.exr", kInstanced);
     ASSERT_EQ(bake("anim.gltf", "early.probes.exr", "--fps 2 --frame -1").status, 0);
     ASSERT_EQ(bake("baked_start.gltf", "start.probes.exr").status, 0);
-    expectSameProbes("early.probes.exr", "start.probes.exr");
+    expectSameProbes("early.probes.exr", "start.probes.exr", kInstanced);
     ASSERT_EQ(bake("anim.gltf", "default.probes.exr").status, 0);
-    expectSameProbes("default.probes.exr", "start.probes.exr");
+    expectSameProbes("default.probes.exr", "start.probes.exr", kInstanced);
 }
 
 // dhdr-light --probes with a frame pattern lights each G-buffer with its own frame's probes:

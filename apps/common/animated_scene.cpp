@@ -58,4 +58,15 @@ bool AnimatedScene::pose(double t, std::string& error) {
     return true;
 }
 
+std::string AnimatedScene::motionSummary() const {
+    if (!caster || moving.empty()) return {};
+    size_t instances = 0;
+    for (const int i : moving)
+        instances += caster->instanced(i) ? 1 : 0;
+    return std::to_string(moving.size()) +
+           (moving.size() == 1 ? " mesh moves: " : " meshes move: ") + std::to_string(instances) +
+           " as a whole (Embree instances), " + std::to_string(moving.size() - instances) +
+           " deformed (refitted)";
+}
+
 } // namespace dhdr::app

@@ -1,5 +1,6 @@
 // A scene across the frames of one run (dhdr-gbuffer, dhdr-light): loaded once, posed at each
-// frame's time, its BVH refitted rather than rebuilt, and for dhdr-gbuffer's motion layer the
+// frame's time (meshes that move as a whole as Embree instances, deformed ones refitted), and
+// for dhdr-gbuffer's motion layer the
 // previous and next frames' positions kept (docs/animation.md).
 #pragma once
 
@@ -37,6 +38,10 @@ struct AnimatedScene {
     // Moves the scene to time `t` (when it is animated) and the ray caster with it (built the
     // first time). False with `error` when Embree fails.
     bool pose(double t, std::string& error);
+
+    // What moves and how it is traced, for -v: "N meshes move: I as a whole (Embree
+    // instances), R deformed (refitted)". Empty before the first pose or when nothing moves.
+    std::string motionSummary() const;
 
     // The same, and with animation `motion` receives the scene at t − dt and t + dt, the camera
     // of each given by `cameraOf` (false: it failed and said why).

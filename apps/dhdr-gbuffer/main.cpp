@@ -170,9 +170,11 @@ int run(int argc, char** argv) {
     // The scene is loaded once for all frames that name the same file; animated, it is posed
     // at each frame's time.
     app::AnimatedScene loaded;
+    bool toldMoves = false; // the loaded scene's motionSummary, once
     auto load = [&](const std::string& scenePath) {
         if (loaded.path == scenePath) return !loaded.failed;
         loaded = app::AnimatedScene{};
+        toldMoves = false;
         loaded.path = scenePath;
         loaded.failed = true; // until it is ready: a failure is reported once
         Scene& scene = loaded.scene;
@@ -217,6 +219,10 @@ int run(int argc, char** argv) {
         if (!cameraOf(scene, scenePath, camera)) return false;
         if (loaded.animated())
             tool.info("time " + std::to_string(time) + " s; motion layer written");
+        if (const std::string moves = loaded.motionSummary(); !moves.empty() && !toldMoves) {
+            tool.info(scenePath + ": " + moves);
+            toldMoves = true;
+        }
 
         const auto t1 = std::chrono::steady_clock::now();
         GBufferParams frameParams = params;

@@ -3,7 +3,9 @@
 #include <cstdlib>
 #include <dhdr/deferred/ray_caster.h>
 #include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/scene_rig.h>
 #include <embree3/rtcore.h>
+#include <glm/glm.hpp>
 #include <limits>
 
 namespace dhdr {
@@ -12,8 +14,15 @@ struct RayCaster::Impl {
     RTCDevice device = nullptr;
     RTCScene scene = nullptr;
     const Scene* source = nullptr;
-    bool transparent = false;     // some mesh's material masks or blends
-    std::vector<float*> vertices; // each geometry's vertex buffer, for updateMeshes
+    bool transparent = false; // some mesh's material masks or blends
+    size_t meshes = 0;        // the scene's; top-scene geometry IDs from here are stand-ins
+    // Per mesh, its world-space vertex buffer, for updateMeshes: its geometry's, or for an
+    // instanced mesh its stand-in's.
+    std::vector<float*> vertices;
+    // Per mesh, the scene an instance of it holds: meshes that move as a whole (Mesh::instance)
+    // are traced in their node's space and moved by their instance's transform; null for the
+    // others, whose triangles the top scene holds in world space.
+    std::vector<RTCScene> instanced;
     // The triangles' bounds, widened by far more than any kernel's rounding: a ray whose
     // segment misses them hits nothing, so it is answered without a call into Embree (most of
     // a shadow catcher's rays and of its sky's shadow rays). The same answers, sooner.
@@ -60,13 +69,59 @@ struct RayCaster::Impl {
         return true;
     }
 
+    // Moves instanced mesh `i` to where `mesh` (its Mesh::instance and positions) is now. A
+    // transform that float cannot hold or invert (a node scaled to 0 along an axis, or past
+    // float's range) cannot move an instance: the mesh's world-space stand-in (geometry ID
+    // meshes + i), its vertices refitted, is traced in its place meanwhile.
+    void place(unsigned i, const Mesh& mesh) {
+        RTCGeometry placed = rtcGetGeometry(scene, i);
+        RTCGeometry standIn = rtcGetGeometry(scene, unsigned(meshes) + i);
+        float m[16];
+        bool usable = true;
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r) {
+                m[4 * c + r] = float((*mesh.instance)[c][r]);
+                usable = usable && std::isfinite(m[4 * c + r]);
+            }
+        // Embree inverts the float matrix in float: its determinant must not vanish there.
+        const glm::mat3 linear(glm::vec3(m[0], m[1], m[2]), glm::vec3(m[4], m[5], m[6]),
+                               glm::vec3(m[8], m[9], m[10]));
+        const glm::mat3 inverse = glm::inverse(linear);
+        usable = usable && std::isnormal(glm::determinant(linear));
+        for (int c = 0; c < 3; ++c)
+            usable = usable && std::isfinite(inverse[c].x + inverse[c].y + inverse[c].z);
+        if (usable) {
+            rtcSetGeometryTransform(placed, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, m);
+            rtcCommitGeometry(placed);
+            rtcEnableGeometry(placed);
+            rtcDisableGeometry(standIn);
+            return;
+        }
+        float* buffer = vertices[i];
+        for (size_t v = 0; v < mesh.positions.size(); ++v)
+            for (int c = 0; c < 3; ++c)
+                buffer[3 * v + size_t(c)] = mesh.positions[v][c];
+        rtcUpdateGeometryBuffer(standIn, RTC_BUFFER_TYPE_VERTEX, 0);
+        rtcCommitGeometry(standIn);
+        rtcEnableGeometry(standIn);
+        rtcDisableGeometry(placed);
+    }
+
     ~Impl() {
+        for (RTCScene s : instanced)
+            if (s) rtcReleaseScene(s);
         if (scene) rtcReleaseScene(scene);
         if (device) rtcReleaseDevice(device);
     }
 };
 
 namespace {
+
+// The scene's mesh of a hit on top-scene geometry `geom` (in the instance `inst`, or none).
+int meshOf(unsigned inst, unsigned geom, size_t meshes) {
+    if (inst != RTC_INVALID_GEOMETRY_ID) return int(inst);
+    return int(geom >= meshes ? geom - meshes : geom);
+}
 
 // What an occlusion query carries through Embree to the filter below (the context first, so
 // that Embree's pointer to it is one to this).
@@ -88,7 +143,9 @@ void occlusionFilter(const RTCFilterFunctionNArguments* args) {
     auto* query = reinterpret_cast<OcclusionQuery*>(args->context);
     for (unsigned i = 0; i < args->N; ++i) {
         if (args->valid[i] == 0) continue;
-        const unsigned geom = RTCHitN_geomID(args->hit, args->N, i);
+        const unsigned geom =
+            unsigned(meshOf(RTCHitN_instID(args->hit, args->N, i, 0),
+                            RTCHitN_geomID(args->hit, args->N, i), query->scene->meshes.size()));
         const unsigned prim = RTCHitN_primID(args->hit, args->N, i);
         const SurfaceCoverage c =
             surfaceCoverage(*query->scene, int(geom), int(prim), RTCHitN_u(args->hit, args->N, i),
@@ -157,19 +214,20 @@ RayCaster::RayCaster(const Scene& scene, const std::vector<int>& moving)
     // Without the robust mode, 1 ray in 20 aimed along a shared edge slips between the two
     // triangles (RayOrigins.RaysThroughAClosedMeshsEdgesHitIt): a sphere with a hole.
     rtcSetSceneFlags(m_impl->scene, RTC_SCENE_FLAG_ROBUST);
-    for (size_t i = 0; i < scene.meshes.size(); ++i) {
-        const Mesh& mesh = scene.meshes[i];
+    m_impl->meshes = scene.meshes.size();
+    m_impl->vertices.resize(scene.meshes.size(), nullptr);
+    m_impl->instanced.resize(scene.meshes.size(), nullptr);
+    // A triangle geometry of `mesh` with its vertices at `at`, committed; its vertex buffer to
+    // `buffer`.
+    auto triangles = [&](const Mesh& mesh, const std::vector<glm::vec3>& at, bool refit,
+                         float*& buffer) {
         RTCGeometry geom = rtcNewGeometry(m_impl->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-        auto* vertices = static_cast<float*>(
-            rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                    3 * sizeof(float), mesh.positions.size()));
-        for (size_t v = 0; v < mesh.positions.size(); ++v)
+        buffer = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), at.size()));
+        for (size_t v = 0; v < at.size(); ++v)
             for (int c = 0; c < 3; ++c)
-                vertices[3 * v + size_t(c)] = mesh.positions[v][c];
-        m_impl->vertices.push_back(vertices);
-        // Animated meshes keep their own BVH, refitted when their vertices move.
-        if (std::find(moving.begin(), moving.end(), int(i)) != moving.end())
-            rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_REFIT);
+                buffer[3 * v + size_t(c)] = at[v][c];
+        if (refit) rtcSetGeometryBuildQuality(geom, RTC_BUILD_QUALITY_REFIT);
         auto* indices = static_cast<unsigned*>(
             rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                     3 * sizeof(unsigned), mesh.triangles.size()));
@@ -181,8 +239,39 @@ RayCaster::RayCaster(const Scene& scene, const std::vector<int>& moving)
             m_impl->transparent = true;
         }
         rtcCommitGeometry(geom);
-        rtcAttachGeometryByID(m_impl->scene, geom, unsigned(i));
+        return geom;
+    };
+    for (size_t i = 0; i < scene.meshes.size(); ++i) {
+        const Mesh& mesh = scene.meshes[i];
+        const bool instance = mesh.instance && scene.rig && i < scene.rig->meshes.size() &&
+                              scene.rig->meshes[i].positions.size() == mesh.positions.size();
+        if (!instance) {
+            // Deformed meshes keep their own BVH, refitted when their vertices move.
+            const bool refit = std::find(moving.begin(), moving.end(), int(i)) != moving.end();
+            RTCGeometry geom = triangles(mesh, mesh.positions, refit, m_impl->vertices[i]);
+            rtcAttachGeometryByID(m_impl->scene, geom, unsigned(i));
+            rtcReleaseGeometry(geom);
+            continue;
+        }
+        // A rigid mover: its node-space triangles in a scene of their own, built once, and an
+        // instance of it in the top scene, moved by its transform alone (docs/animation.md).
+        RTCScene own = rtcNewScene(m_impl->device);
+        rtcSetSceneBuildQuality(own, RTC_BUILD_QUALITY_HIGH);
+        rtcSetSceneFlags(own, RTC_SCENE_FLAG_ROBUST);
+        float* local = nullptr;
+        RTCGeometry geom = triangles(mesh, scene.rig->meshes[i].positions, false, local);
+        rtcAttachGeometryByID(own, geom, 0);
         rtcReleaseGeometry(geom);
+        rtcCommitScene(own);
+        m_impl->instanced[i] = own;
+        RTCGeometry placed = rtcNewGeometry(m_impl->device, RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(placed, own);
+        rtcAttachGeometryByID(m_impl->scene, placed, unsigned(i));
+        rtcReleaseGeometry(placed);
+        RTCGeometry standIn = triangles(mesh, mesh.positions, true, m_impl->vertices[i]);
+        rtcAttachGeometryByID(m_impl->scene, standIn, unsigned(scene.meshes.size() + i));
+        rtcReleaseGeometry(standIn);
+        m_impl->place(unsigned(i), mesh);
     }
     rtcCommitScene(m_impl->scene);
     m_impl->takeBounds();
@@ -194,12 +283,21 @@ RayCaster::RayCaster(const Scene& scene, const std::vector<int>& moving)
 
 RayCaster::~RayCaster() = default;
 
+bool RayCaster::instanced(int mesh) const {
+    return ok() && mesh >= 0 && size_t(mesh) < m_impl->instanced.size() &&
+           m_impl->instanced[size_t(mesh)] != nullptr;
+}
+
 bool RayCaster::updateMeshes(const std::vector<int>& meshes) {
     if (!ok()) return false;
     const Scene& scene = *m_impl->source;
     for (const int i : meshes) {
         if (i < 0 || size_t(i) >= scene.meshes.size()) continue;
         const Mesh& mesh = scene.meshes[size_t(i)];
+        if (m_impl->instanced[size_t(i)]) {
+            if (mesh.instance) m_impl->place(unsigned(i), mesh);
+            continue;
+        }
         float* vertices = m_impl->vertices[size_t(i)];
         for (size_t v = 0; v < mesh.positions.size(); ++v)
             for (int c = 0; c < 3; ++c)
@@ -270,7 +368,7 @@ RayHit RayCaster::intersect(const Ray& ray, double tnear) const {
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
     hit.hit = true;
     hit.t = rh.ray.tfar;
-    hit.mesh = int(rh.hit.geomID);
+    hit.mesh = meshOf(rh.hit.instID[0], rh.hit.geomID, m_impl->meshes);
     hit.triangle = int(rh.hit.primID);
     hit.u = rh.hit.u;
     hit.v = rh.hit.v;

@@ -206,6 +206,8 @@ void ScenePoser::pose(double t, std::vector<int>* changed) {
         else if (!m_first && w == m_applied[size_t(i)] && weights == m_appliedWeights[size_t(i)])
             continue;
         poseMesh(rest, w, weights, m_scene.meshes[size_t(i)], joints);
+        // Moved as a whole: the ray caster moves an instance of its rest triangles.
+        if (rest.skin < 0 && rest.positionTargets.empty()) m_scene.meshes[size_t(i)].instance = w;
         m_applied[size_t(i)] = w;
         m_appliedWeights[size_t(i)] = std::move(weights);
         if (changed) changed->push_back(i);

@@ -4,7 +4,8 @@
 
 namespace dhdr {
 
-double positionError(const glm::dvec3& P, const glm::dvec3 vertices[3]) {
+double positionError(const glm::dvec3& P, const glm::dvec3 vertices[3],
+                     const glm::dmat4* instance) {
     constexpr double ulp = 0x1p-24; // float's unit roundoff: ½ ulp relative
     double largest = 0.0, extent = 0.0;
     for (int i = 0; i < 3; ++i) {
@@ -14,8 +15,16 @@ double positionError(const glm::dvec3& P, const glm::dvec3 vertices[3]) {
         extent = std::max({extent, e.x, e.y, e.z});
     }
     const glm::dvec3 p = glm::abs(P);
-    const double rounding = ulp * std::max({p.x, p.y, p.z});
-    return rounding + kKernelUlps * 2.0 * ulp * (largest + extent);
+    const double size = std::max({p.x, p.y, p.z});
+    double kernel = largest + extent;
+    // An instance's triangles stand where float(M) puts them, and a ray is taken into node
+    // space by the float inverse: roundings of |b| and of |P| (which cancel to the node-space
+    // point) beyond the world triangle's.
+    if (instance) {
+        const glm::dvec3 b = glm::abs(glm::dvec3((*instance)[3]));
+        kernel += size + std::max({b.x, b.y, b.z});
+    }
+    return ulp * size + kKernelUlps * 2.0 * ulp * kernel;
 }
 
 SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
@@ -45,7 +54,8 @@ SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
                                     glm::dvec3(mesh.positions[tri[1]]),
                                     glm::dvec3(mesh.positions[tri[2]])};
     s.position = w0 * vertices[0] + w1 * vertices[1] + w2 * vertices[2];
-    s.positionError = positionError(s.position, vertices);
+    s.positionError =
+        positionError(s.position, vertices, mesh.instance ? &*mesh.instance : nullptr);
     glm::dvec3 face = glm::cross(vertices[1] - vertices[0], vertices[2] - vertices[0]);
     // A degenerate triangle (Embree reports none, but a sliver may underflow): the ray's own
     // direction stands in.

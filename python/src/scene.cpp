@@ -122,7 +122,10 @@ SceneHandle posed(const SceneHandle& h, const py::object& time, const py::object
     {
         py::gil_scoped_release gil;
         if (!moment.playing.empty()) ScenePoser(*out.scene, moment.playing).pose(moment.time);
+        // Standing still: traced as its triangles lie, no mesh an instance.
         out.scene->rig.reset();
+        for (Mesh& mesh : out.scene->meshes)
+            mesh.instance.reset();
     }
     return out;
 }

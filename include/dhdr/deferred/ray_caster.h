@@ -32,8 +32,10 @@ bool embreeIsaSupported(const std::string& isa);
 
 class RayCaster : public Visibility {
 public:
-    // Builds the acceleration structure; `scene` must outlive the caster. `moving`: the meshes
-    // whose vertices updateMeshes may move (animation), given a BVH that can be refitted.
+    // Builds the acceleration structure; `scene` must outlive the caster. A mesh that moves as
+    // a whole (Mesh::instance, set by ScenePoser) is traced as an Embree instance of its
+    // node-space triangles (SceneRig::meshes); `moving`: the other meshes whose vertices
+    // updateMeshes may move (skins, morph targets), given a BVH that can be refitted.
     explicit RayCaster(const Scene& scene, const std::vector<int>& moving = {});
     ~RayCaster() override;
     RayCaster(const RayCaster&) = delete;
@@ -45,10 +47,14 @@ public:
     // The scene whose triangles the caster traces (surfaceAt of its hits).
     const Scene& scene() const;
 
-    // Takes the scene's current vertices of `meshes` (some of `moving`) and refits their BVH
+    // Takes the scene's current state of `meshes`: an instanced mesh's transform
+    // (Mesh::instance), the other meshes' vertices, whose BVH is refitted
     // (RTC_BUILD_QUALITY_REFIT): an animated scene's next frame without building it again.
     // Not safe while another thread traces.
     bool updateMeshes(const std::vector<int>& meshes);
+
+    // Whether mesh `mesh` is traced as an instance (Mesh::instance).
+    bool instanced(int mesh) const;
 
     // A box that holds every triangle (not the ground plane): a ray that misses it hits no
     // triangle. False when there is none.

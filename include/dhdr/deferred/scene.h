@@ -6,6 +6,7 @@
 #include <dhdr/deferred/lights.h>
 #include <glm/glm.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,12 @@ struct Mesh {
     std::vector<glm::uvec3> triangles;
     int material = 0;
     int object = 0; // index into Scene::objectNames
+    // A mesh that an animation moves as a whole (no skin, no morph targets): its node's world
+    // transform, which placed its node-space vertices (SceneRig::meshes) at `positions`. Set by
+    // ScenePoser; the ray caster traces such a mesh as an instance moved by this transform, and
+    // its points' error bound carries the transform's rounding (positionError). Unset: the
+    // mesh is traced as it lies.
+    std::optional<glm::dmat4> instance;
 };
 
 struct SceneCamera {

@@ -35,7 +35,14 @@ SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit);
 //   and AVX-512 kernels. Bounded by kKernelUlps ulps of the largest vertex coordinate plus
 //   the triangle's extent (a tilted error in its normal moves the plane in proportion to the
 //   distance from its vertices).
-double positionError(const glm::dvec3& P, const glm::dvec3 vertices[3]);
+// - for a mesh traced as an instance (Mesh::instance, M = (A, b)): Embree takes the ray into
+//   node space by the float inverse of M's float matrix and tests it against the node-space
+//   triangles, which then stand where float(M) puts them rather than at the rounded world
+//   vertices. Across the triangle's plane these steps round a few ulps of |P| and |b| (the
+//   origin's node-space coordinates are sums of terms that large, cancelling): kKernelUlps
+//   ulps of |P| + |b| more.
+double positionError(const glm::dvec3& P, const glm::dvec3 vertices[3],
+                     const glm::dmat4* instance = nullptr);
 
 // Ulps of the vertices' magnitude that Embree's float triangle test may be off by, with a
 // margin of 4× over the sum of the roundings of its Möller-Trumbore / Plücker forms.
