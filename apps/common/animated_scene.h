@@ -1,7 +1,7 @@
 // A scene across the frames of one run (dhdr-gbuffer, dhdr-light): loaded once, posed at each
-// frame's time (meshes that move as a whole as Embree instances, deformed ones refitted), and
-// for dhdr-gbuffer's motion layer the
-// previous and next frames' positions kept (docs/animation.md).
+// frame's time (meshes that move as a whole traced as Embree instances, deformed ones
+// refitted), and for dhdr-gbuffer's motion layer the previous and next frames' positions kept
+// (docs/animation.md).
 #pragma once
 
 #include <dhdr/deferred/gbuffer_render.h>
