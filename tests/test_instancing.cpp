@@ -5,6 +5,7 @@
 #include "animation_writer.h"
 #include "scene_builder.h"
 
+#include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/gbuffer.h>
 #include <dhdr/deferred/ray_caster.h>
@@ -118,19 +119,26 @@ TEST(Instancing, RigidMoversAreInstancesHitWhereThePoseLaysThem) {
         const Scene plain = flat(scene);
         const RayCaster reference(plain, moving);
         ASSERT_TRUE(reference.ok());
-        int hits = 0, onRigid = 0;
+        int hits = 0, onRigid = 0, edges = 0;
         for (int j = 0; j < 60; ++j)
             for (int i = 0; i < 200; ++i) {
                 // Rays from in front of the row, slanting a little, across all three squares.
                 const Ray ray{glm::dvec3(-2.7 + 0.027 * i, -0.8 + 0.027 * j, 4.0),
                               glm::normalize(glm::dvec3(0.05, 0.03, -1.0))};
                 const RayHit a = caster.intersect(ray), b = reference.intersect(ray);
-                ASSERT_EQ(a.hit, b.hit) << i << "," << j;
+                // Which side of an edge a ray passes is decided in the last bits (the kernel's,
+                // the CPU's reciprocals): there alone may the two disagree.
+                const auto onEdge = [](const RayHit& h) {
+                    return std::min({h.u, h.v, 1.0f - h.u - h.v}) < 1e-5f;
+                };
+                if (a.hit != b.hit || a.mesh != b.mesh || a.triangle != b.triangle) {
+                    EXPECT_TRUE((!a.hit || onEdge(a)) && (!b.hit || onEdge(b))) << i << "," << j;
+                    ++edges;
+                    continue;
+                }
                 if (!a.hit) continue;
                 ++hits;
                 onRigid += a.mesh == rigid;
-                ASSERT_EQ(a.mesh, b.mesh);
-                ASSERT_EQ(a.triangle, b.triangle);
                 const SurfaceSample p = surfaceAt(scene, ray, a), q = surfaceAt(plain, ray, b);
                 const double bound = p.positionError + q.positionError;
                 for (int c = 0; c < 3; ++c)
@@ -143,6 +151,7 @@ TEST(Instancing, RigidMoversAreInstancesHitWhereThePoseLaysThem) {
             }
         EXPECT_GT(hits, 3000);
         EXPECT_GT(onRigid, 800);
+        EXPECT_LE(edges, 3);
     }
 }
 
@@ -153,10 +162,8 @@ TEST(Instancing, RigidMoversAreInstancesHitWhereThePoseLaysThem) {
 // all the same G-buffer shadows itself.
 TEST(Instancing, NoInstancedSurfaceShadowsItself) {
     // A 1 × 40 strip in its node's space.
-    const std::vector<glm::vec3> unit = {{-0.5f, -20.0f, 0.0f},
-                                         {0.5f, -20.0f, 0.0f},
-                                         {0.5f, 20.0f, 0.0f},
-                                         {-0.5f, 20.0f, 0.0f}};
+    const std::vector<glm::vec3> unit = {
+        {-0.5f, -20.0f, 0.0f}, {0.5f, -20.0f, 0.0f}, {0.5f, 20.0f, 0.0f}, {-0.5f, 20.0f, 0.0f}};
     for (const double distance : {1.0, 30.0, 300.0})
         for (const double offset : {0.0, 1.0e2, 1.0e4}) {
             SCOPED_TRACE("distance " + std::to_string(distance) + ", offset " +
@@ -166,13 +173,15 @@ TEST(Instancing, NoInstancedSurfaceShadowsItself) {
             const double size = 1.2 * distance;
             // Squashed 40:1 in the node's space, turned, then squashed 20:1 along world y: a
             // sheared parallelogram, κ∞ of its linear part about 800.
-            const glm::dmat4 toWorld = glm::translate(glm::dmat4(1.0), centre) *
-                                       glm::scale(glm::dmat4(1.0), glm::dvec3(1.0, 0.05, 1.0)) *
-                                       glm::rotate(glm::dmat4(1.0), 1.1, axis) *
-                                       glm::scale(glm::dmat4(1.0), glm::dvec3(size, size / 40.0, 1.0));
+            const glm::dmat4 toWorld =
+                glm::translate(glm::dmat4(1.0), centre) *
+                glm::scale(glm::dmat4(1.0), glm::dvec3(1.0, 0.05, 1.0)) *
+                glm::rotate(glm::dmat4(1.0), 1.1, axis) *
+                glm::scale(glm::dmat4(1.0), glm::dvec3(size, size / 40.0, 1.0));
             // The square's own frame: its normal and the axes it is squashed along.
-            const glm::dvec3 normal = glm::normalize(glm::dvec3(
-                              glm::transpose(glm::inverse(glm::dmat3(toWorld))) * glm::dvec3(0, 0, 1))),
+            const glm::dvec3 normal = glm::normalize(
+                                 glm::dvec3(glm::transpose(glm::inverse(glm::dmat3(toWorld))) *
+                                            glm::dvec3(0, 0, 1))),
                              u = glm::normalize(glm::dmat3(toWorld) * glm::dvec3(1, 0, 0));
 
             Scene scene = emptyScene();
@@ -187,7 +196,8 @@ TEST(Instancing, NoInstancedSurfaceShadowsItself) {
             scene.rig = rig;
 
             const glm::dvec3 eye = centre + distance * glm::normalize(normal + 0.2 * u);
-            const glm::dvec3 up = glm::abs(normal.z) > 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 0, 1);
+            const glm::dvec3 up =
+                glm::abs(normal.z) > 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 0, 1);
             const Camera camera = Camera::lookAt(eye, centre, up, 0.3);
             ImageBuf gbuf = gbufferOf(scene, camera, 64, 48);
             const RayCaster caster(scene);
