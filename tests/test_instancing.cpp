@@ -87,11 +87,10 @@ Scene flat(const Scene& scene) {
 } // namespace
 
 // The rigid mover is an instance; the still square and the morphed one are not (the morphed
-// one's BVH is refitted, the still one's hits are those of a scene where nothing moves). Their
-// triangles are hit where the pose lays them: a grid of rays meets the same mesh and triangle as in
-// a copy traced without instances, the points within both error bounds, at three moments of one
-// caster: the instance's transform updated, then one that cannot be inverted (flattened), where the
-// mesh's world-space stand-in is traced.
+// one's BVH is refitted). Their triangles are hit where the pose lays them: a grid of rays
+// meets the same mesh and triangle as in a copy traced without instances, the points within
+// both error bounds, at three moments of one caster: the instance's transform updated, then
+// one that cannot be inverted (flattened), where the mesh's world-space stand-in is traced.
 TEST(Instancing, RigidMoversAreInstancesHitWhereThePoseLaysThem) {
     Scene scene = load(threeSquares(), "three.gltf");
     ASSERT_TRUE(scene.rig);
@@ -120,12 +119,7 @@ TEST(Instancing, RigidMoversAreInstancesHitWhereThePoseLaysThem) {
         const Scene plain = flat(scene);
         const RayCaster reference(plain, moving);
         ASSERT_TRUE(reference.ok());
-        // Where nothing moves, every mesh lies in the top scene: the still square's hits there
-        // are the caster's bit for bit (its scene of still meshes is instanced with the
-        // identity, which takes a ray into it exactly).
-        const RayCaster unmoving(plain);
-        ASSERT_TRUE(unmoving.ok());
-        int hits = 0, onRigid = 0, onStill = 0, edges = 0;
+        int hits = 0, onRigid = 0, edges = 0;
         for (int j = 0; j < 60; ++j)
             for (int i = 0; i < 200; ++i) {
                 // Rays from in front of the row, slanting a little, across all three squares.
@@ -145,14 +139,6 @@ TEST(Instancing, RigidMoversAreInstancesHitWhereThePoseLaysThem) {
                 if (!a.hit) continue;
                 ++hits;
                 onRigid += a.mesh == rigid;
-                if (a.mesh == still) {
-                    const RayHit c = unmoving.intersect(ray);
-                    ASSERT_EQ(c.mesh, still);
-                    ASSERT_EQ(a.t, c.t);
-                    ASSERT_EQ(a.u, c.u);
-                    ASSERT_EQ(a.v, c.v);
-                    ++onStill;
-                }
                 const SurfaceSample p = surfaceAt(scene, ray, a), q = surfaceAt(plain, ray, b);
                 const double bound = p.positionError + q.positionError;
                 for (int c = 0; c < 3; ++c)
@@ -165,7 +151,6 @@ TEST(Instancing, RigidMoversAreInstancesHitWhereThePoseLaysThem) {
             }
         EXPECT_GT(hits, 3000);
         EXPECT_GT(onRigid, 800);
-        EXPECT_GT(onStill, 800);
         EXPECT_LE(edges, 3);
     }
 }

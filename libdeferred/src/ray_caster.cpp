@@ -23,7 +23,6 @@ struct RayCaster::Impl {
     // are traced in their node's space and moved by their instance's transform; null for the
     // others, whose triangles the top scene holds in world space.
     std::vector<RTCScene> instanced;
-    RTCScene still = nullptr; // the meshes that stand still, in a scene where others move
     // The triangles' bounds, widened by far more than any kernel's rounding: a ray whose
     // segment misses them hits nothing, so it is answered without a call into Embree (most of
     // a shadow catcher's rays and of its sky's shadow rays). The same answers, sooner.
@@ -111,7 +110,6 @@ struct RayCaster::Impl {
     ~Impl() {
         for (RTCScene s : instanced)
             if (s) rtcReleaseScene(s);
-        if (still) rtcReleaseScene(still);
         if (scene) rtcReleaseScene(scene);
         if (device) rtcReleaseDevice(device);
     }
@@ -119,12 +117,9 @@ struct RayCaster::Impl {
 
 namespace {
 
-// The scene's mesh of a hit on geometry `geom` (in the instance `inst`, or none).
-// Top-scene geometry IDs: mesh i at i (or its instance), an instanced mesh's stand-in at
-// meshes + i, and the instance of the scene's still meshes at 2·meshes, whose own IDs are the
-// meshes' indices.
+// The scene's mesh of a hit on top-scene geometry `geom` (in the instance `inst`, or none).
 int meshOf(unsigned inst, unsigned geom, size_t meshes) {
-    if (inst != RTC_INVALID_GEOMETRY_ID && inst != 2 * meshes) return int(inst);
+    if (inst != RTC_INVALID_GEOMETRY_ID) return int(inst);
     return int(geom >= meshes ? geom - meshes : geom);
 }
 
@@ -246,31 +241,15 @@ RayCaster::RayCaster(const Scene& scene, const std::vector<int>& moving)
         rtcCommitGeometry(geom);
         return geom;
     };
-    const auto instanceable = [&](size_t i) {
-        const Mesh& mesh = scene.meshes[i];
-        return mesh.instance && scene.rig && i < scene.rig->meshes.size() &&
-               scene.rig->meshes[i].positions.size() == mesh.positions.size();
-    };
-    // In a scene where something moves, the meshes that stand still go into a scene of their
-    // own, built once and instanced with the identity (which takes a ray into it exactly), so
-    // that committing a frame rebuilds only the tree over the instances, not their BVH.
-    bool animated = !moving.empty();
-    for (size_t i = 0; i < scene.meshes.size(); ++i)
-        animated = animated || instanceable(i);
-    if (animated) {
-        m_impl->still = rtcNewScene(m_impl->device);
-        rtcSetSceneBuildQuality(m_impl->still, RTC_BUILD_QUALITY_HIGH);
-        rtcSetSceneFlags(m_impl->still, RTC_SCENE_FLAG_ROBUST);
-    }
     for (size_t i = 0; i < scene.meshes.size(); ++i) {
         const Mesh& mesh = scene.meshes[i];
-        const bool instance = instanceable(i);
+        const bool instance = mesh.instance && scene.rig && i < scene.rig->meshes.size() &&
+                              scene.rig->meshes[i].positions.size() == mesh.positions.size();
         if (!instance) {
             // Deformed meshes keep their own BVH, refitted when their vertices move.
             const bool refit = std::find(moving.begin(), moving.end(), int(i)) != moving.end();
             RTCGeometry geom = triangles(mesh, mesh.positions, refit, m_impl->vertices[i]);
-            rtcAttachGeometryByID(m_impl->still && !refit ? m_impl->still : m_impl->scene, geom,
-                                  unsigned(i));
+            rtcAttachGeometryByID(m_impl->scene, geom, unsigned(i));
             rtcReleaseGeometry(geom);
             continue;
         }
@@ -293,16 +272,6 @@ RayCaster::RayCaster(const Scene& scene, const std::vector<int>& moving)
         rtcAttachGeometryByID(m_impl->scene, standIn, unsigned(scene.meshes.size() + i));
         rtcReleaseGeometry(standIn);
         m_impl->place(unsigned(i), mesh);
-    }
-    if (m_impl->still) {
-        rtcCommitScene(m_impl->still);
-        RTCGeometry placed = rtcNewGeometry(m_impl->device, RTC_GEOMETRY_TYPE_INSTANCE);
-        rtcSetGeometryInstancedScene(placed, m_impl->still);
-        const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-        rtcSetGeometryTransform(placed, 0, RTC_FORMAT_FLOAT4X4_COLUMN_MAJOR, identity);
-        rtcCommitGeometry(placed);
-        rtcAttachGeometryByID(m_impl->scene, placed, unsigned(2 * scene.meshes.size()));
-        rtcReleaseGeometry(placed);
     }
     rtcCommitScene(m_impl->scene);
     m_impl->takeBounds();
