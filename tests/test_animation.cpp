@@ -1,14 +1,13 @@
 // glTF animation (issue 24): the samplers against the closed forms of the specification's
 // Appendix C, the loader's node tree and ScenePoser against transforms computed here, and the
 // file's mistakes as clear problems.
-#include "animation_writer.h"
+#include "written_scene.h"
 
 #include <cmath>
 #include <cstdlib>
 #include <dhdr/deferred/animation.h>
 #include <dhdr/deferred/scene.h>
 #include <dhdr/deferred/scene_rig.h>
-#include <filesystem>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
@@ -32,28 +31,6 @@ double at(const AnimationSampler& s, double t, int c = 0) {
     double out[4] = {0, 0, 0, 0};
     s.evaluate(t, out);
     return out[c];
-}
-
-// A scratch folder for the files these tests write, removed when the program ends.
-std::string scratch(const std::string& name) {
-    struct Folder {
-        std::filesystem::path path;
-        Folder() {
-            char pattern[] = "/tmp/dhdr_anim_XXXXXX";
-            path = mkdtemp(pattern);
-        }
-        ~Folder() { std::filesystem::remove_all(path); }
-    };
-    static const Folder dir;
-    return (dir.path / name).string();
-}
-
-Scene load(const nlohmann::json& doc, const std::string& name) {
-    writeJson(scratch(name), doc);
-    Scene scene;
-    std::string error;
-    EXPECT_TRUE(loadScene(scratch(name), scene, error)) << error;
-    return scene;
 }
 
 // The problem loading gives the file's first animation ("" when none).

@@ -2,8 +2,8 @@
 // traced as an instance of its node-space triangles, moved by its transform; it is hit where
 // the posed triangles lie, within the error bounds of both, and no instanced surface shadows
 // itself, far from the origin and under a transform far from a rotation, under every kernel.
-#include "animation_writer.h"
 #include "scene_builder.h"
+#include "written_scene.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,6 @@
 #include <dhdr/deferred/scene.h>
 #include <dhdr/deferred/scene_rig.h>
 #include <dhdr/deferred/surface.h>
-#include <filesystem>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
@@ -22,27 +21,6 @@ using namespace dhdr::test;
 namespace {
 
 [[maybe_unused]] auto* const kKernel = ::testing::AddGlobalTestEnvironment(new EmbreeKernel);
-
-std::string scratch(const std::string& name) {
-    struct Folder {
-        std::filesystem::path path;
-        Folder() {
-            char pattern[] = "/tmp/dhdr_instancing_XXXXXX";
-            path = mkdtemp(pattern);
-        }
-        ~Folder() { std::filesystem::remove_all(path); }
-    };
-    static const Folder dir;
-    return (dir.path / name).string();
-}
-
-Scene load(const nlohmann::json& doc, const std::string& name) {
-    writeJson(scratch(name), doc);
-    Scene scene;
-    std::string error;
-    EXPECT_TRUE(loadScene(scratch(name), scene, error)) << error;
-    return scene;
-}
 
 // Three squares in a row: "still" (no animation), "rigid" (turning about Y and sliding +x,
 // then flattened along its normal) and "morphed" (a position target, its weight animated).
