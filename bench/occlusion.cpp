@@ -8,10 +8,10 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
-#include <dhdr/deferred/ray_caster.h>
-#include <dhdr/deferred/sampling.h>
-#include <dhdr/deferred/scene.h>
-#include <dhdr/deferred/surface.h>
+#include <dhdr/deferred/core/sampling.h>
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/geometry/surface.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <string>
 #include <vector>
 

@@ -27,8 +27,8 @@
 #include <cstdlib>
 #include <cstring>
 #include <dhdr/common/parallel.h>
-#include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/sampling.h>
+#include <dhdr/deferred/core/sampling.h>
+#include <dhdr/deferred/environment/ibl.h>
 #include <map>
 #include <string>
 #include <thread>

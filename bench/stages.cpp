@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <dhdr/deferred/lighting.h>
-#include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/integrator/lighting.h>
+#include <dhdr/deferred/scene/lights.h>
 #include <dhdr/io/strip_reader.h>
 #include <dhdr/tonemap/bloom.h>
 #include <dhdr/tonemap/edge_aa.h>

@@ -3,7 +3,7 @@
 // a crash found by fuzzing is reproduced through exactly the calls that found it.
 #pragma once
 
-#include "../libdeferred/src/gltf_json.h"
+#include "load/gltf_json.h"
 
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imagecache.h>
@@ -13,14 +13,14 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <dhdr/deferred/deep_gbuffer.h>
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/gbuffer_import.h>
-#include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/lights.h>
-#include <dhdr/deferred/probes.h>
-#include <dhdr/deferred/scene.h>
-#include <dhdr/deferred/shading_point.h>
+#include <dhdr/deferred/environment/ibl.h>
+#include <dhdr/deferred/gbuffer/deep_gbuffer.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/deferred/gbuffer/gbuffer_import.h>
+#include <dhdr/deferred/gbuffer/shading_point.h>
+#include <dhdr/deferred/gi/probes.h>
+#include <dhdr/deferred/scene/lights.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <dhdr/io/deep_exr.h>
 #include <dhdr/io/exr_header.h>
 #include <filesystem>
@@ -106,7 +106,7 @@ inline void lights(const uint8_t* data, size_t size) {
     parseLights(json, lights, error);
 }
 
-// fuzz_gltf_json: what dhdr reads of a glTF file's JSON itself (libdeferred/src/gltf_json.h),
+// fuzz_gltf_json: what dhdr reads of a glTF file's JSON itself (libdeferred/src/load/gltf_json.h),
 // the input as a .gltf (a .glb when it starts with the binary magic): the document as
 // loadScene reads it, then every reader of it, as loadScene calls them.
 inline void gltfJson(const uint8_t* data, size_t size) {

@@ -3,12 +3,13 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
-#include <dhdr/deferred/camera.h>
-#include <dhdr/deferred/gbuffer_render.h>
-#include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/lighting.h>
-#include <dhdr/deferred/ray_caster.h>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/core/cpu_features.h>
+#include <dhdr/deferred/environment/ibl.h>
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/integrator/lighting.h>
+#include <dhdr/deferred/render/gbuffer_render.h>
+#include <dhdr/deferred/scene/camera.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <gtest/gtest.h>
 #include <memory>
 #include <string>

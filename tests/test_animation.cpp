@@ -5,9 +5,9 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <dhdr/deferred/animation.h>
-#include <dhdr/deferred/scene.h>
-#include <dhdr/deferred/scene_rig.h>
+#include <dhdr/deferred/scene/animation.h>
+#include <dhdr/deferred/scene/scene.h>
+#include <dhdr/deferred/scene/scene_rig.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 

@@ -1,8 +1,8 @@
 // Sphere and rectangle lights against closed forms and numerical integration.
 #include <cmath>
+#include <dhdr/deferred/core/sampling.h>
 #include <dhdr/deferred/lights/area.h>
 #include <dhdr/deferred/lights/light.h>
-#include <dhdr/deferred/sampling.h>
 #include <gtest/gtest.h>
 
 using namespace dhdr;

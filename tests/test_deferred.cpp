@@ -1,15 +1,15 @@
 // libdeferred against closed forms and independent references.
 #include <OpenImageIO/imagebuf.h>
 #include <cmath>
-#include <dhdr/deferred/brdf.h>
-#include <dhdr/deferred/camera.h>
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/gbuffer_render.h>
-#include <dhdr/deferred/lighting.h>
-#include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/core/brdf.h>
+#include <dhdr/deferred/core/multiple_scattering.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/deferred/integrator/lighting.h>
 #include <dhdr/deferred/lights/light.h>
-#include <dhdr/deferred/multiple_scattering.h>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/render/gbuffer_render.h>
+#include <dhdr/deferred/scene/camera.h>
+#include <dhdr/deferred/scene/lights.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <filesystem>
 #include <fstream>
 #include <gtest/gtest.h>

@@ -6,10 +6,10 @@
 #include "../fuzz/targets.h"
 
 #include <OpenImageIO/imagebuf.h>
-#include <dhdr/deferred/environment.h>
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/probes.h>
+#include <dhdr/deferred/environment/environment.h>
+#include <dhdr/deferred/environment/ibl.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/deferred/gi/probes.h>
 #include <dhdr/io/exr_header.h>
 #include <filesystem>
 #include <fstream>

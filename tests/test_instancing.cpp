@@ -7,11 +7,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/ray_caster.h>
-#include <dhdr/deferred/scene.h>
-#include <dhdr/deferred/scene_rig.h>
-#include <dhdr/deferred/surface.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/geometry/surface.h>
+#include <dhdr/deferred/scene/scene.h>
+#include <dhdr/deferred/scene/scene_rig.h>
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 

@@ -2,11 +2,11 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/gbuffer_render.h>
-#include <dhdr/deferred/light_culling.h>
-#include <dhdr/deferred/lighting.h>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/deferred/integrator/lighting.h>
+#include <dhdr/deferred/lights/light_culling.h>
+#include <dhdr/deferred/render/gbuffer_render.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <gtest/gtest.h>
 #include <random>
 

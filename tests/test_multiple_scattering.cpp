@@ -3,12 +3,12 @@
 #include "scene_builder.h"
 
 #include <cmath>
-#include <dhdr/deferred/brdf.h>
-#include <dhdr/deferred/ibl.h>
+#include <dhdr/deferred/core/brdf.h>
+#include <dhdr/deferred/core/multiple_scattering.h>
+#include <dhdr/deferred/core/sampling.h>
+#include <dhdr/deferred/environment/ibl.h>
+#include <dhdr/deferred/gbuffer/shading_point.h>
 #include <dhdr/deferred/lights/light.h>
-#include <dhdr/deferred/multiple_scattering.h>
-#include <dhdr/deferred/sampling.h>
-#include <dhdr/deferred/shading_point.h>
 #include <gtest/gtest.h>
 
 using namespace dhdr;

@@ -1,11 +1,11 @@
-// The params tables (dhdr/deferred/param_table.h) against what depends on them: validate()
+// The params tables (dhdr/deferred/core/param_table.h) against what depends on them: validate()
 // refuses exactly what is outside each range, the tools refuse it as usage errors and show it
 // in --help, and the docs' option tables state the same ranges.
 #include "tool_test.h"
 
-#include <dhdr/deferred/ambient_occlusion.h>
-#include <dhdr/deferred/lighting.h>
-#include <dhdr/deferred/probes.h>
+#include <dhdr/deferred/direct/ambient_occlusion.h>
+#include <dhdr/deferred/gi/probes.h>
+#include <dhdr/deferred/integrator/lighting.h>
 #include <fstream>
 
 using namespace dhdr;

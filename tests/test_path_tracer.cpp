@@ -5,12 +5,12 @@
 
 #include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
-#include <dhdr/deferred/brdf.h>
-#include <dhdr/deferred/emissive_lights.h>
-#include <dhdr/deferred/lighting.h>
-#include <dhdr/deferred/probes.h>
-#include <dhdr/deferred/ray_caster.h>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/core/brdf.h>
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/gi/probes.h>
+#include <dhdr/deferred/integrator/lighting.h>
+#include <dhdr/deferred/lights/emissive_lights.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <glm/gtc/type_ptr.hpp>
 #include <gtest/gtest.h>
 #include <map>

@@ -5,13 +5,13 @@
 #include "scene_builder.h"
 
 #include <cmath>
-#include <dhdr/deferred/brdf.h>
+#include <dhdr/deferred/core/brdf.h>
+#include <dhdr/deferred/core/octahedral.h>
+#include <dhdr/deferred/core/sampling.h>
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/gi/probes.h>
 #include <dhdr/deferred/lights/light.h>
-#include <dhdr/deferred/octahedral.h>
-#include <dhdr/deferred/probes.h>
-#include <dhdr/deferred/ray_caster.h>
-#include <dhdr/deferred/sampling.h>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <filesystem>
 #include <gtest/gtest.h>
 

@@ -11,8 +11,8 @@
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
 #include <csignal>
-#include <dhdr/deferred/ray_caster.h>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <dhdr/tonemap/bloom.h>
 #include <dhdr/tonemap/edge_aa.h>
 #include <map>

@@ -6,8 +6,8 @@
 
 #include <cmath>
 #include <cstring>
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <glm/glm.hpp>
 #include <map>
 

@@ -7,7 +7,7 @@
 
 #include <cmath>
 #include <cstring>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <glm/glm.hpp>
 #include <limits>
 #include <pthread.h>

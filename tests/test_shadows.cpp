@@ -1,29 +1,30 @@
 // Visibility in the lighting pass against independent answers: analytic shadow regions and
 // penumbrae, closed forms of ambient occlusion, Monte Carlo against exact irradiance, and the
 // culled pass against brute force with shadow rays.
-#include "../libdeferred/src/bounce_light.h"
-#include "../libdeferred/src/denoise_lanes.h"
+#include "denoise/denoise_lanes.h"
+#include "gi/bounce_light.h"
 #include "scene_builder.h"
 
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
 #include <cstring>
-#include <dhdr/deferred/ambient_occlusion.h>
-#include <dhdr/deferred/denoise.h>
-#include <dhdr/deferred/emissive_lights.h>
-#include <dhdr/deferred/gbuffer.h>
-#include <dhdr/deferred/gbuffer_render.h>
-#include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/core/cpu_features.h>
+#include <dhdr/deferred/core/multiple_scattering.h>
+#include <dhdr/deferred/core/sampling.h>
+#include <dhdr/deferred/denoise/denoise.h>
+#include <dhdr/deferred/direct/ambient_occlusion.h>
+#include <dhdr/deferred/direct/shadows.h>
+#include <dhdr/deferred/environment/ibl.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/deferred/gbuffer/shading_point.h>
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/integrator/lighting.h>
 #include <dhdr/deferred/lights/area.h>
+#include <dhdr/deferred/lights/emissive_lights.h>
 #include <dhdr/deferred/lights/light.h>
-#include <dhdr/deferred/multiple_scattering.h>
-#include <dhdr/deferred/ray_caster.h>
-#include <dhdr/deferred/sampling.h>
-#include <dhdr/deferred/scene.h>
-#include <dhdr/deferred/shading_point.h>
-#include <dhdr/deferred/shadows.h>
+#include <dhdr/deferred/render/gbuffer_render.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <gtest/gtest.h>
 #include <random>
 

@@ -4,7 +4,7 @@
 
 #include "animation_writer.h"
 
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <filesystem>
 #include <gtest/gtest.h>
 #include <stdlib.h>

@@ -4,10 +4,10 @@
 // (docs/animation.md).
 #pragma once
 
-#include <dhdr/deferred/gbuffer_render.h>
-#include <dhdr/deferred/ray_caster.h>
-#include <dhdr/deferred/scene.h>
-#include <dhdr/deferred/scene_rig.h>
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/render/gbuffer_render.h>
+#include <dhdr/deferred/scene/scene.h>
+#include <dhdr/deferred/scene/scene_rig.h>
 #include <functional>
 #include <memory>
 #include <string>

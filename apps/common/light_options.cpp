@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <dhdr/deferred/emissive_lights.h>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/lights/emissive_lights.h>
+#include <dhdr/deferred/scene/scene.h>
 
 namespace dhdr::app {
 

@@ -6,8 +6,8 @@
 
 #include "command_line.h"
 
-#include <dhdr/deferred/brdf.h>
-#include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/core/brdf.h>
+#include <dhdr/deferred/scene/lights.h>
 #include <string>
 #include <vector>
 

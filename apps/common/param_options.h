@@ -1,10 +1,10 @@
-// A library params table (dhdr/deferred/param_table.h) as a tool's options: the option, its
+// A library params table (dhdr/deferred/core/param_table.h) as a tool's options: the option, its
 // range and its default in --help all come from the table and the struct.
 #pragma once
 
 #include "command_line.h"
 
-#include <dhdr/deferred/param_table.h>
+#include <dhdr/deferred/core/param_table.h>
 
 namespace dhdr::app {
 

@@ -5,7 +5,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <algorithm>
 #include <cmath>
-#include <dhdr/deferred/gbuffer.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
 #include <dhdr/io/layers.h>
 #include <dhdr/io/sanitize.h>
 #include <dhdr/io/strip_pipeline.h>

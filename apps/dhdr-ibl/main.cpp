@@ -3,7 +3,7 @@
 
 #include <chrono>
 #include <cstdio>
-#include <dhdr/deferred/ibl.h>
+#include <dhdr/deferred/environment/ibl.h>
 
 using namespace dhdr;
 

@@ -5,7 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
-#include <dhdr/deferred/gbuffer_time.h>
+#include <dhdr/deferred/gbuffer/gbuffer_time.h>
 #include <filesystem>
 
 namespace dhdr::app {

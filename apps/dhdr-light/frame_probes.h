@@ -5,7 +5,7 @@
 #pragma once
 
 #include <OpenImageIO/imageio.h>
-#include <dhdr/deferred/probes.h>
+#include <dhdr/deferred/gi/probes.h>
 #include <string>
 
 namespace dhdr::app {

@@ -2,7 +2,7 @@
 
 #include "../common/tool.h"
 
-#include <dhdr/deferred/gbuffer_time.h>
+#include <dhdr/deferred/gbuffer/gbuffer_time.h>
 
 namespace dhdr::app {
 

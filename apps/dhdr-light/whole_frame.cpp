@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <dhdr/deferred/deep_gbuffer.h>
+#include <dhdr/deferred/gbuffer/deep_gbuffer.h>
 #include <dhdr/io/sanitize.h>
 #include <dhdr/io/strip_pipeline.h>
 #include <optional>

@@ -5,9 +5,9 @@
 
 #include "../common/tool.h"
 
-#include <dhdr/deferred/camera.h>
-#include <dhdr/deferred/gbuffer_import.h>
-#include <dhdr/deferred/lighting.h>
+#include <dhdr/deferred/gbuffer/gbuffer_import.h>
+#include <dhdr/deferred/integrator/lighting.h>
+#include <dhdr/deferred/scene/camera.h>
 #include <functional>
 #include <optional>
 #include <string>

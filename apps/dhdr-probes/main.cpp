@@ -10,10 +10,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <dhdr/deferred/lights.h>
-#include <dhdr/deferred/probes.h>
-#include <dhdr/deferred/ray_caster.h>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/gi/probes.h>
+#include <dhdr/deferred/scene/lights.h>
+#include <dhdr/deferred/scene/scene.h>
 
 using namespace dhdr;
 

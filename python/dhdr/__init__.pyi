@@ -1,4 +1,4 @@
-# Type stubs of the dhdr module (python/src/*.cpp and __init__.py); test_api.py holds every
+# Type stubs of the dhdr module (python/src/py_*.cpp and __init__.py); test_api.py holds every
 # public name of the module to an entry here and each entry to a name of the module.
 import os
 from typing import Any, Dict, List, Optional, Sequence, Tuple, Union, overload
@@ -53,7 +53,7 @@ class LuminanceStats:
     def __init__(self, *, log_average: float, max_luminance: float = 0.0,
                  min_luminance: float = 0.0, pixels: int = 0) -> None: ...
 
-# Reading and writing (image_io.cpp, lighting.cpp)
+# Reading and writing (py_image_io.cpp, py_lighting.cpp)
 def read(path: str, *, layer: str = "", keep_others: bool = True, nthreads: int = 0) -> Image: ...
 def layers(path: str) -> List[str]: ...
 def write(path: str, image: Union[ImageLike, npt.NDArray[np.uint8], npt.NDArray[np.uint16]], *,
@@ -154,7 +154,7 @@ def tonemap_frame(src: Image, *, stats: Optional[LuminanceStats] = None, config:
                   bits: Optional[int] = None, dither: bool = True, nthreads: int = 0,
                   **tone: Any) -> Union[Image, np.ndarray]: ...
 
-# Scenes (scene.cpp)
+# Scenes (py_scene.cpp)
 class Scene:
     """A glTF 2.0 or OBJ scene loaded as dhdr-gbuffer loads it."""
     def __init__(self, path: str, *, strict: bool = False,
@@ -217,7 +217,7 @@ class DeepGBuffer:
     def channel(self, name: str) -> npt.NDArray[np.float32]: ...
     def pixel(self, x: int, y: int) -> npt.NDArray[np.float32]: ...
 
-# Lighting (lighting.cpp)
+# Lighting (py_lighting.cpp)
 @overload
 def light(src: Union[ImageLike, DeepGBuffer], lights: Optional[LightsLike] = None, *,
           scene: Optional[Scene] = None,
@@ -257,7 +257,7 @@ def light_samples(src: DeepGBuffer, lights: Optional[LightsLike] = None, *,
                   aovs: bool = False, gi: str = "direct", spp: int = 16, path_bounces: int = 8,
                   nthreads: int = 0) -> DeepGBuffer: ...
 
-# Bakes (bakes.cpp)
+# Bakes (py_bakes.cpp)
 def bake_ibl(environment: Union[str, ImageLike], out: str, *, levels: int = 6, base_width: int = 256,
              samples: int = 128, dfg_size: int = 128, dfg_samples: int = 1024,
              sun_threshold: float = 10.0, nthreads: int = 0) -> Dict[str, Any]: ...

@@ -2,9 +2,9 @@
 // lit frame streamed to a file and back through the io library's strip pipeline.
 #include <cmath>
 #include <cstdio>
-#include <dhdr/deferred/gbuffer_render.h>
-#include <dhdr/deferred/lighting.h>
-#include <dhdr/deferred/scene.h>
+#include <dhdr/deferred/integrator/lighting.h>
+#include <dhdr/deferred/render/gbuffer_render.h>
+#include <dhdr/deferred/scene/scene.h>
 #include <dhdr/io/image_output.h>
 #include <dhdr/io/strip_pipeline.h>
 #include <dhdr/io/strip_reader.h>

@@ -1,9 +1,9 @@
 #include <algorithm>
 #include <cmath>
+#include <dhdr/deferred/core/multiple_scattering.h>
+#include <dhdr/deferred/core/sampling.h>
 #include <dhdr/deferred/lights/area.h>
 #include <dhdr/deferred/lights/punctual.h>
-#include <dhdr/deferred/multiple_scattering.h>
-#include <dhdr/deferred/sampling.h>
 
 namespace dhdr {
 

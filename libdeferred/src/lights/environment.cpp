@@ -1,6 +1,6 @@
 #include <algorithm>
+#include <dhdr/deferred/core/multiple_scattering.h>
 #include <dhdr/deferred/lights/environment.h>
-#include <dhdr/deferred/multiple_scattering.h>
 
 namespace dhdr {
 

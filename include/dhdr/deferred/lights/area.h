@@ -3,9 +3,9 @@
 // "Real Shading in Unreal Engine 4").
 #pragma once
 
-#include <dhdr/deferred/brdf.h>
-#include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/lights/sample.h>
+#include <dhdr/deferred/scene/lights.h>
 
 namespace dhdr {
 

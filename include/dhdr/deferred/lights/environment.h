@@ -4,10 +4,10 @@
 #pragma once
 
 #include <cmath>
-#include <dhdr/deferred/brdf.h>
-#include <dhdr/deferred/ibl.h>
-#include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/core/brdf.h>
+#include <dhdr/deferred/environment/ibl.h>
 #include <dhdr/deferred/lights/sample.h>
+#include <dhdr/deferred/scene/lights.h>
 
 namespace dhdr {
 

@@ -3,11 +3,11 @@
 // area.h (sphere, rectangle, emissive mesh), environment.h (environment, ambient).
 #pragma once
 
-#include <dhdr/deferred/lights.h>
 #include <dhdr/deferred/lights/area.h>
 #include <dhdr/deferred/lights/environment.h>
 #include <dhdr/deferred/lights/punctual.h>
 #include <dhdr/deferred/lights/sample.h>
+#include <dhdr/deferred/scene/lights.h>
 
 namespace dhdr {
 

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <dhdr/deferred/brdf.h>
-#include <dhdr/deferred/lights.h>
+#include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/lights/sample.h>
+#include <dhdr/deferred/scene/lights.h>
 
 namespace dhdr {
 

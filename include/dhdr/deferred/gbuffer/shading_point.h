@@ -1,0 +1,121 @@
+// The surface samples of a G-buffer, as the lighting pass reads them: a small view that
+// hands back the samples of a pixel (one for a flat G-buffer, front to back for a deep one).
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+#include <dhdr/deferred/core/brdf.h>
+#include <dhdr/deferred/core/visibility.h>
+#include <dhdr/deferred/gbuffer/deep_gbuffer.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+
+namespace dhdr {
+
+struct ShadingPoint {
+    glm::vec3 P{0.0f}; // world space
+    glm::vec3 N{0.0f}; // unit shading normal, facing the camera
+    // Where secondary rays leave from: P, the geometric normal (facing the camera) and P's
+    // error bound, from Ng and Perr, or N and fallbackPositionError where the file has none.
+    SurfacePoint origin;
+    glm::vec3 V{0.0f}; // unit, towards the eye
+    PbrSurface surface;
+    glm::vec3 emission{0.0f};
+    float coverage = 0.0f; // the pixel's A
+    float depth = 0.0f;    // Z
+};
+
+// What every pass over a G-buffer needs first: its channels, its camera and its pixels as
+// float in memory (the G-buffer itself when it already is, else `floatCopy`).
+struct GBufferPixels {
+    gbuffer::Layout layout;
+    gbuffer::CameraInfo camera;
+    OIIO::ImageBuf floatCopy;
+    const OIIO::ImageBuf* pixels = nullptr;
+};
+
+// Fills `out` from `gbuffer`; false with the error on `errors` (a missing channel, no camera).
+bool openGBuffer(const OIIO::ImageBuf& gbuffer, GBufferPixels& out, OIIO::ImageBuf& errors);
+
+// Reads shading points out of a G-buffer held in memory as float: a flat one (e.g. one strip
+// of a frame), or a deep one with several samples a pixel.
+class GBufferView {
+public:
+    // Its surfaces' diffuse layer is `diffuse`'s (the G-buffer does not say).
+    GBufferView(const OIIO::ImageBuf& gbuffer, const gbuffer::Layout& layout,
+                const gbuffer::CameraInfo& camera, DiffuseModel diffuse = DiffuseModel::Lambert)
+        : m_data(static_cast<const float*>(gbuffer.localpixels())),
+          m_nch(size_t(gbuffer.nchannels())), m_x0(gbuffer.spec().x), m_y0(gbuffer.spec().y),
+          m_width(gbuffer.spec().width), m_layout(layout), m_camera(camera), m_diffuse(diffuse) {}
+    GBufferView(const DeepGBuffer& gbuffer, const gbuffer::Layout& layout,
+                const gbuffer::CameraInfo& camera, DiffuseModel diffuse = DiffuseModel::Lambert)
+        : m_data(gbuffer.values.data()), m_nch(size_t(gbuffer.spec.nchannels)),
+          m_x0(gbuffer.spec.x), m_y0(gbuffer.spec.y), m_width(gbuffer.spec.width),
+          m_first(gbuffer.first.data()), m_layout(layout), m_camera(camera), m_diffuse(diffuse) {}
+
+    bool deep() const { return m_first != nullptr; }
+
+    // Surface samples of pixel (x, y) in image coordinates, front to back: 0 on the
+    // background.
+    int samples(int x, int y) const {
+        if (m_first) {
+            const size_t p = pixel(x, y);
+            return int(m_first[p + 1] - m_first[p]);
+        }
+        return channels(x, y)[m_layout.coverage] > 0.0f ? 1 : 0;
+    }
+
+    ShadingPoint at(int x, int y, int sample = 0) const {
+        const float* g = channels(x, y, sample);
+        ShadingPoint s;
+        s.P = glm::vec3(g[m_layout.position], g[m_layout.position + 1], g[m_layout.position + 2]);
+        s.N = glm::normalize(
+            glm::vec3(g[m_layout.normal], g[m_layout.normal + 1], g[m_layout.normal + 2]));
+        s.V = glm::vec3(m_camera.toEye(s.P));
+        s.origin.P = s.P;
+        s.origin.Ng = s.N;
+        if (m_layout.geometricNormal >= 0) {
+            const glm::vec3 Ng(g[m_layout.geometricNormal], g[m_layout.geometricNormal + 1],
+                               g[m_layout.geometricNormal + 2]);
+            const float len = glm::length(Ng);
+            if (len > 0.5f && len < 2.0f) s.origin.Ng = Ng / len;
+        }
+        s.origin.error = m_layout.positionError >= 0 ? g[m_layout.positionError] : -1.0f;
+        if (!(s.origin.error >= 0.0f && s.origin.error < INFINITY))
+            s.origin.error = fallbackPositionError(s.P, glm::vec3(m_camera.position));
+        s.surface.baseColor =
+            glm::vec3(g[m_layout.albedo], g[m_layout.albedo + 1], g[m_layout.albedo + 2]);
+        s.surface.roughness = std::clamp(g[m_layout.roughness], 0.0f, 1.0f);
+        s.surface.metallic = std::clamp(g[m_layout.metallic], 0.0f, 1.0f);
+        s.surface.diffuse = m_diffuse;
+        if (m_layout.emission >= 0)
+            s.emission =
+                glm::vec3(g[m_layout.emission], g[m_layout.emission + 1], g[m_layout.emission + 2]);
+        s.coverage = g[m_layout.coverage];
+        s.depth = g[m_layout.depth];
+        return s;
+    }
+
+    // All channels of a sample of pixel (x, y) (of the pixel, flat), for passing through.
+    const float* channels(int x, int y, int sample = 0) const {
+        if (m_first) return m_data + (size_t(m_first[pixel(x, y)]) + size_t(sample)) * m_nch;
+        return m_data + pixel(x, y) * m_nch;
+    }
+    // The index of a sample among all of a deep G-buffer's (for per-sample outputs).
+    size_t sampleIndex(int x, int y, int sample) const {
+        return size_t(m_first[pixel(x, y)]) + size_t(sample);
+    }
+
+private:
+    size_t pixel(int x, int y) const {
+        return size_t(y - m_y0) * size_t(m_width) + size_t(x - m_x0);
+    }
+
+    const float* m_data;
+    size_t m_nch;
+    int m_x0, m_y0, m_width;
+    const std::uint32_t* m_first = nullptr; // deep: each pixel's first sample
+    const gbuffer::Layout& m_layout;
+    const gbuffer::CameraInfo& m_camera;
+    DiffuseModel m_diffuse;
+};
+
+} // namespace dhdr

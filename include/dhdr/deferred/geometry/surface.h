@@ -1,0 +1,51 @@
+// What a ray hit: the shading attributes of a scene's surface at a hit, interpolated over its
+// triangle (normal and base colour maps applied), as the G-buffer stores them and as the
+// probes' rays see them.
+#pragma once
+
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/scene/scene.h>
+
+namespace dhdr {
+
+struct SurfaceSample {
+    // On the triangle's plane: the barycentric combination of its vertices, in double.
+    glm::dvec3 position;
+    // Bound on the absolute error of each coordinate of `position` once rounded to float,
+    // including the float arithmetic of a ray-triangle test started there (positionError).
+    double positionError = 0.0;
+    glm::dvec3 normal;       // shading normal, facing the ray's origin (mapped by a normal map)
+    glm::dvec3 interpolated; // the interpolated normal before the normal map, facing the same way
+    glm::dvec3 geometric;    // the triangle's own unit normal, facing the ray's origin
+    bool backFace = false;   // the ray came from behind the file's normals (inside a closed mesh)
+    glm::vec3 albedo;
+    glm::vec3 emission;
+    const Material* material;
+};
+
+SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit);
+
+// The error bound of a point P = Σ wᵢ pᵢ on a triangle of float vertices pᵢ, per coordinate
+// (pbrt-v4 §6.8.4 bounds its own interpolation by γ₇ Σ|wᵢ pᵢ|; here P is interpolated in
+// double and the bound covers what follows it):
+// - rounding P to float for the G-buffer: ½ ulp, at most 2⁻²⁴ |P|;
+// - the float arithmetic of Embree's test of a ray leaving P against the triangle (and its
+//   coplanar neighbours): vertices less the origin, edge cross products and a dot product,
+//   each rounded, with approximate reciprocals whose last bits differ between its SSE, AVX2
+//   and AVX-512 kernels. Bounded by kKernelUlps ulps of the largest vertex coordinate plus
+//   the triangle's extent (a tilted error in its normal moves the plane in proportion to the
+//   distance from its vertices).
+// - for a mesh traced as an instance (Mesh::instance, M = (A, b)): Embree takes the ray into
+//   node space by the float inverse of M's float matrix and tests it against the node-space
+//   triangles, which then stand where float(M) puts them rather than at the rounded world
+//   vertices. Across the triangle's plane these steps round a few ulps of |P| and |b| (the
+//   origin's node-space coordinates are sums of terms that large, cancelling): kKernelUlps
+//   ulps of |P| + |b| more.
+double positionError(const glm::dvec3& P, const glm::dvec3 vertices[3],
+                     const glm::dmat4* instance = nullptr);
+
+// Ulps of the vertices' magnitude that Embree's float triangle test may be off by, with a
+// margin of 4× over the sum of the roundings of its Möller-Trumbore / Plücker forms.
+inline constexpr double kKernelUlps = 32.0;
+
+} // namespace dhdr

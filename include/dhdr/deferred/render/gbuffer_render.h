@@ -1,0 +1,85 @@
+// The primary-ray pass that fills a G-buffer from a scene.
+#pragma once
+
+#include <OpenImageIO/imagebuf.h>
+#include <dhdr/deferred/render/frame_motion.h>
+#include <dhdr/deferred/scene/camera.h>
+#include <functional>
+#include <glm/glm.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dhdr {
+
+struct CryptoIds;
+struct DeepGBuffer;
+class RayCaster;
+struct Scene;
+
+struct GBufferParams {
+    int width = 1920;
+    int height = 1080;
+    // Deep G-buffers (renderDeep): the most samples a pixel keeps, 1-64. The opaque surface
+    // that ends a ray always has its place; Blend surfaces beyond the first maxLayers − 1 are
+    // left out (they are the farthest).
+    int maxLayers = 8;
+    // Called now and then from the rendering threads with the fraction of rows done of the
+    // region being rendered, in [0, 1].
+    std::function<void(float)> progress;
+    // With animation: the scene one frame before and one after, for the motion layer
+    // (gbuffer::kMotion, docs/animation.md); null (the default) writes none.
+    std::shared_ptr<const FrameMotion> motion;
+};
+
+// Casts primary rays through each pixel centre and writes the channels of the G-buffer
+// contract (gbuffer::channelNames()) as float pixels. Background pixels have A = 0, Z = +∞,
+// zero elsewhere and ids 0; ids index the name tables in the spec, whose entry 0 is the
+// background. The acceleration structure is built once, so a caller can render a large frame
+// strip by strip and write each strip as it is done.
+class GBufferRenderer {
+public:
+    // `scene` and `camera` must outlive the renderer.
+    GBufferRenderer(const Scene& scene, const Camera& camera, const GBufferParams& params);
+    // The same with a ray caster the caller built over `scene` (and may refit between frames
+    // of an animation, RayCaster::updateMeshes).
+    GBufferRenderer(const Scene& scene, const Camera& camera, const GBufferParams& params,
+                    std::shared_ptr<const RayCaster> caster);
+    ~GBufferRenderer();
+
+    bool ok() const;
+    const std::string& error() const;
+
+    // The whole frame's spec: size, channel names, camera matrices, name tables.
+    const OIIO::ImageSpec& spec() const { return m_spec; }
+
+    // Renders the pixels of `roi` (default: the whole frame) into `dst`, which becomes a float
+    // image with spec() over exactly that region (its data window) when it is not already.
+    // The first surface of each pixel (Mask cut-outs skipped; a Blend surface is the first
+    // like any other, with A = 1).
+    bool render(OIIO::ImageBuf& dst, OIIO::ROI roi = {}, int nthreads = 0) const;
+
+    // Every surface of each pixel of `roi` front to back, up to and including the first
+    // opaque one (GBufferParams::maxLayers), A being each one's alpha: a deep G-buffer of
+    // those rows. `transparentSamples` counts the samples with A < 1.
+    bool renderDeep(DeepGBuffer& dst, OIIO::ROI roi = {}, int nthreads = 0,
+                    long long* transparentSamples = nullptr) const;
+
+private:
+    const Scene& m_scene;
+    const Camera& m_camera;
+    GBufferParams m_params;
+    OIIO::ImageSpec m_spec;
+    std::shared_ptr<const RayCaster> m_caster;
+    std::shared_ptr<const CryptoIds> m_crypto; // the Cryptomatte ids of names
+};
+
+// The whole frame in one call.
+bool renderGBuffer(OIIO::ImageBuf& dst, const Scene& scene, const Camera& camera,
+                   const GBufferParams& params, int nthreads = 0);
+
+// The per-channel file types of the contract (half, float or uint), for writing; with
+// `motion`, the motion layer's four floats after them.
+std::vector<OIIO::TypeDesc> gbufferChannelFormats(bool motion = false);
+
+} // namespace dhdr

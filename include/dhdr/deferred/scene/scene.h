@@ -1,0 +1,160 @@
+// A scene flattened for primary-ray casting: triangle meshes in world space, glTF
+// metallic-roughness materials, cameras and punctual lights.
+#pragma once
+
+#include <dhdr/deferred/scene/camera.h>
+#include <dhdr/deferred/scene/lights.h>
+#include <glm/glm.hpp>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dhdr {
+
+struct SceneRig;
+
+// A base-colour texture decoded to linear RGBA float.
+struct Texture {
+    std::string name;
+    int width = 0, height = 0;
+    std::vector<float> rgba;
+
+    // Bilinear lookup with repeat wrapping, glTF's default sampler; uv (0, 0) is the top-left.
+    glm::vec4 sample(glm::vec2 uv) const;
+};
+
+// KHR_texture_transform of one texture reference: uv' = T(offset) · R(rotation) · S(scale) · uv,
+// in glTF's UV space (origin top-left).
+struct TextureTransform {
+    glm::vec2 offset{0.0f};
+    float rotation = 0.0f; // radians, counter-clockwise
+    glm::vec2 scale{1.0f};
+
+    glm::vec2 apply(glm::vec2 uv) const;
+};
+
+// A material's use of a texture: which one (−1: none) and how its UVs are transformed.
+struct TextureRef {
+    int texture = -1; // index into Scene::textures
+    TextureTransform transform;
+};
+
+// How a material's alpha is used (glTF 2.0 §3.9.4 alphaMode).
+enum class AlphaMode {
+    Opaque, // alpha ignored
+    Mask,   // a surface where alpha ≥ alphaCutoff, none elsewhere (cut-outs)
+    Blend   // a partly transparent surface of coverage alpha
+};
+
+struct Material {
+    std::string name;
+    glm::vec3 baseColor{1.0f}; // linear
+    float alpha = 1.0f;        // baseColorFactor.a (glTF), d or 1 − Tr (OBJ)
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float alphaCutoff = 0.5f; // Mask only, glTF's default
+    float roughness = 1.0f;
+    float metallic = 1.0f;       // glTF defaults: a material without these is rough metal
+    glm::vec3 emission{0.0f};    // linear radiance: emissiveFactor × emissive strength
+    TextureRef baseColorTexture; // sRGB-encoded, multiplies baseColor
+    TextureRef emissiveTexture;  // sRGB-encoded, multiplies emission
+    TextureRef normalTexture;    // linear, tangent space (+X along u, +Y up the image)
+    float normalScale = 1.0f;    // glTF normalTexture.scale: scales the map's X and Y
+};
+
+struct Mesh {
+    std::vector<glm::vec3> positions; // world space
+    std::vector<glm::vec3> normals;   // world space, unit; zero where the file's was unusable
+    std::vector<glm::vec2> uvs;       // origin at the image's top-left, as glTF; may be empty
+    // World-space tangent (along +u) and bitangent (up the image) per vertex, from the file
+    // or generated from the UVs; empty without UVs.
+    std::vector<glm::vec3> tangents, bitangents;
+    std::vector<glm::uvec3> triangles;
+    int material = 0;
+    int object = 0; // index into Scene::objectNames
+    // A mesh that an animation moves as a whole (no skin, no morph targets): its node's world
+    // transform, which placed its node-space vertices (SceneRig::meshes) at `positions`. Set by
+    // ScenePoser; the ray caster traces such a mesh as an instance moved by this transform, and
+    // its points' error bound carries the transform's rounding (positionError). Unset: the
+    // mesh is traced as it lies.
+    std::optional<glm::dmat4> instance;
+};
+
+struct SceneCamera {
+    std::string name;
+    Camera camera;
+    double aspect = 0.0; // width / height from the file, 0 when unknown
+    // Why the camera cannot be rendered from (a node scaled by 0, a field of view of 0, a
+    // field of the wrong type...), empty when it can; the tools refuse it by this message.
+    std::string problem;
+};
+
+struct Scene {
+    std::vector<Mesh> meshes;
+    std::vector<Material> materials;
+    std::vector<Texture> textures;
+    std::vector<std::string> objectNames;
+    std::vector<SceneCamera> cameras;
+    std::vector<Light> lights; // world space, KHR_lights_punctual units
+    // What the loader repaired or left out, one line each, for the tool to print.
+    std::vector<std::string> warnings;
+    // An infinite horizontal plane y = groundPlaneY under everything, intersected exactly (not
+    // a mesh): the shadow catcher of AR compositing (addGroundPlane, docs/ibl.md).
+    bool hasGroundPlane = false;
+    float groundPlaneY = 0.0f;
+    int groundObject = -1, groundMaterial = -1; // indices into objectNames and materials
+    // A glTF file with animations: its node tree, animations and the meshes' rest data, for
+    // ScenePoser (scene_rig.h); null for other files, whose scene never moves.
+    std::shared_ptr<const SceneRig> rig;
+
+    glm::dvec3 boundsMin() const;
+    glm::dvec3 boundsMax() const;
+};
+
+// The alpha of a mesh's surface at barycentrics (u, v) of a triangle: the material's alpha
+// times its base colour texture's alpha there.
+float surfaceAlpha(const Scene& scene, int mesh, int triangle, float u, float v);
+
+// Whether a hit on that surface is a surface at all (false: a Mask material cut out there),
+// and its coverage in [0, 1] (1 unless the material blends).
+struct SurfaceCoverage {
+    bool present = true;
+    float alpha = 1.0f;
+};
+SurfaceCoverage surfaceCoverage(const Scene& scene, int mesh, int triangle, float u, float v);
+
+// The name the ground plane has among the objects (and materials) of a G-buffer.
+inline constexpr const char* kGroundPlaneName = "dhdr:ground plane";
+
+// Adds the infinite ground plane at height y: an object and a white rough material of that
+// name (RGB 0.8, roughness 1).
+void addGroundPlane(Scene& scene, float y);
+
+// A camera like `like` (its direction, up and projection) moved so that the scene's bounding
+// sphere just fits an image of `aspect` (width / height): perspective cameras back off along
+// their view axis, orthographic ones also widen their image plane. Check the result with
+// Camera::problem(): bounds too large for a float camera give one that cannot be used.
+Camera frameScene(const Scene& scene, const Camera& like, double aspect);
+
+// How loadScene treats what it could repair.
+struct SceneOptions {
+    // A texture that cannot be read (missing, undecodable): false, a warning in
+    // Scene::warnings naming the texture and the material, whose texture is then magenta
+    // (1, 0, 1) times its factor, as Blender shows a missing texture (a normal map is left out);
+    // true, an error (the tools' --strict).
+    bool strict = false;
+};
+
+// Loads a glTF 2.0 (.gltf, .glb) or OBJ file through Assimp: triangulated, with flat normals
+// where the file has none, node transforms applied. Works around Assimp 5.2's glTF quirks
+// (docs/scenes.md). On failure returns false with a message in `error`.
+bool loadScene(const std::string& path, Scene& scene, std::string& error,
+               const SceneOptions& options = {});
+
+// SHA-1 of the bytes of the scene file at `path` (40 hex digits), the fingerprint dhdr-gbuffer
+// records in the G-buffer (gbuffer::kSceneFingerprint) so that dhdr-light can tell whether
+// --scene names the file the G-buffer was rendered from. Empty when the file cannot be read.
+// Only the file named is hashed, not the buffers or textures it refers to.
+std::string sceneFingerprint(const std::string& path);
+
+} // namespace dhdr

@@ -1,0 +1,29 @@
+// Which camera renders a scene: dhdr-gbuffer's --camera, --lookat, --fov and --frame-all, in
+// one place for the tool and the Python module's render_gbuffer.
+#pragma once
+
+#include <dhdr/deferred/scene/camera.h>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace dhdr {
+
+struct Scene;
+
+struct CameraChoice {
+    std::string name;             // a scene camera by name; empty: the scene's first
+    std::optional<Camera> lookat; // instead of the scene's cameras
+    double fovDegrees = 0.0;      // > 0: the vertical field of view of a perspective camera
+    bool frameAll = false;        // moved back until the scene's bounds fit the image
+};
+
+// The camera of `scene` (read from `path`, which messages name) for an image of `aspect`
+// (width / height). False with an error naming the scene when there is none to use (no camera,
+// an unknown name listing the scene's, one that cannot be rendered from). `notes` receives what
+// the tool says with -v, `warnings` what it warns about.
+bool chooseCamera(const Scene& scene, const std::string& path, const CameraChoice& choice,
+                  double aspect, Camera& camera, std::string& error,
+                  std::vector<std::string>& notes, std::vector<std::string>& warnings);
+
+} // namespace dhdr

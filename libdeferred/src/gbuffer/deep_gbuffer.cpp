@@ -1,0 +1,237 @@
+#include <Imath/half.h>
+#include <OpenImageIO/deepdata.h>
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <dhdr/deferred/gbuffer/deep_gbuffer.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/io/deep_exr.h>
+#include <dhdr/io/exr_header.h>
+#include <memory>
+#include <numeric>
+
+namespace dhdr {
+
+namespace gbuffer {
+
+std::vector<OIIO::TypeDesc> deepChannelFormats() {
+    std::vector<OIIO::TypeDesc> formats;
+    for (const ContractChannel& c : kContract)
+        for (int i = 0; i < c.components; ++i)
+            formats.push_back(c.type == FileType::Float  ? OIIO::TypeDesc::FLOAT
+                              : c.type == FileType::Uint ? OIIO::TypeDesc::UINT
+                                                         : OIIO::TypeDesc::HALF);
+    return formats;
+}
+
+} // namespace gbuffer
+
+struct DeepGBufferReader::File {
+    std::unique_ptr<OIIO::ImageInput> in;
+    DeepScanlineReader scanlines; // OpenEXR's own reader (deep_exr.h)
+    OIIO::ImageSpec spec;         // as in the file
+    int subimage = 0;
+    std::vector<int> source; // where each channel held in memory comes from (−1: not there)
+    OIIO::DeepData whole;    // a tiled file, read once
+    bool haveWhole = false;
+};
+
+DeepGBufferReader::DeepGBufferReader() = default;
+DeepGBufferReader::~DeepGBufferReader() = default;
+
+bool DeepGBufferReader::open(const std::string& path, int subimage, std::string& error) {
+    m_file = std::make_unique<File>();
+    if (!detail::exrHeadersFit(path, error)) return false;
+    m_file->in = OIIO::ImageInput::open(path);
+    if (!m_file->in) {
+        error = OIIO::geterror();
+        return false;
+    }
+    if (!m_file->in->seek_subimage(subimage, 0)) {
+        error = "no part " + std::to_string(subimage);
+        return false;
+    }
+    const OIIO::ImageSpec& file = m_file->spec = m_file->in->spec();
+    m_file->subimage = subimage;
+    if (!file.deep) {
+        error = "not a deep image";
+        return false;
+    }
+    gbuffer::Layout layout;
+    std::string missing;
+    if (!gbuffer::findLayout(file, layout, missing)) {
+        error = "no channel '" + missing + "' — is this a G-buffer?";
+        return false;
+    }
+    const std::vector<std::string> names = gbuffer::deepChannelNames();
+    m_file->source.assign(names.size(), -1);
+    for (size_t c = 0; c < names.size(); ++c)
+        m_file->source[c] = file.channelindex(names[c]);
+    if (file.tile_width == 0 && !m_file->scanlines.open(path, subimage, file, error)) return false;
+    m_spec = file;
+    m_spec.deep = false;
+    m_spec.nchannels = int(names.size());
+    m_spec.channelnames = names;
+    m_spec.set_format(OIIO::TypeDesc::FLOAT);
+    m_spec.channelformats.clear();
+    m_spec.alpha_channel = 0;
+    m_spec.z_channel = 1;
+    return true;
+}
+
+bool DeepGBufferReader::read(int ybegin, int yend, DeepGBuffer& out, std::string& error,
+                             long long* replaced) {
+    if (!m_file || !m_file->in) {
+        error = "not open";
+        return false;
+    }
+    const OIIO::ImageSpec& file = m_file->spec;
+    ybegin = std::max(ybegin, file.y);
+    yend = std::min(yend, file.y + file.height);
+    if (yend <= ybegin) {
+        error = "no rows to read";
+        return false;
+    }
+    const int nch = m_spec.nchannels;
+    const std::vector<int>& source = m_file->source;
+    OIIO::DeepData band;
+    const OIIO::DeepData* deep = &band;
+    // Pixels of the DeepData before the band's first (a tiled file's whole image).
+    size_t skip = 0;
+    if (file.tile_width > 0) {
+        if (!m_file->haveWhole) {
+            if (!m_file->in->read_native_deep_image(m_file->subimage, 0, m_file->whole)) {
+                error = m_file->in->geterror();
+                if (error.empty()) error = "cannot read its deep pixels";
+                return false;
+            }
+            m_file->haveWhole = true;
+        }
+        deep = &m_file->whole;
+        skip = size_t(ybegin - file.y) * size_t(file.width);
+    } else if (!m_file->scanlines.read(ybegin, yend, band, error)) {
+        return false;
+    }
+    out.spec = m_spec;
+    out.spec.y = ybegin;
+    out.spec.height = yend - ybegin;
+    const size_t npix = size_t(file.width) * size_t(yend - ybegin);
+    auto samplesOf = [&](size_t p) { return deep->samples(int64_t(skip + p)); };
+    out.first.assign(npix + 1, 0);
+    for (size_t p = 0; p < npix; ++p)
+        out.first[p + 1] = out.first[p] + std::uint32_t(samplesOf(p));
+    out.values.assign(size_t(out.first.back()) * size_t(nch), 0.0f);
+    // Each sample's channels lie together in the DeepData, at fixed offsets from its first
+    // byte: read them in place rather than one deep_value call (and type switch) each.
+    const size_t sampleBytes = deep->samplesize();
+    std::vector<std::ptrdiff_t> offset(size_t(file.nchannels), 0);
+    for (size_t p = 0; p < npix; ++p) {
+        if (samplesOf(p) == 0) continue;
+        const char* base = static_cast<const char*>(deep->data_ptr(int64_t(skip + p), 0, 0));
+        for (int c = 0; c < file.nchannels; ++c)
+            offset[size_t(c)] =
+                static_cast<const char*>(deep->data_ptr(int64_t(skip + p), c, 0)) - base;
+        break;
+    }
+    auto value = [&](const char* sample, int c) {
+        const char* at = sample + offset[size_t(c)];
+        const OIIO::TypeDesc t = deep->channeltype(c);
+        if (t == OIIO::TypeDesc::FLOAT) {
+            float v;
+            std::memcpy(&v, at, sizeof v);
+            return v;
+        }
+        if (t == OIIO::TypeDesc::HALF) {
+            Imath::half h;
+            std::memcpy(&h, at, sizeof h);
+            return float(h);
+        }
+        if (t == OIIO::TypeDesc::UINT) {
+            std::uint32_t u;
+            std::memcpy(&u, at, sizeof u);
+            return float(u);
+        }
+        return 0.0f;
+    };
+    const int zFile = source[1], zBackFile = source[2];
+    std::vector<int> order;
+    long long fixed = 0;
+    for (size_t p = 0; p < npix; ++p) {
+        const int n = samplesOf(p);
+        if (n == 0) continue;
+        const char* first = static_cast<const char*>(deep->data_ptr(int64_t(skip + p), 0, 0));
+        auto sample = [&](int s) { return first + size_t(s) * sampleBytes; };
+        auto where = [&] {
+            return "pixel (" + std::to_string(file.x + int(p % size_t(file.width))) + ", " +
+                   std::to_string(ybegin + int(p / size_t(file.width))) + ")";
+        };
+        order.resize(size_t(n));
+        std::iota(order.begin(), order.end(), 0);
+        for (int s = 0; s < n; ++s) {
+            const float z = value(sample(s), zFile);
+            const float zBack = zBackFile >= 0 ? value(sample(s), zBackFile) : z;
+            if (!std::isfinite(z)) {
+                error = where() + " has a sample without a finite Z";
+                return false;
+            }
+            if (zBack > z) {
+                error = where() + " has a volume sample (ZBack > Z); dhdr lights surfaces, whose "
+                                  "samples are points (ZBack = Z)";
+                return false;
+            }
+        }
+        if (n > 1)
+            std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+                return value(sample(a), zFile) < value(sample(b), zFile);
+            });
+        for (int k = 0; k < n; ++k) {
+            float* v = &out.values[(size_t(out.first[p]) + size_t(k)) * size_t(nch)];
+            const char* from = sample(order[size_t(k)]);
+            for (int c = 0; c < nch; ++c) {
+                const int f = source[size_t(c)];
+                v[c] = f >= 0 ? value(from, f) : (c == 2 ? v[1] : 0.0f); // ZBack defaults to Z
+                if (!std::isfinite(v[c])) {
+                    v[c] = 0.0f;
+                    ++fixed;
+                }
+            }
+        }
+    }
+    if (replaced) *replaced += fixed;
+    return true;
+}
+
+bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, std::string& error,
+                     long long* replaced) {
+    DeepGBufferReader reader;
+    if (!reader.open(path, subimage, error)) return false;
+    const OIIO::ImageSpec& spec = reader.spec();
+    return reader.read(spec.y, spec.y + spec.height, out, error, replaced);
+}
+
+void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out,
+                std::vector<OIIO::TypeDesc> formats) {
+    const OIIO::ImageSpec& spec = g.spec;
+    const int nch = spec.nchannels;
+    if (formats.empty()) formats = gbuffer::deepChannelFormats();
+    const size_t firstPixel = size_t(ybegin - spec.y) * size_t(spec.width);
+    const size_t npix = size_t(yend - ybegin) * size_t(spec.width);
+    out.init(int64_t(npix), nch, formats, spec.channelnames);
+    std::vector<unsigned> counts(npix);
+    for (size_t p = 0; p < npix; ++p)
+        counts[p] = g.first[firstPixel + p + 1] - g.first[firstPixel + p];
+    out.set_all_samples(counts);
+    for (size_t p = 0; p < npix; ++p)
+        for (unsigned s = 0; s < counts[p]; ++s) {
+            const float* v = &g.values[(size_t(g.first[firstPixel + p]) + s) * size_t(nch)];
+            for (int c = 0; c < nch; ++c) {
+                if (formats[size_t(c)] == OIIO::TypeDesc::UINT)
+                    out.set_deep_value(int64_t(p), c, int(s), std::uint32_t(std::max(v[c], 0.0f)));
+                else
+                    out.set_deep_value(int64_t(p), c, int(s), v[c]);
+            }
+        }
+}
+
+} // namespace dhdr

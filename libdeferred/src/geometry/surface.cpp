@@ -1,0 +1,106 @@
+#include <algorithm>
+#include <cmath>
+#include <dhdr/deferred/geometry/surface.h>
+
+namespace dhdr {
+
+double positionError(const glm::dvec3& P, const glm::dvec3 vertices[3],
+                     const glm::dmat4* instance) {
+    constexpr double ulp = 0x1p-24; // float's unit roundoff: ½ ulp relative
+    double largest = 0.0, extent = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        const glm::dvec3 a = glm::abs(vertices[i]);
+        const glm::dvec3 e = glm::abs(vertices[(i + 1) % 3] - vertices[i]);
+        largest = std::max({largest, a.x, a.y, a.z});
+        extent = std::max({extent, e.x, e.y, e.z});
+    }
+    const glm::dvec3 p = glm::abs(P);
+    const double size = std::max({p.x, p.y, p.z});
+    double kernel = largest + extent;
+    // An instance's triangles stand where float(M) puts them, and a ray is taken into node
+    // space by the float inverse: roundings of |b| and of |P| (which cancel to the node-space
+    // point) beyond the world triangle's.
+    if (instance) {
+        const glm::dvec3 b = glm::abs(glm::dvec3((*instance)[3]));
+        kernel += size + std::max({b.x, b.y, b.z});
+    }
+    return ulp * size + kKernelUlps * 2.0 * ulp * kernel;
+}
+
+SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
+    if (hit.mesh == kGroundPlaneHit) {
+        SurfaceSample s;
+        s.position = ray.origin + hit.t * ray.direction;
+        s.position.y = scene.groundPlaneY; // on the plane exactly
+        s.normal = glm::dvec3(0.0, ray.direction.y < 0.0 ? 1.0 : -1.0, 0.0);
+        s.interpolated = s.geometric = s.normal;
+        // Only the rounding of x and z: y is exact, and shadow rays meet the plane
+        // analytically (RayCaster), not through Embree.
+        s.positionError = 0x1p-24 * std::max({std::abs(s.position.x), std::abs(s.position.z),
+                                              std::abs(s.position.y)});
+        s.material = &scene.materials[size_t(scene.groundMaterial)];
+        s.albedo = s.material->baseColor;
+        s.emission = glm::vec3(0.0f);
+        return s;
+    }
+    const Mesh& mesh = scene.meshes[size_t(hit.mesh)];
+    const glm::uvec3 tri = mesh.triangles[size_t(hit.triangle)];
+    const double w1 = hit.u, w2 = hit.v, w0 = 1.0 - w1 - w2;
+    SurfaceSample s;
+    // From the vertices rather than along the ray: the hit distance's error (Embree's
+    // approximate reciprocal, its last bits kernel-dependent) would move P off the plane in
+    // proportion to the camera distance; the barycentrics' error only moves it along it.
+    const glm::dvec3 vertices[3] = {glm::dvec3(mesh.positions[tri[0]]),
+                                    glm::dvec3(mesh.positions[tri[1]]),
+                                    glm::dvec3(mesh.positions[tri[2]])};
+    s.position = w0 * vertices[0] + w1 * vertices[1] + w2 * vertices[2];
+    s.positionError =
+        positionError(s.position, vertices, mesh.instance ? &*mesh.instance : nullptr);
+    glm::dvec3 face = glm::cross(vertices[1] - vertices[0], vertices[2] - vertices[0]);
+    // A degenerate triangle (Embree reports none, but a sliver may underflow): the ray's own
+    // direction stands in.
+    face = glm::dot(face, face) > 0.0 ? glm::normalize(face) : -ray.direction;
+    s.geometric = glm::dot(face, ray.direction) > 0.0 ? -face : face;
+    const glm::dvec3 n0(mesh.normals[tri[0]]), n1(mesh.normals[tri[1]]), n2(mesh.normals[tri[2]]);
+    s.normal = w0 * n0 + w1 * n1 + w2 * n2;
+    // A vertex without a normal (zero in the file), or normals that cancel: the triangle's own.
+    const auto missing = [](const glm::dvec3& n) { return glm::dot(n, n) < 0.25; };
+    if (missing(n0) || missing(n1) || missing(n2) || glm::dot(s.normal, s.normal) < 1e-20)
+        s.normal = face;
+    s.normal = glm::normalize(s.normal);
+    // The contract's normals face the camera: a back face is shaded as seen.
+    s.backFace = glm::dot(s.normal, ray.direction) > 0.0;
+    if (s.backFace) s.normal = -s.normal;
+    s.interpolated = s.normal;
+
+    s.material = &scene.materials[size_t(mesh.material)];
+    const Material& m = *s.material;
+    s.albedo = m.baseColor;
+    s.emission = m.emission;
+    if (mesh.uvs.empty()) return s;
+    const glm::vec2 uv =
+        float(w0) * mesh.uvs[tri[0]] + float(w1) * mesh.uvs[tri[1]] + float(w2) * mesh.uvs[tri[2]];
+    auto sample = [&](const TextureRef& ref) {
+        return scene.textures[size_t(ref.texture)].sample(ref.transform.apply(uv));
+    };
+    if (m.baseColorTexture.texture >= 0) s.albedo *= glm::vec3(sample(m.baseColorTexture));
+    if (m.emissiveTexture.texture >= 0) s.emission *= glm::vec3(sample(m.emissiveTexture));
+    if (m.normalTexture.texture >= 0 && !mesh.tangents.empty()) {
+        // glTF 2.0 §3.9.3: n = normalize(T·x + B·y + N·z) with (x, y, z) = (2·texel − 1) and
+        // x, y scaled by normalTexture.scale.
+        const glm::dvec3 T = w0 * glm::dvec3(mesh.tangents[tri[0]]) +
+                             w1 * glm::dvec3(mesh.tangents[tri[1]]) +
+                             w2 * glm::dvec3(mesh.tangents[tri[2]]);
+        const glm::dvec3 B = w0 * glm::dvec3(mesh.bitangents[tri[0]]) +
+                             w1 * glm::dvec3(mesh.bitangents[tri[1]]) +
+                             w2 * glm::dvec3(mesh.bitangents[tri[2]]);
+        const glm::dvec3 t = glm::dvec3(sample(m.normalTexture)) * 2.0 - 1.0;
+        const glm::dvec3 mapped = T * (t.x * double(m.normalScale)) +
+                                  B * (t.y * double(m.normalScale)) + s.interpolated * t.z;
+        if (glm::dot(mapped, mapped) > 1e-20) s.normal = glm::normalize(mapped);
+        if (glm::dot(s.normal, ray.direction) > 0.0) s.normal = -s.normal;
+    }
+    return s;
+}
+
+} // namespace dhdr

@@ -1,0 +1,493 @@
+#include "load/gltf_json.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <iterator>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <utility>
+#include <vector>
+
+namespace dhdr::detail {
+
+namespace {
+
+// The JSON chunk of a binary glTF: 12-byte header, then chunk length, chunk type "JSON".
+std::string glbJsonChunk(const std::vector<char>& bytes) {
+    if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0) return {};
+    std::uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + 12, 4);
+    if (std::memcmp(bytes.data() + 16, "JSON", 4) != 0 || 20 + size_t(length) > bytes.size())
+        return {};
+    return std::string(bytes.data() + 20, length);
+}
+
+} // namespace
+
+nlohmann::json gltfJson(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return nlohmann::json(nlohmann::json::value_t::discarded);
+    const std::vector<char> bytes((std::istreambuf_iterator<char>(in)),
+                                  std::istreambuf_iterator<char>());
+    const std::string text = glbJsonChunk(bytes);
+    return nlohmann::json::parse(text.empty() ? std::string(bytes.begin(), bytes.end()) : text,
+                                 nullptr, false);
+}
+
+namespace {
+
+// Thrown by the field readers below, caught in gltfLightsByNode.
+struct FieldError {
+    std::string message;
+};
+
+// A finite number that a float holds.
+bool isFloat(const nlohmann::json& v) {
+    return v.is_number() && std::isfinite(v.get<double>()) &&
+           std::abs(v.get<double>()) <= double(std::numeric_limits<float>::max());
+}
+
+float numberOr(const nlohmann::json& j, const char* key, float fallback) {
+    if (!j.contains(key)) return fallback;
+    if (!isFloat(j[key])) throw FieldError{std::string("\"") + key + "\" must be a number"};
+    return j[key].get<float>();
+}
+
+glm::vec3 vec3Or(const nlohmann::json& j, const char* key, glm::vec3 fallback) {
+    if (!j.contains(key)) return fallback;
+    const nlohmann::json& a = j[key];
+    if (!a.is_array() || a.size() != 3 || !isFloat(a[0]) || !isFloat(a[1]) || !isFloat(a[2]))
+        throw FieldError{std::string("\"") + key + "\" must be an array of 3 numbers"};
+    return {a[0].get<float>(), a[1].get<float>(), a[2].get<float>()};
+}
+
+} // namespace
+
+std::map<std::string, float> gltfEmissiveStrengths(const nlohmann::json& doc) {
+    std::map<std::string, float> out;
+    if (doc.is_discarded() || !doc.contains("materials")) return out;
+    for (const auto& m : doc["materials"]) {
+        if (!m.is_object() || !m.contains("name") || !m["name"].is_string()) continue;
+        const auto ext = m.value("extensions", nlohmann::json::object());
+        if (!ext.contains("KHR_materials_emissive_strength")) continue;
+        const auto& s = ext["KHR_materials_emissive_strength"];
+        if (s.contains("emissiveStrength") && isFloat(s["emissiveStrength"]))
+            out[m["name"].get<std::string>()] = s["emissiveStrength"].get<float>();
+    }
+    return out;
+}
+
+bool gltfLightsByNode(const nlohmann::json& doc, std::map<std::string, GltfLight>& out,
+                      std::string& error) {
+    out.clear();
+    if (doc.is_discarded() || !doc.contains("nodes") || !doc["nodes"].is_array() ||
+        !doc.contains("extensions") || !doc["extensions"].is_object())
+        return true;
+    const nlohmann::json& ext = doc["extensions"];
+    if (!ext.contains("KHR_lights_punctual") || !ext["KHR_lights_punctual"].is_object())
+        return true;
+    const nlohmann::json& punctual = ext["KHR_lights_punctual"];
+    if (!punctual.contains("lights") || !punctual["lights"].is_array()) return true;
+    const nlohmann::json& lights = punctual["lights"];
+    for (const auto& node : doc["nodes"]) {
+        if (!node.is_object() || !node.contains("name") || !node["name"].is_string()) continue;
+        if (!node.contains("extensions") || !node["extensions"].is_object()) continue;
+        const nlohmann::json& nodeExt = node["extensions"];
+        if (!nodeExt.contains("KHR_lights_punctual")) continue;
+        const auto& ref = nodeExt["KHR_lights_punctual"];
+        if (!ref.is_object() || !ref.contains("light") || !ref["light"].is_number_unsigned())
+            continue;
+        const size_t index = ref["light"].get<size_t>();
+        if (index >= lights.size() || !lights[index].is_object()) continue;
+        const auto& l = lights[index];
+        GltfLight g;
+        try {
+            if (l.contains("type")) {
+                if (!l["type"].is_string()) throw FieldError{"\"type\" must be a string"};
+                g.type = l["type"].get<std::string>();
+            }
+            g.color = vec3Or(l, "color", glm::vec3(1.0f));
+            g.intensity = numberOr(l, "intensity", 1.0f);
+            g.range = numberOr(l, "range", 0.0f);
+            if (l.contains("spot")) {
+                if (!l["spot"].is_object()) throw FieldError{"\"spot\" must be an object"};
+                g.innerConeAngle = numberOr(l["spot"], "innerConeAngle", 0.0f);
+                g.outerConeAngle = numberOr(l["spot"], "outerConeAngle", 0.7853982f);
+            }
+        } catch (const FieldError& e) {
+            error = "KHR_lights_punctual light " + std::to_string(index) + ": " + e.message;
+            return false;
+        }
+        out[node["name"].get<std::string>()] = g;
+    }
+    return true;
+}
+
+std::set<std::string> gltfNames(const nlohmann::json& doc, const char* array) {
+    std::set<std::string> out;
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains(array) || !doc[array].is_array())
+        return out;
+    for (const auto& e : doc[array])
+        if (e.is_object() && e.contains("name") && e["name"].is_string())
+            out.insert(e["name"].get<std::string>());
+    return out;
+}
+
+std::map<std::string, GltfCamera> gltfCamerasByNode(const nlohmann::json& doc) {
+    std::map<std::string, GltfCamera> out;
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains("nodes") ||
+        !doc["nodes"].is_array() || !doc.contains("cameras") || !doc["cameras"].is_array())
+        return out;
+    const nlohmann::json& cameras = doc["cameras"];
+    for (const auto& node : doc["nodes"]) {
+        if (!node.is_object() || !node.contains("name") || !node["name"].is_string() ||
+            !node.contains("camera") || !node["camera"].is_number_unsigned())
+            continue;
+        const size_t index = node["camera"].get<size_t>();
+        if (index >= cameras.size() || !cameras[index].is_object()) continue;
+        const nlohmann::json& c = cameras[index];
+        GltfCamera g;
+        g.name = c.contains("name") && c["name"].is_string() ? c["name"].get<std::string>()
+                                                             : std::to_string(index);
+        // A number a float holds (Assimp reads it into one); its range is Camera::problem's to
+        // judge.
+        auto number = [](const nlohmann::json& j, const char* key, double fallback, bool required) {
+            if (!j.contains(key)) {
+                if (required) throw FieldError{std::string("has no \"") + key + "\""};
+                return fallback;
+            }
+            if (!isFloat(j[key]))
+                throw FieldError{std::string("\"") + key + "\" must be a number a float holds"};
+            return j[key].get<double>();
+        };
+        try {
+            g.orthographic = c.contains("type") && c["type"] == "orthographic";
+            const char* kind = g.orthographic ? "orthographic" : "perspective";
+            if (!c.contains(kind) || !c[kind].is_object())
+                throw FieldError{std::string("has no \"") + kind + "\" object"};
+            const nlohmann::json& p = c[kind];
+            if (g.orthographic) {
+                g.xmag = number(p, "xmag", 0.0, true);
+                g.ymag = number(p, "ymag", 0.0, true);
+                g.znear = number(p, "znear", 0.0, true);
+                g.zfar = number(p, "zfar", 0.0, true);
+            } else {
+                g.yfov = number(p, "yfov", 0.0, true);
+                g.aspectRatio = number(p, "aspectRatio", 0.0, false);
+                if (p.contains("aspectRatio") && !(g.aspectRatio > 0.0))
+                    throw FieldError{"its aspectRatio, " + p["aspectRatio"].dump() +
+                                     ", is not a positive number"};
+                g.znear = number(p, "znear", 0.0, true);
+                g.zfar = number(p, "zfar", 0.0, false);
+                if (p.contains("zfar") && !(g.zfar > g.znear))
+                    throw FieldError{"its zfar, " + p["zfar"].dump() +
+                                     ", is not greater than its znear"};
+            }
+        } catch (const FieldError& e) {
+            g.problem = e.message;
+        }
+        out[node["name"].get<std::string>()] = g;
+    }
+    return out;
+}
+
+namespace {
+
+// KHR_texture_transform of a textureInfo, and whether it asks for a UV set other than 0.
+TextureTransform textureTransform(const nlohmann::json& info, bool& otherUvSet) {
+    TextureTransform t;
+    if (!info.is_object()) return t;
+    if (info.contains("texCoord") && info["texCoord"].is_number() && info["texCoord"] != 0)
+        otherUvSet = true;
+    if (!info.contains("extensions") || !info["extensions"].is_object()) return t;
+    const nlohmann::json& ext = info["extensions"];
+    if (!ext.contains("KHR_texture_transform") || !ext["KHR_texture_transform"].is_object())
+        return t;
+    const nlohmann::json& k = ext["KHR_texture_transform"];
+    auto vec2 = [&](const char* key, glm::vec2 fallback) {
+        if (!k.contains(key) || !k[key].is_array() || k[key].size() != 2 || !isFloat(k[key][0]) ||
+            !isFloat(k[key][1]))
+            return fallback;
+        return glm::vec2(k[key][0].get<float>(), k[key][1].get<float>());
+    };
+    t.offset = vec2("offset", glm::vec2(0.0f));
+    t.scale = vec2("scale", glm::vec2(1.0f));
+    if (k.contains("rotation") && isFloat(k["rotation"])) t.rotation = k["rotation"].get<float>();
+    if (k.contains("texCoord") && k["texCoord"].is_number() && k["texCoord"] != 0)
+        otherUvSet = true;
+    return t;
+}
+
+} // namespace
+
+std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann::json& doc) {
+    std::map<std::string, GltfMaterialTextures> out;
+    if (doc.is_discarded() || !doc.contains("materials") || !doc["materials"].is_array())
+        return out;
+    for (const auto& m : doc["materials"]) {
+        if (!m.is_object() || !m.contains("name") || !m["name"].is_string()) continue;
+        GltfMaterialTextures t;
+        bool other = false;
+        if (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object() &&
+            m["pbrMetallicRoughness"].contains("baseColorTexture"))
+            t.baseColor = textureTransform(m["pbrMetallicRoughness"]["baseColorTexture"], other);
+        if (m.contains("emissiveTexture"))
+            t.emissive = textureTransform(m["emissiveTexture"], other);
+        if (m.contains("normalTexture")) {
+            t.normal = textureTransform(m["normalTexture"], other);
+            if (m["normalTexture"].is_object() && m["normalTexture"].contains("scale") &&
+                isFloat(m["normalTexture"]["scale"]))
+                t.normalScale = m["normalTexture"]["scale"].get<float>();
+        }
+        out[m["name"].get<std::string>()] = t;
+    }
+    return out;
+}
+
+std::string gltfEmptySceneReason(const nlohmann::json& doc) {
+    if (doc.is_discarded() || !doc.is_object()) return {};
+    if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty())
+        return "the file has no scene";
+    const size_t index =
+        doc.contains("scene") && doc["scene"].is_number_unsigned() ? doc["scene"].get<size_t>() : 0;
+    if (index >= doc["scenes"].size()) return "its default scene does not exist";
+    const nlohmann::json& scene = doc["scenes"][index];
+    if (!scene.is_object() || !scene.contains("nodes") || !scene["nodes"].is_array() ||
+        scene["nodes"].empty())
+        return "its scene has no nodes (nothing to render)";
+    return {};
+}
+
+std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
+    static const char* const kRead[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                        "KHR_texture_transform"};
+    std::vector<std::string> out;
+    if (doc.is_discarded() || !doc.is_object()) return out;
+    if (doc.contains("extensionsUsed") && doc["extensionsUsed"].is_array()) {
+        std::string ignored;
+        for (const auto& e : doc["extensionsUsed"]) {
+            if (!e.is_string()) continue;
+            const std::string name = e.get<std::string>();
+            if (std::find(std::begin(kRead), std::end(kRead), name) == std::end(kRead))
+                ignored += (ignored.empty() ? "" : ", ") + name;
+        }
+        if (!ignored.empty()) out.push_back("glTF extensions not read: " + ignored);
+    }
+    bool morph = false;
+    if (doc.contains("meshes") && doc["meshes"].is_array())
+        for (const auto& mesh : doc["meshes"])
+            if (mesh.is_object() && mesh.contains("primitives") && mesh["primitives"].is_array())
+                for (const auto& p : mesh["primitives"])
+                    morph = morph || (p.is_object() && p.contains("targets"));
+    // A file with animations has its morph targets and skins applied (gltf_morph.h).
+    const bool animated =
+        doc.contains("animations") && doc["animations"].is_array() && !doc["animations"].empty();
+    morph = morph && !animated;
+    const bool skins =
+        !animated && doc.contains("skins") && doc["skins"].is_array() && !doc["skins"].empty();
+    if (skins || morph)
+        out.push_back(std::string(skins && morph ? "skins and morph targets"
+                                  : skins        ? "skins"
+                                                 : "morph targets") +
+                      " are not applied: meshes are rendered in their rest pose");
+    bool otherUv = false, metallicRoughness = false, occlusion = false;
+    if (doc.contains("materials") && doc["materials"].is_array())
+        for (const auto& m : doc["materials"]) {
+            if (!m.is_object()) continue;
+            occlusion = occlusion || m.contains("occlusionTexture");
+            metallicRoughness =
+                metallicRoughness ||
+                (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object() &&
+                 m["pbrMetallicRoughness"].contains("metallicRoughnessTexture"));
+            for (const char* slot : {"normalTexture", "emissiveTexture", "occlusionTexture"})
+                if (m.contains(slot)) textureTransform(m[slot], otherUv);
+            if (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object())
+                for (const char* slot : {"baseColorTexture", "metallicRoughnessTexture"})
+                    if (m["pbrMetallicRoughness"].contains(slot))
+                        textureTransform(m["pbrMetallicRoughness"][slot], otherUv);
+        }
+    if (otherUv) out.push_back("textures on a second UV set are sampled with the first");
+    if (metallicRoughness)
+        out.push_back("metallic-roughness textures are not read: their factors alone are used");
+    if (occlusion) out.push_back("occlusion textures are not read");
+    return out;
+}
+
+namespace {
+
+// A node's local transform: its matrix, else translation · rotation · scale; a field of the
+// wrong shape counts as absent (as the rest of the file, Assimp judges it).
+glm::dmat4 localTransform(const nlohmann::json& node) {
+    auto numbers = [&](const char* key, size_t count, std::vector<double>& out) {
+        out.clear();
+        if (!node.contains(key) || !node[key].is_array() || node[key].size() != count) return false;
+        for (const auto& v : node[key]) {
+            if (!v.is_number()) return false;
+            out.push_back(v.get<double>());
+        }
+        return true;
+    };
+    std::vector<double> v;
+    if (numbers("matrix", 16, v)) return glm::make_mat4(v.data());
+    glm::dmat4 m(1.0);
+    if (numbers("translation", 3, v)) m[3] = glm::dvec4(v[0], v[1], v[2], 1.0);
+    if (numbers("rotation", 4, v)) m = m * glm::mat4_cast(glm::dquat(v[3], v[0], v[1], v[2]));
+    if (numbers("scale", 3, v)) m = m * glm::scale(glm::dmat4(1.0), glm::dvec3(v[0], v[1], v[2]));
+    return m;
+}
+
+// The children of node `n` that exist.
+std::vector<size_t> childrenOf(const nlohmann::json& nodes, size_t n) {
+    std::vector<size_t> out;
+    const nlohmann::json& node = nodes[n];
+    if (!node.is_object() || !node.contains("children") || !node["children"].is_array()) return out;
+    for (const auto& c : node["children"])
+        if (c.is_number_unsigned() && c.get<size_t>() < nodes.size())
+            out.push_back(c.get<size_t>());
+    return out;
+}
+
+} // namespace
+
+bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& original,
+                          std::string& bytes, std::string& error) {
+    bytes.clear();
+    if (original.is_discarded() || !original.is_object() || !original.contains("nodes") ||
+        !original["nodes"].is_array())
+        return true;
+    const nlohmann::json& nodes = original["nodes"];
+    const size_t count = nodes.size();
+
+    // Depth of every node from the nodes no node names as a child, and cycles: a node on the
+    // current path met again. An explicit stack of (node, depth, next child to visit).
+    std::vector<std::vector<size_t>> children(count);
+    std::vector<int> parents(count, 0);
+    for (size_t n = 0; n < count; ++n) {
+        children[n] = childrenOf(nodes, n);
+        for (size_t c : children[n])
+            ++parents[c];
+    }
+    enum : char { kUnseen, kOnPath, kDone };
+    std::vector<char> state(count, kUnseen);
+    int deepest = 0;
+    bool shared = false;
+    auto walk = [&](size_t root) {
+        std::vector<std::pair<size_t, size_t>> stack = {{root, 0}}; // node, next child index
+        state[root] = kOnPath;
+        while (!stack.empty()) {
+            deepest = std::max(deepest, int(stack.size()));
+            auto& [n, next] = stack.back();
+            if (next == children[n].size()) {
+                state[n] = kDone;
+                stack.pop_back();
+                continue;
+            }
+            const size_t c = children[n][next++];
+            if (state[c] == kOnPath) {
+                error = "node " + std::to_string(c) +
+                        " is its own ancestor (the nodes form a cycle, not a tree)";
+                return false;
+            }
+            if (state[c] == kDone) {
+                shared = true;
+                continue;
+            }
+            state[c] = kOnPath;
+            stack.emplace_back(c, 0);
+        }
+        return true;
+    };
+    for (size_t n = 0; n < count; ++n)
+        if (parents[n] == 0 && !walk(n)) return false;
+    // What no root reaches lies on a cycle (or hangs from one).
+    for (size_t n = 0; n < count; ++n)
+        if (state[n] == kUnseen && !walk(n)) return false;
+    if (deepest <= kMaxGltfNodeDepth) return true;
+    if (shared) {
+        error = "a node is the child of two nodes (the nodes do not form a tree)";
+        return false;
+    }
+
+    // The default scene's nodes, depth first in the file's order, with their world transforms,
+    // in a copy of the document.
+    nlohmann::json doc = original;
+    if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) return true;
+    const size_t sceneIndex =
+        doc.contains("scene") && doc["scene"].is_number_unsigned() ? doc["scene"].get<size_t>() : 0;
+    if (sceneIndex >= doc["scenes"].size() || !doc["scenes"][sceneIndex].is_object()) return true;
+    nlohmann::json& scene = doc["scenes"][sceneIndex];
+    if (!scene.contains("nodes") || !scene["nodes"].is_array()) return true;
+    std::vector<std::pair<size_t, glm::dmat4>> stack;
+    for (size_t i = scene["nodes"].size(); i-- > 0;)
+        if (scene["nodes"][i].is_number_unsigned() && scene["nodes"][i].get<size_t>() < count)
+            stack.emplace_back(scene["nodes"][i].get<size_t>(), glm::dmat4(1.0));
+    std::vector<std::pair<size_t, glm::dmat4>> flat;
+    while (!stack.empty()) {
+        const auto [n, parent] = stack.back();
+        stack.pop_back();
+        const glm::dmat4 world = parent * localTransform(nodes[n]);
+        flat.emplace_back(n, world);
+        for (size_t i = children[n].size(); i-- > 0;)
+            stack.emplace_back(children[n][i], world);
+    }
+    nlohmann::json roots = nlohmann::json::array();
+    for (const auto& [n, world] : flat) {
+        nlohmann::json& node = doc["nodes"][n];
+        if (!node.is_object()) continue;
+        for (const char* key : {"children", "translation", "rotation", "scale", "matrix"})
+            node.erase(key);
+        const double* m = glm::value_ptr(world);
+        node["matrix"] = std::vector<double>(m, m + 16);
+        roots.push_back(n);
+    }
+    scene["nodes"] = roots;
+
+    bytes = gltfBytesWithJson(path, gltfForAssimp(doc));
+    return true;
+}
+
+bool gltfHasAnimationOrSkins(const nlohmann::json& doc) {
+    return doc.is_object() && (doc.contains("animations") || doc.contains("skins"));
+}
+
+nlohmann::json gltfForAssimp(nlohmann::json doc) {
+    doc.erase("animations");
+    doc.erase("skins");
+    if (doc.contains("nodes") && doc["nodes"].is_array())
+        for (auto& node : doc["nodes"])
+            if (node.is_object()) node.erase("skin");
+    return doc;
+}
+
+std::string gltfBytesWithJson(const std::string& path, const nlohmann::json& doc) {
+    std::string text = doc.dump();
+    std::ifstream in(path, std::ios::binary);
+    const std::vector<char> file((std::istreambuf_iterator<char>(in)),
+                                 std::istreambuf_iterator<char>());
+    const bool glb = !glbJsonChunk(file).empty();
+    if (!glb) return text;
+    // A binary glTF: header, the new JSON chunk padded with spaces to 4 bytes, then the
+    // file's other chunks as they were.
+    while (text.size() % 4 != 0)
+        text += ' ';
+    std::uint32_t oldLength = 0;
+    std::memcpy(&oldLength, file.data() + 12, 4);
+    const size_t rest = 20 + size_t(oldLength);
+    const std::uint32_t jsonLength = std::uint32_t(text.size());
+    const std::uint32_t total = std::uint32_t(12 + 8 + text.size() + (file.size() - rest));
+    std::string bytes(file.data(), 8);
+    bytes.append(reinterpret_cast<const char*>(&total), 4);
+    bytes.append(reinterpret_cast<const char*>(&jsonLength), 4);
+    bytes.append("JSON", 4);
+    bytes += text;
+    bytes.append(file.data() + rest, file.size() - rest);
+    return bytes;
+}
+
+} // namespace dhdr::detail

@@ -1,0 +1,101 @@
+// What Debian's Assimp 5.2 drops from glTF files, read from the file's own JSON.
+#pragma once
+
+#include <dhdr/deferred/scene/scene.h>
+#include <glm/glm.hpp>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace dhdr::detail {
+
+// The JSON document of a .gltf or .glb file, read once by loadScene and handed to the readers
+// below; discarded when the file is neither.
+nlohmann::json gltfJson(const std::string& path);
+
+// KHR_materials_emissive_strength per material name, from a .gltf or .glb file. Empty for
+// other files, or when no material uses the extension.
+std::map<std::string, float> gltfEmissiveStrengths(const nlohmann::json& doc);
+
+// What Assimp 5.2 does not report of a glTF material's textures: KHR_texture_transform of
+// each reference and the normal map's scale.
+struct GltfMaterialTextures {
+    TextureTransform baseColor, emissive, normal;
+    float normalScale = 1.0f;
+};
+
+// Per material name, from a .gltf or .glb file; empty for other files.
+std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann::json& doc);
+
+// What the file uses that dhdr leaves out, one line each: extensions it does not read
+// (from extensionsUsed), skins and morph targets (the rest pose is rendered), texture
+// references to a second UV set.
+std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc);
+
+// Why a glTF file Assimp loads without a message holds nothing to render ("its scene has no
+// nodes"); empty when the file does not say.
+std::string gltfEmptySceneReason(const nlohmann::json& doc);
+
+// A KHR_lights_punctual light as the file gives it (Assimp 5.2 folds the intensity into the
+// colour and drops the range).
+struct GltfLight {
+    std::string type = "point";
+    glm::vec3 color{1.0f};
+    float intensity = 1.0f;
+    float range = 0.0f; // 0: none given
+    float innerConeAngle = 0.0f, outerConeAngle = 0.7853982f;
+};
+
+// The lights of a .gltf or .glb file by the name of the node that holds them. False, with
+// `error` naming the light and field, when a field has the wrong type or does not fit a float
+// (Assimp accepts such files).
+bool gltfLightsByNode(const nlohmann::json& doc, std::map<std::string, GltfLight>& lights,
+                      std::string& error);
+
+// A glTF camera as the file gives it: Assimp 5.2 passes its numbers through floats and
+// folds the aspect ratio into the field of view, and reports an absent zfar as a number.
+struct GltfCamera {
+    std::string name; // the camera's own name, for messages
+    bool orthographic = false;
+    double yfov = 0.0, aspectRatio = 0.0; // perspective; aspectRatio 0: none given
+    double xmag = 0.0, ymag = 0.0;        // orthographic
+    double znear = 0.0, zfar = 0.0;       // zfar 0: none given (perspective)
+    std::string problem; // a field of the wrong type, or missing: the camera is unusable
+};
+
+// The cameras of a .gltf or .glb file by the name of the node that holds them (unnamed nodes
+// are left out).
+std::map<std::string, GltfCamera> gltfCamerasByNode(const nlohmann::json& doc);
+
+// The names the file gives the elements of its top-level array `array` ("nodes", "meshes"):
+// Assimp 5.2 names an unnamed one after its place ("nodes[3]"), which is no name to show.
+std::set<std::string> gltfNames(const nlohmann::json& doc, const char* array);
+
+// Assimp 5.2 reads a glTF node tree recursively, and its stack overflows on a few thousand
+// levels: nodes nested deeper than this are handed to it flattened.
+inline constexpr int kMaxGltfNodeDepth = 256;
+
+// When the node tree of the .gltf or .glb file at `path` (its JSON `doc`) nests deeper than
+// kMaxGltfNodeDepth, the file's bytes with the default scene's nodes flattened (each node's world
+// transform as its matrix, no children, all of them the scene's roots, in depth-first order) in
+// `bytes`; else `bytes` empty. Walks the tree with an explicit stack. False, with `error`, when the
+// nodes do not form a tree (a node its own ancestor, which Assimp would recurse on forever, or
+// reached twice in a tree it must flatten).
+bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& doc, std::string& bytes,
+                          std::string& error);
+
+// What Assimp is handed of a glTF file's JSON: dhdr reads animations and skins itself, and
+// Assimp 5.2 gets them wrong (it makes STEP and CUBICSPLINE linear, crashes on a skin without
+// inverseBindMatrices, and its validation refuses files for mistakes in animations with
+// messages about its own structures), so `doc` without `animations`, `skins` and the nodes'
+// `skin` (docs/scenes.md).
+bool gltfHasAnimationOrSkins(const nlohmann::json& doc);
+nlohmann::json gltfForAssimp(nlohmann::json doc);
+
+// The bytes of the .gltf or .glb file at `path` with `doc` as its JSON (a .glb keeps its other
+// chunks as they are).
+std::string gltfBytesWithJson(const std::string& path, const nlohmann::json& doc);
+
+} // namespace dhdr::detail

@@ -1,0 +1,319 @@
+#include "render/motion_vectors.h"
+
+#include <OpenImageIO/imagebufalgo_util.h>
+#include <atomic>
+#include <cmath>
+#include <dhdr/common/parallel.h>
+#include <dhdr/deferred/gbuffer/deep_gbuffer.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/geometry/surface.h>
+#include <dhdr/deferred/render/gbuffer_render.h>
+#include <dhdr/deferred/scene/scene.h>
+#include <limits>
+#include <optional>
+
+namespace dhdr {
+
+// The Cryptomatte ids of the scene's objects and materials, by index.
+struct CryptoIds {
+    std::vector<float> objects, materials;
+};
+
+namespace {
+
+void setNameTable(OIIO::ImageSpec& spec, const char* name, const std::vector<std::string>& names) {
+    std::vector<const char*> pointers;
+    pointers.push_back(""); // id 0: background
+    for (const std::string& n : names)
+        pointers.push_back(n.c_str());
+    spec.attribute(name, OIIO::TypeDesc(OIIO::TypeDesc::STRING, int(pointers.size())),
+                   pointers.data());
+}
+
+// A surface along a primary ray and its alpha.
+struct Layer {
+    RayHit hit;
+    float alpha = 1.0f;
+};
+
+// The surfaces along `ray` front to back up to and including the first opaque one (with
+// `firstOnly`, the first surface of any kind): Mask cut-outs are no surface; Blend surfaces
+// are kept while there is room for them and the opaque one (at most maxLayers in all), later
+// ones are passed through. The search goes on past a surface from a new origin just beyond
+// it, offset along its geometric normal by its position's error bound (offsetRayOrigin), so
+// that no kernel's ulps find the same surface again, whatever the distance; hits keep their
+// distance along the first ray.
+int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int maxLayers,
+                Layer* out, bool firstOnly = false) {
+    int n = 0;
+    Ray search = ray;
+    double travelled = 0.0; // from ray.origin to search.origin, along the direction
+    // Bounded: a ray crosses a finite number of surfaces, but rounding must not loop forever.
+    for (int step = 0; step < 4096; ++step) {
+        RayHit hit = caster.intersect(search);
+        if (!hit.hit) break;
+        hit.t += travelled;
+        const SurfaceSample s = surfaceAt(scene, ray, hit);
+        const SurfacePoint at{glm::vec3(s.position), glm::vec3(s.geometric),
+                              float(s.positionError)};
+        search.origin = glm::dvec3(offsetRayOrigin(at, glm::vec3(ray.direction)));
+        travelled = std::max(travelled, glm::dot(search.origin - ray.origin, ray.direction));
+        SurfaceCoverage c;
+        if (hit.mesh != kGroundPlaneHit)
+            c = surfaceCoverage(scene, hit.mesh, hit.triangle, hit.u, hit.v);
+        if (!c.present) continue;
+        const bool opaque = c.alpha >= 1.0f || firstOnly;
+        if (opaque || n < maxLayers - 1) out[n++] = {hit, c.alpha};
+        if (opaque) break;
+    }
+    return n;
+}
+
+// The contract's channels of a hit, where `layout` places them (a flat or a deep sample).
+void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuffer::Layout& layout,
+                const CryptoIds& crypto, const Ray& ray, const RayHit& hit, float alpha,
+                float* out) {
+    const SurfaceSample s = surfaceAt(scene, ray, hit);
+    const Material& m = *s.material;
+    const bool ground = hit.mesh == kGroundPlaneHit;
+    const int object = ground ? scene.groundObject : scene.meshes[size_t(hit.mesh)].object;
+    const int material = ground ? scene.groundMaterial : scene.meshes[size_t(hit.mesh)].material;
+    out[layout.coverage] = alpha;
+    out[layout.depth] = float(-(worldToCamera * glm::dvec4(s.position, 1.0)).z);
+    if (layout.depthBack >= 0) out[layout.depthBack] = out[layout.depth]; // a point sample
+    for (int c = 0; c < 3; ++c) {
+        out[layout.position + c] = float(s.position[c]);
+        out[layout.normal + c] = float(s.normal[c]);
+        out[layout.geometricNormal + c] = float(s.geometric[c]);
+        out[layout.albedo + c] = s.albedo[c];
+        out[layout.emission + c] = s.emission[c];
+    }
+    out[layout.positionError] = float(s.positionError) * (1.0f + 0x1p-20f); // rounded up
+    out[layout.roughness] = m.roughness;
+    out[layout.metallic] = m.metallic;
+    out[layout.objectId] = float(object + 1);
+    out[layout.materialId] = float(material + 1);
+    // Cryptomatte: rank 0 is this surface, covering what its alpha covers; rank 1 is empty
+    // (one surface a sample).
+    const float ranks[2][4] = {{crypto.objects[size_t(object)], alpha, 0.0f, 0.0f},
+                               {crypto.materials[size_t(material)], alpha, 0.0f, 0.0f}};
+    for (int c = 0; c < 4; ++c) {
+        out[layout.cryptoObject + c] = ranks[0][c];
+        out[layout.cryptoMaterial + c] = ranks[1][c];
+    }
+}
+
+// Where the writers put each channel: the contract's table, flat or deep.
+gbuffer::Layout layoutOf(const std::vector<std::string>& names) {
+    OIIO::ImageSpec spec(1, 1, int(names.size()), OIIO::TypeDesc::FLOAT);
+    spec.channelnames = names;
+    gbuffer::Layout layout;
+    std::string missing;
+    gbuffer::findLayout(spec, layout, missing);
+    return layout;
+}
+
+} // namespace
+
+std::vector<OIIO::TypeDesc> gbufferChannelFormats(bool motion) {
+    std::vector<OIIO::TypeDesc> formats;
+    for (const gbuffer::ContractChannel& c : gbuffer::kContract)
+        if (c.need != gbuffer::Need::DeepOnly)
+            for (int i = 0; i < c.components; ++i)
+                formats.push_back(c.type == gbuffer::FileType::Float  ? OIIO::TypeDesc::FLOAT
+                                  : c.type == gbuffer::FileType::Uint ? OIIO::TypeDesc::UINT
+                                                                      : OIIO::TypeDesc::HALF);
+    if (motion) formats.insert(formats.end(), 4, OIIO::TypeDesc::FLOAT);
+    return formats;
+}
+
+GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
+                                 const GBufferParams& params)
+    : GBufferRenderer(scene, camera, params, std::make_shared<RayCaster>(scene)) {}
+
+GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
+                                 const GBufferParams& params,
+                                 std::shared_ptr<const RayCaster> caster)
+    : m_scene(scene), m_camera(camera), m_params(params), m_caster(std::move(caster)) {
+    std::vector<std::string> names = gbuffer::channelNames();
+    if (params.motion)
+        names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
+    m_spec = OIIO::ImageSpec(std::max(params.width, 1), std::max(params.height, 1),
+                             int(names.size()), OIIO::TypeDesc::FLOAT);
+    m_spec.channelnames = names;
+    m_spec.alpha_channel = 0;
+    m_spec.z_channel = 1;
+    const double aspect = double(m_spec.width) / double(m_spec.height);
+    gbuffer::CameraInfo info;
+    info.worldToCamera = camera.worldToCamera();
+    info.worldToNDC = camera.worldToNDC(aspect);
+    gbuffer::writeCamera(m_spec, info);
+    const glm::dvec3 eye = camera.position();
+    const float eyeF[3] = {float(eye.x), float(eye.y), float(eye.z)};
+    m_spec.attribute("dhdr:cameraPosition", OIIO::TypeVector, eyeF);
+    m_spec.attribute("dhdr:projection", camera.orthographic ? "orthographic" : "perspective");
+    if (camera.orthographic)
+        m_spec.attribute("dhdr:orthographicHeight", float(2.0 * camera.ymag));
+    else
+        m_spec.attribute("dhdr:yfovDegrees", float(glm::degrees(camera.yfov)));
+    std::vector<std::string> materialNames;
+    for (const Material& m : scene.materials)
+        materialNames.push_back(m.name);
+    setNameTable(m_spec, "dhdr:objectNames", scene.objectNames);
+    setNameTable(m_spec, "dhdr:materialNames", materialNames);
+    auto crypto = std::make_shared<CryptoIds>();
+    for (const std::string& name : scene.objectNames)
+        crypto->objects.push_back(gbuffer::cryptomatteId(name));
+    for (const std::string& name : materialNames)
+        crypto->materials.push_back(gbuffer::cryptomatteId(name));
+    m_crypto = crypto;
+    gbuffer::writeCryptomatteHeader(m_spec, "CryptoObject", scene.objectNames);
+    gbuffer::writeCryptomatteHeader(m_spec, "CryptoMaterial", materialNames);
+    if (scene.hasGroundPlane) {
+        m_spec.attribute(gbuffer::kGroundPlaneY, scene.groundPlaneY);
+        m_spec.attribute(gbuffer::kShadowCatcher, scene.groundObject + 1);
+    }
+}
+
+GBufferRenderer::~GBufferRenderer() = default;
+
+bool GBufferRenderer::ok() const {
+    return m_caster->ok();
+}
+const std::string& GBufferRenderer::error() const {
+    return m_caster->error();
+}
+
+bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) const {
+    if (m_params.width <= 0 || m_params.height <= 0) {
+        dst.errorfmt("image size {}x{} is not positive", m_params.width, m_params.height);
+        return false;
+    }
+    if (!ok()) {
+        dst.errorfmt("{}", error());
+        return false;
+    }
+    const OIIO::ROI frame = OIIO::get_roi_full(m_spec);
+    roi = roi.defined() ? OIIO::roi_intersection(roi, frame) : frame;
+    const bool reusable = dst.initialized() && dst.spec().format == OIIO::TypeDesc::FLOAT &&
+                          dst.localpixels() && dst.nchannels() == m_spec.nchannels &&
+                          dst.spec().width == roi.width() && dst.spec().height == roi.height();
+    if (reusable) {
+        // The next strip of a frame: same memory, moved to the strip's place.
+        dst.set_origin(roi.xbegin, roi.ybegin);
+    } else {
+        OIIO::ImageSpec spec = m_spec;
+        spec.x = roi.xbegin;
+        spec.y = roi.ybegin;
+        spec.width = roi.width();
+        spec.height = roi.height();
+        dst.reset(spec);
+    }
+    roi.chbegin = 0;
+    roi.chend = m_spec.nchannels;
+
+    const int nch = m_spec.nchannels;
+    const glm::dmat4 worldToCamera = m_camera.worldToCamera();
+    const gbuffer::Layout layout = layoutOf(m_spec.channelnames);
+    // The motion layer, when there is one, is the last four channels.
+    std::optional<MotionVectors> motion;
+    if (m_params.motion)
+        motion.emplace(m_scene, *m_params.motion, m_camera, m_params.width, m_params.height);
+    std::atomic<int> rowsDone{0};
+    parallelImageRows(roi, nthreads, [&](OIIO::ROI r) {
+        for (int y = r.ybegin; y < r.yend; ++y) {
+            for (int x = r.xbegin; x < r.xend; ++x) {
+                float* px = static_cast<float*>(dst.pixeladdr(x, y));
+                const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
+                Layer front;
+                if (traceLayers(m_scene, *m_caster, ray, 1, &front, true) == 0) {
+                    std::fill(px, px + nch, 0.0f);
+                    px[1] = std::numeric_limits<float>::infinity();
+                    if (motion) motion->at(ray, RayHit{}, px + nch - 4);
+                    continue;
+                }
+                fillSample(m_scene, worldToCamera, layout, *m_crypto, ray, front.hit, 1.0f, px);
+                if (motion) motion->at(ray, front.hit, px + nch - 4);
+            }
+            const int done = ++rowsDone;
+            if (m_params.progress && (done % 64 == 0 || done == roi.height()))
+                m_params.progress(float(done) / float(roi.height()));
+        }
+    });
+    return true;
+}
+
+bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
+                                 long long* transparentSamples) const {
+    if (!ok()) return false;
+    if (m_params.maxLayers < 1) return false;
+    const OIIO::ROI frame = OIIO::get_roi_full(m_spec);
+    roi = roi.defined() ? OIIO::roi_intersection(roi, frame) : frame;
+    dst.spec = m_spec;
+    std::vector<std::string> names = gbuffer::deepChannelNames();
+    if (m_params.motion)
+        names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
+    dst.spec.nchannels = int(names.size());
+    dst.spec.channelnames = names;
+    dst.spec.x = roi.xbegin;
+    dst.spec.y = roi.ybegin;
+    dst.spec.width = roi.width();
+    dst.spec.height = roi.height();
+    const size_t nch = names.size();
+    const glm::dmat4 worldToCamera = m_camera.worldToCamera();
+    const gbuffer::Layout layout = layoutOf(names);
+    // Every sample carries its own motion (the last four channels).
+    std::optional<MotionVectors> motion;
+    if (m_params.motion)
+        motion.emplace(m_scene, *m_params.motion, m_camera, m_params.width, m_params.height);
+    // Each row's samples apart, joined in row order after: the same buffer for any threads.
+    std::vector<std::vector<std::uint32_t>> counts(size_t(roi.height()));
+    std::vector<std::vector<float>> values(size_t(roi.height()));
+    std::atomic<long long> transparent{0};
+    std::atomic<int> rowsDone{0};
+    parallelImageRows(roi, nthreads, [&](OIIO::ROI r) {
+        std::vector<Layer> layers(size_t(m_params.maxLayers));
+        long long local = 0;
+        for (int y = r.ybegin; y < r.yend; ++y) {
+            std::vector<std::uint32_t>& rowCounts = counts[size_t(y - roi.ybegin)];
+            std::vector<float>& rowValues = values[size_t(y - roi.ybegin)];
+            for (int x = r.xbegin; x < r.xend; ++x) {
+                const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
+                const int n =
+                    traceLayers(m_scene, *m_caster, ray, m_params.maxLayers, layers.data());
+                rowCounts.push_back(std::uint32_t(n));
+                for (int k = 0; k < n; ++k) {
+                    rowValues.resize(rowValues.size() + nch);
+                    fillSample(m_scene, worldToCamera, layout, *m_crypto, ray,
+                               layers[size_t(k)].hit, layers[size_t(k)].alpha,
+                               &rowValues[rowValues.size() - nch]);
+                    if (motion)
+                        motion->at(ray, layers[size_t(k)].hit, &rowValues[rowValues.size() - 4]);
+                    local += layers[size_t(k)].alpha < 1.0f;
+                }
+            }
+            const int done = ++rowsDone;
+            if (m_params.progress && (done % 64 == 0 || done == roi.height()))
+                m_params.progress(float(done) / float(roi.height()));
+        }
+        transparent += local;
+    });
+    dst.first.assign(1, 0);
+    dst.values.clear();
+    for (size_t row = 0; row < counts.size(); ++row) {
+        for (const std::uint32_t n : counts[row])
+            dst.first.push_back(dst.first.back() + n);
+        dst.values.insert(dst.values.end(), values[row].begin(), values[row].end());
+    }
+    if (transparentSamples) *transparentSamples = transparent;
+    return true;
+}
+
+bool renderGBuffer(OIIO::ImageBuf& dst, const Scene& scene, const Camera& camera,
+                   const GBufferParams& params, int nthreads) {
+    const GBufferRenderer renderer(scene, camera, params);
+    return renderer.render(dst, {}, nthreads);
+}
+
+} // namespace dhdr

@@ -1,0 +1,620 @@
+// The lighting stage (libdeferred): G-buffers read as dhdr-light reads them (its own, or
+// another renderer's passes through a channel map), lights from files or Python objects, and
+// light() on a flat G-buffer with dhdr-light's options.
+#include "py_deep.h"
+#include "py_lights.h"
+#include "py_ops.h"
+#include "py_probes.h"
+#include "py_scene.h"
+
+#include <OpenImageIO/imageio.h>
+#include <algorithm>
+#include <dhdr/deferred/direct/ambient_occlusion.h>
+#include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/deferred/gbuffer/gbuffer_import.h>
+#include <dhdr/deferred/gbuffer/gbuffer_time.h>
+#include <dhdr/deferred/gi/probes.h>
+#include <dhdr/deferred/integrator/lighting.h>
+#include <dhdr/deferred/lights/emissive_lights.h>
+#include <dhdr/deferred/scene/lights.h>
+#include <dhdr/deferred/scene/scene_rig.h>
+#include <dhdr/io/errors.h>
+#include <dhdr/io/pixel_limit.h>
+#include <dhdr/io/sanitize.h>
+#include <dhdr/io/strip_reader.h>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <pybind11/stl.h>
+
+namespace dhdr::python {
+
+namespace {
+
+using namespace pybind11::literals;
+
+void warn(const std::vector<std::string>& warnings) {
+    for (const std::string& w : warnings)
+        python::warn(w);
+}
+
+// A dhdr G-buffer whole, as dhdr-light reads it: a flat one strip by strip, its part found by
+// the contract, every channel as float, NaN and ±Inf replaced except in Z (whose background is
+// +Inf by contract); a deep one into `deep` (deep.h). Called without the GIL; false with the
+// tool's message.
+bool readGBuffer(const std::string& path, int nthreads, OIIO::ImageBuf& gbuf, DeepHandle& deep,
+                 bool& isDeep, std::string& error) {
+    int part = 0;
+    if (!gbuffer::probeGBufferFile(path, part, isDeep, error)) return false;
+    if (isDeep) return readDeep(path, part, *deep.g, error);
+    StripReader reader;
+    if (!reader.open(path, part, 0, 1 << 20, nthreads, error)) {
+        error = cannotRead(path, error);
+        return false;
+    }
+    const OIIO::ImageSpec& spec = reader.spec();
+    gbuffer::Layout layout;
+    std::string missing;
+    if (!gbuffer::findLayout(spec, layout, missing)) {
+        error = path + ": no channel '" + missing + "' — is this a G-buffer?";
+        return false;
+    }
+    if (!reader.read(spec.y, spec.y + spec.height, gbuf, error)) {
+        error = cannotRead(path, error);
+        return false;
+    }
+    OIIO::ROI before = gbuf.roi(), after = gbuf.roi();
+    before.chend = layout.depth;
+    after.chbegin = layout.depth + 1;
+    replaceNonFinite(gbuf, before, nthreads);
+    if (after.chbegin < after.chend) replaceNonFinite(gbuf, after, nthreads);
+    return true;
+}
+
+// Lights from a lights file's path, a light as a dict (the file's JSON object), or a list of
+// either, in order. A dict, or a list of dicts only, is read as a lights file holding them
+// would be (environment images relative to the working directory, their suns after them).
+void addLights(const py::handle& given, bool radiometric, std::vector<Light>& lights) {
+    std::vector<Light> more;
+    std::string error;
+    std::vector<std::string> warnings;
+    const bool sequence = py::isinstance<py::list>(given) || py::isinstance<py::tuple>(given);
+    bool dicts = py::isinstance<py::dict>(given);
+    if (sequence) {
+        dicts = py::len(given) > 0;
+        for (const py::handle& item : given)
+            dicts = dicts && py::isinstance<py::dict>(item);
+    }
+    if (py::isinstance<py::str>(given) ||
+        py::isinstance(given, py::module_::import("os").attr("PathLike"))) {
+        const std::string path = py::str(given);
+        bool ok = false;
+        {
+            py::gil_scoped_release gil;
+            ok = readLightsFile(path, more, error, warnings);
+        }
+        if (!ok) throw py::value_error(error);
+    } else if (dicts) {
+        // One light, a file's object ({"lights": [...]}) or a list of lights.
+        const bool document = !sequence && py::cast<py::dict>(given).contains("lights");
+        const py::object doc = document   ? py::reinterpret_borrow<py::object>(given)
+                               : sequence ? py::reinterpret_borrow<py::object>(given)
+                                          : py::object(py::make_tuple(given));
+        const std::string text =
+            py::str(py::module_::import("json").attr("dumps")(document ? doc : py::list(doc)));
+        bool ok = parseLights(text, more, error);
+        if (ok) {
+            py::gil_scoped_release gil;
+            ok = loadEnvironmentImages(more, "", error, warnings);
+        }
+        if (!ok) throw py::value_error("lights: " + error);
+    } else if (sequence) {
+        for (const py::handle& item : given)
+            addLights(item, radiometric, lights);
+        return;
+    } else {
+        throw py::type_error("lights: expected a lights file, a light (dict) or a list of them");
+    }
+    warn(warnings);
+    if (radiometric) toRadiometricUnits(more);
+    lights.insert(lights.end(), more.begin(), more.end());
+}
+
+} // namespace
+
+std::vector<Light> lightsOf(const py::handle& given, bool radiometric) {
+    std::vector<Light> lights;
+    addLights(given, radiometric, lights);
+    return lights;
+}
+
+namespace {
+
+// The scene as dhdr-light --scene lights a G-buffer (its PosedScene): posed at the moment the
+// G-buffer's header records (gbuffer_time.h) with the animations it records, on a copy with its
+// own ray caster; as loaded (caster null: the dhdr.Scene's own) when the G-buffer records no
+// moment or the file has no animations.
+struct PosedFor {
+    std::shared_ptr<const Scene> scene;
+    std::shared_ptr<const RayCaster> caster;
+};
+
+PosedFor poseFor(const SceneHandle& h, const OIIO::ImageSpec& gspec) {
+    std::optional<gbuffer::Moment> moment;
+    if (std::string error; !gbuffer::readMoment(gspec, moment, error))
+        throw py::value_error("gbuffer: " + error);
+    const std::vector<Animation> none;
+    const std::vector<Animation>& animations = h.scene->rig ? h.scene->rig->animations : none;
+    std::vector<int> playing;
+    if (moment && !animations.empty())
+        playing = moment->animations ? *moment->animations : std::vector<int>{0};
+    else if (!moment && !animations.empty())
+        python::warn(std::string("gbuffer: records no animation time (") + gbuffer::kAnimationTime +
+                     "): shadows and reflections see the rest pose of " + h.path);
+    for (const int a : playing) {
+        if (a < 0 || size_t(a) >= animations.size()) {
+            std::string names;
+            for (size_t i = 0; i < animations.size(); ++i)
+                names += (i ? ", " : "") + std::to_string(i) + " '" + animations[i].name + "'";
+            throw py::value_error("gbuffer: rendered with animation " + std::to_string(a) +
+                                  ", which " + h.path + " does not have (it has: " + names +
+                                  "): is it the scene the G-buffer was rendered from?");
+        }
+        if (!animations[size_t(a)].problem.empty())
+            raiseError(h.path + ": animation '" + animations[size_t(a)].name +
+                       "' cannot be played: " + animations[size_t(a)].problem);
+    }
+    if (playing.empty()) return {h.scene, nullptr};
+    auto posed = std::make_shared<Scene>(*h.scene);
+    std::shared_ptr<RayCaster> caster;
+    {
+        py::gil_scoped_release gil;
+        ScenePoser(*posed, playing).pose(moment->time);
+        caster = std::make_shared<RayCaster>(*posed, posed->rig->movingMeshes(playing));
+    }
+    if (!caster->ok()) raiseError(h.path + ": " + caster->error());
+    return {posed, caster};
+}
+
+// What light() needs for a call, prepared from its keywords with the GIL held (ValueError for
+// bad ones), shared by the flat and the deep forms.
+struct LightingSetup {
+    std::shared_ptr<std::vector<Light>> lights;
+    LightingParams p;
+    SsaoParams ssao;
+    std::shared_ptr<const ProbeVolume> probes;
+    std::shared_ptr<ImageView> plateImage;
+    PosedFor posed; // keeps the posed scene and its caster alive
+    const RayCaster* caster = nullptr;
+    bool useSsao = false, useProbes = false;
+};
+
+LightingSetup setupLighting(const OIIO::ImageSpec& gspec, const py::object& lightsGiven,
+                            const py::object& sceneGiven, bool emissive, bool shadows,
+                            int envSamples, int specularSamples, int catcherBounce,
+                            const py::object& probesGiven, const std::string& ao, float aoDistance,
+                            int aoSamples, const py::object& background, const py::object& plate,
+                            bool bruteForce, int tile, int shadowSamples,
+                            const std::string& envSpecular, const std::string& diffuse,
+                            bool radiometric, bool denoise, bool aovs, const std::string& gi,
+                            int spp, int pathBounces) {
+    // probes: a file's path or a dhdr.Probes; "" and None are none.
+    const bool hasProbes = !probesGiven.is_none() && !(py::isinstance<py::str>(probesGiven) &&
+                                                       probesGiven.cast<std::string>().empty());
+    // dhdr-light's lights: the scene's own unless lights are given, its emissive meshes, then
+    // the lights given (sceneLightList's order).
+    const SceneHandle* scene = nullptr;
+    if (!sceneGiven.is_none()) {
+        if (!py::isinstance<SceneHandle>(sceneGiven))
+            throw py::type_error("scene: expected a dhdr.Scene");
+        scene = &sceneGiven.cast<const SceneHandle&>();
+    }
+    if (lightsGiven.is_none() && !scene)
+        throw py::value_error("no lights: give lights=, or scene= for the scene's own");
+    // Its lights and glowing meshes where the G-buffer's moment puts them.
+    const PosedFor posed = scene ? poseFor(*scene, gspec) : PosedFor{};
+    auto lights = std::make_shared<std::vector<Light>>(
+        scene ? sceneLightList(*posed.scene, lightsGiven.is_none(), emissive, radiometric)
+              : std::vector<Light>{});
+    if (scene && lightsGiven.is_none() && lights->empty())
+        throw py::value_error(scene->path + ": the scene has no lights and no emissive "
+                                            "surfaces; give lights=");
+    if (!lightsGiven.is_none()) addLights(lightsGiven, radiometric, *lights);
+    LightingParams p;
+    if (ao != "off" && ao != "ssao" && ao != "rt")
+        throw py::value_error("ao must be off, rt or ssao, got '" + ao + "'");
+    if (ao == "rt" && !scene)
+        throw py::value_error("ao='rt' traces rays in the scene: give scene=");
+    if (envSpecular == "auto")
+        p.environmentSpecular = IblSpecular::Auto;
+    else if (envSpecular == "split-sum")
+        p.environmentSpecular = IblSpecular::SplitSum;
+    else if (envSpecular == "quadrature")
+        p.environmentSpecular = IblSpecular::Quadrature;
+    else
+        throw py::value_error("env_specular must be auto, split-sum or quadrature");
+    if (diffuse != "lambert" && diffuse != "burley")
+        throw py::value_error("diffuse must be lambert or burley");
+    p.diffuse = diffuse == "burley" ? DiffuseModel::Burley : DiffuseModel::Lambert;
+    p.bruteForce = bruteForce;
+    p.tileSize = tile;
+    p.shadowSamples = shadowSamples;
+    p.denoise = denoise;
+    p.aoSamples = ao == "rt" ? aoSamples : 0;
+    p.shadows = shadows;
+    p.environmentSamples = envSamples;
+    p.specularSamples = specularSamples;
+    p.catcherBounceSamples = catcherBounce;
+    // --gi path: the reference path tracer, as dhdr-light checks it.
+    if (gi != "direct" && gi != "path") throw py::value_error("gi must be direct or path");
+    p.pathTrace = gi == "path";
+    p.pathSamples = spp;
+    p.pathBounces = pathBounces;
+    if (!p.pathTrace &&
+        (spp != LightingParams{}.pathSamples || pathBounces != LightingParams{}.pathBounces))
+        throw py::value_error("spp and path_bounces are for gi='path'");
+    if (p.pathTrace) {
+        if (!scene) throw py::value_error("gi='path' traces the scene: give scene=");
+        if (hasProbes)
+            throw py::value_error("gi='path' computes the indirect light itself: drop probes");
+        if (ao != "off") throw py::value_error("gi='path' has no AO: drop ao");
+        p.denoise = false; // the reference is each pixel's own estimate
+    }
+    checkRange("ao_distance", aoDistance, 0.0, 1e30, true);
+    p.aoDistance = aoDistance;
+    if (std::string error; !validate(p, error)) throw py::value_error(error);
+    if (aovs) p.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
+    p.writeAO = aovs && ao != "off";
+    p.writeIndirect = aovs && hasProbes;
+    p.writeSpecular = aovs && scene;
+    const bool environment = std::any_of(lights->begin(), lights->end(), [](const Light& l) {
+        return l.type == LightType::Environment;
+    });
+    if (py::isinstance<py::str>(background)) {
+        if (background.cast<std::string>() != "env")
+            throw py::value_error("background must be (R, G, B[, A]) or 'env'");
+        p.environmentBackground = true;
+    } else if (!background.is_none()) {
+        const std::vector<float> v = background.cast<std::vector<float>>();
+        if (v.size() != 3 && v.size() != 4)
+            throw py::value_error("background needs 3 or 4 numbers");
+        for (size_t i = 0; i < 4; ++i)
+            p.background[i] = i < v.size() ? v[i] : 1.0f;
+    }
+    auto plateImage = std::make_shared<ImageView>();
+    if (py::isinstance<py::str>(plate)) {
+        if (plate.cast<std::string>() != "env")
+            throw py::value_error("plate must be an image or 'env'");
+        if (!environment)
+            throw py::value_error("plate='env': there is no environment light to composite over");
+        p.plateEnvironment = true;
+    } else if (!plate.is_none()) {
+        Image storage;
+        *plateImage = view(asImage(plate, "plate", storage));
+    }
+    SsaoParams ssao;
+    ssao.samples = aoSamples;
+    ssao.radius = aoDistance;
+    if (ao == "ssao")
+        if (const std::string e = checkRanges(ssao, kSsaoParamTable); !e.empty())
+            throw py::value_error(e + " with ao='ssao'");
+    const std::shared_ptr<const ProbeVolume> probes = probesOf(probesGiven);
+    const bool useSsao = ao == "ssao", useProbes = bool(probes);
+    // The scene's rays (shadows, AO, a catcher's bounce light, glossy reflections); the
+    // caller's dhdr.Scene keeps them alive for the call.
+    const RayCaster* caster = posed.caster ? posed.caster.get()
+                              : scene      ? &scene->caster()
+                                           : nullptr;
+    return LightingSetup{lights, p, ssao, probes, plateImage, posed, caster, useSsao, useProbes};
+}
+
+// The plate, when there is one, laid on the frame's pixels; false with the message on `dst`.
+bool placePlate(const LightingSetup& s, const OIIO::ImageSpec& gs, OIIO::ImageBuf& dst,
+                LightingInputs& inputs) {
+    if (!s.plateImage->buf.initialized()) return true;
+    const OIIO::ImageSpec& ps = s.plateImage->buf.spec();
+    if (ps.width != gs.width || ps.height != gs.height) {
+        dst.errorfmt("the plate is {}x{}, the frame {}x{}", ps.width, ps.height, gs.width,
+                     gs.height);
+        return false;
+    }
+    s.plateImage->buf.set_origin(gs.x, gs.y);
+    inputs.plate = &s.plateImage->buf;
+    return true;
+}
+
+ImageOp lightOp(const Image& src, const py::object& lightsGiven, const py::object& sceneGiven,
+                bool emissive, bool shadows, int envSamples, int specularSamples, int catcherBounce,
+                const py::object& probesGiven, const std::string& ao, float aoDistance,
+                int aoSamples, const py::object& background, const py::object& plate,
+                bool bruteForce, int tile, int shadowSamples, const std::string& envSpecular,
+                const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
+                const std::string& gi, int spp, int pathBounces) {
+    auto s = std::make_shared<const LightingSetup>(setupLighting(
+        src.spec(), lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples,
+        catcherBounce, probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile,
+        shadowSamples, envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
+    return [s](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n) {
+        LightingInputs inputs{*s->lights, s->caster};
+        inputs.scene = s->caster;
+        OIIO::ImageBuf occlusion;
+        if (s->useSsao) {
+            if (!screenSpaceAO(occlusion, gbuf, s->ssao, n)) {
+                dst.errorfmt("{}", occlusion.geterror());
+                return false;
+            }
+            inputs.ambientOcclusion = &occlusion;
+        }
+        if (s->useProbes) inputs.probes = s->probes.get();
+        if (!placePlate(*s, gbuf.spec(), dst, inputs)) return false;
+        return shadeGBuffer(dst, gbuf, inputs, s->p, roi, n);
+    };
+}
+
+// dhdr-light on a deep G-buffer: every sample lit and composited front to back into flat RGBA,
+// the tile lists laid over the whole frame (what the tool's bands share).
+ImageOp deepLightOp(const DeepHandle& src, const py::object& lightsGiven,
+                    const py::object& sceneGiven, bool emissive, bool shadows, int envSamples,
+                    int specularSamples, int catcherBounce, const py::object& probesGiven,
+                    const std::string& ao, float aoDistance, int aoSamples,
+                    const py::object& background, const py::object& plate, bool bruteForce,
+                    int tile, int shadowSamples, const std::string& envSpecular,
+                    const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
+                    const std::string& gi, int spp, int pathBounces) {
+    if (ao == "ssao")
+        throw py::value_error("ao='ssao' works on flat G-buffers; a deep one needs ao='rt'");
+    auto s = std::make_shared<const LightingSetup>(setupLighting(
+        src.g->spec, lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples,
+        catcherBounce, probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile,
+        shadowSamples, envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
+    const std::shared_ptr<const DeepGBuffer> g = src.g;
+    return [s, g](OIIO::ImageBuf& dst, const OIIO::ImageBuf&, OIIO::ROI roi, int n) {
+        LightingInputs inputs{*s->lights, s->caster};
+        inputs.scene = s->caster;
+        if (s->useProbes) inputs.probes = s->probes.get();
+        if (!placePlate(*s, g->spec, dst, inputs)) return false;
+        LightingParams p = s->p;
+        p.frame = OIIO::get_roi(g->spec);
+        return shadeGBuffer(dst, *g, inputs, p, roi, n);
+    };
+}
+
+// dhdr-light --deep-out: each sample of a deep G-buffer lit, premultiplied, with its Z and
+// ZBack, in the G-buffer's order (what the tool writes as a deep RGBA EXR for deep compositing).
+DeepHandle lightSamples(const DeepHandle& src, const py::object& lightsGiven,
+                        const py::object& sceneGiven, bool emissive, bool shadows, int envSamples,
+                        int specularSamples, int catcherBounce, const py::object& probesGiven,
+                        const std::string& ao, float aoDistance, int aoSamples,
+                        const py::object& background, const py::object& plate, bool bruteForce,
+                        int tile, int shadowSamples, const std::string& envSpecular,
+                        const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
+                        const std::string& gi, int spp, int pathBounces, int nthreads) {
+    if (ao == "ssao")
+        throw py::value_error("ao='ssao' works on flat G-buffers; a deep one needs ao='rt'");
+    const LightingSetup s = setupLighting(
+        src.g->spec, lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples,
+        catcherBounce, probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile,
+        shadowSamples, envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces);
+    const std::shared_ptr<const DeepGBuffer> g = src.g;
+    DeepHandle out;
+    std::string error;
+    {
+        py::gil_scoped_release gil;
+        LightingInputs inputs{*s.lights, s.caster};
+        inputs.scene = s.caster;
+        if (s.useProbes) inputs.probes = s.probes.get();
+        LightingParams p = s.p;
+        p.frame = OIIO::get_roi(g->spec);
+        OIIO::ImageBuf flat;
+        std::vector<float> rgba;
+        if (!placePlate(s, g->spec, flat, inputs) ||
+            !shadeGBuffer(flat, *g, inputs, p, {}, nthreads, nullptr, &rgba)) {
+            error = flat.geterror();
+        } else {
+            DeepGBuffer& lit = *out.g;
+            const size_t nch = size_t(g->spec.nchannels), n = g->totalSamples();
+            lit.spec = g->spec;
+            lit.spec.nchannels = 6;
+            lit.spec.channelnames = {"R", "G", "B", "A", "Z", "ZBack"};
+            lit.spec.alpha_channel = 3;
+            lit.spec.z_channel = 4;
+            lit.first = g->first;
+            lit.values.resize(n * 6);
+            for (size_t k = 0; k < n; ++k) {
+                for (size_t c = 0; c < 4; ++c)
+                    lit.values[6 * k + c] = rgba[4 * k + c];
+                lit.values[6 * k + 4] = g->values[k * nch + 1]; // Z
+                lit.values[6 * k + 5] = g->values[k * nch + 2]; // ZBack
+            }
+        }
+    }
+    if (!error.empty()) raiseError(error);
+    return out;
+}
+
+// light()'s two forms with a DeepGBuffer as src, registered before the flat ones (whose src
+// takes any object): the result is flat, so they run through runNew and runInto with a
+// placeholder src that the operation does not read.
+template <class... Args, class... Extra>
+void defDeepOp(py::module_& m, const char* name, const char* doc,
+               ImageOp (*prepare)(const DeepHandle&, Args...), const Extra&... extra) {
+    auto placeholder = [] {
+        return Image(py::array_t<float>(std::vector<py::ssize_t>{1, 1, 1}), {}, "src");
+    };
+    m.def(
+        name,
+        [prepare, placeholder](const DeepHandle& src, Args... args, const py::object& roi,
+                               int nthreads) {
+            const ImageOp op = prepare(src, args...);
+            return runNew(placeholder(), toRoi(roi), nthreads, op);
+        },
+        py::arg("src"), extra..., py::arg("roi") = py::none(), py::arg("nthreads") = 0, doc);
+    m.def(
+        name,
+        [prepare, placeholder](Image& dst, const DeepHandle& src, Args... args,
+                               const py::object& roi, int nthreads) {
+            const ImageOp op = prepare(src, args...);
+            return runInto(dst, placeholder(), toRoi(roi), nthreads, op);
+        },
+        py::arg("dst"), py::arg("src"), extra..., py::arg("roi") = py::none(),
+        py::arg("nthreads") = 0, doc);
+}
+
+} // namespace
+
+void bindLighting(py::module_& m) {
+    m.def(
+        "read_gbuffer",
+        [](const std::string& path, int nthreads) {
+            OIIO::ImageBuf gbuf;
+            DeepHandle deep;
+            bool isDeep = false;
+            std::string error;
+            bool ok = false;
+            {
+                py::gil_scoped_release gil;
+                ok = readGBuffer(path, nthreads, gbuf, deep, isDeep, error);
+            }
+            if (!ok) raiseError(error);
+            if (isDeep) return py::cast(std::move(deep));
+            return py::cast(Image::fromBuf(std::move(gbuf)));
+        },
+        "path"_a, py::kw_only(), "nthreads"_a = 0,
+        R"(A flat dhdr G-buffer (dhdr-gbuffer's EXR) as dhdr-light reads it: every channel as float32
+(image["N.X"], image["albedo.R"], ...), NaN and Inf replaced except in Z, the header (camera
+matrices, name tables, Cryptomatte manifests) in image.attributes. A deep G-buffer (dhdr-gbuffer
+--deep) comes as a DeepGBuffer, its samples sorted front to back, its non-finite values
+other than Z replaced, as dhdr-light reads it.)");
+
+    m.def(
+        "read_channels",
+        [](const std::string& path, int part) {
+            OIIO::ImageBuf src;
+            std::string error;
+            {
+                py::gil_scoped_release gil;
+                src.reset(path, part, 0);
+                if (!src.init_spec(path, part, 0))
+                    error = cannotRead(path, src.geterror());
+                else if (const std::string e =
+                             pixelLimitError(src.spec().width, src.spec().height, src.spec().depth);
+                         !e.empty())
+                    error = path + ": " + e;
+                else if (!src.read(part, 0, true, OIIO::TypeDesc::FLOAT))
+                    error = cannotRead(path, src.geterror());
+            }
+            if (!error.empty()) raiseError(error);
+            return Image::fromBuf(std::move(src));
+        },
+        "path"_a, py::kw_only(), "part"_a = 0,
+        "Every channel of one part of a file, as float32, as it is (another renderer's passes).");
+
+    m.def(
+        "import_gbuffer",
+        [](const py::object& passes, const std::string& channels) {
+            Image storage;
+            const ImageView src = view(asImage(passes, "passes", storage));
+            ChannelMap map;
+            std::string error;
+            if (channels == "blender")
+                map = blenderChannelMap();
+            else if (!readChannelMap(channels, map, error))
+                throw py::value_error(channels + ": " + error);
+            OIIO::ImageBuf gbuf;
+            std::vector<std::string> warnings;
+            bool ok = false;
+            {
+                py::gil_scoped_release gil;
+                ok = importGBuffer(src.buf, map, gbuf, warnings, error);
+            }
+            if (!ok) throw py::value_error("passes: " + error);
+            warn(warnings);
+            return Image::fromBuf(std::move(gbuf));
+        },
+        "passes"_a, "channels"_a = "blender",
+        R"(Another renderer's passes as a dhdr G-buffer (dhdr-light --channels): 'blender' maps
+Cycles' Depth, Position, Normal (Z up) and the BaseColor, Roughness, Metallic AOVs (DiffCol
+stands in for a missing BaseColor, with a warning); any other value is a channel-map JSON
+file (docs/interop.md). The camera comes from the passes' worldToCamera and worldToNDC
+attributes (set them with set_attribute when the file has none).)");
+
+    m.def(
+        "read_lights",
+        [](const py::object& lights, bool radiometric) {
+            const std::string text = formatLights(lightsOf(lights, radiometric));
+            const py::object doc = py::module_::import("json").attr("loads")(text);
+            return py::object(doc["lights"]);
+        },
+        "lights"_a, py::kw_only(), "radiometric"_a = false,
+        "Lights (a lights file, a dict or a list of them) as the lights file's JSON objects: "
+        "edit them and give them to light().");
+
+    defDeepOp(
+        m, "light",
+        "A DeepGBuffer (dhdr-gbuffer --deep, read_gbuffer of a deep file): every sample "
+        "lit as dhdr-light lights a deep G-buffer (shadow and AO rays from each; ao='rt', "
+        "not 'ssao') and composited front to back into flat R, G, B, A. The keywords are "
+        "those below.",
+        &deepLightOp, py::arg("lights") = py::none(), py::kw_only(), py::arg("scene") = py::none(),
+        py::arg("emissive_lights") = true, py::arg("shadows") = true,
+        py::arg("env_samples") = LightingParams{}.environmentSamples,
+        py::arg("specular_samples") = LightingParams{}.specularSamples,
+        py::arg("catcher_bounce") = LightingParams{}.catcherBounceSamples, py::arg("probes") = "",
+        py::arg("ao") = "off", py::arg("ao_distance") = 1.0f, py::arg("ao_samples") = 16,
+        py::arg("background") = py::none(), py::arg("plate") = py::none(),
+        py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
+        py::arg("shadow_samples") = LightingParams{}.shadowSamples,
+        py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
+        py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false,
+        py::arg("gi") = "direct", py::arg("spp") = LightingParams{}.pathSamples,
+        py::arg("path_bounces") = LightingParams{}.pathBounces);
+    defImageOp(
+        m, "light", R"(Deferred lighting of a flat G-buffer (dhdr-light): Lambert (or Burley)
+diffuse plus Cook-Torrance specular under the lights, plus emission; R, G, B, A (then AO,
+indirect.R/G/B and Z, N.X, N.Y, N.Z with aovs). lights: a lights file (docs/lights.md), a
+light as a dict of that file's fields, or a list of them, in order; radiometric divides
+Blender's photometric intensities by 683. scene: the dhdr.Scene the G-buffer was rendered
+from (--scene): shadow rays (shadows=False: none), its emissive meshes as area lights
+(emissive_lights), its own lights when lights is None, all posed where the G-buffer's
+header says it was rendered (dhdr:animationTime, as dhdr-light does); env_samples,
+specular_samples and catcher_bounce trace it. probes: a dhdr-probes file or a dhdr.Probes
+(indirect diffuse). ao: 'off', 'rt' (ao_samples rays within ao_distance; needs scene) or
+'ssao' (from the G-buffer, ao_samples kernel points within ao_distance).
+background: (R, G, B[, A]) or 'env'; plate: an image of the frame's size to composite over,
+or 'env'. shadow_samples, tile, env_specular ('auto', 'split-sum', 'quadrature'), denoise,
+diffuse ('lambert', 'burley') and brute_force are dhdr-light's options of those names.
+gi='path' (with scene): the reference path tracer instead, spp paths of at most
+path_bounces bounces a pixel, undenoised.
+Without a scene nothing is shadowed, as dhdr-light without --scene.)",
+        &lightOp, py::arg("lights") = py::none(), py::kw_only(), py::arg("scene") = py::none(),
+        py::arg("emissive_lights") = true, py::arg("shadows") = true,
+        py::arg("env_samples") = LightingParams{}.environmentSamples,
+        py::arg("specular_samples") = LightingParams{}.specularSamples,
+        py::arg("catcher_bounce") = LightingParams{}.catcherBounceSamples, py::arg("probes") = "",
+        py::arg("ao") = "off", py::arg("ao_distance") = 1.0f, py::arg("ao_samples") = 16,
+        py::arg("background") = py::none(), py::arg("plate") = py::none(),
+        py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
+        py::arg("shadow_samples") = LightingParams{}.shadowSamples,
+        py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
+        py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false,
+        py::arg("gi") = "direct", py::arg("spp") = LightingParams{}.pathSamples,
+        py::arg("path_bounces") = LightingParams{}.pathBounces);
+    m.def("light_samples", &lightSamples, "src"_a, py::arg("lights") = py::none(), py::kw_only(),
+          py::arg("scene") = py::none(), py::arg("emissive_lights") = true,
+          py::arg("shadows") = true, py::arg("env_samples") = LightingParams{}.environmentSamples,
+          py::arg("specular_samples") = LightingParams{}.specularSamples,
+          py::arg("catcher_bounce") = LightingParams{}.catcherBounceSamples, py::arg("probes") = "",
+          py::arg("ao") = "off", py::arg("ao_distance") = 1.0f, py::arg("ao_samples") = 16,
+          py::arg("background") = py::none(), py::arg("plate") = py::none(),
+          py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
+          py::arg("shadow_samples") = LightingParams{}.shadowSamples,
+          py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
+          py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false,
+          py::arg("gi") = "direct", py::arg("spp") = LightingParams{}.pathSamples,
+          py::arg("path_bounces") = LightingParams{}.pathBounces, py::arg("nthreads") = 0,
+          R"(dhdr-light --deep-out: every sample of a DeepGBuffer lit as light() lights it, kept
+apart: a DeepGBuffer of R, G, B, A (premultiplied) and the samples' Z and ZBack, front to
+back, for deep compositing. The keywords are light()'s.)");
+}
+
+} // namespace dhdr::python

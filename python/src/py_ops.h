@@ -1,0 +1,60 @@
+// The two forms of every image operation, as OpenImageIO's Python bindings have them:
+// op(dst, src, *, ..., roi=None, nthreads=0) -> bool and op(src, *, ..., roi=None, nthreads=0)
+// -> Image, with the GIL released around the library call.
+#pragma once
+
+#include "py_image.h"
+
+#include <functional>
+
+namespace dhdr::python {
+
+// A library call on prepared parameters: dst (uninitialized, or the caller's pixels), src, roi,
+// nthreads. Runs without the GIL: it must touch no Python object.
+using ImageOp = std::function<bool(OIIO::ImageBuf&, const OIIO::ImageBuf&, OIIO::ROI, int)>;
+
+// The result as a new Image; the library's error as RuntimeError.
+Image runNew(const Image& src, OIIO::ROI roi, int nthreads, const ImageOp& op);
+
+// Into `dst`'s own pixels when it has writable ones (only `roi` written, as in OpenImageIO),
+// else into new pixels. src is copied first when it shares dst's memory. False with
+// dst.geterror() when the library fails.
+bool runInto(Image& dst, const Image& src, OIIO::ROI roi, int nthreads, const ImageOp& op);
+
+// Registers both forms of `name`. `prepare(src, args...)` turns the keyword arguments into the
+// call (raising ValueError for bad ones) with the GIL held; `extra` are their py::arg's, from
+// py::kw_only() on keyword-only (light's lights come before it: light(gbuffer, lights)).
+template <class... Args, class... Extra>
+void defImageOp(py::module_& m, const char* name, const char* doc,
+                ImageOp (*prepare)(const Image&, Args...), const Extra&... extra) {
+    // The return form first: op(src, lights) must not be taken for op(dst, src) when an
+    // argument after src may be positional (light's lights); op(dst, src, ...) has one
+    // positional argument too many for it.
+    m.def(
+        name,
+        [prepare](const py::object& src, Args... args, const py::object& roi, int nthreads) {
+            Image storage;
+            const Image& in = asImage(src, "src", storage);
+            const ImageOp op = prepare(in, args...);
+            return runNew(in, toRoi(roi), nthreads, op);
+        },
+        py::arg("src"), extra..., py::arg("roi") = py::none(), py::arg("nthreads") = 0, doc);
+    m.def(
+        name,
+        [prepare](Image& dst, const py::object& src, Args... args, const py::object& roi,
+                  int nthreads) {
+            Image storage;
+            const Image& in = asImage(src, "src", storage);
+            const ImageOp op = prepare(in, args...);
+            return runInto(dst, in, toRoi(roi), nthreads, op);
+        },
+        py::arg("dst"), py::arg("src"), extra..., py::arg("roi") = py::none(),
+        py::arg("nthreads") = 0, doc);
+}
+
+// Raises ValueError "NAME: V is outside RANGE" (the tools' words) unless v is finite and in
+// [lo, hi], open at an end where `openLo`/`openHi`; the ranges are the tools' option ranges.
+void checkRange(const char* name, double v, double lo, double hi, bool openLo = false,
+                bool openHi = false);
+
+} // namespace dhdr::python

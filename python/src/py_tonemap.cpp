@@ -1,0 +1,401 @@
+// The tone-map stage's operations (libtonemap): metering, every tone-map operator, eye
+// adaptation, bloom, the OCIO display transform and quantization. Parameter names, defaults
+// and ranges are dhdr-tonemap's and dhdr-bloom's options.
+#include "py_ops.h"
+
+#include <OpenImageIO/imagebufalgo.h>
+#include <cmath>
+#include <dhdr/io/sanitize.h>
+#include <dhdr/tonemap/adaptation.h>
+#include <dhdr/tonemap/bloom.h>
+#include <dhdr/tonemap/display_transform.h>
+#include <dhdr/tonemap/metering.h>
+#include <dhdr/tonemap/quantize.h>
+#include <dhdr/tonemap/tone_map.h>
+#include <memory>
+#include <optional>
+#include <pybind11/stl.h>
+
+namespace dhdr::python {
+
+namespace {
+
+using namespace pybind11::literals;
+using Percentiles = std::pair<double, double>;
+
+LuminanceStatsParams luminanceParams(const std::string& weights, double delta, bool skip) {
+    LuminanceStatsParams p;
+    if (weights == "seed")
+        p.weights = kSeedLuminanceWeights;
+    else if (weights == "rec709")
+        p.weights = kRec709LuminanceWeights;
+    else
+        throw py::value_error("weights must be seed or rec709, got '" + weights + "'");
+    checkRange("delta", delta, 0.0, 1.0, true);
+    p.delta = delta;
+    p.skipTransparent = skip;
+    return p;
+}
+
+MeteringParams meteringParams(const std::string& metering, Percentiles window,
+                              const std::string& weights, double delta, bool skip) {
+    MeteringParams p;
+    if (metering == "histogram")
+        p.mode = MeteringMode::Histogram;
+    else if (metering != "log-average")
+        throw py::value_error("metering must be log-average or histogram, got '" + metering + "'");
+    if (!(window.first >= 0.0) || !(window.first < window.second) || !(window.second <= 100.0))
+        throw py::value_error("percentiles must be (LO, HI) with 0 <= LO < HI <= 100");
+    p.lowPercentile = window.first;
+    p.highPercentile = window.second;
+    p.luminance = luminanceParams(weights, delta, skip);
+    return p;
+}
+
+// The metering keyword arguments every metering call takes, with dhdr-tonemap's defaults.
+#define DHDR_METERING_ARGS                                                                         \
+    py::arg("metering") = "log-average", py::arg("percentiles") = Percentiles{5.0, 95.0},          \
+    py::arg("weights") = "seed", py::arg("delta") = 1e-4, py::arg("skip_transparent") = true
+
+ImageOp toneMapOp(const Image&, const std::string& op, double key, double exposure,
+                  const py::object& white, const std::string& metering, Percentiles window,
+                  const std::string& weights, double delta, bool skip,
+                  std::optional<LuminanceStats> stats, double phi, double epsilon,
+                  double dragoBias) {
+    ToneMapParams p;
+    if (!parseToneOperator(op, p.op))
+        throw py::value_error("op must be reinhard, reinhard-local, drago, hable, pbr-neutral, "
+                              "agx, exposure, aces or none, got '" +
+                              op + "'");
+    checkRange("key", key, 0.0, 100.0, true);
+    checkRange("exposure", exposure, -64.0, 64.0);
+    p.key = key;
+    p.exposure = exposure;
+    // "auto" (the largest), "inf", or a positive number, as --white.
+    if (py::isinstance<py::str>(white)) {
+        const std::string w = white.cast<std::string>();
+        if (w == "inf")
+            p.white = INFINITY;
+        else if (w != "auto")
+            throw py::value_error("white must be a positive number, 'auto' or 'inf', got '" + w +
+                                  "'");
+    } else {
+        p.white = white.cast<double>();
+        if (!(p.white > 0.0))
+            throw py::value_error("white must be a positive number, 'auto' or 'inf'");
+    }
+    p.metering = meteringParams(metering, window, weights, delta, skip);
+    checkRange("phi", phi, 0.0, 100.0, true);
+    checkRange("epsilon", epsilon, 0.0, 1.0, true);
+    checkRange("drago_bias", dragoBias, 0.0, 1.0, true);
+    p.phi = phi;
+    p.epsilon = epsilon;
+    p.dragoBias = dragoBias;
+    std::shared_ptr<LuminanceStats> given;
+    if (stats) given = std::make_shared<LuminanceStats>(*stats);
+    return [p, given](OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int n) {
+        ToneMapParams q = p;
+        q.stats = given.get();
+        return toneMap(dst, src, q, roi, n);
+    };
+}
+
+BloomParams bloomParams(float threshold, float key, float sigma, float strength,
+                        const std::string& weights, double delta, bool skip) {
+    BloomParams p;
+    checkRange("threshold", threshold, 0.0, 1.0, false, true);
+    checkRange("key", key, 0.0, 100.0, true);
+    checkRange("sigma", sigma, 0.0, 64.0);
+    checkRange("strength", strength, 0.0, 1000.0);
+    p.threshold = threshold;
+    p.key = key;
+    p.sigma = sigma;
+    p.strength = strength;
+    p.metering = luminanceParams(weights, delta, skip);
+    return p;
+}
+
+#define DHDR_BLOOM_ARGS                                                                            \
+    py::arg("threshold") = BloomParams{}.threshold, py::arg("key") = BloomParams{}.key,            \
+    py::arg("sigma") = BloomParams{}.sigma, py::arg("strength") = BloomParams{}.strength,          \
+    py::arg("weights") = "seed", py::arg("delta") = 1e-4, py::arg("skip_transparent") = true
+
+ImageOp bloomOp(const Image&, float threshold, float key, float sigma, float strength,
+                const std::string& weights, double delta, bool skip) {
+    const BloomParams p = bloomParams(threshold, key, sigma, strength, weights, delta, skip);
+    return [p](OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int n) {
+        return bloom(dst, src, p, roi, n);
+    };
+}
+
+std::shared_ptr<DisplayTransform>
+displayTransform(const std::string& config, const std::string& colorspace,
+                 const std::string& display, const std::string& view, const std::string& look) {
+    auto t = std::make_shared<DisplayTransform>();
+    std::string error;
+    if (!t->init({config, colorspace, display, view, look}, error)) throw py::value_error(error);
+    return t;
+}
+
+#define DHDR_DISPLAY_ARGS                                                                          \
+    py::arg("config") = "", py::arg("colorspace") = "", py::arg("display") = "",                   \
+    py::arg("view") = "", py::arg("look") = ""
+
+// In place on a copy of src (dst's own pixels in the dst form): OCIO works on float in memory.
+ImageOp colourOp(std::shared_ptr<DisplayTransform> t, bool toDisplay) {
+    return [t, toDisplay](OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int n) {
+        const bool copied = dst.initialized()
+                                ? OIIO::ImageBufAlgo::copy(dst, src, OIIO::TypeUnknown, roi, n)
+                                : dst.copy(src, OIIO::TypeDesc::FLOAT);
+        if (!copied) return false;
+        if (toDisplay ? t->toDisplay(dst, roi, n) : t->toSceneLinear(dst, roi, n)) return true;
+        dst.errorfmt("the display transform needs float pixels in memory");
+        return false;
+    };
+}
+
+ImageOp toDisplayOp(const Image&, const std::string& config, const std::string& colorspace,
+                    const std::string& display, const std::string& view, const std::string& look) {
+    return colourOp(displayTransform(config, colorspace, display, view, look), true);
+}
+
+ImageOp toSceneLinearOp(const Image&, const std::string& config, const std::string& colorspace,
+                        const std::string& display, const std::string& view,
+                        const std::string& look) {
+    return colourOp(displayTransform(config, colorspace, display, view, look), false);
+}
+
+LuminanceStats meterImage(const Image& image, const MeteringParams& p, OIIO::ROI roi,
+                          int nthreads) {
+    const ImageView v = view(image);
+    LuminanceStats stats;
+    bool ok = false;
+    {
+        py::gil_scoped_release gil;
+        ok = meter(stats, v.buf, p, roi, nthreads);
+    }
+    if (!ok)
+        raiseError("cannot meter an image of " + std::to_string(image.spec().nchannels) +
+                   " channels (R, G, B needed)");
+    return stats;
+}
+
+// Quantized pixels: an integer array of src's size and channels (bits from its dtype).
+bool quantizeInto(py::array& dst, const Image& src, bool dither, OIIO::ROI roi, int nthreads) {
+    const OIIO::TypeDesc type = py::isinstance<py::array_t<uint8_t>>(dst) ? OIIO::TypeDesc::UINT8
+                                : py::isinstance<py::array_t<uint16_t>>(dst)
+                                    ? OIIO::TypeDesc::UINT16
+                                    : OIIO::TypeDesc::UNKNOWN;
+    if (type == OIIO::TypeDesc::UNKNOWN || dst.ndim() != 3 || !dst.writeable() ||
+        !(dst.flags() & py::array::c_style))
+        throw py::type_error("dst: expected a writable C-contiguous uint8 or uint16 array of "
+                             "shape (height, width, channels)");
+    const ImageView in = view(src);
+    OIIO::ImageSpec spec(int(dst.shape(1)), int(dst.shape(0)), int(dst.shape(2)), type);
+    spec.x = in.buf.spec().x;
+    spec.y = in.buf.spec().y;
+    OIIO::ImageBuf out(spec, dst.mutable_data());
+    QuantizeParams p;
+    p.dither = dither;
+    bool ok = false;
+    {
+        py::gil_scoped_release gil;
+        ok = quantize(out, in.buf, p, roi, nthreads);
+    }
+    if (!ok) raiseError(out.geterror());
+    return true;
+}
+
+} // namespace
+
+void bindTonemap(py::module_& m) {
+    py::class_<LuminanceStats>(m, "LuminanceStats",
+                               "A frame's metered luminance (dhdr.meter), or the one a tone map "
+                               "uses (tone_map(stats=...)).")
+        .def(py::init([](double logAverage, double maxL, double minL, long long pixels) {
+                 LuminanceStats s;
+                 s.logAverage = logAverage;
+                 s.maxLuminance = maxL;
+                 s.minLuminance = minL;
+                 s.pixels = pixels;
+                 return s;
+             }),
+             py::kw_only(), "log_average"_a, "max_luminance"_a = 0.0, "min_luminance"_a = 0.0,
+             "pixels"_a = 0)
+        .def_readwrite("log_average", &LuminanceStats::logAverage)
+        .def_readwrite("max_luminance", &LuminanceStats::maxLuminance)
+        .def_readwrite("min_luminance", &LuminanceStats::minLuminance)
+        .def_readwrite("pixels", &LuminanceStats::pixels)
+        .def_readonly("negative_pixels", &LuminanceStats::negativePixels)
+        .def_readonly("non_finite_pixels", &LuminanceStats::nonFinitePixels)
+        .def_readonly("transparent_pixels", &LuminanceStats::transparentPixels)
+        .def("__repr__", [](const LuminanceStats& s) {
+            char text[200];
+            std::snprintf(text, sizeof text,
+                          "dhdr.LuminanceStats(log_average=%.9g, max_luminance=%.9g, "
+                          "pixels=%lld)",
+                          s.logAverage, s.maxLuminance, s.pixels);
+            return std::string(text);
+        });
+
+    defImageOp(m, "tone_map",
+               R"(Tone-maps scene-linear RGB to display-linear RGB (dhdr-tonemap's --op).
+
+Meters src (or uses stats=, e.g. an adapted luminance from dhdr.adapt) and maps it with
+op: reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure, aces
+(metered exposure; the ACES view does the rest) or none (x 2^exposure, unclipped).
+key: the metered luminance maps to it (0.18); exposure: stops; white: reinhard's white
+point ('auto': the largest, 'inf', or a number); metering: 'log-average' or 'histogram'
+(within percentiles); weights: 'seed' (0.27/0.67/0.06) or 'rec709'; delta: the
+log-average's delta; skip_transparent: leave alpha-0 pixels out of the metering.
+phi, epsilon: reinhard-local; drago_bias: drago. Alpha and further channels are copied.
+The result is display-linear; to_display() encodes it, quantize() makes integers.)",
+               &toneMapOp, py::kw_only(), py::arg("op") = "reinhard", py::arg("key") = 0.18,
+               py::arg("exposure") = 0.0, py::arg("white") = "auto", DHDR_METERING_ARGS,
+               py::arg("stats") = py::none(), py::arg("phi") = ToneMapParams{}.phi,
+               py::arg("epsilon") = ToneMapParams{}.epsilon,
+               py::arg("drago_bias") = ToneMapParams{}.dragoBias);
+
+    m.def(
+        "meter",
+        [](const py::object& src, const std::string& metering, Percentiles window,
+           const std::string& weights, double delta, bool skip, const py::object& roi,
+           int nthreads) {
+            Image storage;
+            const Image& image = asImage(src, "src", storage);
+            return meterImage(image, meteringParams(metering, window, weights, delta, skip),
+                              toRoi(roi), nthreads);
+        },
+        "src"_a, py::kw_only(), DHDR_METERING_ARGS, "roi"_a = py::none(), "nthreads"_a = 0,
+        "The luminance statistics of src's R, G, B as dhdr-tonemap meters them (its --metering, "
+        "--percentiles, --weights and --delta).");
+
+    m.def(
+        "adapt_luminance",
+        [](const std::vector<double>& metered, double fps, double rate, double speed) {
+            checkRange("fps", fps, 0.0, 1000.0, true);
+            AdaptationParams p;
+            p.fps = fps;
+            p.rate = rate;
+            p.speed = speed;
+            return adaptLuminance(metered, p);
+        },
+        "metered"_a, py::kw_only(), "fps"_a = AdaptationParams{}.fps,
+        "rate"_a = AdaptationParams{}.rate, "speed"_a = AdaptationParams{}.speed,
+        "Eye adaptation over a sequence's metered luminances: adapted += (L - adapted)(1 - "
+        "rate^(speed/fps)), starting adapted to the first.");
+
+    m.def(
+        "adapt",
+        [](const std::vector<py::object>& frames, double fps, const std::string& metering,
+           Percentiles window, const std::string& weights, double delta, bool skip, int nthreads) {
+            checkRange("fps", fps, 0.0, 1000.0, true);
+            const MeteringParams p = meteringParams(metering, window, weights, delta, skip);
+            std::vector<LuminanceStats> stats;
+            std::vector<double> measured;
+            for (size_t i = 0; i < frames.size(); ++i) {
+                Image storage;
+                const std::string what = "frames[" + std::to_string(i) + "]";
+                stats.push_back(
+                    meterImage(asImage(frames[i], what.c_str(), storage), p, {}, nthreads));
+                measured.push_back(stats.back().logAverage);
+            }
+            AdaptationParams ap;
+            ap.fps = fps;
+            const std::vector<double> adapted = adaptLuminance(measured, ap);
+            for (size_t i = 0; i < stats.size(); ++i)
+                stats[i].logAverage = adapted[i];
+            return stats;
+        },
+        "frames"_a, py::kw_only(), "fps"_a = 24.0, DHDR_METERING_ARGS, "nthreads"_a = 0,
+        R"(Eye adaptation over a list of frames (dhdr-tonemap --adapt): each frame metered, the
+luminances adapted in order; returns one LuminanceStats per frame to give tone_map(stats=...).)");
+
+    defImageOp(m, "bloom", R"(Bloom (dhdr-bloom): a bright pass on a quarter-size copy (pixels whose
+tone-mapped luminance L/(1+L), L = key Lw / log-average, exceeds threshold), downsampled to
+1/8, a separable Gaussian of sigma (1/8-size pixels), upsampled and added x strength to
+R, G, B. Other channels are copied.)",
+               &bloomOp, py::kw_only(), DHDR_BLOOM_ARGS);
+
+    m.def(
+        "bloom_layer",
+        [](const py::object& src, float threshold, float key, float sigma, float strength,
+           const std::string& weights, double delta, bool skip, int nthreads) {
+            Image storage;
+            const Image& image = asImage(src, "src", storage);
+            const BloomParams p =
+                bloomParams(threshold, key, sigma, strength, weights, delta, skip);
+            return runNew(image, {}, nthreads,
+                          [p](OIIO::ImageBuf& dst, const OIIO::ImageBuf& s, OIIO::ROI, int n) {
+                              return bloomLayer(dst, s, p, n);
+                          });
+        },
+        "src"_a, py::kw_only(), DHDR_BLOOM_ARGS, "nthreads"_a = 0,
+        "The bloom layer alone (3 channels, src's size, before strength).");
+
+    defImageOp(m, "to_display", R"(Encodes display-linear (tone-mapped) RGB for a display through
+OpenColorIO, as dhdr-tonemap does after its operator: look, view and display of config (empty:
+$OCIO, else the built-in config with display sRGB, views Standard and ACES). Names a config
+lacks raise ValueError listing the valid ones.)",
+               &toDisplayOp, py::kw_only(), DHDR_DISPLAY_ARGS);
+    defImageOp(m, "to_scene_linear", R"(From the input's colour space (colorspace=, or sRGB when
+the image's oiio:ColorSpace says so) to scene-linear, as dhdr-tonemap does on reading.)",
+               &toSceneLinearOp, py::kw_only(), DHDR_DISPLAY_ARGS);
+    m.def(
+        "describe_display",
+        [](const std::string& config, const std::string& colorspace, const std::string& display,
+           const std::string& view, const std::string& look) {
+            const auto t = displayTransform(config, colorspace, display, view, look);
+            return py::make_tuple(t->describe(), t->outputColorSpace());
+        },
+        py::kw_only(), DHDR_DISPLAY_ARGS,
+        "(description, output colour space) of a display transform, as dhdr-tonemap -v says it.");
+
+    m.def(
+        "quantize",
+        [](py::array dst, const py::object& src, bool dither, const py::object& roi, int nthreads) {
+            Image storage;
+            return quantizeInto(dst, asImage(src, "src", storage), dither, toRoi(roi), nthreads);
+        },
+        "dst"_a, "src"_a, py::kw_only(), "dither"_a = true, "roi"_a = py::none(), "nthreads"_a = 0);
+    m.def(
+        "quantize",
+        [](const py::object& src, int bits, bool dither, const py::object& roi, int nthreads) {
+            Image storage;
+            const Image& image = asImage(src, "src", storage);
+            if (bits != 8 && bits != 16)
+                throw py::value_error("bits: " + std::to_string(bits) + " is not 8 or 16");
+            const std::vector<py::ssize_t> shape = {image.spec().height, image.spec().width,
+                                                    image.spec().nchannels};
+            py::array dst = bits == 8 ? py::array(py::array_t<uint8_t>(shape))
+                                      : py::array(py::array_t<uint16_t>(shape));
+            quantizeInto(dst, image, dither, toRoi(roi), nthreads);
+            return dst;
+        },
+        "src"_a, py::kw_only(), "bits"_a = 8, "dither"_a = true, "roi"_a = py::none(),
+        "nthreads"_a = 0,
+        R"(Display values to integers (dhdr-tonemap's PNG/TIFF output): round(clamp(v, 0, 1) x
+(2^bits - 1) + offset), the offset from an 8x8 Bayer matrix on R, G, B when dither (the tool
+dithers 8-bit output unless --no-dither, never 16-bit). Returns a uint8 or uint16 array
+(height, width, channels); the dst form fills such an array.)");
+
+    m.def(
+        "replace_non_finite",
+        [](Image& image, bool zeroNegative, const py::object& roi, int nthreads) {
+            if (!image.writeable()) throw py::value_error("image: its pixels are read-only");
+            ImageView v = view(image);
+            const OIIO::ROI region = toRoi(roi);
+            NonFiniteCount n;
+            {
+                py::gil_scoped_release gil;
+                n = replaceNonFinite(v.buf, region, nthreads, zeroNegative);
+            }
+            return py::dict("nan"_a = n.nan, "positive_inf"_a = n.positiveInf,
+                            "negative_inf"_a = n.negativeInf, "negative"_a = n.negative);
+        },
+        "image"_a, py::kw_only(), "zero_negative"_a = false, "roi"_a = py::none(), "nthreads"_a = 0,
+        R"(In place, as the tools do on reading: NaN and -Inf become 0, +Inf 65504, and with
+zero_negative finite negatives 0 (dhdr-tonemap's colour). Returns the counts.)");
+}
+
+} // namespace dhdr::python
