@@ -1,4 +1,4 @@
-// The params tables (dhdr/deferred/core/param_table.h) against what depends on them: validate()
+// The params tables (dhdr/common/param_table.h) against what depends on them: validate()
 // refuses exactly what is outside each range, the tools refuse it as usage errors and show it
 // in --help, and the docs' option tables state the same ranges.
 #include "tool_test.h"

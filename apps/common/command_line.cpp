@@ -24,6 +24,15 @@ void CommandLine::flag(const std::string& name, bool& target, const std::string&
     m_options.push_back(std::move(o));
 }
 
+void CommandLine::flag(const std::string& name, std::function<void()> given,
+                       const std::string& help) {
+    Option o;
+    o.name = name;
+    o.help = help;
+    o.given = std::move(given);
+    m_options.push_back(std::move(o));
+}
+
 void CommandLine::option(const std::string& name, const std::string& metavar,
                          const std::string& help,
                          std::function<bool(const std::string&, std::string&)> parse) {
@@ -35,9 +44,14 @@ void CommandLine::option(const std::string& name, const std::string& metavar,
     m_options.push_back(std::move(o));
 }
 
+namespace {
+std::string withDefault(const std::string& help, const std::string& value);
+std::string numberText(double v);
+} // namespace
+
 void CommandLine::option(const std::string& name, std::string& target, const std::string& metavar,
                          const std::string& help) {
-    option(name, metavar, help, [&target](const std::string& v, std::string&) {
+    option(name, metavar, withDefault(help, target), [&target](const std::string& v, std::string&) {
         target = v;
         return true;
     });
@@ -50,19 +64,6 @@ void CommandLine::namesFile(const std::string& name, FileRole role,
             o.role = role;
             o.filePath = std::move(path);
         }
-}
-
-bool CommandLine::Range::contains(double v) const {
-    return std::isfinite(v) && (openLo ? v > lo : v >= lo) && (openHi ? v < hi : v <= hi);
-}
-
-std::string CommandLine::Range::text() const {
-    auto number = [](double v) {
-        char text[32];
-        std::snprintf(text, sizeof text, "%g", v);
-        return std::string(text);
-    };
-    return (openLo ? "(" : "[") + number(lo) + ", " + number(hi) + (openHi ? ")" : "]");
 }
 
 namespace {
@@ -78,11 +79,24 @@ bool parseFinite(const std::string& v, double& d, std::string& err) {
     return true;
 }
 
+// `help` and the default the option's variable holds before parsing, unless the help says
+// what the default is in words: every default shown is the value the tool starts from.
+std::string withDefault(const std::string& help, const std::string& value) {
+    if (help.find("default") != std::string::npos || value.empty()) return help;
+    return help + " (default " + value + ")";
+}
+
+std::string numberText(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
+}
+
 } // namespace
 
 void CommandLine::option(const std::string& name, double& target, const std::string& metavar,
                          const std::string& help, Range range) {
-    option(name, metavar, help + " " + range.text(),
+    option(name, metavar, withDefault(help, numberText(target)) + " " + range.text(),
            [&target, range](const std::string& v, std::string& err) {
                double d = 0.0;
                if (!parseFinite(v, d, err)) return false;
@@ -126,7 +140,7 @@ void requireFloatRange(const std::string& name, const CommandLine::Range& range)
 void CommandLine::option(const std::string& name, float& target, const std::string& metavar,
                          const std::string& help, Range range) {
     requireFloatRange(name, range);
-    option(name, metavar, help + " " + range.text(),
+    option(name, metavar, withDefault(help, numberText(double(target))) + " " + range.text(),
            [&target, range](const std::string& v, std::string& err) {
                double d = 0.0;
                if (!parseFinite(v, d, err)) return false;
@@ -139,7 +153,7 @@ void CommandLine::option(const std::string& name, float& target, const std::stri
 void CommandLine::option(const std::string& name, int& target, const std::string& metavar,
                          const std::string& help, int lo, int hi) {
     const Range range{double(lo), double(hi)};
-    option(name, metavar, help + " " + range.text(),
+    option(name, metavar, withDefault(help, std::to_string(target)) + " " + range.text(),
            [&target, range](const std::string& v, std::string& err) {
                char* end = nullptr;
                errno = 0;
@@ -313,9 +327,10 @@ int CommandLine::parse(int argc, char** argv) {
                 }
                 continue;
             }
-            if (found->flag) {
+            if (found->flag || found->given) {
                 if (hasValue) return usageError(arg + " takes no value");
-                *found->flag = true;
+                if (found->flag) *found->flag = true;
+                if (found->given) found->given();
                 continue;
             }
             std::string v, err;

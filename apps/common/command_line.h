@@ -2,6 +2,7 @@
 // `dhdr-<stage> INPUT... -o OUTPUT [options]`, --help, --version, -v, -q, --threads N.
 #pragma once
 
+#include <dhdr/common/param_table.h>
 #include <dhdr/io/pixel_limit.h>
 #include <functional>
 #include <optional>
@@ -30,6 +31,8 @@ public:
 
     // A switch without a value.
     void flag(const std::string& name, bool& target, const std::string& help);
+    // A switch that calls `given` when it is given.
+    void flag(const std::string& name, std::function<void()> given, const std::string& help);
     // An option with a value; `parse` converts it and returns false with a message when it
     // cannot. `metavar` names the value in --help.
     void option(const std::string& name, const std::string& metavar, const std::string& help,
@@ -38,12 +41,7 @@ public:
                 const std::string& help);
     // Numbers: NaN and ±Inf are never accepted, and a value outside [lo, hi] (open at an end
     // where `openLo`/`openHi`) is a usage error. The range is shown in --help.
-    struct Range {
-        double lo, hi;
-        bool openLo = false, openHi = false;
-        bool contains(double v) const;
-        std::string text() const;
-    };
+    using Range = ParamRange;
     void option(const std::string& name, double& target, const std::string& metavar,
                 const std::string& help, Range range);
     // A number stored as a float: checked as the float it becomes, so that 1e39 (+Inf as a
@@ -90,6 +88,7 @@ private:
         std::string name, metavar, help;
         std::function<bool(const std::string&, std::string&)> parse; // null for flags
         bool* flag = nullptr;
+        std::function<void()> given;             // a callback flag's
         std::optional<double>* number = nullptr; // flagWithNumber's value
         Range numberRange{0.0, 0.0};             // and its range
         std::optional<FileRole> role;            // namesFile

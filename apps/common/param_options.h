@@ -1,10 +1,10 @@
-// A library params table (dhdr/deferred/core/param_table.h) as a tool's options: the option, its
-// range and its default in --help all come from the table and the struct.
+// A library params table (dhdr/common/param_table.h) as a tool's options: the option, its
+// range or choices and its default in --help all come from the table and the struct.
 #pragma once
 
 #include "command_line.h"
 
-#include <dhdr/deferred/core/param_table.h>
+#include <dhdr/common/param_table.h>
 
 namespace dhdr::app {
 
@@ -13,9 +13,35 @@ namespace dhdr::app {
 template <class Params, size_t N>
 void addParamOptions(CommandLine& cl, Params& params, const IntParam<Params> (&table)[N]) {
     for (const IntParam<Params>& p : table)
-        cl.option(p.option, params.*(p.field), p.metavar,
-                  std::string(p.help) + " (default " + std::to_string(params.*(p.field)) + ")",
-                  p.min, p.max);
+        cl.option(p.option, params.*(p.field), p.metavar, p.help, p.min, p.max);
+}
+
+template <class Params, size_t N>
+void addParamOptions(CommandLine& cl, Params& params, const FloatParam<Params> (&table)[N]) {
+    for (const FloatParam<Params>& p : table)
+        cl.option(p.option, params.*(p.field), p.metavar, p.help, p.range);
+}
+
+template <class Params, size_t N>
+void addParamOptions(CommandLine& cl, Params& params, const ChoiceParam<Params> (&table)[N]) {
+    for (const ChoiceParam<Params>& p : table)
+        cl.option(p.option, p.names,
+                  std::string(p.help) + " (default " + choiceName(p.names, p.get(params)) + ")",
+                  [&params, &p](const std::string& v, std::string& error) {
+                      const int index = choiceIndex(p.names, v);
+                      if (index < 0)
+                          error = "must be " + choiceList(p.names) + ", not '" + v + "'";
+                      else
+                          p.set(params, index);
+                      return index >= 0;
+                  });
+}
+
+template <class Params, size_t N>
+void addParamOptions(CommandLine& cl, Params& params, const FlagParam<Params> (&table)[N]) {
+    for (const FlagParam<Params>& p : table)
+        cl.flag(
+            p.option, [&params, &p] { p.set(params, !p.negated); }, p.help);
 }
 
 } // namespace dhdr::app

@@ -4,7 +4,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <cstdint>
-#include <dhdr/deferred/core/param_table.h>
+#include <dhdr/common/param_table.h>
 #include <dhdr/deferred/core/visibility.h>
 
 namespace dhdr {
@@ -35,7 +35,8 @@ struct SsaoParams {
 
 // SsaoParams' counts: dhdr-light's --ao-samples with --ao ssao.
 inline constexpr IntParam<SsaoParams> kSsaoParamTable[] = {
-    {"--ao-samples", &SsaoParams::samples, 1, 256, "N", "--ao ssao: kernel points per pixel"},
+    {"--ao-samples", &SsaoParams::samples, 1, 256, "N", "--ao ssao: kernel points per pixel",
+     "ao_samples"},
 };
 
 // One channel "AO" in [0, 1] for every pixel of `gbuffer` (a whole frame, float or not; 1

@@ -7,7 +7,7 @@
 #pragma once
 
 #include <dhdr/deferred/core/brdf.h>
-#include <dhdr/deferred/core/param_table.h>
+#include <dhdr/common/param_table.h>
 #include <dhdr/deferred/gbuffer/gbuffer_time.h>
 #include <dhdr/deferred/scene/lights.h>
 #include <functional>

@@ -3,8 +3,8 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <dhdr/common/param_table.h>
 #include <dhdr/deferred/core/brdf.h>
-#include <dhdr/deferred/core/param_table.h>
 #include <dhdr/deferred/environment/ibl.h>
 #include <string>
 #include <vector>
@@ -80,27 +80,34 @@ struct LightingParams {
     bool writeSpecular = false;
 };
 
-// The ranges of LightingParams' counts, and the options of dhdr-light that set them.
+// The ranges of LightingParams' counts, and the options of dhdr-light and keywords of
+// dhdr.light() that set them.
 inline constexpr IntParam<LightingParams> kLightingParamTable[] = {
     {"--shadow-samples", &LightingParams::shadowSamples, 1, 4096, "N",
-     "points per pixel on each sphere, rectangle or emissive light, for soft shadows"},
+     "points per pixel on each sphere, rectangle or emissive light, for soft shadows",
+     "shadow_samples"},
     {"--env-samples", &LightingParams::environmentSamples, 0, 4096, "N",
      "with --scene, shadow rays per pixel drawn from each environment light by its luminance, "
-     "the cosine and the glossy lobe, so that the sky casts soft shadows (0: none)"},
+     "the cosine and the glossy lobe, so that the sky casts soft shadows (0: none)",
+     "env_samples"},
     {"--catcher-bounce", &LightingParams::catcherBounceSamples, 0, 4096, "N",
      "with --scene, rays per shadow-catcher pixel that gather the light the objects bounce "
-     "onto it, which lightens their shadow as in Cycles (0: direct light only)"},
+     "onto it, which lightens their shadow as in Cycles (0: direct light only)",
+     "catcher_bounce"},
     {"--spp", &LightingParams::pathSamples, 1, 65536, "N",
-     "--gi path: paths per pixel (per sample of a deep pixel)"},
+     "--gi path: paths per pixel (per sample of a deep pixel)", "spp"},
     {"--path-bounces", &LightingParams::pathBounces, 0, 1024, "N",
      "--gi path: bounces after the first hit, ended earlier by Russian roulette (0: direct "
-     "light only)"},
+     "light only)",
+     "path_bounces"},
     {"--specular-samples", &LightingParams::specularSamples, 0, 4096, "N",
      "with --scene, rays per pixel that gather the lit scene in metallic and glossy surfaces "
-     "(the room in a gold sphere; 0: none)"},
+     "(the room in a gold sphere; 0: none)",
+     "specular_samples"},
     {"--ao-samples", &LightingParams::aoSamples, 0, 4096, "N",
-     "--ao rt: ambient-occlusion rays per pixel (0: no AO)"},
-    {"--tile", &LightingParams::tileSize, 1, 1024, "N", "tile size of the light lists, in pixels"},
+     "--ao rt: ambient-occlusion rays per pixel (0: no AO)", "ao_samples"},
+    {"--tile", &LightingParams::tileSize, 1, 1024, "N", "tile size of the light lists, in pixels",
+     "tile"},
 };
 
 // The rows around a strip of a frame that its environments' specular light reads (a flat
