@@ -1,5 +1,6 @@
 // dhdr-bloom: linear HDR in, the same with bloom added out (docs/tools.md).
 #include "../common/frames.h"
+#include "../common/param_options.h"
 #include "../common/tool.h"
 
 #include <dhdr/io/layers.h>
@@ -18,15 +19,7 @@ int run(int argc, char** argv) {
                         "separable Gaussian, upsampled\nbilinearly and added to R, G, B. Other "
                         "channels pass through unchanged.");
     BloomParams params;
-    cl.option("--threshold", params.threshold, "T",
-              "tone-mapped luminance L/(1+L) above which pixels bloom (default 0.8)",
-              {0.0, 1.0, false, true});
-    cl.option("--key", params.key, "A", "key α of that tone mapping (default 0.18)",
-              {0.0, 100.0, true});
-    cl.option("--sigma", params.sigma, "S", "Gaussian σ in 1/8-size pixels (default 2)",
-              {0.0, 64.0});
-    cl.option("--strength", params.strength, "K", "factor of the bloom layer (default 1.3)",
-              {0.0, 1000.0});
+    app::addParamOptions(cl, params, kBloomFloatTable);
     std::string layer;
     cl.option("--layer", layer, "NAME",
               "the layer or EXR part to bloom (default: the unnamed R,G,B,A, else the one "

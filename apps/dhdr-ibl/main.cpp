@@ -1,4 +1,5 @@
 // dhdr-ibl: bakes an equirectangular HDR environment for image-based lighting (docs/ibl.md).
+#include "../common/param_options.h"
 #include "../common/tool.h"
 
 #include <chrono>
@@ -20,22 +21,8 @@ int run(int argc, char** argv) {
         "split-sum DFG table with the multiple-scattering terms. One multi-part EXR: the\n"
         "levels as subimages, then the DFG table; the SH and parameters in the header.");
     IblBakeParams p;
-    cl.option("--levels", p.levels, "N", "prefiltered levels, roughness 0 to 1 (default 6)", 2, 16);
-    cl.option("--base-width", p.baseWidth, "W",
-              "width of level 1; each later level is half as wide, down to 64 (default 256)", 8,
-              4096);
-    cl.option("--samples", p.samples, "N",
-              "how finely level 1's quadrature cuts the lobe, in the GGX samples per texel it\n"
-              "replaced (cost grows with it); each later level takes 4x as many, up to 16x\n"
-              "(default 128)",
-              1, 65536);
-    cl.option("--dfg-size", p.dfgSize, "N", "side of the DFG table (default 128)", 2, 1024);
-    cl.option("--dfg-samples", p.dfgSamples, "N", "samples per DFG entry (default 1024)", 1, 65536);
-    cl.option("--sun-threshold", p.sunThreshold, "Y",
-              "luminance above which the texels around the brightest one are split off as\n"
-              "the environment's sun, a directional light of its own with its angle (default\n"
-              "10, as Blender EEVEE's world Sun Threshold; 0: keep the sun in the sky)",
-              {0.0, 1e30});
+    app::addParamOptions(cl, p, kIblBakeParamTable);
+    app::addParamOptions(cl, p, kIblBakeFloatTable);
     cl.epilog("Example:\n  dhdr-ibl studio.exr -o studio.ibl.exr\n"
               "  then in a lights file: {\"type\": \"environment\", \"image\": "
               "\"studio.ibl.exr\"}");

@@ -374,10 +374,9 @@ bool LightRun::frame(int frameNumber, const std::vector<std::string>& all, const
     }
     const bool ssao = m_s.lighting.ao == AoMode::ScreenSpace;
     if (deepInput) {
-        if (ssao) {
-            m_tool.fail(path + ": --ao ssao works on flat G-buffers; a deep one needs --ao rt");
-            return false;
-        }
+        if (const std::string problem = deepGBufferProblem(m_s.lighting, Spelling::Option);
+            !problem.empty())
+            return failed(path + ": " + problem);
         const app::FramePattern deepOutput(m_s.deepOut);
         return app::lightDeepGBuffer(whole(), path, part, out, lightFiles,
                                      m_s.deepOut.empty() ? "" : deepOutput.path(frameNumber));

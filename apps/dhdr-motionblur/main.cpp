@@ -1,6 +1,7 @@
 // dhdr-motionblur: motion blur in post, in linear HDR, from a G-buffer's motion vectors
 // (docs/tools.md, docs/animation.md).
 #include "../common/frames.h"
+#include "../common/param_options.h"
 #include "../common/tool.h"
 
 #include <OpenImageIO/imagebufalgo.h>
@@ -78,18 +79,8 @@ int run(int argc, char** argv) {
     MotionBlurParams params;
     std::string gbufferPath, layer;
     cl.option("--gbuffer", gbufferPath, "FILE", "G-buffer with the motion and depth channels");
-    cl.option("--shutter", params.shutter, "FRAMES",
-              "shutter, in frames, centred on the frame (default 0.5, as Cycles)", {0.0, 2.0});
-    cl.option("--samples", params.samples, "N", "taps along each pixel's blur (default 15)", 1,
-              256);
-    cl.option("--max-blur", params.maxBlur, "PX",
-              "longest blur, pixels from a pixel to the end of its streak (longer motion is "
-              "shortened; default 32)",
-              1, 128);
-    cl.option("--depth-softness", params.depthSoftness, "R",
-              "relative depth difference over which a surface passes from behind another to in "
-              "front (default 0.01)",
-              {0.0, 1.0, true});
+    app::addParamOptions(cl, params, kMotionBlurFloatTable);
+    app::addParamOptions(cl, params, kMotionBlurIntTable);
     cl.option("--layer", layer, "NAME",
               "the layer or EXR part to blur (default: the unnamed R,G,B,A, else the one "
               "called Combined, rgba or beauty)");

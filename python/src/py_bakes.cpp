@@ -3,6 +3,7 @@
 // lights files then read; probes may also stay in memory (dhdr.Probes).
 #include "py_image.h"
 #include "py_lights.h"
+#include "py_ops.h"
 #include "py_probes.h"
 #include "py_scene.h"
 
@@ -20,30 +21,18 @@ namespace {
 
 using namespace pybind11::literals;
 
-// The parameters' ranges are dhdr-ibl's options'.
-void checkInt(const char* name, int v, int lo, int hi) {
-    if (v < lo || v > hi)
-        throw py::value_error(std::string(name) + ": " + std::to_string(v) + " is outside [" +
-                              std::to_string(lo) + ", " + std::to_string(hi) + "]");
-}
-
 py::dict bakeIblFile(const py::object& environment, const std::string& out, int levels,
                      int baseWidth, int samples, int dfgSize, int dfgSamples, float sunThreshold,
                      int nthreads) {
     IblBakeParams p;
-    checkInt("levels", levels, 2, 16);
-    checkInt("base_width", baseWidth, 8, 4096);
-    checkInt("samples", samples, 1, 65536);
-    checkInt("dfg_size", dfgSize, 2, 1024);
-    checkInt("dfg_samples", dfgSamples, 1, 65536);
-    if (!(sunThreshold >= 0.0f && sunThreshold <= 1e30f))
-        throw py::value_error("sun_threshold: must be in [0, 1e30]");
     p.levels = levels;
     p.baseWidth = baseWidth;
     p.samples = samples;
     p.dfgSize = dfgSize;
     p.dfgSamples = dfgSamples;
     p.sunThreshold = sunThreshold;
+    checkParams(p, kIblBakeParamTable);
+    checkParams(p, kIblBakeFloatTable);
     // A file as dhdr-ibl reads it, or an image in memory (its R, G, B by name).
     const bool file = py::isinstance<py::str>(environment);
     const std::string name = file ? environment.cast<std::string>() : "environment";
@@ -134,8 +123,7 @@ py::object bakeProbesTo(const SceneHandle& scene, const py::object& outGiven,
     p.rays = rays;
     p.bounces = bounces;
     p.shadowSamples = shadowSamples;
-    if (const std::string e = checkRanges(p, kProbeBakeParamTable); !e.empty())
-        throw py::value_error(e);
+    checkParams(p, kProbeBakeParamTable);
     if (diffuse != "lambert" && diffuse != "burley")
         throw py::value_error("diffuse must be lambert or burley");
     p.diffuse = diffuse == "burley" ? DiffuseModel::Burley : DiffuseModel::Lambert;

@@ -65,14 +65,12 @@ ImageOp motionBlurOp(const Image& src, const py::object& motion, const py::objec
                      const py::object& gbuffer, float shutter, int samples, int maxBlur,
                      float depthSoftness) {
     MotionBlurParams p;
-    checkRange("shutter", shutter, 0.0, 2.0);
-    checkRange("samples", samples, 1, 256);
-    checkRange("max_blur", maxBlur, 1, 128);
-    checkRange("depth_softness", depthSoftness, 0.0, 1.0, true);
     p.shutter = shutter;
     p.samples = samples;
     p.maxBlur = maxBlur;
     p.depthSoftness = depthSoftness;
+    checkParams(p, kMotionBlurFloatTable);
+    checkParams(p, kMotionBlurIntTable);
     // Like dhdr-motionblur: the motion and depth of --gbuffer, else the image's own channels.
     Image gstorage;
     const Image* from = gbuffer.is_none() ? &src : &asImage(gbuffer, "gbuffer", gstorage);
@@ -111,12 +109,10 @@ ImageOp edgeAAOp(const Image& src, const py::object& normal, const py::object& d
     if (use != "normal" && use != "depth" && use != "both")
         throw py::value_error("use must be normal, depth or both, got '" + use + "'");
     EdgeAAParams p;
-    checkRange("normal_weight", normalWeight, 0.0, 1e6);
-    checkRange("depth_weight", depthWeight, 0.0, 1e6);
-    checkRange("max_offset", maxOffset, 0.0, 4.0);
     p.normalWeight = normalWeight;
     p.depthWeight = depthWeight;
     p.maxOffset = maxOffset;
+    checkParams(p, kEdgeAAFloatTable);
     // Like dhdr-aa: the geometry of --gbuffer, else the image's own N.* and Z channels.
     Image gstorage;
     const Image* from = gbuffer.is_none() ? &src : &asImage(gbuffer, "gbuffer", gstorage);

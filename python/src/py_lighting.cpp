@@ -15,6 +15,7 @@
 #include <dhdr/deferred/gbuffer/gbuffer_time.h>
 #include <dhdr/deferred/gi/probes.h>
 #include <dhdr/deferred/integrator/lighting.h>
+#include <dhdr/deferred/integrator/lighting_options.h>
 #include <dhdr/deferred/lights/emissive_lights.h>
 #include <dhdr/deferred/scene/lights.h>
 #include <dhdr/deferred/scene/scene_rig.h>
@@ -26,6 +27,8 @@
 #include <memory>
 #include <optional>
 #include <pybind11/stl.h>
+#include <stdexcept>
+#include <tuple>
 
 namespace dhdr::python {
 
@@ -176,6 +179,84 @@ PosedFor poseFor(const SceneHandle& h, const OIIO::ImageSpec& gspec) {
     return {posed, caster};
 }
 
+// light()'s keywords after its G-buffer, in the order declared (lightKeywords): what a call
+// gives, before anything is checked.
+struct LightCall {
+    py::object lights, scene;
+    bool emissive, shadows;
+    int envSamples, specularSamples, catcherBounce;
+    py::object probes;
+    std::string ao;
+    float aoDistance;
+    int aoSamples;
+    py::object background, plate;
+    bool bruteForce;
+    int tile, shadowSamples;
+    std::string envSpecular, diffuse;
+    bool radiometric, denoise, aovs;
+    std::string gi;
+    int spp, pathBounces;
+
+    // The lighting choices, as dhdr-light's options give them (LightingOptions' tables).
+    LightingOptions options() const;
+};
+
+// The keywords of light() (flat and deep) and light_samples(), declared once, their defaults
+// those of LightingOptions and its tables.
+auto lightKeywords() {
+    const LightingOptions d;
+    const auto choice = [&d](const char* option) {
+        for (const ChoiceParam<LightingOptions>& p : kLightingChoiceTable)
+            if (std::string(p.option) == option) return choiceName(p.names, p.get(d));
+        throw std::logic_error(std::string("no choice ") + option);
+    };
+    return std::make_tuple(
+        py::arg("lights") = py::none(), py::kw_only(), py::arg("scene") = py::none(),
+        py::arg("emissive_lights") = true, py::arg("shadows") = d.params.shadows,
+        py::arg("env_samples") = d.params.environmentSamples,
+        py::arg("specular_samples") = d.params.specularSamples,
+        py::arg("catcher_bounce") = d.params.catcherBounceSamples, py::arg("probes") = "",
+        py::arg("ao") = choice("--ao"), py::arg("ao_distance") = d.aoDistance,
+        py::arg("ao_samples") = d.params.aoSamples, py::arg("background") = py::none(),
+        py::arg("plate") = py::none(), py::arg("brute_force") = d.params.bruteForce,
+        py::arg("tile") = d.params.tileSize, py::arg("shadow_samples") = d.params.shadowSamples,
+        py::arg("env_specular") = choice("--env-specular"), py::arg("diffuse") = "lambert",
+        py::arg("radiometric") = false, py::arg("denoise") = d.params.denoise,
+        py::arg("aovs") = d.aovs, py::arg("gi") = choice("--gi"),
+        py::arg("spp") = d.params.pathSamples, py::arg("path_bounces") = d.params.pathBounces);
+}
+
+LightingOptions LightCall::options() const {
+    LightingOptions o;
+    std::string error;
+    const struct {
+        const char* option;
+        std::string value;
+    } choices[] = {{"--ao", ao}, {"--env-specular", envSpecular}, {"--gi", gi}};
+    for (const auto& c : choices)
+        for (const ChoiceParam<LightingOptions>& p : kLightingChoiceTable)
+            if (std::string(p.option) == c.option &&
+                !setChoice(p, o, c.value, Spelling::Keyword, error))
+                throw py::value_error(error);
+    if (diffuse != "lambert" && diffuse != "burley")
+        throw py::value_error("diffuse must be lambert or burley");
+    o.params.diffuse = diffuse == "burley" ? DiffuseModel::Burley : DiffuseModel::Lambert;
+    o.params.bruteForce = bruteForce;
+    o.params.tileSize = tile;
+    o.params.shadowSamples = shadowSamples;
+    o.params.denoise = denoise;
+    o.params.shadows = shadows;
+    o.params.environmentSamples = envSamples;
+    o.params.specularSamples = specularSamples;
+    o.params.catcherBounceSamples = catcherBounce;
+    o.params.aoSamples = aoSamples;
+    o.params.pathSamples = spp;
+    o.params.pathBounces = pathBounces;
+    o.aoDistance = aoDistance;
+    o.aovs = aovs;
+    return o;
+}
+
 // What light() needs for a call, prepared from its keywords with the GIL held (ValueError for
 // bad ones), shared by the flat and the deep forms.
 struct LightingSetup {
@@ -189,123 +270,68 @@ struct LightingSetup {
     bool useSsao = false, useProbes = false;
 };
 
-LightingSetup setupLighting(const OIIO::ImageSpec& gspec, const py::object& lightsGiven,
-                            const py::object& sceneGiven, bool emissive, bool shadows,
-                            int envSamples, int specularSamples, int catcherBounce,
-                            const py::object& probesGiven, const std::string& ao, float aoDistance,
-                            int aoSamples, const py::object& background, const py::object& plate,
-                            bool bruteForce, int tile, int shadowSamples,
-                            const std::string& envSpecular, const std::string& diffuse,
-                            bool radiometric, bool denoise, bool aovs, const std::string& gi,
-                            int spp, int pathBounces) {
-    // probes: a file's path or a dhdr.Probes; "" and None are none.
-    const bool hasProbes = !probesGiven.is_none() && !(py::isinstance<py::str>(probesGiven) &&
-                                                       probesGiven.cast<std::string>().empty());
-    // dhdr-light's lights: the scene's own unless lights are given, its emissive meshes, then
-    // the lights given (sceneLightList's order).
-    const SceneHandle* scene = nullptr;
-    if (!sceneGiven.is_none()) {
-        if (!py::isinstance<SceneHandle>(sceneGiven))
-            throw py::type_error("scene: expected a dhdr.Scene");
-        scene = &sceneGiven.cast<const SceneHandle&>();
-    }
-    if (lightsGiven.is_none() && !scene)
-        throw py::value_error("no lights: give lights=, or scene= for the scene's own");
-    // Its lights and glowing meshes where the G-buffer's moment puts them.
-    const PosedFor posed = scene ? poseFor(*scene, gspec) : PosedFor{};
-    auto lights = std::make_shared<std::vector<Light>>(
-        scene ? sceneLightList(*posed.scene, lightsGiven.is_none(), emissive, radiometric)
-              : std::vector<Light>{});
-    if (scene && lightsGiven.is_none() && lights->empty())
-        throw py::value_error(scene->path + ": the scene has no lights and no emissive "
-                                            "surfaces; give lights=");
-    if (!lightsGiven.is_none()) addLights(lightsGiven, radiometric, *lights);
-    LightingParams p;
-    if (ao != "off" && ao != "ssao" && ao != "rt")
-        throw py::value_error("ao must be off, rt or ssao, got '" + ao + "'");
-    if (ao == "rt" && !scene)
-        throw py::value_error("ao='rt' traces rays in the scene: give scene=");
-    if (envSpecular == "auto")
-        p.environmentSpecular = IblSpecular::Auto;
-    else if (envSpecular == "split-sum")
-        p.environmentSpecular = IblSpecular::SplitSum;
-    else if (envSpecular == "quadrature")
-        p.environmentSpecular = IblSpecular::Quadrature;
-    else
-        throw py::value_error("env_specular must be auto, split-sum or quadrature");
-    if (diffuse != "lambert" && diffuse != "burley")
-        throw py::value_error("diffuse must be lambert or burley");
-    p.diffuse = diffuse == "burley" ? DiffuseModel::Burley : DiffuseModel::Lambert;
-    p.bruteForce = bruteForce;
-    p.tileSize = tile;
-    p.shadowSamples = shadowSamples;
-    p.denoise = denoise;
-    p.aoSamples = ao == "rt" ? aoSamples : 0;
-    p.shadows = shadows;
-    p.environmentSamples = envSamples;
-    p.specularSamples = specularSamples;
-    p.catcherBounceSamples = catcherBounce;
-    // --gi path: the reference path tracer, as dhdr-light checks it.
-    if (gi != "direct" && gi != "path") throw py::value_error("gi must be direct or path");
-    p.pathTrace = gi == "path";
-    p.pathSamples = spp;
-    p.pathBounces = pathBounces;
-    if (!p.pathTrace &&
-        (spp != LightingParams{}.pathSamples || pathBounces != LightingParams{}.pathBounces))
-        throw py::value_error("spp and path_bounces are for gi='path'");
-    if (p.pathTrace) {
-        if (!scene) throw py::value_error("gi='path' traces the scene: give scene=");
-        if (hasProbes)
-            throw py::value_error("gi='path' computes the indirect light itself: drop probes");
-        if (ao != "off") throw py::value_error("gi='path' has no AO: drop ao");
-        p.denoise = false; // the reference is each pixel's own estimate
-    }
-    checkRange("ao_distance", aoDistance, 0.0, 1e30, true);
-    p.aoDistance = aoDistance;
-    if (std::string error; !validate(p, error)) throw py::value_error(error);
-    if (aovs) p.passThrough = {"Z", "N.X", "N.Y", "N.Z"};
-    p.writeAO = aovs && ao != "off";
-    p.writeIndirect = aovs && hasProbes;
-    p.writeSpecular = aovs && scene;
-    const bool environment = std::any_of(lights->begin(), lights->end(), [](const Light& l) {
-        return l.type == LightType::Environment;
-    });
-    if (py::isinstance<py::str>(background)) {
-        if (background.cast<std::string>() != "env")
+// The background and plate keywords into `o` (and the plate's image).
+void readBackdrops(const LightCall& c, LightingOptions& o, ImageView& plateImage) {
+    if (py::isinstance<py::str>(c.background)) {
+        if (c.background.cast<std::string>() != "env")
             throw py::value_error("background must be (R, G, B[, A]) or 'env'");
-        p.environmentBackground = true;
-    } else if (!background.is_none()) {
-        const std::vector<float> v = background.cast<std::vector<float>>();
+        o.environmentBackground = true;
+    } else if (!c.background.is_none()) {
+        const std::vector<float> v = c.background.cast<std::vector<float>>();
         if (v.size() != 3 && v.size() != 4)
             throw py::value_error("background needs 3 or 4 numbers");
         for (size_t i = 0; i < 4; ++i)
-            p.background[i] = i < v.size() ? v[i] : 1.0f;
+            o.params.background[i] = i < v.size() ? v[i] : 1.0f;
     }
-    auto plateImage = std::make_shared<ImageView>();
-    if (py::isinstance<py::str>(plate)) {
-        if (plate.cast<std::string>() != "env")
+    if (py::isinstance<py::str>(c.plate)) {
+        if (c.plate.cast<std::string>() != "env")
             throw py::value_error("plate must be an image or 'env'");
-        if (!environment)
-            throw py::value_error("plate='env': there is no environment light to composite over");
-        p.plateEnvironment = true;
-    } else if (!plate.is_none()) {
+        o.plateEnvironment = true;
+    } else if (!c.plate.is_none()) {
         Image storage;
-        *plateImage = view(asImage(plate, "plate", storage));
+        plateImage = view(asImage(c.plate, "plate", storage));
     }
-    SsaoParams ssao;
-    ssao.samples = aoSamples;
-    ssao.radius = aoDistance;
-    if (ao == "ssao")
-        if (const std::string e = checkRanges(ssao, kSsaoParamTable); !e.empty())
-            throw py::value_error(e + " with ao='ssao'");
-    const std::shared_ptr<const ProbeVolume> probes = probesOf(probesGiven);
-    const bool useSsao = ao == "ssao", useProbes = bool(probes);
+}
+
+LightingSetup setupLighting(const OIIO::ImageSpec& gspec, const LightCall& c) {
+    // probes: a file's path or a dhdr.Probes; "" and None are none.
+    const bool hasProbes = !c.probes.is_none() && !(py::isinstance<py::str>(c.probes) &&
+                                                    c.probes.cast<std::string>().empty());
+    const SceneHandle* scene = nullptr;
+    if (!c.scene.is_none()) {
+        if (!py::isinstance<SceneHandle>(c.scene))
+            throw py::type_error("scene: expected a dhdr.Scene");
+        scene = &c.scene.cast<const SceneHandle&>();
+    }
+    LightingOptions options = c.options();
+    auto plateImage = std::make_shared<ImageView>();
+    readBackdrops(c, options, *plateImage);
+    LightingSetup s{nullptr, {}, {}, nullptr, plateImage, {}, nullptr, false, false};
+    const LightingContext context{!c.lights.is_none(), scene != nullptr, hasProbes};
+    if (std::string error;
+        !resolveLighting(options, context, Spelling::Keyword, s.p, s.ssao, error))
+        throw py::value_error(error);
+    // dhdr-light's lights: the scene's own unless lights are given, its emissive meshes, then
+    // the lights given (sceneLightList's order), where the G-buffer's moment puts them.
+    s.posed = scene ? poseFor(*scene, gspec) : PosedFor{};
+    s.lights = std::make_shared<std::vector<Light>>(
+        scene ? sceneLightList(*s.posed.scene, c.lights.is_none(), c.emissive, c.radiometric)
+              : std::vector<Light>{});
+    if (scene && c.lights.is_none() && s.lights->empty())
+        throw py::value_error(scene->path + ": the scene has no lights and no emissive "
+                                            "surfaces; give lights=");
+    if (!c.lights.is_none()) addLights(c.lights, c.radiometric, *s.lights);
+    if (options.plateEnvironment &&
+        std::none_of(s.lights->begin(), s.lights->end(),
+                     [](const Light& l) { return l.type == LightType::Environment; }))
+        throw py::value_error("plate='env': there is no environment light to composite over");
+    s.probes = probesOf(c.probes);
+    s.useSsao = options.ao == AoMode::ScreenSpace;
+    s.useProbes = bool(s.probes);
     // The scene's rays (shadows, AO, a catcher's bounce light, glossy reflections); the
     // caller's dhdr.Scene keeps them alive for the call.
-    const RayCaster* caster = posed.caster ? posed.caster.get()
-                              : scene      ? &scene->caster()
-                                           : nullptr;
-    return LightingSetup{lights, p, ssao, probes, plateImage, posed, caster, useSsao, useProbes};
+    s.caster = s.posed.caster ? s.posed.caster.get() : scene ? &scene->caster() : nullptr;
+    return s;
 }
 
 // The plate, when there is one, laid on the frame's pixels; false with the message on `dst`.
@@ -323,17 +349,8 @@ bool placePlate(const LightingSetup& s, const OIIO::ImageSpec& gs, OIIO::ImageBu
     return true;
 }
 
-ImageOp lightOp(const Image& src, const py::object& lightsGiven, const py::object& sceneGiven,
-                bool emissive, bool shadows, int envSamples, int specularSamples, int catcherBounce,
-                const py::object& probesGiven, const std::string& ao, float aoDistance,
-                int aoSamples, const py::object& background, const py::object& plate,
-                bool bruteForce, int tile, int shadowSamples, const std::string& envSpecular,
-                const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
-                const std::string& gi, int spp, int pathBounces) {
-    auto s = std::make_shared<const LightingSetup>(setupLighting(
-        src.spec(), lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples,
-        catcherBounce, probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile,
-        shadowSamples, envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
+ImageOp lightOp(const Image& src, const LightCall& call) {
+    auto s = std::make_shared<const LightingSetup>(setupLighting(src.spec(), call));
     return [s](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n) {
         LightingInputs inputs{*s->lights, s->caster};
         inputs.scene = s->caster;
@@ -353,20 +370,11 @@ ImageOp lightOp(const Image& src, const py::object& lightsGiven, const py::objec
 
 // dhdr-light on a deep G-buffer: every sample lit and composited front to back into flat RGBA,
 // the tile lists laid over the whole frame (what the tool's bands share).
-ImageOp deepLightOp(const DeepHandle& src, const py::object& lightsGiven,
-                    const py::object& sceneGiven, bool emissive, bool shadows, int envSamples,
-                    int specularSamples, int catcherBounce, const py::object& probesGiven,
-                    const std::string& ao, float aoDistance, int aoSamples,
-                    const py::object& background, const py::object& plate, bool bruteForce,
-                    int tile, int shadowSamples, const std::string& envSpecular,
-                    const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
-                    const std::string& gi, int spp, int pathBounces) {
-    if (ao == "ssao")
-        throw py::value_error("ao='ssao' works on flat G-buffers; a deep one needs ao='rt'");
-    auto s = std::make_shared<const LightingSetup>(setupLighting(
-        src.g->spec, lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples,
-        catcherBounce, probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile,
-        shadowSamples, envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces));
+ImageOp deepLightOp(const DeepHandle& src, const LightCall& call) {
+    if (const std::string problem = deepGBufferProblem(call.options(), Spelling::Keyword);
+        !problem.empty())
+        throw py::value_error(problem);
+    auto s = std::make_shared<const LightingSetup>(setupLighting(src.g->spec, call));
     const std::shared_ptr<const DeepGBuffer> g = src.g;
     return [s, g](OIIO::ImageBuf& dst, const OIIO::ImageBuf&, OIIO::ROI roi, int n) {
         LightingInputs inputs{*s->lights, s->caster};
@@ -381,20 +389,11 @@ ImageOp deepLightOp(const DeepHandle& src, const py::object& lightsGiven,
 
 // dhdr-light --deep-out: each sample of a deep G-buffer lit, premultiplied, with its Z and
 // ZBack, in the G-buffer's order (what the tool writes as a deep RGBA EXR for deep compositing).
-DeepHandle lightSamples(const DeepHandle& src, const py::object& lightsGiven,
-                        const py::object& sceneGiven, bool emissive, bool shadows, int envSamples,
-                        int specularSamples, int catcherBounce, const py::object& probesGiven,
-                        const std::string& ao, float aoDistance, int aoSamples,
-                        const py::object& background, const py::object& plate, bool bruteForce,
-                        int tile, int shadowSamples, const std::string& envSpecular,
-                        const std::string& diffuse, bool radiometric, bool denoise, bool aovs,
-                        const std::string& gi, int spp, int pathBounces, int nthreads) {
-    if (ao == "ssao")
-        throw py::value_error("ao='ssao' works on flat G-buffers; a deep one needs ao='rt'");
-    const LightingSetup s = setupLighting(
-        src.g->spec, lightsGiven, sceneGiven, emissive, shadows, envSamples, specularSamples,
-        catcherBounce, probesGiven, ao, aoDistance, aoSamples, background, plate, bruteForce, tile,
-        shadowSamples, envSpecular, diffuse, radiometric, denoise, aovs, gi, spp, pathBounces);
+DeepHandle lightSamples(const DeepHandle& src, const LightCall& call, int nthreads) {
+    if (const std::string problem = deepGBufferProblem(call.options(), Spelling::Keyword);
+        !problem.empty())
+        throw py::value_error(problem);
+    const LightingSetup s = setupLighting(src.g->spec, call);
     const std::shared_ptr<const DeepGBuffer> g = src.g;
     DeepHandle out;
     std::string error;
@@ -431,6 +430,24 @@ DeepHandle lightSamples(const DeepHandle& src, const py::object& lightsGiven,
     if (!error.empty()) raiseError(error);
     return out;
 }
+
+// The C++ signatures of light()'s forms: the keywords' types in LightCall's order, each call
+// gathered into a LightCall.
+template <class... Keyword>
+struct LightForms {
+    static ImageOp flat(const Image& src, Keyword... k) { return lightOp(src, LightCall{k...}); }
+    static ImageOp deep(const DeepHandle& src, Keyword... k) {
+        return deepLightOp(src, LightCall{k...});
+    }
+    static DeepHandle samples(const DeepHandle& src, Keyword... k, int nthreads) {
+        return lightSamples(src, LightCall{k...}, nthreads);
+    }
+};
+using LightSignature =
+    LightForms<const py::object&, const py::object&, bool, bool, int, int, int, const py::object&,
+               const std::string&, float, int, const py::object&, const py::object&, bool, int, int,
+               const std::string&, const std::string&, bool, bool, bool, const std::string&, int,
+               int>;
 
 // light()'s two forms with a DeepGBuffer as src, registered before the flat ones (whose src
 // takes any object): the result is flat, so they run through runNew and runInto with a
@@ -549,27 +566,17 @@ attributes (set them with set_attribute when the file has none).)");
         "Lights (a lights file, a dict or a list of them) as the lights file's JSON objects: "
         "edit them and give them to light().");
 
-    defDeepOp(
-        m, "light",
-        "A DeepGBuffer (dhdr-gbuffer --deep, read_gbuffer of a deep file): every sample "
-        "lit as dhdr-light lights a deep G-buffer (shadow and AO rays from each; ao='rt', "
-        "not 'ssao') and composited front to back into flat R, G, B, A. The keywords are "
-        "those below.",
-        &deepLightOp, py::arg("lights") = py::none(), py::kw_only(), py::arg("scene") = py::none(),
-        py::arg("emissive_lights") = true, py::arg("shadows") = true,
-        py::arg("env_samples") = LightingParams{}.environmentSamples,
-        py::arg("specular_samples") = LightingParams{}.specularSamples,
-        py::arg("catcher_bounce") = LightingParams{}.catcherBounceSamples, py::arg("probes") = "",
-        py::arg("ao") = "off", py::arg("ao_distance") = 1.0f, py::arg("ao_samples") = 16,
-        py::arg("background") = py::none(), py::arg("plate") = py::none(),
-        py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
-        py::arg("shadow_samples") = LightingParams{}.shadowSamples,
-        py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
-        py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false,
-        py::arg("gi") = "direct", py::arg("spp") = LightingParams{}.pathSamples,
-        py::arg("path_bounces") = LightingParams{}.pathBounces);
-    defImageOp(
-        m, "light", R"(Deferred lighting of a flat G-buffer (dhdr-light): Lambert (or Burley)
+    std::apply(
+        [&m](const auto&... keywords) {
+            defDeepOp(
+                m, "light",
+                "A DeepGBuffer (dhdr-gbuffer --deep, read_gbuffer of a deep file): every sample "
+                "lit as dhdr-light lights a deep G-buffer (shadow and AO rays from each; ao='rt', "
+                "not 'ssao') and composited front to back into flat R, G, B, A. The keywords are "
+                "those below.",
+                &LightSignature::deep, keywords...);
+            defImageOp(m, "light",
+                       R"(Deferred lighting of a flat G-buffer (dhdr-light): Lambert (or Burley)
 diffuse plus Cook-Torrance specular under the lights, plus emission; R, G, B, A (then AO,
 indirect.R/G/B and Z, N.X, N.Y, N.Z with aovs). lights: a lights file (docs/lights.md), a
 light as a dict of that file's fields, or a list of them, in order; radiometric divides
@@ -586,35 +593,15 @@ diffuse ('lambert', 'burley') and brute_force are dhdr-light's options of those 
 gi='path' (with scene): the reference path tracer instead, spp paths of at most
 path_bounces bounces a pixel, undenoised.
 Without a scene nothing is shadowed, as dhdr-light without --scene.)",
-        &lightOp, py::arg("lights") = py::none(), py::kw_only(), py::arg("scene") = py::none(),
-        py::arg("emissive_lights") = true, py::arg("shadows") = true,
-        py::arg("env_samples") = LightingParams{}.environmentSamples,
-        py::arg("specular_samples") = LightingParams{}.specularSamples,
-        py::arg("catcher_bounce") = LightingParams{}.catcherBounceSamples, py::arg("probes") = "",
-        py::arg("ao") = "off", py::arg("ao_distance") = 1.0f, py::arg("ao_samples") = 16,
-        py::arg("background") = py::none(), py::arg("plate") = py::none(),
-        py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
-        py::arg("shadow_samples") = LightingParams{}.shadowSamples,
-        py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
-        py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false,
-        py::arg("gi") = "direct", py::arg("spp") = LightingParams{}.pathSamples,
-        py::arg("path_bounces") = LightingParams{}.pathBounces);
-    m.def("light_samples", &lightSamples, "src"_a, py::arg("lights") = py::none(), py::kw_only(),
-          py::arg("scene") = py::none(), py::arg("emissive_lights") = true,
-          py::arg("shadows") = true, py::arg("env_samples") = LightingParams{}.environmentSamples,
-          py::arg("specular_samples") = LightingParams{}.specularSamples,
-          py::arg("catcher_bounce") = LightingParams{}.catcherBounceSamples, py::arg("probes") = "",
-          py::arg("ao") = "off", py::arg("ao_distance") = 1.0f, py::arg("ao_samples") = 16,
-          py::arg("background") = py::none(), py::arg("plate") = py::none(),
-          py::arg("brute_force") = false, py::arg("tile") = LightingParams{}.tileSize,
-          py::arg("shadow_samples") = LightingParams{}.shadowSamples,
-          py::arg("env_specular") = "auto", py::arg("diffuse") = "lambert",
-          py::arg("radiometric") = false, py::arg("denoise") = true, py::arg("aovs") = false,
-          py::arg("gi") = "direct", py::arg("spp") = LightingParams{}.pathSamples,
-          py::arg("path_bounces") = LightingParams{}.pathBounces, py::arg("nthreads") = 0,
-          R"(dhdr-light --deep-out: every sample of a DeepGBuffer lit as light() lights it, kept
+                       &LightSignature::flat, keywords...);
+            m.def(
+                "light_samples", &LightSignature::samples, "src"_a, keywords...,
+                py::arg("nthreads") = 0,
+                R"(dhdr-light --deep-out: every sample of a DeepGBuffer lit as light() lights it, kept
 apart: a DeepGBuffer of R, G, B, A (premultiplied) and the samples' Z and ZBack, front to
 back, for deep compositing. The keywords are light()'s.)");
+        },
+        lightKeywords());
 }
 
 } // namespace dhdr::python

@@ -5,6 +5,7 @@
 
 #include "py_image.h"
 
+#include <dhdr/common/param_table.h>
 #include <functional>
 
 namespace dhdr::python {
@@ -50,6 +51,14 @@ void defImageOp(py::module_& m, const char* name, const char* doc,
         },
         py::arg("dst"), py::arg("src"), extra..., py::arg("roi") = py::none(),
         py::arg("nthreads") = 0, doc);
+}
+
+// Raises ValueError naming the first keyword of `params` outside its range in `table` (the
+// library's, where the tools' options come from).
+template <class Params, class Table>
+void checkParams(const Params& params, const Table& table) {
+    if (const std::string e = checkRanges(params, table, Spelling::Keyword); !e.empty())
+        throw py::value_error(e);
 }
 
 // Raises ValueError "NAME: V is outside RANGE" (the tools' words) unless v is finite and in

@@ -74,7 +74,7 @@ def test_light_errors_name_what_is_wrong(gbuffer, tmp_path):
     assert str(e.value) == tool_error(bad)
     with pytest.raises(ValueError, match="ao must be"):
         dhdr.light(g, str(LIGHTS), ao="hbao")
-    with pytest.raises(ValueError, match="--shadow-samples"):
+    with pytest.raises(ValueError, match="shadow_samples: 0 is outside"):
         dhdr.light(g, str(LIGHTS), shadow_samples=0)
     # A colour image is no G-buffer: the tool's message.
     colour = write_exr(tmp_path / "c.exr", np.ones((8, 8, 4), np.float32), list("RGBA"))

@@ -126,8 +126,8 @@ bool setChoice(const ChoiceParam<Params>& p, Params& params, const std::string& 
     return true;
 }
 
-// The first field of `params` outside its range, as "NAME: V is outside MIN-MAX"; empty when
-// all are within.
+// The first field of `params` outside its range, as "NAME: V is outside [MIN, MAX]"; empty
+// when all are within.
 template <class Params, size_t N>
 std::string checkRanges(const Params& params, const IntParam<Params> (&table)[N],
                         Spelling spelling = Spelling::Option) {

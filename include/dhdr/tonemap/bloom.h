@@ -1,6 +1,7 @@
 // Bloom in HDR: the glow that very bright pixels spread around them.
 #pragma once
 
+#include <dhdr/common/param_table.h>
 #include <dhdr/tonemap/luminance.h>
 #include <memory>
 #include <string>
@@ -20,6 +21,24 @@ struct BloomParams {
     float sigma = 2.0f;
     // Factor of the bloom layer when it is added to the image.
     float strength = 1.3f;
+};
+
+// BloomParams' ranges, and the options of dhdr-bloom and keywords of dhdr.bloom() that set them.
+inline constexpr FloatParam<BloomParams> kBloomFloatTable[] = {
+    {"--threshold",
+     "threshold",
+     &BloomParams::threshold,
+     {0.0, 1.0, false, true},
+     "T",
+     "tone-mapped luminance L/(1+L) above which pixels bloom"},
+    {"--key", "key", &BloomParams::key, {0.0, 100.0, true}, "A", "key α of that tone mapping"},
+    {"--sigma", "sigma", &BloomParams::sigma, {0.0, 64.0}, "S", "Gaussian σ in 1/8-size pixels"},
+    {"--strength",
+     "strength",
+     &BloomParams::strength,
+     {0.0, 1000.0},
+     "K",
+     "factor of the bloom layer"},
 };
 
 // Bloom of a frame that arrives strip by strip, in two passes over it (dhdr-bloom streams

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <dhdr/common/param_table.h>
 
 namespace dhdr {
 
@@ -14,6 +15,28 @@ struct EdgeAAParams {
     // Offset, in pixels, of the resampling taps at e = 1. Taps sit at e · maxOffset along the
     // 8 neighbour directions.
     float maxOffset = 0.5f;
+};
+
+// EdgeAAParams' ranges, and the options of dhdr-aa and keywords of dhdr.edge_aa() that set them.
+inline constexpr FloatParam<EdgeAAParams> kEdgeAAFloatTable[] = {
+    {"--normal-weight",
+     "normal_weight",
+     &EdgeAAParams::normalWeight,
+     {0.0, 1e6},
+     "W",
+     "weight of Σ|ΔN|²"},
+    {"--depth-weight",
+     "depth_weight",
+     &EdgeAAParams::depthWeight,
+     {0.0, 1e6},
+     "W",
+     "weight of Σ(ΔZ/Z)²"},
+    {"--max-offset",
+     "max_offset",
+     &EdgeAAParams::maxOffset,
+     {0.0, 4.0},
+     "PX",
+     "tap offset at full blur, pixels"},
 };
 
 // The per-pixel blur factor as a 1-channel float image. `normal` (3 channels) and `depth`

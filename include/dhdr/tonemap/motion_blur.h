@@ -4,6 +4,7 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <dhdr/common/param_table.h>
 #include <glm/glm.hpp>
 #include <string>
 
@@ -22,6 +23,30 @@ struct MotionBlurParams {
     // behind another to in front of it; (0, 1]. The paper's SOFT_Z_EXTENT, made relative so
     // that it means the same at any distance.
     float depthSoftness = 0.01f;
+};
+
+// MotionBlurParams' ranges, and the options of dhdr-motionblur and keywords of
+// dhdr.motion_blur() that set them.
+inline constexpr FloatParam<MotionBlurParams> kMotionBlurFloatTable[] = {
+    {"--shutter",
+     "shutter",
+     &MotionBlurParams::shutter,
+     {0.0, 2.0},
+     "FRAMES",
+     "shutter, in frames, centred on the frame (Cycles' default)"},
+    {"--depth-softness",
+     "depth_softness",
+     &MotionBlurParams::depthSoftness,
+     {0.0, 1.0, true},
+     "R",
+     "relative depth difference over which a surface passes from behind another to in front"},
+};
+inline constexpr IntParam<MotionBlurParams> kMotionBlurIntTable[] = {
+    {"--samples", &MotionBlurParams::samples, 1, 256, "N", "taps along each pixel's blur",
+     "samples"},
+    {"--max-blur", &MotionBlurParams::maxBlur, 1, 128, "PX",
+     "longest blur, pixels from a pixel to the end of its streak (longer motion is shortened)",
+     "max_blur"},
 };
 
 // The half-exposure blur vector of a pixel, in image pixels (x right, y down), from its motion

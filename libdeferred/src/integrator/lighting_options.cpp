@@ -93,4 +93,11 @@ bool resolveLighting(const LightingOptions& options, const LightingContext& cont
     return true;
 }
 
+std::string deepGBufferProblem(const LightingOptions& options, Spelling spelling) {
+    if (options.ao != AoMode::ScreenSpace) return {};
+    const Words w{spelling};
+    return w.set("--ao", "ao", "ssao") + " works on flat G-buffers; a deep one needs " +
+           w.set("--ao", "ao", "rt");
+}
+
 } // namespace dhdr

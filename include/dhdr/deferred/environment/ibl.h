@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <dhdr/common/param_table.h>
 #include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/environment/environment.h>
 #include <dhdr/deferred/environment/sun.h>
@@ -31,6 +32,32 @@ struct IblBakeParams {
     // Luminance above which texels are split off as the environment's sun (sun.h), in the
     // image's units; [0, ∞), 0: never.
     float sunThreshold = kDefaultSunThreshold;
+};
+
+// IblBakeParams' ranges, and the options of dhdr-ibl and keywords of dhdr.bake_ibl() that set
+// them.
+inline constexpr IntParam<IblBakeParams> kIblBakeParamTable[] = {
+    {"--levels", &IblBakeParams::levels, 2, 16, "N", "prefiltered levels, roughness 0 to 1",
+     "levels"},
+    {"--base-width", &IblBakeParams::baseWidth, 8, 4096, "W",
+     "width of level 1; each later level is half as wide, down to 64", "base_width"},
+    {"--samples", &IblBakeParams::samples, 1, 65536, "N",
+     "how finely level 1's quadrature cuts the lobe, in the GGX samples per texel it replaced "
+     "(cost grows with it); each later level takes 4x as many, up to 16x",
+     "samples"},
+    {"--dfg-size", &IblBakeParams::dfgSize, 2, 1024, "N", "side of the DFG table", "dfg_size"},
+    {"--dfg-samples", &IblBakeParams::dfgSamples, 1, 65536, "N", "samples per DFG entry",
+     "dfg_samples"},
+};
+inline constexpr FloatParam<IblBakeParams> kIblBakeFloatTable[] = {
+    {"--sun-threshold",
+     "sun_threshold",
+     &IblBakeParams::sunThreshold,
+     {0.0, 1e30},
+     "Y",
+     "luminance above which the texels around the brightest one are split off as the "
+     "environment's sun, a directional light of its own with its angle (as Blender EEVEE's "
+     "world Sun Threshold; 0: keep the sun in the sky)"},
 };
 
 // Importance sampling of an environment by its luminance (pbrt-v4's piecewise-constant 2D

@@ -6,8 +6,8 @@
 // point weighted so that light does not leak through walls.
 #pragma once
 
-#include <dhdr/deferred/core/brdf.h>
 #include <dhdr/common/param_table.h>
+#include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/gbuffer/gbuffer_time.h>
 #include <dhdr/deferred/scene/lights.h>
 #include <functional>
@@ -46,12 +46,15 @@ struct ProbeBakeParams {
 inline constexpr IntParam<ProbeBakeParams> kProbeBakeParamTable[] = {
     {"--max-probes", &ProbeBakeParams::maxProbes, 1, 262144, "N",
      "without --spacing or --grid: the spacing that covers the scene's bounds with at most N "
-     "probes"},
-    {"--rays", &ProbeBakeParams::rays, 16, 65536, "N", "rays per probe: a spherical Fibonacci set"},
+     "probes",
+     "max_probes"},
+    {"--rays", &ProbeBakeParams::rays, 16, 65536, "N", "rays per probe: a spherical Fibonacci set",
+     "rays"},
     {"--bounces", &ProbeBakeParams::bounces, 0, 64, "K",
-     "light bounces (0: until what further bounces would add is under 0.5 % of the light)"},
+     "light bounces (0: until what further bounces would add is under 0.5 % of the light)",
+     "bounces"},
     {"--shadow-samples", &ProbeBakeParams::shadowSamples, 1, 256, "N",
-     "shadow rays per area light at each ray's hit"},
+     "shadow rays per area light at each ray's hit", "shadow_samples"},
 };
 
 // The grid's outer layers stand this many spacings inside the scene's bounds, where a room's

@@ -60,9 +60,9 @@ inline constexpr ChoiceParam<LightingOptions> kLightingChoiceTable[] = {
      "levels), a 32-sample quadrature of the exact lobe (right at grazing angles on "
      "rough surfaces, where the split sum is 10-15 % dark), or auto: the quadrature "
      "from roughness 0.3 up (docs/ibl.md)"},
-    {"--denoise", "denoise", "off|on",
-     [](const LightingOptions& o) { return int(o.params.denoise); },
-     [](LightingOptions& o, int i) { o.params.denoise = i == 1; },
+    {"--denoise", "denoise", "on|off",
+     [](const LightingOptions& o) { return o.params.denoise ? 0 : 1; },
+     [](LightingOptions& o, int i) { o.params.denoise = i == 0; },
      "filter the environments' shadow rays (--env-samples) and --ao rt over "
      "neighbouring pixels of the same surface, guided by the G-buffer's normals, "
      "positions and object ids (edge-avoiding a-trous, 32 pixels' reach; flat "
@@ -96,5 +96,9 @@ inline constexpr FlagParam<LightingOptions> kLightingFlagTable[] = {
 bool resolveLighting(const LightingOptions& options, const LightingContext& context,
                      Spelling spelling, LightingParams& params, SsaoParams& ssao,
                      std::string& error);
+
+// What stops `options` on a deep G-buffer (SSAO reads a flat one's neighbours); empty when
+// nothing does.
+std::string deepGBufferProblem(const LightingOptions& options, Spelling spelling);
 
 } // namespace dhdr
