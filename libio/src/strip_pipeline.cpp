@@ -23,6 +23,79 @@ Outcome launch(bool async, const StripStages::Stage& stage, OIIO::ROI rows, int 
     });
 }
 
+// An input's rows read below a strip's own (its halo) and their non-finite values, cleaned
+// and not yet counted: counted by the next strip, whose own rows they are, when it copies them
+// (shareHalo).
+struct RowsBelow {
+    OIIO::ROI rows;
+    NonFiniteCount count;
+};
+
+// Every row of `strip` (own rows `rows`, halo around) read fresh from row `fresh` on cleaned
+// once: the halo above (cleaned, or copied clean), the own rows counted into `replaced`, the
+// rows below counted by the next strip (returned). Rows copied from the previous strip are
+// clean already.
+NonFiniteCount cleanStrip(OIIO::ImageBuf& strip, const StripInput& input, OIIO::ROI rows, int fresh,
+                          int nthreads, NonFiniteCount& replaced) {
+    const OIIO::ROI all = strip.roi();
+    auto band = [&](int y0, int y1, int c0, int c1) {
+        OIIO::ROI r = all;
+        r.ybegin = std::max({y0, fresh, all.ybegin});
+        r.yend = std::min(y1, all.yend);
+        r.chbegin = c0;
+        r.chend = std::min(c1, strip.nchannels());
+        return r;
+    };
+    NonFiniteCount belowOwn;
+    for (const auto& [c0, c1] : input.sanitize) {
+        if (c1 <= c0) continue;
+        if (const OIIO::ROI r = band(all.ybegin, rows.ybegin, c0, c1); r.height() > 0)
+            replaceNonFinite(strip, r, nthreads);
+        if (const OIIO::ROI r = band(rows.ybegin, rows.yend, c0, c1); r.height() > 0)
+            replaced += replaceNonFinite(strip, r, nthreads);
+        if (const OIIO::ROI r = band(rows.yend, all.yend, c0, c1); r.height() > 0)
+            belowOwn += replaceNonFinite(strip, r, nthreads);
+    }
+    return belowOwn;
+}
+
+// One input's strip `rows` with `halo` rows around into `strip`, the rows it shares with the
+// `previous` strip copied from it where `share` allows; its non-finite values cleaned, those of
+// its own rows counted into `replaced`; `below` the previous strip's rows below its own before,
+// this one's after.
+bool readInputStrip(const StripInput& input, OIIO::ROI rows, int halo, bool share, int nthreads,
+                    const OIIO::ImageBuf& previous, OIIO::ImageBuf& strip, RowsBelow& below,
+                    NonFiniteCount& replaced, std::string& error) {
+    // Copied only when the previous strip's rows below its own are this one's first own rows
+    // (strips in order), so that they are counted once.
+    const bool reuse = share && input.readReusing && previous.initialized() &&
+                       below.rows.defined() && below.rows.ybegin == rows.ybegin;
+    int copiedEnd = 0;
+    const bool ok = reuse ? input.readReusing(rows.ybegin - halo, rows.yend + halo, previous, strip,
+                                              copiedEnd, error)
+                          : input.read(rows.ybegin - halo, rows.yend + halo, strip, error);
+    if (!ok) {
+        error = input.name + ": cannot read: " + error;
+        return false;
+    }
+    // Rows copied among the own rows are counted as the previous strip left them.
+    const OIIO::ROI all = strip.roi();
+    const int fresh = reuse ? std::clamp(copiedEnd, all.ybegin, all.yend) : all.ybegin;
+    const NonFiniteCount belowOwn = cleanStrip(strip, input, rows, fresh, nthreads, replaced);
+    if (fresh > all.ybegin) {
+        // The copied rows: the previous strip's rows below its own, exactly.
+        if (fresh != below.rows.yend) {
+            error = input.name + ": the strips' shared rows do not match";
+            return false;
+        }
+        replaced += below.count;
+    }
+    below = {all, belowOwn};
+    below.rows.ybegin = std::min(std::max(rows.yend, all.ybegin), all.yend);
+    if (below.rows.ybegin >= below.rows.yend) below.rows = OIIO::ROI();
+    return true;
+}
+
 } // namespace
 
 bool runStrips(OIIO::ROI frame, const StripPipelineParams& params, const StripStages& stages,
@@ -88,66 +161,15 @@ bool StripPipeline::run(const std::function<bool(StripContext&)>& process) {
     m_error.clear();
     const int halo = std::max(0, m_params.halo);
     const bool share = m_params.shareHalo && halo > 0 && halo <= m_params.rows;
-    // Per input, the rows below the last strip's own (its halo) and their non-finite values,
-    // cleaned and not yet counted: counted by the next strip, whose own rows they are, when it
-    // copies them (shareHalo).
-    std::vector<std::pair<OIIO::ROI, NonFiniteCount>> below(n);
+    std::vector<RowsBelow> below(n); // per input
     StripStages stages;
     if (n > 0)
         stages.read = [&](OIIO::ROI rows, int slot, std::string& error) {
             const auto t = std::chrono::steady_clock::now();
-            for (size_t i = 0; i < n; ++i) {
-                OIIO::ImageBuf& strip = in[slot][i];
-                const OIIO::ImageBuf& previous = in[slot ^ 1][i];
-                // Copied only when the previous strip's rows below its own are this one's
-                // first own rows (strips in order), so that they are counted once.
-                const bool reuse = share && m_inputs[i].readReusing && previous.initialized() &&
-                                   below[i].first.defined() && below[i].first.ybegin == rows.ybegin;
-                int copiedEnd = 0;
-                const bool ok =
-                    reuse ? m_inputs[i].readReusing(rows.ybegin - halo, rows.yend + halo, previous,
-                                                    strip, copiedEnd, error)
-                          : m_inputs[i].read(rows.ybegin - halo, rows.yend + halo, strip, error);
-                if (!ok) {
-                    error = m_inputs[i].name + ": cannot read: " + error;
+            for (size_t i = 0; i < n; ++i)
+                if (!readInputStrip(m_inputs[i], rows, halo, share, m_params.nthreads,
+                                    in[slot ^ 1][i], in[slot][i], below[i], m_replaced[i], error))
                     return false;
-                }
-                // Every row cleaned once: the halo above (cleaned, or copied clean), the own
-                // rows counted, the rows below counted by the next strip. Rows copied from the
-                // previous strip are clean already; those among the own rows are counted as
-                // that strip left them.
-                const OIIO::ROI all = strip.roi();
-                const int fresh = reuse ? std::clamp(copiedEnd, all.ybegin, all.yend) : all.ybegin;
-                auto band = [&](int y0, int y1, int c0, int c1) {
-                    OIIO::ROI r = all;
-                    r.ybegin = std::max({y0, fresh, all.ybegin});
-                    r.yend = std::min(y1, all.yend);
-                    r.chbegin = c0;
-                    r.chend = std::min(c1, strip.nchannels());
-                    return r;
-                };
-                NonFiniteCount belowOwn;
-                for (const auto& [c0, c1] : m_inputs[i].sanitize) {
-                    if (c1 <= c0) continue;
-                    if (const OIIO::ROI r = band(all.ybegin, rows.ybegin, c0, c1); r.height() > 0)
-                        replaceNonFinite(strip, r, m_params.nthreads);
-                    if (const OIIO::ROI r = band(rows.ybegin, rows.yend, c0, c1); r.height() > 0)
-                        m_replaced[i] += replaceNonFinite(strip, r, m_params.nthreads);
-                    if (const OIIO::ROI r = band(rows.yend, all.yend, c0, c1); r.height() > 0)
-                        belowOwn += replaceNonFinite(strip, r, m_params.nthreads);
-                }
-                if (fresh > all.ybegin) {
-                    // The copied rows: the previous strip's rows below its own, exactly.
-                    if (fresh != below[i].first.yend) {
-                        error = m_inputs[i].name + ": the strips' shared rows do not match";
-                        return false;
-                    }
-                    m_replaced[i] += below[i].second;
-                }
-                below[i] = {all, belowOwn};
-                below[i].first.ybegin = std::min(std::max(rows.yend, all.ybegin), all.yend);
-                if (below[i].first.ybegin >= below[i].first.yend) below[i].first = OIIO::ROI();
-            }
             m_readMs += msSince(t);
             return true;
         };

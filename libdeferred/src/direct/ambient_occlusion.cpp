@@ -50,10 +50,7 @@ float smoothstep01(float x) {
     return x * x * (3.0f - 2.0f * x);
 }
 
-} // namespace
-
-bool screenSpaceAO(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const SsaoParams& params,
-                   int nthreads) {
+bool checkSsaoParams(const SsaoParams& params, OIIO::ImageBuf& dst) {
     if (const std::string error = checkRanges(params, kSsaoParamTable); !error.empty()) {
         dst.errorfmt("SSAO {}", error);
         return false;
@@ -62,73 +59,89 @@ bool screenSpaceAO(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const SsaoPa
         dst.errorfmt("SSAO radius must be positive");
         return false;
     }
-    GBufferPixels g;
-    if (!openGBuffer(gbuf, g, dst)) return false;
-    const OIIO::ImageSpec& in = gbuf.spec();
-    const gbuffer::Layout& layout = g.layout;
-    const gbuffer::CameraInfo& camera = g.camera;
-    const OIIO::ImageBuf* src = g.pixels;
-    const int W = in.width, H = in.height;
-    const size_t nch = size_t(in.nchannels);
-    const float* pixels = static_cast<const float*>(src->localpixels());
-    auto at = [&](int x, int y) { return pixels + (size_t(y) * size_t(W) + size_t(x)) * nch; };
-    const glm::dmat4 toCamera = camera.worldToCamera, toNDC = camera.worldToNDC;
-    // Distance in front of the camera along its axis.
-    auto depthOf = [&](const glm::vec3& p) {
-        return float(-(toCamera * glm::dvec4(glm::dvec3(p), 1.0)).z);
-    };
+    return true;
+}
 
-    // The kernel: points in the unit hemisphere about +Z, denser near the centre (scaled by
-    // lerp(0.1, 1, (i/K)²), as in the seed), from a Hammersley set.
+// The kernel: points in the unit hemisphere about +Z, denser near the centre (scaled by
+// lerp(0.1, 1, (i/K)²), as in the seed), from a Hammersley set.
+std::vector<glm::vec3> ssaoKernel(int samples) {
     std::vector<glm::vec3> kernel;
-    for (int i = 0; i < params.samples; ++i) {
-        const glm::vec2 u = hammersley(std::uint32_t(i), std::uint32_t(params.samples), 0);
-        const float s = float(i) / float(params.samples);
+    for (int i = 0; i < samples; ++i) {
+        const glm::vec2 u = hammersley(std::uint32_t(i), std::uint32_t(samples), 0);
+        const float s = float(i) / float(samples);
         kernel.push_back(cosineHemisphere(u) * (0.1f + 0.9f * s * s));
     }
+    return kernel;
+}
 
-    std::vector<float> raw(size_t(W) * size_t(H), 1.0f);
-    std::vector<unsigned char> covered(raw.size(), 0);
-    parallelImageRows(OIIO::ROI(0, W, 0, H), nthreads, [&](OIIO::ROI r) {
-        for (int y = r.ybegin; y < r.yend; ++y)
-            for (int x = r.xbegin; x < r.xend; ++x) {
-                const float* g = at(x, y);
-                if (!(g[layout.coverage] > 0.0f)) continue;
-                covered[size_t(y) * size_t(W) + size_t(x)] = 1;
-                const glm::vec3 P(g[layout.position], g[layout.position + 1],
-                                  g[layout.position + 2]);
-                const glm::vec3 N = glm::normalize(
-                    glm::vec3(g[layout.normal], g[layout.normal + 1], g[layout.normal + 2]));
-                // The 4 × 4 block's rotation: 16 angles spread evenly, in a fixed shuffle.
-                static constexpr int kOrder[16] = {0, 8,  2, 10, 12, 4, 14, 6,
-                                                   3, 11, 1, 9,  15, 7, 13, 5};
-                const float angle = 2.0f * kPi * float(kOrder[(y & 3) * 4 + (x & 3)]) / 16.0f;
-                glm::vec3 t, b;
-                orthonormalBasis(N, t, b);
-                const float c = std::cos(angle), s = std::sin(angle);
-                const glm::vec3 tr = c * t + s * b, br = -s * t + c * b;
-                const float depthP = depthOf(P);
-                float occlusion = 0.0f;
-                for (const glm::vec3& k : kernel) {
-                    const glm::vec3 S = P + (tr * k.x + br * k.y + N * k.z) * params.radius;
-                    const glm::dvec4 clip = toNDC * glm::dvec4(glm::dvec3(S), 1.0);
-                    if (!(clip.w > 0.0)) continue;
-                    const int sx = int(std::floor((clip.x / clip.w + 1.0) * 0.5 * W));
-                    const int sy = int(std::floor((1.0 - clip.y / clip.w) * 0.5 * H));
-                    if (sx < 0 || sy < 0 || sx >= W || sy >= H) continue;
-                    const float* q = at(sx, sy);
-                    if (!(q[layout.coverage] > 0.0f)) continue;
-                    const float surface = depthOf(glm::vec3(
-                        q[layout.position], q[layout.position + 1], q[layout.position + 2]));
-                    if (surface <= depthOf(S) - params.bias)
-                        occlusion += smoothstep01(params.radius /
-                                                  std::max(std::abs(depthP - surface), 1e-20f));
-                }
-                raw[size_t(y) * size_t(W) + size_t(x)] = 1.0f - occlusion / float(params.samples);
-            }
-    });
+// The G-buffer's pixels as the screen-space pass reads them: surfaces, and points projected
+// back onto the screen.
+class SsaoFrame {
+public:
+    SsaoFrame(const GBufferPixels& g, const OIIO::ImageSpec& in)
+        : W(in.width), H(in.height), m_layout(g.layout), m_nch(size_t(in.nchannels)),
+          m_pixels(static_cast<const float*>(g.pixels->localpixels())),
+          m_toCamera(g.camera.worldToCamera), m_toNDC(g.camera.worldToNDC) {}
 
-    OIIO::ImageSpec spec(W, H, 1, OIIO::TypeDesc::FLOAT);
+    const int W, H;
+
+    bool covered(int x, int y) const { return at(x, y)[m_layout.coverage] > 0.0f; }
+
+    // 1 − the occlusion of covered pixel (x, y) by the surfaces the kernel's points fall
+    // behind, the kernel turned by the pixel's place in its 4 × 4 block.
+    float openness(int x, int y, const std::vector<glm::vec3>& kernel,
+                   const SsaoParams& params) const {
+        const float* g = at(x, y);
+        const glm::vec3 P = position(g);
+        const glm::vec3 N = glm::normalize(
+            glm::vec3(g[m_layout.normal], g[m_layout.normal + 1], g[m_layout.normal + 2]));
+        // The 4 × 4 block's rotation: 16 angles spread evenly, in a fixed shuffle.
+        static constexpr int kOrder[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
+        const float angle = 2.0f * kPi * float(kOrder[(y & 3) * 4 + (x & 3)]) / 16.0f;
+        glm::vec3 t, b;
+        orthonormalBasis(N, t, b);
+        const float c = std::cos(angle), s = std::sin(angle);
+        const glm::vec3 tr = c * t + s * b, br = -s * t + c * b;
+        const float depthP = depthOf(P);
+        float occlusion = 0.0f;
+        for (const glm::vec3& k : kernel) {
+            const glm::vec3 S = P + (tr * k.x + br * k.y + N * k.z) * params.radius;
+            const glm::dvec4 clip = m_toNDC * glm::dvec4(glm::dvec3(S), 1.0);
+            if (!(clip.w > 0.0)) continue;
+            const int sx = int(std::floor((clip.x / clip.w + 1.0) * 0.5 * W));
+            const int sy = int(std::floor((1.0 - clip.y / clip.w) * 0.5 * H));
+            if (sx < 0 || sy < 0 || sx >= W || sy >= H) continue;
+            const float* q = at(sx, sy);
+            if (!(q[m_layout.coverage] > 0.0f)) continue;
+            const float surface = depthOf(position(q));
+            if (surface <= depthOf(S) - params.bias)
+                occlusion +=
+                    smoothstep01(params.radius / std::max(std::abs(depthP - surface), 1e-20f));
+        }
+        return 1.0f - occlusion / float(params.samples);
+    }
+
+private:
+    const float* at(int x, int y) const {
+        return m_pixels + (size_t(y) * size_t(W) + size_t(x)) * m_nch;
+    }
+    glm::vec3 position(const float* g) const {
+        return glm::vec3(g[m_layout.position], g[m_layout.position + 1], g[m_layout.position + 2]);
+    }
+    // Distance in front of the camera along its axis.
+    float depthOf(const glm::vec3& p) const {
+        return float(-(m_toCamera * glm::dvec4(glm::dvec3(p), 1.0)).z);
+    }
+
+    const gbuffer::Layout& m_layout;
+    const size_t m_nch;
+    const float* m_pixels;
+    const glm::dmat4 m_toCamera, m_toNDC;
+};
+
+// The AO image's spec: one channel over the G-buffer's windows.
+OIIO::ImageSpec aoSpec(const OIIO::ImageSpec& in) {
+    OIIO::ImageSpec spec(in.width, in.height, 1, OIIO::TypeDesc::FLOAT);
     spec.x = in.x;
     spec.y = in.y;
     spec.full_x = in.full_x;
@@ -136,10 +149,13 @@ bool screenSpaceAO(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const SsaoPa
     spec.full_width = in.full_width;
     spec.full_height = in.full_height;
     spec.channelnames = {"AO"};
-    dst.reset(spec);
-    float* out = static_cast<float*>(dst.localpixels());
-    // The 4 × 4 box blur of the seed (offsets −2…1), over covered pixels only, undoes the
-    // block's rotation pattern.
+    return spec;
+}
+
+// The 4 × 4 box blur of the seed (offsets −2…1), over covered pixels only, undoes the block's
+// rotation pattern; uncovered pixels are open.
+void blurAO(const std::vector<float>& raw, const std::vector<unsigned char>& covered, int W, int H,
+            float* out, int nthreads) {
     parallelImageRows(OIIO::ROI(0, W, 0, H), nthreads, [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y)
             for (int x = r.xbegin; x < r.xend; ++x) {
@@ -162,6 +178,30 @@ bool screenSpaceAO(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const SsaoPa
                 out[i] = std::clamp(sum / float(n), 0.0f, 1.0f);
             }
     });
+}
+
+} // namespace
+
+bool screenSpaceAO(OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, const SsaoParams& params,
+                   int nthreads) {
+    if (!checkSsaoParams(params, dst)) return false;
+    GBufferPixels g;
+    if (!openGBuffer(gbuf, g, dst)) return false;
+    const SsaoFrame frame(g, gbuf.spec());
+    const int W = frame.W, H = frame.H;
+    const std::vector<glm::vec3> kernel = ssaoKernel(params.samples);
+    std::vector<float> raw(size_t(W) * size_t(H), 1.0f);
+    std::vector<unsigned char> covered(raw.size(), 0);
+    parallelImageRows(OIIO::ROI(0, W, 0, H), nthreads, [&](OIIO::ROI r) {
+        for (int y = r.ybegin; y < r.yend; ++y)
+            for (int x = r.xbegin; x < r.xend; ++x) {
+                if (!frame.covered(x, y)) continue;
+                covered[size_t(y) * size_t(W) + size_t(x)] = 1;
+                raw[size_t(y) * size_t(W) + size_t(x)] = frame.openness(x, y, kernel, params);
+            }
+    });
+    dst.reset(aoSpec(gbuf.spec()));
+    blurAO(raw, covered, W, H, static_cast<float*>(dst.localpixels()), nthreads);
     return true;
 }
 

@@ -57,6 +57,135 @@ float sunDiskProbe(const Light& light, const SurfacePoint& at, const glm::vec3& 
     return first;
 }
 
+// One traced sample's weights: the diffuse and specular integrands over the MIS density, and
+// the sky's luminance in its direction.
+struct SampleWeights {
+    float diffuse, specular, sky;
+};
+
+// The three techniques an environment's visibility is sampled with at a point: its luminance
+// (half the samples), then cosine and GGX sharing the rest, weighted against each other by the
+// power heuristic.
+class EnvironmentTechniques {
+public:
+    EnvironmentTechniques(const Light& light, const glm::vec3& N, const SpecularLobe* lobe,
+                          std::uint64_t seed, int samples)
+        : m_light(light), m_sampler(light.ibl->sampler), m_lobe(lobe), m_N(N),
+          m_NdotV(lobe ? glm::dot(N, lobe->V) : 0.0f), m_glossy(lobe && m_NdotV > 0.0f),
+          m_nLight((samples + 1) / 2), m_nGgx(m_glossy ? (samples - m_nLight + 1) / 2 : 0),
+          m_nCosine(samples - m_nLight - m_nGgx), m_lightSequence(seed),
+          m_cosineSequence(seed ^ 0x2545f4914f6cdd1dull),
+          m_ggxSequence(seed ^ 0x9e3779b97f4a7c15ull), m_alpha(lobe ? lobe->alpha : 1.0f),
+          m_k(light.color * light.intensity) {
+        orthonormalBasis(N, m_t, m_b);
+        m_Vlocal = lobe ? glm::vec3(glm::dot(lobe->V, m_t), glm::dot(lobe->V, m_b), m_NdotV)
+                        : glm::vec3(0.0f, 0.0f, 1.0f);
+    }
+
+    // A lobe facing the viewer: GGX samples, and specular sums.
+    bool glossy() const { return m_glossy; }
+
+    // Sample i's direction wi and its weights; false where it weighs nothing (below the
+    // surface, or black sky either way) and is not traced.
+    bool sample(int i, const SurfacePoint& at, glm::vec3& wi, SampleWeights& w) const {
+        glm::vec3 radiance;
+        float pLight = 0.0f;
+        const int technique = direction(i, wi, radiance, pLight);
+        const float cosTheta = glm::dot(m_N, wi);
+        if (!(cosTheta > 0.0f) || !(glm::dot(at.Ng, wi) > 0.0f)) return false;
+        if (technique != 0) pLight = m_sampler.lookup(intoEnvironment(m_light, wi), radiance);
+        if (technique == 0 && !(pLight > 0.0f)) return false;
+        const float pCosine = cosTheta / kPi;
+        float lobeValue;
+        const float pGgx = ggx(wi, cosTheta, lobeValue);
+        // Power heuristic over the three techniques: (n_t p_t)² / Σ (n_k p_k)², divided by the
+        // technique's n_t p_t.
+        const float a = float(m_nLight) * pLight, c = float(m_nCosine) * pCosine,
+                    g = float(m_nGgx) * pGgx;
+        const float own = technique == 0 ? a : technique == 1 ? c : g;
+        if (!(own > 0.0f)) return false;
+        const float mis = own / (a * a + c * c + g * g);
+        const float y = luminance(radiance * m_k);
+        w.diffuse = y * cosTheta * mis;
+        w.specular = y * lobeValue * cosTheta * mis;
+        w.sky = y;
+        // Black sky weighs nothing either way: not traced.
+        return w.diffuse > 0.0f || w.specular > 0.0f;
+    }
+
+    // A blocked glossy sample's occluder: luminance ρ E(−l) / π against the sky's y. Only a
+    // blocked sample reads it (it weighs 1 − v), so open ones skip the SH.
+    float occluderShare(const SampleWeights& w, float transmittance,
+                        const glm::vec3& direction) const {
+        if (!(m_glossy && m_lobe->occluderAlbedo > 0.0f && w.specular > 0.0f &&
+              transmittance < 1.0f))
+            return 0.0f;
+        return m_lobe->occluderAlbedo / kPi *
+               luminance(m_light.ibl->irradiance(intoEnvironment(m_light, -direction)) * m_k) /
+               w.sky;
+    }
+
+private:
+    // Sample i's direction, and with the luminance technique its radiance and density;
+    // returns its technique (0 luminance, 1 cosine, 2 GGX).
+    int direction(int i, glm::vec3& wi, glm::vec3& radiance, float& pLight) const {
+        if (i < m_nLight) {
+            const glm::vec3 d = m_sampler.sample(
+                m_lightSequence(std::uint32_t(i), std::uint32_t(m_nLight)), pLight, radiance);
+            wi = fromEnvironment(m_light, d);
+            return 0;
+        }
+        if (i < m_nLight + m_nCosine) {
+            const int j = i - m_nLight;
+            const glm::vec3 h =
+                cosineHemisphere(m_cosineSequence(std::uint32_t(j), std::uint32_t(m_nCosine)));
+            wi = glm::normalize(h.x * m_t + h.y * m_b + h.z * m_N);
+            return 1;
+        }
+        const int j = i - m_nLight - m_nCosine;
+        const glm::vec3 h = sampleGgxVisibleNormal(
+            m_Vlocal, m_alpha, m_ggxSequence(std::uint32_t(j), std::uint32_t(m_nGgx)));
+        const glm::vec3 H = glm::normalize(h.x * m_t + h.y * m_b + h.z * m_N);
+        wi = 2.0f * glm::dot(m_lobe->V, H) * H - m_lobe->V;
+        return 2;
+    }
+
+    // The GGX technique's density of wi and the lobe's D · Vis there (0 below the surface).
+    float ggx(const glm::vec3& wi, float cosTheta, float& lobeValue) const {
+        lobeValue = 0.0f;
+        if (!m_glossy) return 0.0f;
+        const glm::vec3 H = glm::normalize(wi + m_lobe->V);
+        const float NdotH = glm::dot(m_N, H);
+        if (!(NdotH > 0.0f)) return 0.0f;
+        lobeValue = ggxDistribution(NdotH, m_alpha) *
+                    smithGgxCorrelatedVisibility(cosTheta, m_NdotV, m_alpha);
+        return ggxVisibleNormalReflectionPdf(m_NdotV, NdotH, m_alpha);
+    }
+
+    const Light& m_light;
+    const EnvironmentSampler& m_sampler;
+    const SpecularLobe* m_lobe;
+    const glm::vec3 m_N;
+    const float m_NdotV;
+    const bool m_glossy;
+    const int m_nLight, m_nGgx, m_nCosine;
+    const RotatedHammersley m_lightSequence, m_cosineSequence, m_ggxSequence;
+    const float m_alpha;
+    const glm::vec3 m_k;
+    glm::vec3 m_t, m_b, m_Vlocal;
+};
+
+// A traced sample into the ratio sums: weight w, its transmittance, and what a blocked
+// sample still counts (`blocked`).
+void addSample(RatioSums& r, float w, float blocked, float transmittance) {
+    if (!(w > 0.0f) || !std::isfinite(w)) return;
+    const double v = transmittance;
+    r.total += w;
+    r.seen += w * (v + (1.0 - v) * double(blocked));
+    ++r.count;
+    r.open += transmittance == 1.0f;
+}
+
 } // namespace
 
 // The visible share of an environment's light, by the ratio estimator of Heitz, Hill &
@@ -70,105 +199,26 @@ EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const Su
                                                     const Visibility& visibility, long long* rays) {
     EnvironmentVisibilitySums sums;
     if (!light.ibl || light.ibl->sampler.empty()) return sums;
-    const EnvironmentSampler& sampler = light.ibl->sampler;
-    const float NdotV = lobe ? glm::dot(N, lobe->V) : 0.0f;
-    const bool glossy = lobe && NdotV > 0.0f;
-    // Techniques: luminance (half), then cosine and GGX sharing the rest.
-    const int nLight = (samples + 1) / 2, rest = samples - nLight;
-    const int nGgx = glossy ? (rest + 1) / 2 : 0, nCosine = rest - nGgx;
-    const RotatedHammersley lightSequence(seed), cosineSequence(seed ^ 0x2545f4914f6cdd1dull),
-        ggxSequence(seed ^ 0x9e3779b97f4a7c15ull);
-    glm::vec3 t, b;
-    orthonormalBasis(N, t, b);
-    const float alpha = lobe ? lobe->alpha : 1.0f;
-    const glm::vec3 Vlocal = lobe ? glm::vec3(glm::dot(lobe->V, t), glm::dot(lobe->V, b), NdotV)
-                                  : glm::vec3(0.0f, 0.0f, 1.0f);
-    const glm::vec3 k = light.color * light.intensity;
-    // The GGX technique's density of wi and the lobe's D · Vis there (0 below the surface).
-    auto ggx = [&](const glm::vec3& wi, float cosTheta, float& lobeValue) {
-        lobeValue = 0.0f;
-        if (!glossy) return 0.0f;
-        const glm::vec3 H = glm::normalize(wi + lobe->V);
-        const float NdotH = glm::dot(N, H);
-        if (!(NdotH > 0.0f)) return 0.0f;
-        lobeValue =
-            ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(cosTheta, NdotV, alpha);
-        return ggxVisibleNormalReflectionPdf(NdotV, NdotH, alpha);
-    };
+    const EnvironmentTechniques techniques(light, N, lobe, seed, samples);
     constexpr int kBatch = 64;
     thread_local ShadowRay batch[kBatch];
-    float diffuseWeight[kBatch], specularWeight[kBatch], occluderShare[kBatch],
-        skyLuminance[kBatch], transmittance[kBatch];
+    SampleWeights weights[kBatch];
+    float transmittance[kBatch];
     for (int begin = 0; begin < samples; begin += kBatch) {
         int n = 0;
         for (int i = begin; i < std::min(samples, begin + kBatch); ++i) {
-            glm::vec3 wi, radiance;
-            float pLight = 0.0f;
-            int technique; // 0 luminance, 1 cosine, 2 GGX
-            if (i < nLight) {
-                technique = 0;
-                const glm::vec3 d = sampler.sample(
-                    lightSequence(std::uint32_t(i), std::uint32_t(nLight)), pLight, radiance);
-                wi = fromEnvironment(light, d);
-            } else if (i < nLight + nCosine) {
-                technique = 1;
-                const int j = i - nLight;
-                const glm::vec3 h =
-                    cosineHemisphere(cosineSequence(std::uint32_t(j), std::uint32_t(nCosine)));
-                wi = glm::normalize(h.x * t + h.y * b + h.z * N);
-            } else {
-                technique = 2;
-                const int j = i - nLight - nCosine;
-                const glm::vec3 h = sampleGgxVisibleNormal(
-                    Vlocal, alpha, ggxSequence(std::uint32_t(j), std::uint32_t(nGgx)));
-                const glm::vec3 H = glm::normalize(h.x * t + h.y * b + h.z * N);
-                wi = 2.0f * glm::dot(lobe->V, H) * H - lobe->V;
-            }
-            const float cosTheta = glm::dot(N, wi);
-            if (!(cosTheta > 0.0f) || !(glm::dot(at.Ng, wi) > 0.0f)) continue;
-            if (technique != 0) pLight = sampler.lookup(intoEnvironment(light, wi), radiance);
-            if (technique == 0 && !(pLight > 0.0f)) continue;
-            const float pCosine = cosTheta / kPi;
-            float lobeValue;
-            const float pGgx = ggx(wi, cosTheta, lobeValue);
-            // Power heuristic over the three techniques: (n_t p_t)² / Σ (n_k p_k)², divided
-            // by the technique's n_t p_t.
-            const float a = float(nLight) * pLight, c = float(nCosine) * pCosine,
-                        g = float(nGgx) * pGgx;
-            const float own = technique == 0 ? a : technique == 1 ? c : g;
-            if (!(own > 0.0f)) continue;
-            const float mis = own / (a * a + c * c + g * g);
-            const float y = luminance(radiance * k);
-            diffuseWeight[n] = y * cosTheta * mis;
-            specularWeight[n] = y * lobeValue * cosTheta * mis;
-            skyLuminance[n] = y;
-            // Black sky weighs nothing either way: not traced.
-            if (!(diffuseWeight[n] > 0.0f) && !(specularWeight[n] > 0.0f)) continue;
+            glm::vec3 wi;
+            if (!techniques.sample(i, at, wi, weights[n])) continue;
             batch[n++] = {offsetRayOrigin(at, wi), wi, INFINITY};
         }
         visibility.test(batch, size_t(n), transmittance);
         if (rays) *rays += n;
         for (int i = 0; i < n; ++i) {
-            // A blocked glossy sample's occluder: luminance ρ E(−l) / π against the sky's y.
-            // Only a blocked sample reads it (it weighs 1 − v), so open ones skip the SH.
-            occluderShare[i] = 0.0f;
-            if (glossy && lobe->occluderAlbedo > 0.0f && specularWeight[i] > 0.0f &&
-                transmittance[i] < 1.0f)
-                occluderShare[i] =
-                    lobe->occluderAlbedo / kPi *
-                    luminance(light.ibl->irradiance(intoEnvironment(light, -batch[i].direction)) *
-                              k) /
-                    skyLuminance[i];
-            const auto add = [&](RatioSums& r, float w, float blocked) {
-                if (!(w > 0.0f) || !std::isfinite(w)) return;
-                const double v = transmittance[i];
-                r.total += w;
-                r.seen += w * (v + (1.0 - v) * double(blocked));
-                ++r.count;
-                r.open += transmittance[i] == 1.0f;
-            };
-            add(sums.diffuse, diffuseWeight[i], 0.0f);
-            if (glossy) add(sums.specular, specularWeight[i], occluderShare[i]);
+            const float occluder =
+                techniques.occluderShare(weights[i], transmittance[i], batch[i].direction);
+            addSample(sums.diffuse, weights[i].diffuse, 0.0f, transmittance[i]);
+            if (techniques.glossy())
+                addSample(sums.specular, weights[i].specular, occluder, transmittance[i]);
         }
     }
     return sums;

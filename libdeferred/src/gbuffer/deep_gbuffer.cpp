@@ -35,7 +35,128 @@ struct DeepGBufferReader::File {
     std::vector<int> source; // where each channel held in memory comes from (−1: not there)
     OIIO::DeepData whole;    // a tiled file, read once
     bool haveWhole = false;
+
+    // The deep pixels of rows [ybegin, yend): `band` read from a scanline file, or a tiled
+    // file's whole image with `skip` pixels before the band's first; null with `error`.
+    const OIIO::DeepData* rows(int ybegin, int yend, OIIO::DeepData& band, size_t& skip,
+                               std::string& error) {
+        if (spec.tile_width == 0)
+            return scanlines.read(ybegin, yend, band, error) ? &band : nullptr;
+        if (!haveWhole) {
+            if (!in->read_native_deep_image(subimage, 0, whole)) {
+                error = in->geterror();
+                if (error.empty()) error = "cannot read its deep pixels";
+                return nullptr;
+            }
+            haveWhole = true;
+        }
+        skip = size_t(ybegin - spec.y) * size_t(spec.width);
+        return &whole;
+    }
 };
+
+namespace {
+
+// A band's deep samples read in place: each sample's channels lie together in the DeepData,
+// at fixed offsets from its first byte, read there rather than with one deep_value call (and
+// type switch) each.
+class DeepSamples {
+public:
+    // `npix` pixels from pixel `skip` of `deep`, which has `nchannels` channels.
+    DeepSamples(const OIIO::DeepData& deep, size_t skip, size_t npix, int nchannels)
+        : m_deep(deep), m_skip(skip), m_sampleBytes(deep.samplesize()),
+          m_offset(size_t(nchannels), 0) {
+        for (size_t p = 0; p < npix; ++p) {
+            if (count(p) == 0) continue;
+            const char* base = first(p);
+            for (int c = 0; c < nchannels; ++c)
+                m_offset[size_t(c)] =
+                    static_cast<const char*>(deep.data_ptr(int64_t(skip + p), c, 0)) - base;
+            break;
+        }
+    }
+
+    int count(size_t p) const { return m_deep.samples(int64_t(m_skip + p)); }
+    // Sample s of pixel p, as its first byte.
+    const char* sample(size_t p, int s) const { return first(p) + size_t(s) * m_sampleBytes; }
+
+    float value(const char* sample, int c) const {
+        const char* at = sample + m_offset[size_t(c)];
+        const OIIO::TypeDesc t = m_deep.channeltype(c);
+        if (t == OIIO::TypeDesc::FLOAT) {
+            float v;
+            std::memcpy(&v, at, sizeof v);
+            return v;
+        }
+        if (t == OIIO::TypeDesc::HALF) {
+            Imath::half h;
+            std::memcpy(&h, at, sizeof h);
+            return float(h);
+        }
+        if (t == OIIO::TypeDesc::UINT) {
+            std::uint32_t u;
+            std::memcpy(&u, at, sizeof u);
+            return float(u);
+        }
+        return 0.0f;
+    }
+
+private:
+    const char* first(size_t p) const {
+        return static_cast<const char*>(m_deep.data_ptr(int64_t(m_skip + p), 0, 0));
+    }
+
+    const OIIO::DeepData& m_deep;
+    size_t m_skip, m_sampleBytes;
+    std::vector<std::ptrdiff_t> m_offset;
+};
+
+// What is wrong with pixel p's samples for dhdr (channels zFile, zBackFile of the file; −1:
+// no ZBack), or null.
+const char* sampleProblem(const DeepSamples& d, size_t p, int zFile, int zBackFile) {
+    for (int s = 0, n = d.count(p); s < n; ++s) {
+        const float z = d.value(d.sample(p, s), zFile);
+        const float zBack = zBackFile >= 0 ? d.value(d.sample(p, s), zBackFile) : z;
+        if (!std::isfinite(z)) return " has a sample without a finite Z";
+        if (zBack > z)
+            return " has a volume sample (ZBack > Z); dhdr lights surfaces, whose samples are "
+                   "points (ZBack = Z)";
+    }
+    return nullptr;
+}
+
+// Pixel p's samples front to back (by channel zFile, the file's order among equals).
+void depthOrder(const DeepSamples& d, size_t p, int zFile, std::vector<int>& order) {
+    const int n = d.count(p);
+    order.resize(size_t(n));
+    std::iota(order.begin(), order.end(), 0);
+    if (n > 1)
+        std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+            return d.value(d.sample(p, a), zFile) < d.value(d.sample(p, b), zFile);
+        });
+}
+
+// Pixel p's samples in `order` into `values` (nch channels each, channel c from the file's
+// source[c]); returns how many values were not finite and became 0.
+long long copySamples(const DeepSamples& d, size_t p, const std::vector<int>& order,
+                      const std::vector<int>& source, int nch, float* values) {
+    long long fixed = 0;
+    for (size_t k = 0; k < order.size(); ++k) {
+        float* v = values + k * size_t(nch);
+        const char* from = d.sample(p, order[k]);
+        for (int c = 0; c < nch; ++c) {
+            const int f = source[size_t(c)];
+            v[c] = f >= 0 ? d.value(from, f) : (c == 2 ? v[1] : 0.0f); // ZBack defaults to Z
+            if (!std::isfinite(v[c])) {
+                v[c] = 0.0f;
+                ++fixed;
+            }
+        }
+    }
+    return fixed;
+}
+
+} // namespace
 
 DeepGBufferReader::DeepGBufferReader() = default;
 DeepGBufferReader::~DeepGBufferReader() = default;
@@ -96,107 +217,31 @@ bool DeepGBufferReader::read(int ybegin, int yend, DeepGBuffer& out, std::string
     const int nch = m_spec.nchannels;
     const std::vector<int>& source = m_file->source;
     OIIO::DeepData band;
-    const OIIO::DeepData* deep = &band;
-    // Pixels of the DeepData before the band's first (a tiled file's whole image).
     size_t skip = 0;
-    if (file.tile_width > 0) {
-        if (!m_file->haveWhole) {
-            if (!m_file->in->read_native_deep_image(m_file->subimage, 0, m_file->whole)) {
-                error = m_file->in->geterror();
-                if (error.empty()) error = "cannot read its deep pixels";
-                return false;
-            }
-            m_file->haveWhole = true;
-        }
-        deep = &m_file->whole;
-        skip = size_t(ybegin - file.y) * size_t(file.width);
-    } else if (!m_file->scanlines.read(ybegin, yend, band, error)) {
-        return false;
-    }
+    const OIIO::DeepData* deep = m_file->rows(ybegin, yend, band, skip, error);
+    if (!deep) return false;
     out.spec = m_spec;
     out.spec.y = ybegin;
     out.spec.height = yend - ybegin;
     const size_t npix = size_t(file.width) * size_t(yend - ybegin);
-    auto samplesOf = [&](size_t p) { return deep->samples(int64_t(skip + p)); };
+    const DeepSamples samples(*deep, skip, npix, file.nchannels);
     out.first.assign(npix + 1, 0);
     for (size_t p = 0; p < npix; ++p)
-        out.first[p + 1] = out.first[p] + std::uint32_t(samplesOf(p));
+        out.first[p + 1] = out.first[p] + std::uint32_t(samples.count(p));
     out.values.assign(size_t(out.first.back()) * size_t(nch), 0.0f);
-    // Each sample's channels lie together in the DeepData, at fixed offsets from its first
-    // byte: read them in place rather than one deep_value call (and type switch) each.
-    const size_t sampleBytes = deep->samplesize();
-    std::vector<std::ptrdiff_t> offset(size_t(file.nchannels), 0);
-    for (size_t p = 0; p < npix; ++p) {
-        if (samplesOf(p) == 0) continue;
-        const char* base = static_cast<const char*>(deep->data_ptr(int64_t(skip + p), 0, 0));
-        for (int c = 0; c < file.nchannels; ++c)
-            offset[size_t(c)] =
-                static_cast<const char*>(deep->data_ptr(int64_t(skip + p), c, 0)) - base;
-        break;
-    }
-    auto value = [&](const char* sample, int c) {
-        const char* at = sample + offset[size_t(c)];
-        const OIIO::TypeDesc t = deep->channeltype(c);
-        if (t == OIIO::TypeDesc::FLOAT) {
-            float v;
-            std::memcpy(&v, at, sizeof v);
-            return v;
-        }
-        if (t == OIIO::TypeDesc::HALF) {
-            Imath::half h;
-            std::memcpy(&h, at, sizeof h);
-            return float(h);
-        }
-        if (t == OIIO::TypeDesc::UINT) {
-            std::uint32_t u;
-            std::memcpy(&u, at, sizeof u);
-            return float(u);
-        }
-        return 0.0f;
-    };
     const int zFile = source[1], zBackFile = source[2];
     std::vector<int> order;
     long long fixed = 0;
     for (size_t p = 0; p < npix; ++p) {
-        const int n = samplesOf(p);
-        if (n == 0) continue;
-        const char* first = static_cast<const char*>(deep->data_ptr(int64_t(skip + p), 0, 0));
-        auto sample = [&](int s) { return first + size_t(s) * sampleBytes; };
-        auto where = [&] {
-            return "pixel (" + std::to_string(file.x + int(p % size_t(file.width))) + ", " +
-                   std::to_string(ybegin + int(p / size_t(file.width))) + ")";
-        };
-        order.resize(size_t(n));
-        std::iota(order.begin(), order.end(), 0);
-        for (int s = 0; s < n; ++s) {
-            const float z = value(sample(s), zFile);
-            const float zBack = zBackFile >= 0 ? value(sample(s), zBackFile) : z;
-            if (!std::isfinite(z)) {
-                error = where() + " has a sample without a finite Z";
-                return false;
-            }
-            if (zBack > z) {
-                error = where() + " has a volume sample (ZBack > Z); dhdr lights surfaces, whose "
-                                  "samples are points (ZBack = Z)";
-                return false;
-            }
+        if (samples.count(p) == 0) continue;
+        if (const char* problem = sampleProblem(samples, p, zFile, zBackFile)) {
+            error = "pixel (" + std::to_string(file.x + int(p % size_t(file.width))) + ", " +
+                    std::to_string(ybegin + int(p / size_t(file.width))) + ")" + problem;
+            return false;
         }
-        if (n > 1)
-            std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-                return value(sample(a), zFile) < value(sample(b), zFile);
-            });
-        for (int k = 0; k < n; ++k) {
-            float* v = &out.values[(size_t(out.first[p]) + size_t(k)) * size_t(nch)];
-            const char* from = sample(order[size_t(k)]);
-            for (int c = 0; c < nch; ++c) {
-                const int f = source[size_t(c)];
-                v[c] = f >= 0 ? value(from, f) : (c == 2 ? v[1] : 0.0f); // ZBack defaults to Z
-                if (!std::isfinite(v[c])) {
-                    v[c] = 0.0f;
-                    ++fixed;
-                }
-            }
-        }
+        depthOrder(samples, p, zFile, order);
+        fixed += copySamples(samples, p, order, source, nch,
+                             &out.values[size_t(out.first[p]) * size_t(nch)]);
     }
     if (replaced) *replaced += fixed;
     return true;

@@ -114,8 +114,10 @@ bool readChannelMap(const std::string& path, ChannelMap& map, std::string& error
     return true;
 }
 
-bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::ImageBuf& dst,
-                   std::vector<std::string>& warnings, std::string& error) {
+namespace {
+
+// Whether `src` is what a channel map reads: flat float passes in memory.
+bool importable(const OIIO::ImageBuf& src, std::string& error) {
     const OIIO::ImageSpec& in = src.spec();
     if (in.deep || src.deep()) {
         error = "a deep image: a channel map reads flat passes (a deep dhdr G-buffer is read as "
@@ -126,44 +128,50 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
         error = "the passes must be read as float pixels in memory";
         return false;
     }
-    // The source channels of each quantity: its own, its fallback, or none (a constant).
-    // Depth, position and normal are needed whatever the map says of them.
-    auto pick = [&](const char* what, const ChannelSource& s, std::vector<int>& index,
-                    bool needed = false) {
-        index.clear();
-        for (const auto* list : {&s.channels, &s.fallback}) {
-            index.clear();
-            for (const std::string& name : *list)
-                index.push_back(in.channelindex(name));
-            if (!list->empty() &&
-                std::all_of(index.begin(), index.end(), [](int c) { return c >= 0; })) {
-                if (list == &s.fallback)
-                    warnings.push_back(std::string(what) + ": no " + s.channels.front() +
-                                       ", using " + s.fallback.front() + " instead");
-                return true;
-            }
-        }
-        index.clear();
-        if (s.required || needed) {
-            error = std::string("no channel '") +
-                    (s.channels.empty() ? std::string(what) : s.channels.front()) + "' for the " +
-                    what + " (channel map " + map.name + ")";
-            return false;
-        }
-        if (!s.channels.empty())
-            warnings.push_back(std::string(what) + ": no " + s.channels.front() + ", using " +
-                               std::to_string(s.value));
-        return true;
-    };
+    return true;
+}
+
+// The source channels of each quantity (empty: none, a constant stands for it).
+struct SourceChannels {
     std::vector<int> depth, position, normal, albedo, roughness, metallic, emission, coverage;
-    if (!pick("depth", map.depth, depth, true) || !pick("position", map.position, position, true) ||
-        !pick("normal", map.normal, normal, true) || !pick("albedo", map.albedo, albedo) ||
-        !pick("roughness", map.roughness, roughness) || !pick("metallic", map.metallic, metallic) ||
-        !pick("emission", map.emission, emission) || !pick("coverage", map.coverage, coverage))
+    std::vector<int> motion; // four, or none
+};
+
+// The source channels of a quantity: its own, its fallback, or none (a constant); false with
+// `error` where it has none and is required or `needed`.
+bool pickChannels(const OIIO::ImageSpec& in, const ChannelMap& map, const char* what,
+                  const ChannelSource& s, std::vector<int>& index, bool needed,
+                  std::vector<std::string>& warnings, std::string& error) {
+    index.clear();
+    for (const auto* list : {&s.channels, &s.fallback}) {
+        index.clear();
+        for (const std::string& name : *list)
+            index.push_back(in.channelindex(name));
+        if (!list->empty() &&
+            std::all_of(index.begin(), index.end(), [](int c) { return c >= 0; })) {
+            if (list == &s.fallback)
+                warnings.push_back(std::string(what) + ": no " + s.channels.front() + ", using " +
+                                   s.fallback.front() + " instead");
+            return true;
+        }
+    }
+    index.clear();
+    if (s.required || needed) {
+        error = std::string("no channel '") +
+                (s.channels.empty() ? std::string(what) : s.channels.front()) + "' for the " +
+                what + " (channel map " + map.name + ")";
         return false;
-    // Motion: the channels the map names (all four, or none with a warning), or those found by
-    // name; no constant stands in for them.
-    std::vector<int> motion;
+    }
+    if (!s.channels.empty())
+        warnings.push_back(std::string(what) + ": no " + s.channels.front() + ", using " +
+                           std::to_string(s.value));
+    return true;
+}
+
+// Motion: the channels the map names (all four, or none with a warning), or those found by
+// name; no constant stands in for them.
+bool pickMotion(const OIIO::ImageSpec& in, const ChannelMap& map, std::vector<int>& motion,
+                std::vector<std::string>& warnings, std::string& error) {
     if (!map.motion.channels.empty()) {
         for (const std::string& name : map.motion.channels)
             motion.push_back(in.channelindex(name));
@@ -180,10 +188,32 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
         if (const int first = findMotionChannels(in).motion; first >= 0)
             motion = {first, first + 1, first + 2, first + 3};
     }
-    const float motionScale = map.motion.channels.empty() ? 1.0f : map.motion.scale;
+    return true;
+}
+
+// Every quantity's source channels; depth, position and normal are needed whatever the map
+// says of them.
+bool pickAllChannels(const OIIO::ImageSpec& in, const ChannelMap& map, SourceChannels& c,
+                     std::vector<std::string>& warnings, std::string& error) {
+    auto pick = [&](const char* what, const ChannelSource& s, std::vector<int>& index,
+                    bool needed = false) {
+        return pickChannels(in, map, what, s, index, needed, warnings, error);
+    };
+    return pick("depth", map.depth, c.depth, true) &&
+           pick("position", map.position, c.position, true) &&
+           pick("normal", map.normal, c.normal, true) && pick("albedo", map.albedo, c.albedo) &&
+           pick("roughness", map.roughness, c.roughness) &&
+           pick("metallic", map.metallic, c.metallic) &&
+           pick("emission", map.emission, c.emission) &&
+           pick("coverage", map.coverage, c.coverage) &&
+           pickMotion(in, map, c.motion, warnings, error);
+}
+
+// The G-buffer's spec over `in`'s window: its channels, with the motion layer's where there
+// is motion.
+OIIO::ImageSpec importedSpec(const OIIO::ImageSpec& in, bool withMotion) {
     std::vector<std::string> names = gbuffer::channelNames();
-    const size_t motionAt = names.size();
-    if (!motion.empty())
+    if (withMotion)
         names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
     OIIO::ImageSpec spec = in;
     spec.nchannels = int(names.size());
@@ -192,55 +222,88 @@ bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::Image
     spec.channelformats.clear();
     spec.alpha_channel = 0;
     spec.z_channel = 1;
-    dst.reset(spec);
-    OIIO::ImageSpec layoutSpec(1, 1, spec.nchannels, OIIO::TypeDesc::FLOAT);
-    layoutSpec.channelnames = names;
+    return spec;
+}
+
+// Channel k of a quantity in source pixel p, scaled, or its constant.
+float sourceValue(const float* p, const std::vector<int>& idx, const ChannelSource& s, int k) {
+    return idx.empty() ? s.value : p[idx[size_t(k)]] * s.scale;
+}
+
+// A vector quantity in source pixel p, turned Y-up.
+glm::vec3 sourceVector(const float* p, const std::vector<int>& idx, const ChannelSource& s) {
+    glm::vec3 v(sourceValue(p, idx, s, 0), sourceValue(p, idx, s, idx.empty() ? 0 : 1),
+                sourceValue(p, idx, s, idx.empty() ? 0 : 2));
+    // Z-up to Y-up: (x, y, z) → (x, z, −y).
+    return s.zUp ? glm::vec3(v.x, v.z, -v.y) : v;
+}
+
+// Where the G-buffer's channels are, and the motion layer's first and its scale.
+struct ImportLayout {
     gbuffer::Layout L;
+    int nchannels;
+    size_t motionAt;
+    float motionScale;
+};
+
+// One G-buffer pixel `o` from source pixel `p`.
+void importPixel(const float* p, float* o, const ChannelMap& map, const SourceChannels& c,
+                 const ImportLayout& out) {
+    const gbuffer::Layout& L = out.L;
+    const float z = sourceValue(p, c.depth, map.depth, 0);
+    const bool background =
+        !std::isfinite(z) || z >= map.backgroundDepth ||
+        (!c.coverage.empty() && !(sourceValue(p, c.coverage, map.coverage, 0) > 0.0f));
+    std::fill(o, o + out.nchannels, 0.0f);
+    // Motion as it is, background too (Blender's vectors of the world behind).
+    for (size_t k = 0; k < c.motion.size(); ++k)
+        o[out.motionAt + k] = p[c.motion[k]] * out.motionScale;
+    if (background) {
+        o[L.depth] = INFINITY;
+        return;
+    }
+    o[L.coverage] =
+        c.coverage.empty() ? 1.0f : std::min(sourceValue(p, c.coverage, map.coverage, 0), 1.0f);
+    o[L.depth] = z;
+    const glm::vec3 P = sourceVector(p, c.position, map.position);
+    const glm::vec3 N = sourceVector(p, c.normal, map.normal);
+    const glm::vec3 A = sourceVector(p, c.albedo, map.albedo);
+    const glm::vec3 E = sourceVector(p, c.emission, map.emission);
+    for (int k = 0; k < 3; ++k) {
+        o[L.position + k] = P[k];
+        o[L.normal + k] = N[k];
+        o[L.albedo + k] = A[k];
+        o[L.emission + k] = E[k];
+    }
+    o[L.roughness] = sourceValue(p, c.roughness, map.roughness, 0);
+    o[L.metallic] = sourceValue(p, c.metallic, map.metallic, 0);
+}
+
+} // namespace
+
+bool importGBuffer(const OIIO::ImageBuf& src, const ChannelMap& map, OIIO::ImageBuf& dst,
+                   std::vector<std::string>& warnings, std::string& error) {
+    if (!importable(src, error)) return false;
+    const OIIO::ImageSpec& in = src.spec();
+    SourceChannels c;
+    if (!pickAllChannels(in, map, c, warnings, error)) return false;
+    const OIIO::ImageSpec spec = importedSpec(in, !c.motion.empty());
+    dst.reset(spec);
+    ImportLayout out;
+    OIIO::ImageSpec layoutSpec(1, 1, spec.nchannels, OIIO::TypeDesc::FLOAT);
+    layoutSpec.channelnames = spec.channelnames;
     std::string missing;
-    gbuffer::findLayout(layoutSpec, L, missing);
+    gbuffer::findLayout(layoutSpec, out.L, missing);
+    out.nchannels = spec.nchannels;
+    out.motionAt = gbuffer::channelNames().size();
+    out.motionScale = map.motion.channels.empty() ? 1.0f : map.motion.scale;
     const float* pixels = static_cast<const float*>(src.localpixels());
     const size_t nch = size_t(in.nchannels);
     OIIO::ImageBufAlgo::parallel_image(src.roi(), [&](OIIO::ROI r) {
         for (int y = r.ybegin; y < r.yend; ++y)
-            for (int x = r.xbegin; x < r.xend; ++x) {
-                const float* p =
-                    pixels + (size_t(y - in.y) * size_t(in.width) + size_t(x - in.x)) * nch;
-                float* o = static_cast<float*>(dst.pixeladdr(x, y));
-                auto get = [&](const std::vector<int>& idx, const ChannelSource& s, int k) {
-                    return idx.empty() ? s.value : p[idx[size_t(k)]] * s.scale;
-                };
-                auto vec = [&](const std::vector<int>& idx, const ChannelSource& s) {
-                    glm::vec3 v(get(idx, s, 0), get(idx, s, idx.empty() ? 0 : 1),
-                                get(idx, s, idx.empty() ? 0 : 2));
-                    // Z-up to Y-up: (x, y, z) → (x, z, −y).
-                    return s.zUp ? glm::vec3(v.x, v.z, -v.y) : v;
-                };
-                const float z = get(depth, map.depth, 0);
-                const bool background =
-                    !std::isfinite(z) || z >= map.backgroundDepth ||
-                    (!coverage.empty() && !(get(coverage, map.coverage, 0) > 0.0f));
-                std::fill(o, o + spec.nchannels, 0.0f);
-                // Motion as it is, background too (Blender's vectors of the world behind).
-                for (size_t k = 0; k < motion.size(); ++k)
-                    o[motionAt + k] = p[motion[k]] * motionScale;
-                if (background) {
-                    o[L.depth] = INFINITY;
-                    continue;
-                }
-                o[L.coverage] =
-                    coverage.empty() ? 1.0f : std::min(get(coverage, map.coverage, 0), 1.0f);
-                o[L.depth] = z;
-                const glm::vec3 P = vec(position, map.position), N = vec(normal, map.normal);
-                const glm::vec3 A = vec(albedo, map.albedo), E = vec(emission, map.emission);
-                for (int c = 0; c < 3; ++c) {
-                    o[L.position + c] = P[c];
-                    o[L.normal + c] = N[c];
-                    o[L.albedo + c] = A[c];
-                    o[L.emission + c] = E[c];
-                }
-                o[L.roughness] = get(roughness, map.roughness, 0);
-                o[L.metallic] = get(metallic, map.metallic, 0);
-            }
+            for (int x = r.xbegin; x < r.xend; ++x)
+                importPixel(pixels + (size_t(y - in.y) * size_t(in.width) + size_t(x - in.x)) * nch,
+                            static_cast<float*>(dst.pixeladdr(x, y)), map, c, out);
     });
     return true;
 }

@@ -76,6 +76,194 @@ double distanceToBox2(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec
     return glm::dot(d, d);
 }
 
+// What the culling knows of the frame: its depths and size, the rows held, its tiles, the
+// camera's projection and the rows of it the tiles' side planes are made of.
+struct CullFrame {
+    CullFrame(const DepthView& depth, const gbuffer::CameraInfo& camera, int width, int height,
+              int tileSize, int rowBegin, int rowEnd)
+        : depth(depth), width(width), height(height), tileSize(tileSize), rowBegin(rowBegin),
+          rowEnd(rowEnd), cameraToNDC(camera.worldToNDC * glm::inverse(camera.worldToCamera)),
+          ndcToCamera(glm::inverse(cameraToNDC)), r0(row(cameraToNDC, 0)), r1(row(cameraToNDC, 1)),
+          r3(row(cameraToNDC, 3)) {}
+
+    const DepthView& depth;
+    int width, height, tileSize, rowBegin, rowEnd;
+    glm::dmat4 cameraToNDC, ndcToCamera;
+    glm::dvec4 r0, r1, r3;
+};
+
+// A tile's depth range over its surfaces (zmin > zmax: background only), and the slices of it
+// that hold a pixel. Every sample of a deep G-buffer's pixels counts, as the surface of a flat
+// one does.
+struct TileDepths {
+    float zmin, zmax;
+    std::uint32_t pixelMask;
+};
+
+TileDepths tileDepths(const DepthView& depth, int x0, int x1, int y0, int y1) {
+    float zmin = INFINITY, zmax = -INFINITY;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+            for (int k = 0, n = depth.count(x, y); k < n; ++k) {
+                const float z = depth.at(x, y, k);
+                if (!std::isfinite(z)) continue;
+                zmin = std::min(zmin, z);
+                zmax = std::max(zmax, z);
+            }
+    TileDepths d{zmin, zmax, 0u};
+    if (zmin > zmax) return d;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x)
+            for (int k = 0, n = depth.count(x, y); k < n; ++k) {
+                const float z = depth.at(x, y, k);
+                if (std::isfinite(z)) d.pixelMask |= 1u << sliceIndex(z, zmin, zmax);
+            }
+    return d;
+}
+
+// Stage 1 for tile (tx, ty): its depth range, which slices hold a pixel, and the bounds of its
+// sub-frustum between those depths. (Tile is TileLightLists' own.)
+template <class Tile>
+void boundTile(Tile& t, const CullFrame& f, int tx, int ty) {
+    const int x0 = tx * f.tileSize, x1 = std::min(f.width, x0 + f.tileSize);
+    // The tile's rows that are held (a strip may cut a tile).
+    const int y0 = std::max(ty * f.tileSize, f.rowBegin);
+    const int y1 = std::min({f.height, ty * f.tileSize + f.tileSize, f.rowEnd});
+    const TileDepths d = tileDepths(f.depth, x0, x1, y0, y1);
+    if (d.zmin > d.zmax) return; // background only
+    t.zmin = d.zmin;
+    t.zmax = d.zmax;
+    t.pixelMask = d.pixelMask;
+    const double nx[2] = {2.0 * x0 / f.width - 1.0, 2.0 * x1 / f.width - 1.0};
+    const double ny[2] = {1.0 - 2.0 * y1 / f.height, 1.0 - 2.0 * y0 / f.height};
+    const double nz[2] = {double(d.zmin), double(d.zmax)};
+    glm::dvec3 corners[8];
+    t.boxMin = glm::dvec3(INFINITY);
+    t.boxMax = glm::dvec3(-INFINITY);
+    for (int i = 0; i < 8; ++i) {
+        corners[i] =
+            unproject(f.cameraToNDC, f.ndcToCamera, nx[i & 1], ny[(i >> 1) & 1], nz[i >> 2]);
+        t.boxMin = glm::min(t.boxMin, corners[i]);
+        t.boxMax = glm::max(t.boxMax, corners[i]);
+    }
+    // A little larger than exact: pixel positions are floats in the G-buffer.
+    const glm::dvec3 margin = 1e-5 * (glm::abs(t.boxMin) + glm::abs(t.boxMax)) + 1e-6;
+    t.boxMin -= margin;
+    t.boxMax += margin;
+    t.sphereCentre = 0.5 * (t.boxMin + t.boxMax);
+    for (const glm::dvec3& c : corners)
+        t.sphereRadius = std::max(t.sphereRadius, glm::length(c - t.sphereCentre));
+    t.sphereRadius += glm::length(margin);
+}
+
+// A light's columns of tiles and, for a bounded one, its bound (and a spot's cone) in
+// camera space.
+struct Span {
+    std::uint32_t light = 0;
+    int tx0 = 0, tx1 = 0;
+    bool bounded = false;
+    glm::dvec3 centre{0.0}; // camera space
+    double radius = 0.0;
+    bool spot = false;
+    glm::dvec3 apex{0.0}, axis{0.0}; // camera space
+    double sinOuter = 0.0, cosOuter = 0.0, range = 0.0;
+};
+
+// Light i's span and its frame tile rows [ty0, ty1]; false where its bound is off screen.
+bool lightSpan(const Light& light, size_t i, const gbuffer::CameraInfo& camera, const CullFrame& f,
+               int tilesX, Span& span, int& ty0, int& ty1) {
+    const bool bounded = light.isLocal() && std::isfinite(light.range);
+    span = Span{};
+    span.light = std::uint32_t(i);
+    span.tx1 = tilesX - 1;
+    span.bounded = bounded;
+    if (bounded && light.type == LightType::Spot) {
+        span.spot = true;
+        span.apex = glm::dvec3(camera.worldToCamera * glm::dvec4(glm::dvec3(light.position), 1.0));
+        span.axis = glm::normalize(
+            glm::dvec3(camera.worldToCamera * glm::dvec4(glm::dvec3(light.direction), 0.0)));
+        span.sinOuter = std::sin(double(light.outerConeAngle));
+        span.cosOuter = std::cos(double(light.outerConeAngle));
+        span.range = double(light.range) * (1.0 + 1e-4) + 1e-6;
+    }
+    ty0 = 0;
+    ty1 = (f.height - 1) / f.tileSize; // frame tile rows
+    if (!bounded) return true;
+    const LightBound b = lightBound(light);
+    // A little wider than the bound: the G-buffer's positions and depths are floats.
+    span.radius = double(b.radius) * (1.0 + 1e-4) + 1e-6;
+    span.centre = glm::dvec3(camera.worldToCamera * glm::dvec4(glm::dvec3(b.centre), 1.0));
+    const PixelRect r = sphereScreenRect(glm::dvec3(b.centre), span.radius, camera.worldToCamera,
+                                         f.cameraToNDC, f.width, f.height);
+    if (r.empty()) return false;
+    span.tx0 = r.x0 / f.tileSize;
+    span.tx1 = (r.x1 - 1) / f.tileSize;
+    ty0 = r.y0 / f.tileSize;
+    ty1 = (r.y1 - 1) / f.tileSize;
+    return true;
+}
+
+// Stage 2: each light's span, bucketed by the held tile rows [firstRow, lastRow] in light
+// order.
+std::vector<std::vector<Span>> spansByTileRow(const std::vector<Light>& lights,
+                                              const gbuffer::CameraInfo& camera, const CullFrame& f,
+                                              int tilesX, int firstRow, int lastRow) {
+    std::vector<std::vector<Span>> rows(static_cast<size_t>(std::max(lastRow - firstRow + 1, 0)));
+    for (size_t i = 0; i < lights.size(); ++i) {
+        Span span;
+        int ty0, ty1;
+        if (!lightSpan(lights[i], i, camera, f, tilesX, span, ty0, ty1)) continue;
+        for (int ty = std::max(ty0, firstRow); ty <= std::min(ty1, lastRow); ++ty)
+            rows[size_t(ty - firstRow)].push_back(span);
+    }
+    return rows;
+}
+
+// Stage 3 for a bounded light's span and tile tx of a row between the planes `below` and
+// `above`: the tile's two other side planes, its box and sphere, then the depth slices the
+// light's bound overlaps among those that hold a pixel (0: none).
+template <class Tile>
+std::uint32_t sliceMask(const Span& s, const Tile& t, int tx, const Plane& below,
+                        const Plane& above, const CullFrame& f) {
+    const double near = -s.centre.z - s.radius, far = -s.centre.z + s.radius;
+    if (far < t.zmin || near > t.zmax) return 0;
+    const double xLeft = 2.0 * double(tx * f.tileSize) / f.width - 1.0;
+    const double xRight = 2.0 * double(std::min(f.width, (tx + 1) * f.tileSize)) / f.width - 1.0;
+    const Plane left{f.r0 - xLeft * f.r3}, right{xRight * f.r3 - f.r0};
+    if (left.outside(s.centre, s.radius) || right.outside(s.centre, s.radius) ||
+        below.outside(s.centre, s.radius) || above.outside(s.centre, s.radius))
+        return 0;
+    if (distanceToBox2(s.centre, t.boxMin, t.boxMax) > s.radius * s.radius) return 0;
+    if (s.spot && coneMissesSphere(s.apex, s.axis, s.sinOuter, s.cosOuter, s.range, t.sphereCentre,
+                                   t.sphereRadius))
+        return 0;
+    const int s0 = sliceIndex(float(std::max(near, double(t.zmin))), t.zmin, t.zmax);
+    const int s1 = sliceIndex(float(std::min(far, double(t.zmax))), t.zmin, t.zmax);
+    return sliceRange(s0, s1) & t.pixelMask;
+}
+
+// Stage 3 for frame tile row ty (`tiles`, its first): each span's entries in its tiles.
+template <class Tile>
+void listRow(Tile* tiles, const std::vector<Span>& spans, int64_t ty, const CullFrame& f) {
+    // NDC y grows upwards, pixel rows downwards.
+    const double yTop = 1.0 - 2.0 * double(ty * f.tileSize) / f.height;
+    const double yBottom =
+        1.0 - 2.0 * double(std::min<int64_t>(f.height, (ty + 1) * f.tileSize)) / f.height;
+    const Plane below{f.r1 - yBottom * f.r3}, above{yTop * f.r3 - f.r1};
+    for (const Span& s : spans) {
+        for (int tx = s.tx0; tx <= s.tx1; ++tx) {
+            Tile& t = tiles[tx];
+            if (t.pixelMask == 0) continue;
+            if (!s.bounded) {
+                t.entries.push_back({s.light, ~0u});
+                continue;
+            }
+            const std::uint32_t mask = sliceMask(s, t, tx, below, above, f);
+            if (mask) t.entries.push_back({s.light, mask});
+        }
+    }
+}
+
 } // namespace
 
 std::uint32_t TileLightLists::sliceBit(int x, int y, float z) const {
@@ -103,151 +291,26 @@ void TileLightLists::build(const std::vector<Light>& lights, const gbuffer::Came
     m_tilesY = lastTileRow - m_firstTileRow + 1;
     m_tiles.assign(size_t(m_tilesX) * size_t(std::max(m_tilesY, 0)), Tile{});
 
-    const glm::dmat4 cameraToNDC = camera.worldToNDC * glm::inverse(camera.worldToCamera);
-    const glm::dmat4 ndcToCamera = glm::inverse(cameraToNDC);
+    const CullFrame f(depth, camera, width, height, tileSize, rowBegin, rowEnd);
 
-    // 1. Each tile's depth range over its surfaces, which slices hold a pixel, and the
-    // bounds of its sub-frustum between those depths.
+    // 1. Each tile's depth range, occupied slices and sub-frustum bounds.
     OIIO::parallel_for(
         0, m_tilesY,
         [&](int64_t local) {
-            const int ty = m_firstTileRow + int(local);
-            for (int tx = 0; tx < m_tilesX; ++tx) {
-                Tile& t = m_tiles[size_t(local) * size_t(m_tilesX) + size_t(tx)];
-                const int x0 = tx * tileSize, x1 = std::min(width, x0 + tileSize);
-                // The tile's rows that are held (a strip may cut a tile).
-                const int y0 = std::max(ty * tileSize, rowBegin);
-                const int y1 = std::min({height, ty * tileSize + tileSize, rowEnd});
-                float zmin = INFINITY, zmax = -INFINITY;
-                // Every sample of a deep G-buffer's pixels bounds the tile, as the surface of
-                // a flat one does.
-                for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x)
-                        for (int k = 0, n = depth.count(x, y); k < n; ++k) {
-                            const float z = depth.at(x, y, k);
-                            if (!std::isfinite(z)) continue;
-                            zmin = std::min(zmin, z);
-                            zmax = std::max(zmax, z);
-                        }
-                if (zmin > zmax) continue; // background only
-                t.zmin = zmin;
-                t.zmax = zmax;
-                for (int y = y0; y < y1; ++y)
-                    for (int x = x0; x < x1; ++x)
-                        for (int k = 0, n = depth.count(x, y); k < n; ++k) {
-                            const float z = depth.at(x, y, k);
-                            if (std::isfinite(z)) t.pixelMask |= 1u << sliceIndex(z, zmin, zmax);
-                        }
-                const double nx[2] = {2.0 * x0 / width - 1.0, 2.0 * x1 / width - 1.0};
-                const double ny[2] = {1.0 - 2.0 * y1 / height, 1.0 - 2.0 * y0 / height};
-                const double nz[2] = {double(zmin), double(zmax)};
-                glm::dvec3 corners[8];
-                t.boxMin = glm::dvec3(INFINITY);
-                t.boxMax = glm::dvec3(-INFINITY);
-                for (int i = 0; i < 8; ++i) {
-                    corners[i] = unproject(cameraToNDC, ndcToCamera, nx[i & 1], ny[(i >> 1) & 1],
-                                           nz[i >> 2]);
-                    t.boxMin = glm::min(t.boxMin, corners[i]);
-                    t.boxMax = glm::max(t.boxMax, corners[i]);
-                }
-                // A little larger than exact: pixel positions are floats in the G-buffer.
-                const glm::dvec3 margin = 1e-5 * (glm::abs(t.boxMin) + glm::abs(t.boxMax)) + 1e-6;
-                t.boxMin -= margin;
-                t.boxMax += margin;
-                t.sphereCentre = 0.5 * (t.boxMin + t.boxMax);
-                for (const glm::dvec3& c : corners)
-                    t.sphereRadius = std::max(t.sphereRadius, glm::length(c - t.sphereCentre));
-                t.sphereRadius += glm::length(margin);
-            }
+            for (int tx = 0; tx < m_tilesX; ++tx)
+                boundTile(m_tiles[size_t(local) * size_t(m_tilesX) + size_t(tx)], f, tx,
+                          m_firstTileRow + int(local));
         },
         perItem(nthreads));
-
     // 2. Each light's screen rectangle, bucketed by tile row in light order.
-    struct Span {
-        std::uint32_t light;
-        int tx0, tx1;
-        bool bounded;
-        glm::dvec3 centre; // camera space
-        double radius;
-        bool spot;
-        glm::dvec3 apex, axis; // camera space
-        double sinOuter, cosOuter, range;
-    };
-    std::vector<std::vector<Span>> rows(static_cast<size_t>(std::max(m_tilesY, 0)));
-    for (size_t i = 0; i < lights.size(); ++i) {
-        const Light& light = lights[i];
-        const bool bounded = light.isLocal() && std::isfinite(light.range);
-        Span span{std::uint32_t(i), 0,   m_tilesX - 1, bounded,
-                  glm::dvec3(0.0),  0.0, false,        glm::dvec3(0.0),
-                  glm::dvec3(0.0),  0.0, 0.0,          0.0};
-        if (bounded && light.type == LightType::Spot) {
-            span.spot = true;
-            span.apex =
-                glm::dvec3(camera.worldToCamera * glm::dvec4(glm::dvec3(light.position), 1.0));
-            span.axis = glm::normalize(
-                glm::dvec3(camera.worldToCamera * glm::dvec4(glm::dvec3(light.direction), 0.0)));
-            span.sinOuter = std::sin(double(light.outerConeAngle));
-            span.cosOuter = std::cos(double(light.outerConeAngle));
-            span.range = double(light.range) * (1.0 + 1e-4) + 1e-6;
-        }
-        int ty0 = 0, ty1 = (height - 1) / tileSize; // frame tile rows
-        if (bounded) {
-            const LightBound b = lightBound(light);
-            // A little wider than the bound: the G-buffer's positions and depths are floats.
-            span.radius = double(b.radius) * (1.0 + 1e-4) + 1e-6;
-            span.centre = glm::dvec3(camera.worldToCamera * glm::dvec4(glm::dvec3(b.centre), 1.0));
-            const PixelRect r = sphereScreenRect(glm::dvec3(b.centre), span.radius,
-                                                 camera.worldToCamera, cameraToNDC, width, height);
-            if (r.empty()) continue;
-            span.tx0 = r.x0 / tileSize;
-            span.tx1 = (r.x1 - 1) / tileSize;
-            ty0 = r.y0 / tileSize;
-            ty1 = (r.y1 - 1) / tileSize;
-        }
-        for (int ty = std::max(ty0, m_firstTileRow); ty <= std::min(ty1, lastTileRow); ++ty)
-            rows[size_t(ty - m_firstTileRow)].push_back(span);
-    }
-
+    const std::vector<std::vector<Span>> rows =
+        spansByTileRow(lights, camera, f, m_tilesX, m_firstTileRow, lastTileRow);
     // 3. Per tile: the sub-frustum's four side planes, then the depth slices.
-    const glm::dvec4 r0 = row(cameraToNDC, 0), r1 = row(cameraToNDC, 1), r3 = row(cameraToNDC, 3);
     OIIO::parallel_for(
         0, m_tilesY,
         [&](int64_t local) {
-            const int64_t ty = m_firstTileRow + local;
-            // NDC y grows upwards, pixel rows downwards.
-            const double yTop = 1.0 - 2.0 * double(ty * tileSize) / height;
-            const double yBottom =
-                1.0 - 2.0 * double(std::min<int64_t>(height, (ty + 1) * tileSize)) / height;
-            const Plane below{r1 - yBottom * r3}, above{yTop * r3 - r1};
-            for (const Span& s : rows[size_t(local)]) {
-                for (int tx = s.tx0; tx <= s.tx1; ++tx) {
-                    Tile& t = m_tiles[size_t(local) * size_t(m_tilesX) + size_t(tx)];
-                    if (t.pixelMask == 0) continue;
-                    if (!s.bounded) {
-                        t.entries.push_back({s.light, ~0u});
-                        continue;
-                    }
-                    const double near = -s.centre.z - s.radius, far = -s.centre.z + s.radius;
-                    if (far < t.zmin || near > t.zmax) continue;
-                    const double xLeft = 2.0 * double(tx * tileSize) / width - 1.0;
-                    const double xRight =
-                        2.0 * double(std::min(width, (tx + 1) * tileSize)) / width - 1.0;
-                    const Plane left{r0 - xLeft * r3}, right{xRight * r3 - r0};
-                    if (left.outside(s.centre, s.radius) || right.outside(s.centre, s.radius) ||
-                        below.outside(s.centre, s.radius) || above.outside(s.centre, s.radius))
-                        continue;
-                    if (distanceToBox2(s.centre, t.boxMin, t.boxMax) > s.radius * s.radius)
-                        continue;
-                    if (s.spot && coneMissesSphere(s.apex, s.axis, s.sinOuter, s.cosOuter, s.range,
-                                                   t.sphereCentre, t.sphereRadius))
-                        continue;
-                    const int s0 =
-                        sliceIndex(float(std::max(near, double(t.zmin))), t.zmin, t.zmax);
-                    const int s1 = sliceIndex(float(std::min(far, double(t.zmax))), t.zmin, t.zmax);
-                    const std::uint32_t mask = sliceRange(s0, s1) & t.pixelMask;
-                    if (mask) t.entries.push_back({s.light, mask});
-                }
-            }
+            listRow(&m_tiles[size_t(local) * size_t(m_tilesX)], rows[size_t(local)],
+                    m_firstTileRow + local, f);
         },
         perItem(nthreads));
 }

@@ -176,106 +176,125 @@ void checkKeys(const json& j, const Light& light, size_t index) {
     }
 }
 
-Light parseLight(const json& j, size_t index) {
-    LightReader r(j, index);
-    if (!j.is_object()) throw LightError{"light " + std::to_string(index) + ": not an object"};
+// The light's type, named by "type".
+LightType readType(const json& j, const LightReader& r) {
     if (!j.contains("type") || !j.at("type").is_string()) r.fail("type", "is required");
     const std::string type = j.at("type").get<std::string>();
+    if (type == "point") return LightType::Point;
+    if (type == "spot") return LightType::Spot;
+    if (type == "directional") return LightType::Directional;
+    if (type == "ambient") return LightType::Ambient;
+    if (type == "sphere") return LightType::Sphere;
+    if (type == "rectangle") return LightType::Rectangle;
+    if (type == "environment") return LightType::Environment;
+    r.fail("type", "must be point, spot, directional, ambient, sphere, rectangle or "
+                   "environment, not \"" +
+                       type + "\"");
+}
 
-    Light light;
-    if (type == "point")
-        light.type = LightType::Point;
-    else if (type == "spot")
-        light.type = LightType::Spot;
-    else if (type == "directional")
-        light.type = LightType::Directional;
-    else if (type == "ambient")
-        light.type = LightType::Ambient;
-    else if (type == "sphere")
-        light.type = LightType::Sphere;
-    else if (type == "rectangle")
-        light.type = LightType::Rectangle;
-    else if (type == "environment")
-        light.type = LightType::Environment;
-    else
-        r.fail("type", "must be point, spot, directional, ambient, sphere, rectangle or "
-                       "environment, not \"" +
-                           type + "\"");
-
-    if (j.contains("name")) {
-        if (!j.at("name").is_string()) r.fail("name", "must be a string");
-        light.name = j.at("name").get<std::string>();
-    }
-    checkKeys(j, light, index);
+// Every light's colour and intensity.
+void readEmission(const LightReader& r, Light& light) {
     light.color = r.vector3("color", glm::vec3(1.0f));
     if (light.color.r < 0 || light.color.g < 0 || light.color.b < 0)
         r.fail("color", "must not be negative");
     light.intensity = r.number("intensity", 1.0f);
     if (light.intensity < 0) r.fail("intensity", "must not be negative");
-    if (light.type == LightType::Environment) {
-        if (!j.contains("image") || !j.at("image").is_string() ||
-            j.at("image").get<std::string>().empty())
-            r.fail("image", "is required: the path of an equirectangular HDR image");
-        light.image = j.at("image").get<std::string>();
-        light.rotation = r.number("rotation", 0.0f) * 3.14159265358979f / 180.0f;
-        if (r.has("sun")) {
-            const nlohmann::json& sun = j.at("sun");
-            if (sun.is_string() && sun.get<std::string>() == "off") {
-                light.sunThreshold = 0.0f;
-            } else {
-                light.sunThreshold = r.number("sun", 0.0f);
-                if (!(light.sunThreshold > 0.0f))
-                    r.fail("sun", "must be \"off\" or a positive luminance threshold");
-            }
-        }
-    }
+}
 
-    if (light.isLocal()) {
-        light.position = r.vector3("position", glm::vec3(0.0f), true);
-        if (r.has("range")) {
-            light.range = r.number("range", 0.0f);
-            if (!(light.range > 0)) r.fail("range", "must be a positive number");
-        }
+// An environment's image, its rotation and its sun.
+void readEnvironment(const json& j, const LightReader& r, Light& light) {
+    if (!j.contains("image") || !j.at("image").is_string() ||
+        j.at("image").get<std::string>().empty())
+        r.fail("image", "is required: the path of an equirectangular HDR image");
+    light.image = j.at("image").get<std::string>();
+    light.rotation = r.number("rotation", 0.0f) * 3.14159265358979f / 180.0f;
+    if (!r.has("sun")) return;
+    const nlohmann::json& sun = j.at("sun");
+    if (sun.is_string() && sun.get<std::string>() == "off") {
+        light.sunThreshold = 0.0f;
+    } else {
+        light.sunThreshold = r.number("sun", 0.0f);
+        if (!(light.sunThreshold > 0.0f))
+            r.fail("sun", "must be \"off\" or a positive luminance threshold");
     }
-    if (light.type == LightType::Spot || light.type == LightType::Directional ||
-        light.type == LightType::Rectangle) {
-        const glm::vec3 d = r.vector3("direction", glm::vec3(0.0f, 0.0f, -1.0f), true);
-        if (glm::length(d) == 0.0f) r.fail("direction", "must not be zero");
-        light.direction = glm::normalize(d);
+}
+
+// A local light's position and range.
+void readPlacement(const LightReader& r, Light& light) {
+    light.position = r.vector3("position", glm::vec3(0.0f), true);
+    if (r.has("range")) {
+        light.range = r.number("range", 0.0f);
+        if (!(light.range > 0)) r.fail("range", "must be a positive number");
     }
-    if (light.type == LightType::Directional && r.has("angle")) {
-        const float degrees = r.number("angle", 0.0f);
-        if (!(degrees >= 0.0f && degrees < 180.0f)) r.fail("angle", "must be in [0, 180) degrees");
-        light.angle = degrees * 3.14159265358979f / 180.0f;
+}
+
+// The direction of a spot, directional or rectangle light.
+void readDirection(const LightReader& r, Light& light) {
+    const glm::vec3 d = r.vector3("direction", glm::vec3(0.0f, 0.0f, -1.0f), true);
+    if (glm::length(d) == 0.0f) r.fail("direction", "must not be zero");
+    light.direction = glm::normalize(d);
+}
+
+// A directional light's angular diameter.
+void readDirectional(const LightReader& r, Light& light) {
+    if (!r.has("angle")) return;
+    const float degrees = r.number("angle", 0.0f);
+    if (!(degrees >= 0.0f && degrees < 180.0f)) r.fail("angle", "must be in [0, 180) degrees");
+    light.angle = degrees * 3.14159265358979f / 180.0f;
+}
+
+void readSphere(const LightReader& r, Light& light) {
+    light.radius = r.number("radius", 0.0f, true);
+    if (!(light.radius > 0)) r.fail("radius", "must be a positive number");
+    if (light.range <= light.radius) r.fail("range", "must exceed the radius");
+}
+
+void readRectangle(const LightReader& r, Light& light) {
+    light.width = r.number("width", 0.0f, true);
+    light.height = r.number("height", 0.0f, true);
+    if (!(light.width > 0)) r.fail("width", "must be a positive number");
+    if (!(light.height > 0)) r.fail("height", "must be a positive number");
+    // `up` need only not be parallel to the normal; it is made perpendicular to it.
+    const glm::vec3 up = r.vector3("up", glm::vec3(0.0f, 1.0f, 0.0f));
+    const glm::vec3 ortho = up - glm::dot(up, light.direction) * light.direction;
+    if (glm::length(ortho) < 1e-4f * std::max(glm::length(up), 1e-30f))
+        r.fail("up", "must not be parallel to \"direction\"");
+    light.up = glm::normalize(ortho);
+    const float halfDiagonal =
+        0.5f * std::sqrt(light.width * light.width + light.height * light.height);
+    if (light.range <= halfDiagonal) r.fail("range", "must exceed half the diagonal");
+}
+
+void readSpot(const LightReader& r, Light& light) {
+    light.innerConeAngle = r.number("innerConeAngle", 0.0f);
+    light.outerConeAngle = r.number("outerConeAngle", 0.7853982f);
+    if (!(light.outerConeAngle > 0 && light.outerConeAngle <= 1.5707964f))
+        r.fail("outerConeAngle", "must be in (0, π/2]");
+    if (!(light.innerConeAngle >= 0 && light.innerConeAngle < light.outerConeAngle))
+        r.fail("innerConeAngle", "must be in [0, outerConeAngle)");
+}
+
+Light parseLight(const json& j, size_t index) {
+    LightReader r(j, index);
+    if (!j.is_object()) throw LightError{"light " + std::to_string(index) + ": not an object"};
+    Light light;
+    light.type = readType(j, r);
+    if (j.contains("name")) {
+        if (!j.at("name").is_string()) r.fail("name", "must be a string");
+        light.name = j.at("name").get<std::string>();
     }
-    if (light.type == LightType::Sphere) {
-        light.radius = r.number("radius", 0.0f, true);
-        if (!(light.radius > 0)) r.fail("radius", "must be a positive number");
-        if (light.range <= light.radius) r.fail("range", "must exceed the radius");
-    }
-    if (light.type == LightType::Rectangle) {
-        light.width = r.number("width", 0.0f, true);
-        light.height = r.number("height", 0.0f, true);
-        if (!(light.width > 0)) r.fail("width", "must be a positive number");
-        if (!(light.height > 0)) r.fail("height", "must be a positive number");
-        // `up` need only not be parallel to the normal; it is made perpendicular to it.
-        const glm::vec3 up = r.vector3("up", glm::vec3(0.0f, 1.0f, 0.0f));
-        const glm::vec3 ortho = up - glm::dot(up, light.direction) * light.direction;
-        if (glm::length(ortho) < 1e-4f * std::max(glm::length(up), 1e-30f))
-            r.fail("up", "must not be parallel to \"direction\"");
-        light.up = glm::normalize(ortho);
-        const float halfDiagonal =
-            0.5f * std::sqrt(light.width * light.width + light.height * light.height);
-        if (light.range <= halfDiagonal) r.fail("range", "must exceed half the diagonal");
-    }
-    if (light.type == LightType::Spot) {
-        light.innerConeAngle = r.number("innerConeAngle", 0.0f);
-        light.outerConeAngle = r.number("outerConeAngle", 0.7853982f);
-        if (!(light.outerConeAngle > 0 && light.outerConeAngle <= 1.5707964f))
-            r.fail("outerConeAngle", "must be in (0, π/2]");
-        if (!(light.innerConeAngle >= 0 && light.innerConeAngle < light.outerConeAngle))
-            r.fail("innerConeAngle", "must be in [0, outerConeAngle)");
-    }
+    checkKeys(j, light, index);
+    readEmission(r, light);
+    // The fields of each family the light belongs to, in this order (the first error wins).
+    const LightType t = light.type;
+    if (t == LightType::Environment) readEnvironment(j, r, light);
+    if (light.isLocal()) readPlacement(r, light);
+    if (t == LightType::Spot || t == LightType::Directional || t == LightType::Rectangle)
+        readDirection(r, light);
+    if (t == LightType::Directional) readDirectional(r, light);
+    if (t == LightType::Sphere) readSphere(r, light);
+    if (t == LightType::Rectangle) readRectangle(r, light);
+    if (t == LightType::Spot) readSpot(r, light);
     return light;
 }
 
