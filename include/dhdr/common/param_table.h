@@ -134,8 +134,8 @@ std::string checkRanges(const Params& params, const IntParam<Params> (&table)[N]
     for (const IntParam<Params>& p : table) {
         const int v = params.*(p.field);
         if (v < p.min || v > p.max)
-            return std::string(paramName(p, spelling)) + ": " + std::to_string(v) + " is outside " +
-                   std::to_string(p.min) + "-" + std::to_string(p.max);
+            return std::string(paramName(p, spelling)) + ": " + std::to_string(v) +
+                   " is outside [" + std::to_string(p.min) + ", " + std::to_string(p.max) + "]";
     }
     return {};
 }

@@ -33,7 +33,7 @@ inline constexpr FloatParam<MotionBlurParams> kMotionBlurFloatTable[] = {
      &MotionBlurParams::shutter,
      {0.0, 2.0},
      "FRAMES",
-     "shutter, in frames, centred on the frame (Cycles' default)"},
+     "shutter, in frames, centred on the frame, as Cycles'"},
     {"--depth-softness",
      "depth_softness",
      &MotionBlurParams::depthSoftness,
