@@ -17,11 +17,9 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
                          long long* rays) const {
     const Light& light = m_lights[i];
     const DirectLightingOptions& o = m_options;
-    const bool atInfinity =
-        light.type == LightType::Environment || light.type == LightType::Ambient;
-    if (atInfinity && !o.lightsAtInfinity) return;
+    if (isDomeLight(light) && !o.lightsAtInfinity) return;
     auto seed = [&] { return sampleSeed(key.a, key.b, std::int64_t(i), key.stream); };
-    if (light.type == LightType::Environment) {
+    if (isEnvironment(light)) {
         if (!light.ibl) return;
         IblShading e =
             shadeEnvironment(light, p.surface, p.N, p.V, o.environmentSpecular, p.reflectionSpread);
@@ -60,13 +58,11 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
     float v = 1.0f;
     if (given)
         v = given->diffuse;
-    else if (light.type != LightType::Ambient && o.shadows)
+    else if (!isAmbient(light) && o.shadows)
         v = lightVisibility(light, p.origin, p.N, seed(), o.shadowSamples, *o.shadows, rays);
-    glm::vec3& litTerm =
-        light.type == LightType::Ambient && o.occludable ? lit.ambient : lit.direct;
+    glm::vec3& litTerm = isAmbient(light) && o.occludable ? lit.ambient : lit.direct;
     litTerm += scaled(c, v);
-    if (open)
-        (light.type == LightType::Ambient && o.occludable ? open->ambient : open->direct) += c;
+    if (open) (isAmbient(light) && o.occludable ? open->ambient : open->direct) += c;
 }
 
 DirectTerms DirectLighting::sum(const LitPoint& p, const SeedKey& key, const glm::vec3& emission,

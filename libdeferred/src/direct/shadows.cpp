@@ -227,11 +227,11 @@ EnvironmentVisibilitySums environmentVisibilitySums(const Light& light, const Su
 float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec3& N,
                       std::uint64_t seed, int samples, const Visibility& visibility,
                       long long* rays) {
-    if (light.type == LightType::Ambient) return 1.0f;
-    if (light.type == LightType::Environment)
+    if (isAmbient(light)) return 1.0f;
+    if (isEnvironment(light))
         return environmentVisibilitySums(light, at, N, nullptr, seed, samples, visibility, rays)
             .diffuse.ratio();
-    const bool disk = light.type == LightType::Directional && light.angle > 0.0f;
+    const bool disk = hasSunDisk(light);
     if (!light.isArea() && !disk) {
         const LightLiSample s = sampleLi(light, at.P, {0.0f, 0.0f});
         if (s.pdf == 0.0f) return 1.0f;

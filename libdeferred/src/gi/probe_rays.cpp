@@ -36,8 +36,9 @@ struct ProbeRayTracer::LitHit {
 ProbeRayTracer::ProbeRayTracer(const Scene& scene, const RayCaster& caster,
                                const std::vector<Light>& lights, const ProbeBakeParams& params,
                                bool emissiveAreLights)
-    : m_scene(scene), m_caster(caster), m_lights(lights), m_diffuse(params.diffuse),
-      m_emissiveAreLights(emissiveAreLights), m_direct(lights, bakeOptions(caster, params)),
+    : m_scene(scene), m_caster(caster), m_lights(lights), m_infinite(infiniteLights(lights)),
+      m_diffuse(params.diffuse), m_emissiveAreLights(emissiveAreLights),
+      m_direct(lights, bakeOptions(caster, params)),
       m_spread(2.0f * std::acos(1.0f - 2.0f / float(std::max(params.rays, 2)))) {}
 
 // The surface a probe's ray stops at: it passes Mask cut-outs, and a Blend surface of coverage
@@ -89,8 +90,8 @@ ProbeRayTracer::LitHit ProbeRayTracer::light(const SurfaceSample& s, const glm::
 
 glm::vec3 ProbeRayTracer::sky(const glm::vec3& direction) const {
     glm::vec3 L(0.0f);
-    for (const Light& l : m_lights)
-        if (l.type == LightType::Environment) L += environmentRadiance(l, direction);
+    for (const std::uint32_t i : m_infinite)
+        if (isEnvironment(m_lights[i])) L += environmentRadiance(m_lights[i], direction);
     return L;
 }
 

@@ -66,6 +66,7 @@ private:
     const Scene& m_scene;
     const RayCaster& m_caster;
     const std::vector<Light>& m_lights;
+    std::vector<std::uint32_t> m_infinite; // infiniteLights(m_lights): what a missed ray meets
     DiffuseModel m_diffuse;
     bool m_emissiveAreLights;
     DirectLighting m_direct;

@@ -40,31 +40,88 @@ std::vector<float*> FilteredEstimates::planes() {
     return all;
 }
 
+// What one call estimates and filters with: its inputs, which estimates it makes, the guide
+// of the filter and what else guides each estimate.
+struct FilteredEstimates::Pass {
+    Pass(const GBufferView& view, const gbuffer::Layout& layout, const std::vector<Light>& lights,
+         const LightingParams& params, const Visibility* shadowRays, const Visibility* aoRays,
+         const TracedEstimates& traced)
+        : view(view), layout(layout), lights(lights), params(params), shadowRays(shadowRays),
+          aoRays(aoRays), traced(traced) {}
+
+    const GBufferView& view;
+    const gbuffer::Layout& layout;
+    const std::vector<Light>& lights;
+    const LightingParams& params;
+    const Visibility* shadowRays;
+    const Visibility* aoRays;
+    const TracedEstimates& traced;
+    std::vector<std::uint32_t> filtered; // the environment lights estimated, in order
+    bool ao = false, bouncing = false, specular = false;
+    DenoiseGuide guide;
+    // The glossy lobe of each pixel: its mirror direction and angular width (2α, the reflected
+    // lobe being about twice the microfacets'; at least 0.02), for the specular sums.
+    std::vector<glm::vec3> mirror;
+    std::vector<float> lobeWidth;
+    // Where the bounce and the specular estimates exist: the filter skips the other pixels.
+    std::vector<unsigned char> catcherPixels, specularPixels;
+    // The rows the previous strip estimated too (the same frame's columns and estimates).
+    int carriedBegin = 0, carriedEnd = 0;
+
+    bool any() const { return !filtered.empty() || ao || bouncing || specular; }
+};
+
+struct FilteredEstimates::Rays {
+    long long shadow = 0, ao = 0, bounce = 0, specular = 0;
+};
+
 FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout,
                                      OIIO::ROI held, OIIO::ROI read,
-                                     const std::vector<Light>& lights, const LightingParams& params,
-                                     const Visibility* shadowRays, const Visibility* aoRays,
-                                     const TracedEstimates& traced, int nthreads,
-                                     EstimateCarry* carry)
+                                     const std::vector<Light>& lights,
+                                     const std::vector<std::uint32_t>& infinite,
+                                     const LightingParams& params, const Visibility* shadowRays,
+                                     const Visibility* aoRays, const TracedEstimates& traced,
+                                     int nthreads, EstimateCarry* carry)
     : m_held(held), m_slot(lights.size(), -1) {
     // What the previous strip left, taken below if it fits; nothing is left for the next
     // unless this strip estimates.
     std::unique_ptr<EstimateCarry::Rows> previous = carry ? std::move(carry->rows) : nullptr;
     if (!params.denoise || view.deep()) return;
-    std::vector<std::uint32_t> filtered;
-    if (shadowRays && params.environmentSamples > 0)
-        for (std::uint32_t i = 0; i < lights.size(); ++i)
-            if (lights[i].type == LightType::Environment && lights[i].ibl &&
-                !lights[i].ibl->sampler.empty()) {
-                m_slot[i] = int(filtered.size());
-                filtered.push_back(i);
+    Pass pass(view, layout, lights, params, shadowRays, aoRays, traced);
+    choose(pass, infinite);
+    if (!pass.any()) return;
+    allocate(pass, read);
+    const std::vector<float*> raw = planes();
+    takeCarried(pass, previous.get(), raw);
+    estimateRows(pass, nthreads);
+    if (carry) leaveCarry(*carry, raw);
+    filter(pass, nthreads);
+}
+
+// Which estimates this call makes: each environment light's shadow sums (one with a sampler,
+// when its shadows are traced), the AO, a catcher's bounce light, the specular indirect light.
+void FilteredEstimates::choose(Pass& pass, const std::vector<std::uint32_t>& infinite) {
+    const LightingParams& params = pass.params;
+    if (pass.shadowRays && params.environmentSamples > 0)
+        for (const std::uint32_t i : infinite) {
+            const Light& l = pass.lights[i];
+            if (isEnvironment(l) && l.ibl && !l.ibl->sampler.empty()) {
+                m_slot[i] = int(pass.filtered.size());
+                pass.filtered.push_back(i);
             }
-    const bool ao = aoRays && params.aoSamples > 0;
-    const bool bouncing = traced.bounce && params.catcherBounceSamples > 0 && layout.objectId >= 0;
-    const bool specular = traced.specular && params.specularSamples > 0;
-    if (filtered.empty() && !ao && !bouncing && !specular) return;
+        }
+    pass.ao = pass.aoRays && params.aoSamples > 0;
+    pass.bouncing =
+        pass.traced.bounce && params.catcherBounceSamples > 0 && pass.layout.objectId >= 0;
+    pass.specular = pass.traced.specular && params.specularSamples > 0;
+}
+
+// The guide, the lobes and the planes of raw estimates, every pixel of m_held's; the filter
+// runs on the rows of `read` (undefined: all).
+void FilteredEstimates::allocate(Pass& pass, OIIO::ROI read) {
+    const OIIO::ROI& held = m_held;
     const size_t n = held.npixels();
-    DenoiseGuide guide;
+    DenoiseGuide& guide = pass.guide;
     guide.width = held.width();
     guide.height = held.height();
     guide.position.assign(n, glm::vec3(0.0f));
@@ -75,119 +132,137 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
         guide.firstRow = std::clamp(read.ybegin, held.ybegin, held.yend) - held.ybegin;
         guide.endRow = std::clamp(read.yend, held.ybegin + guide.firstRow, held.yend) - held.ybegin;
     }
-    // The glossy lobe of each pixel: its mirror direction and angular width (2α, the reflected
-    // lobe being about twice the microfacets'; at least 0.02), for the specular sums.
-    std::vector<glm::vec3> mirror(n, glm::vec3(0.0f, 0.0f, 1.0f));
-    std::vector<float> lobeWidth(n, 1.0f);
-    m_diffuse.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
-    m_specularRatio.assign(filtered.size(), std::vector<float>(2 * n, 0.0f));
-    if (specular)
+    pass.mirror.assign(n, glm::vec3(0.0f, 0.0f, 1.0f));
+    pass.lobeWidth.assign(n, 1.0f);
+    m_diffuse.assign(pass.filtered.size(), std::vector<float>(2 * n, 0.0f));
+    m_specularRatio.assign(pass.filtered.size(), std::vector<float>(2 * n, 0.0f));
+    if (pass.specular)
         for (std::vector<float>& c : m_specular)
             c.assign(n, 0.0f);
-    if (ao) m_ao.assign(n, 1.0f);
-    if (bouncing) m_bounce.assign(n, 0.0f);
-    // Where the bounce and the specular estimates exist: the filter skips the other pixels.
-    std::vector<unsigned char> catcherPixels(bouncing ? n : 0), specularPixels(specular ? n : 0);
-    // The rows the previous strip estimated too (the same frame's columns and estimates).
-    const std::vector<float*> raw = planes();
+    if (pass.ao) m_ao.assign(n, 1.0f);
+    if (pass.bouncing) m_bounce.assign(n, 0.0f);
+    pass.catcherPixels.assign(pass.bouncing ? n : 0, 0);
+    pass.specularPixels.assign(pass.specular ? n : 0, 0);
+}
+
+// The rows the previous strip estimated too, copied from what it left (when it is of the same
+// frame's columns and estimates): they are not traced again.
+void FilteredEstimates::takeCarried(Pass& pass, const EstimateCarry::Rows* previous,
+                                    const std::vector<float*>& raw) {
+    const OIIO::ROI& held = m_held;
+    pass.carriedBegin = pass.carriedEnd = held.ybegin;
+    if (!previous || previous->rows.xbegin != held.xbegin || previous->rows.xend != held.xend ||
+        previous->planes.size() != raw.size())
+        return;
     const size_t width = size_t(held.width());
-    int carriedBegin = held.ybegin, carriedEnd = held.ybegin;
-    if (previous && previous->rows.xbegin == held.xbegin && previous->rows.xend == held.xend &&
-        previous->planes.size() == raw.size()) {
-        carriedBegin = std::max(held.ybegin, previous->rows.ybegin);
-        carriedEnd = std::max(carriedBegin, std::min(held.yend, previous->rows.yend));
-        const size_t from = size_t(carriedBegin - previous->rows.ybegin) * width,
-                     to = size_t(carriedBegin - held.ybegin) * width,
-                     count = size_t(carriedEnd - carriedBegin) * width;
-        for (size_t k = 0; k < raw.size(); ++k)
-            std::copy_n(previous->planes[k].data() + from, count, raw[k] + to);
-    }
+    pass.carriedBegin = std::max(held.ybegin, previous->rows.ybegin);
+    pass.carriedEnd = std::max(pass.carriedBegin, std::min(held.yend, previous->rows.yend));
+    const size_t from = size_t(pass.carriedBegin - previous->rows.ybegin) * width,
+                 to = size_t(pass.carriedBegin - held.ybegin) * width,
+                 count = size_t(pass.carriedEnd - pass.carriedBegin) * width;
+    for (size_t k = 0; k < raw.size(); ++k)
+        std::copy_n(previous->planes[k].data() + from, count, raw[k] + to);
+}
+
+// Every covered pixel's guide and lobe, and its estimates unless carried.
+void FilteredEstimates::estimateRows(Pass& pass, int nthreads) {
     std::atomic<long long> shadowCount{0}, aoCount{0}, bounceCount{0}, specularCount{0};
-    parallelRows(held.ybegin, held.yend, nthreads, [&](int64_t yy) {
+    parallelRows(m_held.ybegin, m_held.yend, nthreads, [&](int64_t yy) {
         const int y = int(yy);
-        const bool carried = y >= carriedBegin && y < carriedEnd;
-        long long shadowLocal = 0, aoLocal = 0, bounceLocal = 0, specularLocal = 0;
-        for (int x = held.xbegin; x < held.xend; ++x) {
-            if (view.samples(x, y) == 0) continue;
-            const size_t p = index(x, y);
-            const ShadingPoint sp = view.at(x, y);
-            guide.surface[p] = 1;
-            guide.position[p] = sp.P;
-            guide.normal[p] = sp.N;
-            guide.object[p] = layout.objectId >= 0 ? view.channels(x, y)[layout.objectId] : 0.0f;
-            // The seeds of a flat pixel's shading (lighting.cpp, deep sample 0).
-            const LitPoint point{sp.surface, sp.P, sp.N, sp.V, sp.origin};
-            const bool traceSpecular = specular && SpecularIndirect::traced(point, traced.probes);
-            const SpecularLobe lobe{sp.V, sp.surface.alpha(),
-                                    traceSpecular ? 0.0f : kOccluderAlbedo};
-            mirror[p] = glm::reflect(-sp.V, sp.N);
-            lobeWidth[p] = std::max(2.0f * lobe.alpha, 0.02f);
-            if (bouncing) catcherPixels[p] = guide.object[p] == traced.catcher;
-            if (specular) specularPixels[p] = traceSpecular;
-            if (carried) continue;
-            // With probes, a rough lobe's point takes nothing from environments (their
-            // diffuse and its specular light come through the probes): no rays.
-            const bool lit = !(traced.probes && sp.surface.roughness >= kProbeGlossyRoughness);
-            for (size_t j = 0; j < filtered.size() && lit; ++j) {
-                const EnvironmentVisibilitySums v = environmentVisibilitySums(
-                    lights[filtered[j]], sp.origin, sp.N, &lobe,
-                    sampleSeed(x, y, filtered[j], streamOf(SampleStream::Shadow)),
-                    params.environmentSamples, *shadowRays, &shadowLocal);
-                m_diffuse[j][p] = float(v.diffuse.seen);
-                m_diffuse[j][n + p] = float(v.diffuse.total);
-                m_specularRatio[j][p] = float(v.specular.seen);
-                m_specularRatio[j][n + p] = float(v.specular.total);
-            }
-            if (ao)
-                m_ao[p] = rayTracedOcclusion(
-                    sp.origin, sp.N, sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion)),
-                    params.aoSamples, params.aoDistance, *aoRays, &aoLocal);
-            if (bouncing && guide.object[p] == traced.catcher)
-                m_bounce[p] = luminance(
-                    diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
-                    traced.bounce->irradianceAt(sp.origin, sp.N, x, y, 0,
-                                                params.catcherBounceSamples, &bounceLocal));
-            if (traceSpecular) {
-                const glm::vec3 L = traced.specular->radiance(
-                    point, x, y, 0, params.specularSamples, &specularLocal);
-                for (int c = 0; c < 3; ++c)
-                    m_specular[c][p] = L[c];
-            }
-        }
-        shadowCount += shadowLocal;
-        aoCount += aoLocal;
-        bounceCount += bounceLocal;
-        specularCount += specularLocal;
+        const bool carried = y >= pass.carriedBegin && y < pass.carriedEnd;
+        Rays rays;
+        for (int x = m_held.xbegin; x < m_held.xend; ++x)
+            if (pass.view.samples(x, y) != 0) estimatePixel(pass, x, y, carried, rays);
+        shadowCount += rays.shadow;
+        aoCount += rays.ao;
+        bounceCount += rays.bounce;
+        specularCount += rays.specular;
     });
     shadowRayCount = shadowCount;
     aoRayCount = aoCount;
     bounceRayCount = bounceCount;
     specularRayCount = specularCount;
-    // The last rows, raw, for the next strip (whose halo above they are: dhdr-light's strips
-    // overlap by 2 kDenoiseReach rows); rows it does not find there it traces.
-    if (carry) {
-        carry->rows = std::make_unique<EstimateCarry::Rows>();
-        EstimateCarry::Rows& next = *carry->rows;
-        next.rows = held;
-        next.rows.ybegin = std::max(held.ybegin, held.yend - 2 * kDenoiseReach);
-        const size_t from = size_t(next.rows.ybegin - held.ybegin) * width;
-        for (const float* plane : raw)
-            next.planes.emplace_back(plane + from, plane + n);
+}
+
+void FilteredEstimates::estimatePixel(Pass& pass, int x, int y, bool carried, Rays& rays) {
+    const LightingParams& params = pass.params;
+    const TracedEstimates& traced = pass.traced;
+    const size_t n = m_held.npixels(), p = index(x, y);
+    const ShadingPoint sp = pass.view.at(x, y);
+    DenoiseGuide& guide = pass.guide;
+    guide.surface[p] = 1;
+    guide.position[p] = sp.P;
+    guide.normal[p] = sp.N;
+    guide.object[p] =
+        pass.layout.objectId >= 0 ? pass.view.channels(x, y)[pass.layout.objectId] : 0.0f;
+    // The seeds of a flat pixel's shading (shade_sample.cpp, deep sample 0).
+    const LitPoint point{sp.surface, sp.P, sp.N, sp.V, sp.origin};
+    const bool traceSpecular = pass.specular && SpecularIndirect::traced(point, traced.probes);
+    const SpecularLobe lobe{sp.V, sp.surface.alpha(), traceSpecular ? 0.0f : kOccluderAlbedo};
+    pass.mirror[p] = glm::reflect(-sp.V, sp.N);
+    pass.lobeWidth[p] = std::max(2.0f * lobe.alpha, 0.02f);
+    if (pass.bouncing) pass.catcherPixels[p] = guide.object[p] == traced.catcher;
+    if (pass.specular) pass.specularPixels[p] = traceSpecular;
+    if (carried) return;
+    // With probes, a rough lobe's point takes nothing from environments (their diffuse and its
+    // specular light come through the probes): no rays.
+    const bool lit = !(traced.probes && sp.surface.roughness >= kProbeGlossyRoughness);
+    for (size_t j = 0; j < pass.filtered.size() && lit; ++j) {
+        const EnvironmentVisibilitySums v = environmentVisibilitySums(
+            pass.lights[pass.filtered[j]], sp.origin, sp.N, &lobe,
+            sampleSeed(x, y, pass.filtered[j], streamOf(SampleStream::Shadow)),
+            params.environmentSamples, *pass.shadowRays, &rays.shadow);
+        m_diffuse[j][p] = float(v.diffuse.seen);
+        m_diffuse[j][n + p] = float(v.diffuse.total);
+        m_specularRatio[j][p] = float(v.specular.seen);
+        m_specularRatio[j][n + p] = float(v.specular.total);
     }
-    // Each pair of sums, and AO, keeps its own edges (its own variance guidance); the guide's
-    // weights are shared.
+    if (pass.ao)
+        m_ao[p] = rayTracedOcclusion(sp.origin, sp.N,
+                                     sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion)),
+                                     params.aoSamples, params.aoDistance, *pass.aoRays, &rays.ao);
+    if (pass.bouncing && guide.object[p] == traced.catcher)
+        m_bounce[p] =
+            luminance(diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
+                      traced.bounce->irradianceAt(sp.origin, sp.N, x, y, 0,
+                                                  params.catcherBounceSamples, &rays.bounce));
+    if (traceSpecular) {
+        const glm::vec3 L =
+            traced.specular->radiance(point, x, y, 0, params.specularSamples, &rays.specular);
+        for (int c = 0; c < 3; ++c)
+            m_specular[c][p] = L[c];
+    }
+}
+
+// The last rows, raw, for the next strip (whose halo above they are: dhdr-light's strips
+// overlap by 2 kDenoiseReach rows); rows it does not find there it traces.
+void FilteredEstimates::leaveCarry(EstimateCarry& carry, const std::vector<float*>& raw) const {
+    const OIIO::ROI& held = m_held;
+    const size_t n = held.npixels(), width = size_t(held.width());
+    carry.rows = std::make_unique<EstimateCarry::Rows>();
+    EstimateCarry::Rows& next = *carry.rows;
+    next.rows = held;
+    next.rows.ybegin = std::max(held.ybegin, held.yend - 2 * kDenoiseReach);
+    const size_t from = size_t(next.rows.ybegin - held.ybegin) * width;
+    for (const float* plane : raw)
+        next.planes.emplace_back(plane + from, plane + n);
+}
+
+// Each pair of sums, and AO, keeps its own edges (its own variance guidance); the guide's
+// weights are shared.
+void FilteredEstimates::filter(Pass& pass, int nthreads) {
     std::vector<DenoiseEstimate> estimates;
     for (std::vector<float>& sums : m_diffuse)
         estimates.push_back({&sums, 2});
     for (std::vector<float>& sums : m_specularRatio)
-        estimates.push_back({&sums, 2, &mirror, &lobeWidth});
-    if (ao) estimates.push_back({&m_ao, 1});
-    if (bouncing) estimates.push_back({&m_bounce, 1, nullptr, nullptr, &catcherPixels});
+        estimates.push_back({&sums, 2, &pass.mirror, &pass.lobeWidth});
+    if (pass.ao) estimates.push_back({&m_ao, 1});
+    if (pass.bouncing) estimates.push_back({&m_bounce, 1, nullptr, nullptr, &pass.catcherPixels});
     // The reflected scene, per channel, guided like the specular ratios by the lobe.
-    if (specular)
+    if (pass.specular)
         for (std::vector<float>& c : m_specular)
-            estimates.push_back({&c, 1, &mirror, &lobeWidth, &specularPixels});
-    atrousFilter(estimates, guide, nthreads);
+            estimates.push_back({&c, 1, &pass.mirror, &pass.lobeWidth, &pass.specularPixels});
+    atrousFilter(estimates, pass.guide, nthreads);
 }
 
 EnvironmentVisibility FilteredEstimates::visibility(std::uint32_t light, int x, int y) const {

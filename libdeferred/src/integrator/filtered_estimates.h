@@ -34,16 +34,17 @@ public:
     // Estimates every covered pixel of `held` (a strip's halo rows included) with the seeds
     // the shading would use (the rows `carry` holds from the previous strip are taken from it;
     // this strip's last 2 kDenoiseReach rows are left in it for the next): shadow rays of each
-    // environment light through `shadowRays` (null: none), params.aoSamples AO rays through
+    // environment light (found among `infinite`, the indices of the infinite lights of
+    // `lights`, infiniteLights) through `shadowRays` (null: none), params.aoSamples AO rays through
     // `aoRays` (null: no AO). Nothing when params.denoise is off, the view is deep, or there is
     // nothing to estimate. With `traced`, the catcher's bounce light and the specular indirect
     // light too. Only the rows of `read` (within `held`; undefined: all) are read afterwards,
     // and only their results are filtered to the end.
     FilteredEstimates(const GBufferView& view, const gbuffer::Layout& layout, OIIO::ROI held,
                       OIIO::ROI read, const std::vector<Light>& lights,
-                      const LightingParams& params, const Visibility* shadowRays,
-                      const Visibility* aoRays, const TracedEstimates& traced, int nthreads,
-                      EstimateCarry* carry = nullptr);
+                      const std::vector<std::uint32_t>& infinite, const LightingParams& params,
+                      const Visibility* shadowRays, const Visibility* aoRays,
+                      const TracedEstimates& traced, int nthreads, EstimateCarry* carry = nullptr);
 
     // Whether light i's visibility, or the AO, comes from here.
     bool filters(std::uint32_t light) const { return light < m_slot.size() && m_slot[light] >= 0; }
@@ -66,6 +67,17 @@ public:
     long long shadowRayCount = 0, aoRayCount = 0, bounceRayCount = 0, specularRayCount = 0;
 
 private:
+    struct Pass; // what one call estimates and filters with
+
+    void choose(Pass& pass, const std::vector<std::uint32_t>& infinite);
+    void allocate(Pass& pass, OIIO::ROI read);
+    void takeCarried(Pass& pass, const EstimateCarry::Rows* previous,
+                     const std::vector<float*>& raw);
+    struct Rays; // the rays one thread traced
+    void estimateRows(Pass& pass, int nthreads);
+    void estimatePixel(Pass& pass, int x, int y, bool carried, Rays& rays);
+    void leaveCarry(EstimateCarry& carry, const std::vector<float*>& raw) const;
+    void filter(Pass& pass, int nthreads);
     // Every plane of raw estimates, n = held.npixels() values each (a pair's two planes apart).
     std::vector<float*> planes();
     size_t index(int x, int y) const {

@@ -47,8 +47,7 @@ float powerHeuristic(float own, float other) {
 // against it: the environment and a sun's disk. Area lights are not in the traced scene, and
 // emissive meshes count through their light samples alone.
 bool reachableByRays(const Light& light) {
-    return light.type == LightType::Environment ||
-           (light.type == LightType::Directional && light.angle > 0.0f);
+    return isEnvironment(light) || hasSunDisk(light);
 }
 
 // The GGX lobe's share of BRDF samples: its Fresnel reflectance at N·V against the diffuse
@@ -77,16 +76,15 @@ float bsdfPdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V, const
 
 PathTracer::PathTracer(const std::vector<Light>& lights, const RayCaster& caster,
                        const PathTracerOptions& options)
-    : m_lights(lights), m_caster(caster), m_options(options) {
-    m_emissionAtHits = std::none_of(lights.begin(), lights.end(),
-                                    [](const Light& l) { return l.type == LightType::Mesh; });
+    : m_lights(lights), m_infinite(infiniteLights(lights)), m_caster(caster), m_options(options) {
+    m_emissionAtHits = std::none_of(lights.begin(), lights.end(), isEmissiveMesh);
 }
 
 glm::vec3 PathTracer::sampleLights(const Vertex& v, Random& random, long long& rays) const {
     glm::vec3 L(0.0f);
     for (const Light& light : m_lights) {
         // Ambient light reaches a point from everywhere: BRDF-sampled rays find it.
-        if (light.type == LightType::Ambient) continue;
+        if (isAmbient(light)) continue;
         const glm::vec2 u = random.next2(); // drawn for every light: a fixed layout
         LightLiSample s = sampleLi(light, v.P, u);
         if (!(s.pdf > 0.0f)) continue;
@@ -96,7 +94,7 @@ glm::vec3 PathTracer::sampleLights(const Vertex& v, Random& random, long long& r
         if (f == glm::vec3(0.0f)) continue;
         // The environment as the BRDF-sampled rays see it (full resolution), so that both
         // techniques estimate the same integral.
-        if (light.type == LightType::Environment) s.L = environmentRadiance(light, s.wi);
+        if (isEnvironment(light)) s.L = environmentRadiance(light, s.wi);
         const float weight =
             !s.delta && reachableByRays(light)
                 ? powerHeuristic(s.pdf, bsdfPdf(v.surface, v.N, v.V, s.wi, v.specularChance))
@@ -112,16 +110,17 @@ glm::vec3 PathTracer::sampleLights(const Vertex& v, Random& random, long long& r
 
 glm::vec3 PathTracer::lightsAtInfinity(const glm::vec3& wi, float bsdf) const {
     glm::vec3 L(0.0f);
-    for (const Light& light : m_lights) {
-        if (light.type == LightType::Ambient) {
+    for (const std::uint32_t i : m_infinite) {
+        const Light& light = m_lights[i];
+        if (isAmbient(light)) {
             L += light.color * light.intensity;
-        } else if (light.type == LightType::Environment && light.ibl) {
+        } else if (isEnvironment(light) && light.ibl) {
             glm::vec3 table;
             const float pdf = light.ibl->sampler.empty()
                                   ? 0.0f
                                   : light.ibl->sampler.lookup(intoEnvironment(light, wi), table);
             L += environmentRadiance(light, wi) * powerHeuristic(bsdf, pdf);
-        } else if (light.type == LightType::Directional && light.angle > 0.0f) {
+        } else if (hasSunDisk(light)) {
             if (glm::dot(wi, -light.direction) < std::cos(0.5f * light.angle)) continue;
             // The disk's radiance and density: the same for every direction within it.
             const LightLiSample s = sampleLi(light, glm::vec3(0.0f), glm::vec2(0.5f));

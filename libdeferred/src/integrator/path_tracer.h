@@ -44,6 +44,7 @@ private:
     glm::vec3 lightsAtInfinity(const glm::vec3& wi, float bsdfPdf) const;
 
     const std::vector<Light>& m_lights;
+    std::vector<std::uint32_t> m_infinite; // infiniteLights(m_lights): what a missed ray meets
     const RayCaster& m_caster;
     PathTracerOptions m_options;
     // A hit's emission counts only when no emissive mesh is a light (else next-event

@@ -169,7 +169,7 @@ private:
 // From this roughness up, a specular lobe reflects the probes' irradiance as its albedo does
 // (specularAlbedo × E / π: exact for uniform light, close for a lobe that wide): at a probe
 // ray's hit (below it, the lobe is followed along a sampled direction, so that metals show
-// the room), and at a shaded point whose specular indirect light is not traced (lighting.cpp).
+// the room), and at a shaded point whose specular indirect light is not traced (shade_sample.cpp).
 inline constexpr float kProbeGlossyRoughness = 0.5f;
 
 // Where the distance moments towards a point spread, σ / μ from the first to the second (a

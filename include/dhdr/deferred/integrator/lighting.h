@@ -2,63 +2,14 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
-#include <dhdr/deferred/core/visibility.h>
-#include <dhdr/deferred/integrator/estimate_carry.h>
+#include <dhdr/deferred/integrator/lighting_inputs.h>
 #include <dhdr/deferred/integrator/lighting_params.h>
-#include <dhdr/deferred/scene/lights.h>
-#include <memory>
-#include <string>
+#include <dhdr/deferred/integrator/lighting_stats.h>
 #include <vector>
 
 namespace dhdr {
 
 struct DeepGBuffer;
-struct ProbeVolume;
-class RayCaster;
-
-// What lights the G-buffer, besides its own emission.
-struct LightingInputs {
-    const std::vector<Light>& lights;
-    // The scene, for shadow and ambient-occlusion rays (a RayCaster); null: nothing blocks
-    // light and AO is 1 unless `ambientOcclusion` gives it.
-    const Visibility* visibility = nullptr;
-    // Precomputed AO (one channel, e.g. screenSpaceAO) over the pixels shaded, in the same
-    // pixel coordinates as the G-buffer; it takes precedence over ray-traced AO.
-    const OIIO::ImageBuf* ambientOcclusion = nullptr;
-    // A photograph (RGB, the frame's pixels) the result is composited over ("over": RGB +
-    // plate × (1 − A), A = 1): objects and their caught shadows onto the real place.
-    const OIIO::ImageBuf* plate = nullptr;
-    // Light probes (probes.h): indirect diffuse light, diffuseAlbedo × E / π with E
-    // interpolated from the probes around each point, times AO when AO is on. Environments'
-    // diffuse light then comes through the probes; their specular light stays the IBL's.
-    const ProbeVolume* probes = nullptr;
-    // The scene's closest hits (usually the same RayCaster as `visibility`): a shadow catcher
-    // then counts the light the objects bounce onto it (params.catcherBounceSamples).
-    const RayCaster* scene = nullptr;
-    // Optional, for strips of one frame shaded in order: the previous strip's estimates in the
-    // rows both hold (read), this strip's for the next (written). Null: every row is traced.
-    EstimateCarry* carry = nullptr;
-};
-
-struct LightingStats {
-    // Lights considered, summed over covered pixels: those in the pixel's tile list whose
-    // depth slice matches (every light with bruteForce).
-    long long lightEvaluations = 0;
-    // Of those, the lights whose range actually reaches the pixel's surface point.
-    long long lightsReaching = 0;
-    long long coveredPixels = 0;
-    // Entries of all the tile lists.
-    long long tileListEntries = 0;
-    long long shadowRays = 0, aoRays = 0;
-    // Rays of a shadow catcher's bounce light: to the objects, and their shadow rays.
-    long long bounceRays = 0;
-    // Rays of the reference path tracer (--gi path): its paths' and their shadow rays.
-    long long pathRays = 0;
-    // Rays of the specular indirect light, and their hits' shadow rays.
-    long long specularRays = 0;
-
-    LightingStats& operator+=(const LightingStats& o);
-};
 
 // Shades every covered pixel of `roi` of `gbuffer` (undefined: all of it) and writes R, G, B,
 // A (then AO with writeAO, then `passThrough`) as float pixels into `dst`, whose spec keeps

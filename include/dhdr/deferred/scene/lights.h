@@ -1,6 +1,7 @@
 // Lights in the units of glTF KHR_lights_punctual, and the lights file (docs/lights.md).
 #pragma once
 
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <limits>
 #include <memory>
@@ -78,6 +79,39 @@ struct Light {
         return type == LightType::Sphere || type == LightType::Rectangle || type == LightType::Mesh;
     }
 };
+
+// What the passes ask of a light, so that only the lights layer switches on its type.
+inline bool isEnvironment(const Light& l) {
+    return l.type == LightType::Environment;
+}
+inline bool isAmbient(const Light& l) {
+    return l.type == LightType::Ambient;
+}
+inline bool isEmissiveMesh(const Light& l) {
+    return l.type == LightType::Mesh;
+}
+// A directional light with a sun's disk (angle > 0): soft shadows, and rays can meet it.
+inline bool hasSunDisk(const Light& l) {
+    return l.type == LightType::Directional && l.angle > 0.0f;
+}
+// Light from the whole sphere of directions (USD's dome lights): environment and ambient.
+inline bool isDomeLight(const Light& l) {
+    return isEnvironment(l) || isAmbient(l);
+}
+// No position (directional, ambient, environment): what a ray that leaves the scene can meet.
+inline bool isInfinite(const Light& l) {
+    return !l.isLocal();
+}
+
+// The indices of the infinite lights of `lights`, in order: listed once where the lighting is
+// set up, so that the passes look there for the sky instead of scanning every light (pbrt-v4's
+// infiniteLights).
+inline std::vector<std::uint32_t> infiniteLights(const std::vector<Light>& lights) {
+    std::vector<std::uint32_t> infinite;
+    for (std::uint32_t i = 0; i < lights.size(); ++i)
+        if (isInfinite(lights[i])) infinite.push_back(i);
+    return infinite;
+}
 
 // "point", "spot", … as the lights file names the type.
 const char* lightTypeName(LightType type);
