@@ -353,20 +353,21 @@ std::vector<size_t> childrenOf(const nlohmann::json& nodes, size_t n) {
     return out;
 }
 
-} // namespace
+// The children of every node, how deep the deepest lies and whether a node is the child of
+// two.
+struct NodeTreeShape {
+    std::vector<std::vector<size_t>> children;
+    int deepest = 0;
+    bool shared = false;
+};
 
-bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& original,
-                          std::string& bytes, std::string& error) {
-    bytes.clear();
-    if (original.is_discarded() || !original.is_object() || !original.contains("nodes") ||
-        !original["nodes"].is_array())
-        return true;
-    const nlohmann::json& nodes = original["nodes"];
+// Depth of every node from the nodes no node names as a child, and cycles: a node on the
+// current path met again (false with `error`). An explicit stack of (node, depth, next child to
+// visit).
+bool treeShape(const nlohmann::json& nodes, NodeTreeShape& shape, std::string& error) {
     const size_t count = nodes.size();
-
-    // Depth of every node from the nodes no node names as a child, and cycles: a node on the
-    // current path met again. An explicit stack of (node, depth, next child to visit).
-    std::vector<std::vector<size_t>> children(count);
+    std::vector<std::vector<size_t>>& children = shape.children;
+    children.assign(count, {});
     std::vector<int> parents(count, 0);
     for (size_t n = 0; n < count; ++n) {
         children[n] = childrenOf(nodes, n);
@@ -375,13 +376,11 @@ bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& origina
     }
     enum : char { kUnseen, kOnPath, kDone };
     std::vector<char> state(count, kUnseen);
-    int deepest = 0;
-    bool shared = false;
     auto walk = [&](size_t root) {
         std::vector<std::pair<size_t, size_t>> stack = {{root, 0}}; // node, next child index
         state[root] = kOnPath;
         while (!stack.empty()) {
-            deepest = std::max(deepest, int(stack.size()));
+            shape.deepest = std::max(shape.deepest, int(stack.size()));
             auto& [n, next] = stack.back();
             if (next == children[n].size()) {
                 state[n] = kDone;
@@ -395,7 +394,7 @@ bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& origina
                 return false;
             }
             if (state[c] == kDone) {
-                shared = true;
+                shape.shared = true;
                 continue;
             }
             state[c] = kOnPath;
@@ -408,21 +407,21 @@ bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& origina
     // What no root reaches lies on a cycle (or hangs from one).
     for (size_t n = 0; n < count; ++n)
         if (state[n] == kUnseen && !walk(n)) return false;
-    if (deepest <= kMaxGltfNodeDepth) return true;
-    if (shared) {
-        error = "a node is the child of two nodes (the nodes do not form a tree)";
-        return false;
-    }
+    return true;
+}
 
-    // The default scene's nodes, depth first in the file's order, with their world transforms,
-    // in a copy of the document.
-    nlohmann::json doc = original;
-    if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) return true;
+// The default scene's nodes, depth first in the file's order, each made a root with its world
+// transform as its matrix, in `doc` (a copy of the document whose nodes are `nodes`). False
+// when `doc` has no such scene to flatten.
+bool flattenScene(nlohmann::json& doc, const nlohmann::json& nodes,
+                  const std::vector<std::vector<size_t>>& children) {
+    const size_t count = nodes.size();
+    if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) return false;
     const size_t sceneIndex =
         doc.contains("scene") && doc["scene"].is_number_unsigned() ? doc["scene"].get<size_t>() : 0;
-    if (sceneIndex >= doc["scenes"].size() || !doc["scenes"][sceneIndex].is_object()) return true;
+    if (sceneIndex >= doc["scenes"].size() || !doc["scenes"][sceneIndex].is_object()) return false;
     nlohmann::json& scene = doc["scenes"][sceneIndex];
-    if (!scene.contains("nodes") || !scene["nodes"].is_array()) return true;
+    if (!scene.contains("nodes") || !scene["nodes"].is_array()) return false;
     std::vector<std::pair<size_t, glm::dmat4>> stack;
     for (size_t i = scene["nodes"].size(); i-- > 0;)
         if (scene["nodes"][i].is_number_unsigned() && scene["nodes"][i].get<size_t>() < count)
@@ -447,7 +446,27 @@ bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& origina
         roots.push_back(n);
     }
     scene["nodes"] = roots;
+    return true;
+}
 
+} // namespace
+
+bool gltfFlattenDeepNodes(const std::string& path, const nlohmann::json& original,
+                          std::string& bytes, std::string& error) {
+    bytes.clear();
+    if (original.is_discarded() || !original.is_object() || !original.contains("nodes") ||
+        !original["nodes"].is_array())
+        return true;
+    const nlohmann::json& nodes = original["nodes"];
+    NodeTreeShape shape;
+    if (!treeShape(nodes, shape, error)) return false;
+    if (shape.deepest <= kMaxGltfNodeDepth) return true;
+    if (shape.shared) {
+        error = "a node is the child of two nodes (the nodes do not form a tree)";
+        return false;
+    }
+    nlohmann::json doc = original;
+    if (!flattenScene(doc, nodes, shape.children)) return true;
     bytes = gltfBytesWithJson(path, gltfForAssimp(doc));
     return true;
 }

@@ -119,23 +119,16 @@ bool readSkin(const json& doc, GltfBuffers& buffers, int node, const json& attri
 
 } // namespace
 
-bool gltfMorphPrimitive(const json& doc, GltfBuffers& buffers, int node, unsigned primitive,
-                        MeshRest& rest, Mesh& mesh, std::string& error) {
-    const json& p = *primitiveOf(doc, node, primitive);
-    if (p.value("mode", 4) != 4) {
-        error = "only triangle lists (mode 4) are morphed";
-        return false;
-    }
-    if (!p.contains("attributes") || !p["attributes"].is_object()) {
-        error = "has no attributes";
-        return false;
-    }
-    const json& attributes = p["attributes"];
+namespace {
+
+// POSITION, NORMAL (when `normals`) and TEXCOORD_0 of the primitive; `count`: how many
+// vertices it has.
+bool readVertices(GltfBuffers& buffers, const json& attributes, bool normals, MeshRest& rest,
+                  Mesh& mesh, size_t& count, std::string& error) {
     std::vector<float> v;
     if (!readAttribute(buffers, attributes, "POSITION", 3, 0, v, error)) return false;
-    const size_t count = v.size() / 3;
+    count = v.size() / 3;
     rest.positions = vec3s(v);
-    const bool normals = attributes.contains("NORMAL");
     if (normals) {
         if (!readAttribute(buffers, attributes, "NORMAL", 3, count, v, error)) return false;
         rest.normals = vec3s(v);
@@ -146,6 +139,13 @@ bool gltfMorphPrimitive(const json& doc, GltfBuffers& buffers, int node, unsigne
         for (size_t i = 0; i < count; ++i)
             mesh.uvs.emplace_back(v[2 * i], v[2 * i + 1]); // glTF's origin, as Mesh::uvs
     }
+    return true;
+}
+
+// The primitive's triangles (its indices, else its vertices in order), each index checked
+// against its `count` vertices.
+bool readTriangles(GltfBuffers& buffers, const json& p, size_t count, Mesh& mesh,
+                   std::string& error) {
     std::vector<std::uint32_t> indices;
     if (p.contains("indices")) {
         if (!p["indices"].is_number_unsigned() ||
@@ -163,8 +163,13 @@ bool gltfMorphPrimitive(const json& doc, GltfBuffers& buffers, int node, unsigne
         }
         mesh.triangles.emplace_back(indices[i], indices[i + 1], indices[i + 2]);
     }
-    if (!readSkin(doc, buffers, node, attributes, count, rest, error)) return false;
-    const json& targets = p.value("targets", json::array());
+    return true;
+}
+
+// The morph targets' position (and, with `normals`, normal) offsets; an absent one is zero.
+bool readTargets(GltfBuffers& buffers, const json& targets, size_t count, bool normals,
+                 MeshRest& rest, std::string& error) {
+    std::vector<float> v;
     for (size_t t = 0; t < targets.size(); ++t) {
         const std::string which = "target " + std::to_string(t) + ": ";
         if (!targets[t].is_object()) {
@@ -188,36 +193,63 @@ bool gltfMorphPrimitive(const json& doc, GltfBuffers& buffers, int node, unsigne
         }
         rest.positionTargets.push_back(std::move(dp));
     }
+    return true;
+}
+
+// Flat normals (glTF §3.7.2.1): every triangle its own three vertices.
+void splitFlat(MeshRest& rest, Mesh& mesh) {
+    MeshRest split = rest;
+    split.positions.clear();
+    for (auto& t : split.positionTargets)
+        t.clear();
+    split.joints.clear();
+    split.jointWeights.clear();
+    std::vector<glm::vec2> uvs;
+    std::vector<glm::uvec3> triangles;
+    for (const glm::uvec3& tri : mesh.triangles) {
+        const unsigned first = unsigned(split.positions.size());
+        for (const unsigned i : {tri.x, tri.y, tri.z}) {
+            split.positions.push_back(rest.positions[i]);
+            for (size_t t = 0; t < rest.positionTargets.size(); ++t)
+                split.positionTargets[t].push_back(rest.positionTargets[t][i]);
+            if (!mesh.uvs.empty()) uvs.push_back(mesh.uvs[i]);
+            if (rest.skin >= 0) {
+                split.joints.push_back(rest.joints[i]);
+                split.jointWeights.push_back(rest.jointWeights[i]);
+            }
+        }
+        triangles.emplace_back(first, first + 1, first + 2);
+    }
+    rest = std::move(split);
+    mesh.uvs = std::move(uvs);
+    mesh.triangles = std::move(triangles);
+}
+
+} // namespace
+
+bool gltfMorphPrimitive(const json& doc, GltfBuffers& buffers, int node, unsigned primitive,
+                        MeshRest& rest, Mesh& mesh, std::string& error) {
+    const json& p = *primitiveOf(doc, node, primitive);
+    if (p.value("mode", 4) != 4) {
+        error = "only triangle lists (mode 4) are morphed";
+        return false;
+    }
+    if (!p.contains("attributes") || !p["attributes"].is_object()) {
+        error = "has no attributes";
+        return false;
+    }
+    const json& attributes = p["attributes"];
+    const bool normals = attributes.contains("NORMAL");
+    size_t count = 0;
+    if (!readVertices(buffers, attributes, normals, rest, mesh, count, error) ||
+        !readTriangles(buffers, p, count, mesh, error) ||
+        !readSkin(doc, buffers, node, attributes, count, rest, error))
+        return false;
+    const json& targets = p.value("targets", json::array());
+    if (!readTargets(buffers, targets, count, normals, rest, error)) return false;
     rest.weights = defaultWeights(doc, node, targets.size());
     rest.flatNormals = !normals;
-    if (!normals) {
-        // Flat normals (glTF §3.7.2.1): every triangle its own three vertices.
-        MeshRest split = rest;
-        split.positions.clear();
-        for (auto& t : split.positionTargets)
-            t.clear();
-        split.joints.clear();
-        split.jointWeights.clear();
-        std::vector<glm::vec2> uvs;
-        std::vector<glm::uvec3> triangles;
-        for (const glm::uvec3& tri : mesh.triangles) {
-            const unsigned first = unsigned(split.positions.size());
-            for (const unsigned i : {tri.x, tri.y, tri.z}) {
-                split.positions.push_back(rest.positions[i]);
-                for (size_t t = 0; t < rest.positionTargets.size(); ++t)
-                    split.positionTargets[t].push_back(rest.positionTargets[t][i]);
-                if (!mesh.uvs.empty()) uvs.push_back(mesh.uvs[i]);
-                if (rest.skin >= 0) {
-                    split.joints.push_back(rest.joints[i]);
-                    split.jointWeights.push_back(rest.jointWeights[i]);
-                }
-            }
-            triangles.emplace_back(first, first + 1, first + 2);
-        }
-        rest = std::move(split);
-        mesh.uvs = std::move(uvs);
-        mesh.triangles = std::move(triangles);
-    }
+    if (!normals) splitFlat(rest, mesh);
     const size_t vertices = rest.positions.size();
     rest.tangents.clear();
     rest.bitangents.clear();

@@ -4,8 +4,10 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <algorithm>
+#include <assimp/scene.h>
 #include <cmath>
 #include <dhdr/io/exr_header.h>
+#include <filesystem>
 #include <memory>
 #include <vector>
 
@@ -66,6 +68,81 @@ bool loadTexture(Texture& texture, const std::string& name, const void* data, si
         }
         if (spec.nchannels == 4 || spec.nchannels == 2) q[3] = p[spec.nchannels - 1];
     }
+    return true;
+}
+
+int TextureTable::load(const std::string& ref, bool srgb, const char* slot) {
+    // The same file can be a colour (sRGB) and a data texture: one decoding of each.
+    const std::string key = (srgb ? "srgb:" : "data:") + ref;
+    if (auto it = m_unread.find(key); it != m_unread.end()) return unread(it->second, slot);
+    if (auto it = m_index.find(key); it != m_index.end()) return it->second;
+    std::string why;
+    int index = -1;
+    if (!decode(ref, srgb, index, why)) {
+        m_unread[key] = why;
+        return unread(why, slot);
+    }
+    m_index[key] = index;
+    return index;
+}
+
+// Records an unread texture of the material being loaded; the index to use in its place:
+// the magenta one for colours, none for a normal map.
+int TextureTable::unread(const std::string& why, const char* slot) {
+    const bool normal = std::string(slot) == "normal";
+    m_unreadUses.push_back({m_scene.materials.size(), slot, why});
+    if (normal) return -1;
+    if (m_missingTexture < 0) {
+        Texture magenta;
+        magenta.name = "dhdr:missing texture";
+        magenta.width = magenta.height = 1;
+        magenta.rgba = {1.0f, 0.0f, 1.0f, 1.0f};
+        m_missingTexture = int(m_scene.textures.size());
+        m_scene.textures.push_back(std::move(magenta));
+    }
+    return m_missingTexture;
+}
+
+bool TextureTable::report(bool strict, std::string& error) {
+    for (const UnreadTexture& u : m_unreadUses) {
+        const std::string material = m_scene.materials[u.material].name;
+        const std::string what = "material '" + material + "', " + u.slot + " texture: " + u.why;
+        if (strict) {
+            error = m_path + ": " + what + " (without --strict it would be " +
+                    (u.slot == std::string("normal") ? "left out" : "shown magenta") + ")";
+            return false;
+        }
+        m_scene.warnings.push_back(
+            what + (u.slot == std::string("normal")
+                        ? "; the normal map is left out"
+                        : "; shown as magenta (1, 0, 1) times the material's factor"));
+    }
+    return true;
+}
+
+bool TextureTable::decode(const std::string& ref, bool srgb, int& index, std::string& error) {
+    Texture texture;
+    if (const aiTexture* embedded = m_ai.GetEmbeddedTexture(ref.c_str())) {
+        if (embedded->mHeight != 0) {
+            error = ref + ": uncompressed embedded textures are not supported";
+            return false;
+        }
+        const std::string hint = std::string("embedded.") + embedded->achFormatHint;
+        if (!loadTexture(texture, hint, embedded->pcData, embedded->mWidth, srgb, error))
+            return false;
+        texture.name = ref;
+    } else {
+        auto file = std::filesystem::path(m_path).parent_path() / ref;
+        // Files written on Windows name textures with backslashes (".\\wall.jpg").
+        if (std::string unix = ref;
+            !std::filesystem::exists(file) && unix.find('\\') != std::string::npos) {
+            std::replace(unix.begin(), unix.end(), '\\', '/');
+            file = std::filesystem::path(m_path).parent_path() / unix;
+        }
+        if (!loadTexture(texture, file.string(), nullptr, 0, srgb, error)) return false;
+    }
+    index = int(m_scene.textures.size());
+    m_scene.textures.push_back(std::move(texture));
     return true;
 }
 
