@@ -39,8 +39,7 @@ StripPipelineParams stripPlan(const WholeFrameRun& run, const OIIO::ImageSpec& g
     // An environment's specular light reads the next row's normals (the pixel's
     // footprint, lighting.h): one row at least.
     const bool environment =
-        std::any_of(run.inputs.lights.begin(), run.inputs.lights.end(),
-                    [](const Light& l) { return l.type == LightType::Environment; });
+        std::any_of(run.inputs.lights.begin(), run.inputs.lights.end(), isEnvironment);
     streaming.halo = ssao ? 0 : halo ? kDenoiseReach : (environment ? kFootprintReach : 0);
     return streaming;
 }

@@ -129,10 +129,6 @@ int resolveSettings(const app::CommandLine& cl, Settings& s, LightingParams& par
     return -1;
 }
 
-bool isEnvironment(const Light& l) {
-    return l.type == LightType::Environment;
-}
-
 // A run over the frames: the scene posed for each G-buffer, the lights it and the files give,
 // the probes, the plate, and what other renderers' passes need.
 class LightRun {

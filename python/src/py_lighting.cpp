@@ -321,9 +321,7 @@ LightingSetup setupLighting(const OIIO::ImageSpec& gspec, const LightCall& c) {
         throw py::value_error(scene->path + ": the scene has no lights and no emissive "
                                             "surfaces; give lights=");
     if (!c.lights.is_none()) addLights(c.lights, c.radiometric, *s.lights);
-    if (options.plateEnvironment &&
-        std::none_of(s.lights->begin(), s.lights->end(),
-                     [](const Light& l) { return l.type == LightType::Environment; }))
+    if (options.plateEnvironment && std::none_of(s.lights->begin(), s.lights->end(), isEnvironment))
         throw py::value_error("plate='env': there is no environment light to composite over");
     s.probes = probesOf(c.probes);
     s.useSsao = options.ao == AoMode::ScreenSpace;
