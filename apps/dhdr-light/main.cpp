@@ -4,7 +4,6 @@
 #include "../common/param_options.h"
 #include "../common/tool.h"
 #include "frame_probes.h"
-#include "posed_scene.h"
 #include "whole_frame.h"
 
 #include <algorithm>
@@ -14,6 +13,7 @@
 #include <dhdr/deferred/direct/ambient_occlusion.h>
 #include <dhdr/deferred/gbuffer/gbuffer.h>
 #include <dhdr/deferred/gbuffer/gbuffer_import.h>
+#include <dhdr/deferred/geometry/posed_scene.h>
 #include <dhdr/deferred/geometry/ray_caster.h>
 #include <dhdr/deferred/gi/probes.h>
 #include <dhdr/deferred/integrator/lighting.h>
@@ -223,13 +223,15 @@ int run(int argc, char** argv) {
     // The scene: its triangles for shadow and AO rays, its emissive meshes and its lights,
     // posed at each G-buffer's time (its ray caster is built for the first G-buffer).
     const bool withScene = !scenePath.empty();
-    app::PosedScene posed;
+    PosedScene posed;
     std::string sceneSHA;
     std::vector<Light> sceneLights;
     if (withScene) {
         const auto t = std::chrono::steady_clock::now();
-        if (!posed.load(tool, scenePath, SceneOptions{strict})) return app::kExitFailure;
+        if (std::string e; !posed.load(scenePath, SceneOptions{strict}, e)) return tool.fail(e);
         const Scene& scene = posed.scene();
+        for (const std::string& warning : scene.warnings)
+            tool.info(scenePath + ": " + warning);
         sceneSHA = sceneFingerprint(scenePath);
         sceneLights = app::sceneLights(tool, scene, scenePath, lightOptions);
         if (lightsPaths.empty() && sceneLights.empty())
@@ -359,9 +361,13 @@ int run(int argc, char** argv) {
         // The scene at the moment the G-buffer shows, and the lights it gives there.
         bool moved = false;
         if (withScene) {
-            if (!posed.poseFor(tool, path, gspec, moved)) return false;
-            inputs.visibility = posed.caster();
-            inputs.scene = posed.caster();
+            PoseReport report;
+            const bool posedFor = posed.poseFor(path, gspec, report);
+            tool.say(report.warnings, report.notes);
+            if (!posedFor) return tool.fail(report.error), false;
+            moved = report.moved;
+            inputs.visibility = posed.caster().get();
+            inputs.scene = posed.caster().get();
             if (moved) sceneLights = app::sceneLights(posed.scene(), lightOptions);
         }
         if (moved || animatedLights) {
