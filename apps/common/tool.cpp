@@ -41,6 +41,14 @@ void Tool::info(const std::string& message) const {
     if (verbose()) std::fprintf(stderr, "%s: %s\n", m_name.c_str(), message.c_str());
 }
 
+void Tool::say(const std::vector<std::string>& warnings,
+               const std::vector<std::string>& notes) const {
+    for (const std::string& w : warnings)
+        warn(w);
+    for (const std::string& n : notes)
+        info(n);
+}
+
 int Tool::start(const std::vector<std::string>& inputs, const std::string& out) const {
     const int threads = m_cl.threads() > 0 ? m_cl.threads()
                                            : int(std::max(1u, std::thread::hardware_concurrency()));

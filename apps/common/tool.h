@@ -37,6 +37,8 @@ public:
     void warn(const std::string& message) const;
     // Printed with -v only.
     void info(const std::string& message) const;
+    // What a library call returned to say: `warnings` (warn), then `notes` (info).
+    void say(const std::vector<std::string>& warnings, const std::vector<std::string>& notes) const;
 
     // Applies --threads to OpenImageIO's pool and checks the output: given, in a folder that
     // exists, and neither an input (`inputs` or a file an option reads: namesFile) nor

@@ -46,9 +46,146 @@ void extractGeometry(const OIIO::ImageBuf& img, const GeometryChannels& g, OIIO:
     }
 }
 
-} // namespace
+const std::vector<std::string> kGeometryChannels = {gbuffer::kDepth, gbuffer::kNormal[0],
+                                                    gbuffer::kNormal[1], gbuffer::kNormal[2]};
 
-namespace {
+// Opens the geometry of a separate G-buffer: the smallest run of channels of its first part
+// holding Z or N.* (a multi-part G-buffer), a deep one's front surfaces. False after the
+// tool's error.
+bool openGeometry(const app::Tool& tool, const std::string& geometryPath, StripReader& gbuffer) {
+    if (!std::filesystem::exists(geometryPath)) {
+        tool.fail(geometryPath + ": no such file");
+        return false;
+    }
+    std::unique_ptr<OIIO::ImageInput> probe = OIIO::ImageInput::open(geometryPath);
+    if (!probe) {
+        tool.fail(geometryPath + ": cannot read: " + OIIO::geterror());
+        return false;
+    }
+    int part = 0;
+    for (int s = 0; probe->seek_subimage(s, 0); ++s) {
+        const OIIO::ImageSpec& spec = probe->spec();
+        if (std::any_of(kGeometryChannels.begin(), kGeometryChannels.end(),
+                        [&](const std::string& n) { return spec.channelindex(n) >= 0; })) {
+            part = s;
+            break;
+        }
+    }
+    probe->seek_subimage(part, 0);
+    if (const std::string e =
+            pixelLimitError(probe->spec().width, probe->spec().height, probe->spec().depth);
+        !e.empty()) {
+        tool.fail(geometryPath + ": " + e);
+        return false;
+    }
+    int chbegin = probe->spec().nchannels, chend = 0;
+    for (const std::string& name : kGeometryChannels)
+        if (const int c = probe->spec().channelindex(name); c >= 0) {
+            chbegin = std::min(chbegin, c);
+            chend = std::max(chend, c + 1);
+        }
+    if (chend <= chbegin) chbegin = 0, chend = probe->spec().nchannels;
+    std::string error;
+    if (!gbuffer.open(geometryPath, part, chbegin, chend, tool.threads(), error, true)) {
+        tool.fail(cannotRead(geometryPath, error));
+        return false;
+    }
+    return true;
+}
+
+// The geometry's channels, checked against the frame and against --use. False after the
+// tool's error.
+bool checkGeometry(const app::Tool& tool, const std::string& path, const std::string& geometryPath,
+                   const OIIO::ImageSpec& frame, const OIIO::ImageSpec& geometrySpec,
+                   const std::string& use, GeometryChannels& channels) {
+    if (geometrySpec.width != frame.width || geometrySpec.height != frame.height) {
+        tool.fail(geometryPath + ": is " + std::to_string(geometrySpec.width) + "x" +
+                  std::to_string(geometrySpec.height) + " but " + path + " is " +
+                  std::to_string(frame.width) + "x" + std::to_string(frame.height));
+        return false;
+    }
+    channels = findGeometry(geometrySpec);
+    if (use != "depth" && channels.normal < 0) {
+        tool.fail(geometryPath + ": no channel 'N.X' — give a G-buffer with --gbuffer");
+        return false;
+    }
+    if (use != "normal" && channels.depth < 0) {
+        tool.fail(geometryPath + ": no channel 'Z' — give a G-buffer with --gbuffer");
+        return false;
+    }
+    return true;
+}
+
+// What filtering one frame needs.
+struct AAFrame {
+    std::string path, geometryPath, out, use;
+    bool separate = false;
+    ColourStripReader colour;
+    StripReader gbuffer;
+    GeometryChannels channels;
+};
+
+// Filters the frame strip by strip with a halo: each output row sees the rows it would see
+// in the whole frame, so the result does not depend on the strips, and memory stays at a
+// strip.
+bool filterFrame(const app::Tool& tool, AAFrame& f, const EdgeAAParams& params) {
+    const OIIO::ImageSpec& frame = f.colour.spec();
+    // The layer's R, G, B (A) come first (ColourStripReader); nothing else is filtered.
+    const int ncolour = frame.alpha_channel == 3 ? 4 : 3;
+    app::AtomicOutput file(tool, f.out);
+    if (!file.open(frame, f.colour.formats())) return false;
+    StripPipelineParams strips;
+    // Rows above and below each strip that its pixels read: one for the blur factor's
+    // neighbours, and the taps' reach.
+    strips.halo = int(std::ceil(params.maxOffset)) + 2;
+    strips.nthreads = tool.threads();
+    app::Progress progress(tool, "dhdr-aa: " + f.path);
+    strips.progress = progress.over();
+    StripPipeline pipeline(OIIO::get_roi(frame), strips);
+    std::vector<std::pair<int, int>> colourChannels = {{0, ncolour}}, normalChannels;
+    if (f.channels.normal >= 0)
+        (f.separate ? normalChannels : colourChannels)
+            .emplace_back(f.channels.normal, f.channels.normal + 3);
+    pipeline.addInput({[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
+                           return f.colour.read(y0, y1, s, e);
+                       },
+                       f.path, colourChannels});
+    if (f.separate)
+        pipeline.addInput({[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
+                               return f.gbuffer.read(y0, y1, s, e);
+                           },
+                           f.geometryPath, normalChannels});
+    pipeline.setOutput(file.file());
+    OIIO::ImageBuf normal, depth;
+    bool anySurface = false;
+    const bool run = pipeline.run([&](StripContext& strip) {
+        const OIIO::ImageBuf& image = *strip.inputs[0];
+        extractGeometry(f.separate ? *strip.inputs[1] : image, f.channels, normal, depth);
+        OIIO::ROI core = image.roi();
+        core.ybegin = strip.rows.ybegin;
+        core.yend = strip.rows.yend;
+        core.chend = ncolour;
+        anySurface = anySurface || app::hasSurface(image, core);
+        strip.output->copy(image);
+        if (!edgeAA(*strip.output, image, f.use != "depth" ? &normal : nullptr,
+                    f.use != "normal" ? &depth : nullptr, params, core, tool.threads())) {
+            strip.error = f.path + ": " + strip.output->geterror();
+            return false;
+        }
+        return true;
+    });
+    if (!run) {
+        tool.fail(pipeline.error());
+        return false;
+    }
+    const NonFiniteCount replacedColour = pipeline.replaced()[0];
+    const NonFiniteCount replacedNormal = f.separate ? pipeline.replaced()[1] : NonFiniteCount();
+    if (!file.commit()) return false;
+    tool.reportNonFinite(f.path, replacedColour, false);
+    tool.reportNonFinite(f.geometryPath, replacedNormal, false);
+    if (!anySurface) tool.warnNoSurface(f.path);
+    return true;
+}
 
 int run(int argc, char** argv) {
     app::CommandLine cl("dhdr-aa", "HDR.exr -o HDR.exr [--gbuffer GBUFFER.exr] [options]",
@@ -86,133 +223,19 @@ int run(int argc, char** argv) {
     if (!gbufferPath.empty()) paths.push_back(gbufferPath);
     app::FramePlan plan;
     if (const int status = app::planFrames(tool, paths, plan); status >= 0) return status;
-    const std::vector<std::string> geometryChannels = {gbuffer::kDepth, gbuffer::kNormal[0],
-                                                       gbuffer::kNormal[1], gbuffer::kNormal[2]};
-    // Rows above and below each strip that its pixels read: one for the blur factor's
-    // neighbours, and the taps' reach.
-    const int halo = int(std::ceil(params.maxOffset)) + 2;
     return app::runFrames(tool, plan, [&](int, const auto& in, const auto& out) {
-        const std::string& path = in[0];
-        const bool separate = in.size() > 1;
-        ColourStripReader colour;
-        if (!tool.openColour(path, layer, true, colour)) return false;
-        const std::string& geometryPath = separate ? in[1] : path;
-        // The geometry: the smallest run of channels of the G-buffer holding Z and N.*, or the
-        // input's own channels.
-        StripReader gbuffer;
-        std::string error;
-        if (separate) {
-            if (!std::filesystem::exists(geometryPath)) {
-                tool.fail(geometryPath + ": no such file");
-                return false;
-            }
-            std::unique_ptr<OIIO::ImageInput> probe = OIIO::ImageInput::open(geometryPath);
-            if (!probe) {
-                tool.fail(geometryPath + ": cannot read: " + OIIO::geterror());
-                return false;
-            }
-            // The first part holding any of the geometry channels (a multi-part G-buffer).
-            int part = 0;
-            for (int s = 0; probe->seek_subimage(s, 0); ++s) {
-                const OIIO::ImageSpec& spec = probe->spec();
-                if (std::any_of(geometryChannels.begin(), geometryChannels.end(),
-                                [&](const std::string& n) { return spec.channelindex(n) >= 0; })) {
-                    part = s;
-                    break;
-                }
-            }
-            probe->seek_subimage(part, 0);
-            if (const std::string e =
-                    pixelLimitError(probe->spec().width, probe->spec().height, probe->spec().depth);
-                !e.empty()) {
-                tool.fail(geometryPath + ": " + e);
-                return false;
-            }
-            int chbegin = probe->spec().nchannels, chend = 0;
-            for (const std::string& name : geometryChannels)
-                if (const int c = probe->spec().channelindex(name); c >= 0) {
-                    chbegin = std::min(chbegin, c);
-                    chend = std::max(chend, c + 1);
-                }
-            if (chend <= chbegin) chbegin = 0, chend = probe->spec().nchannels;
-            // A deep G-buffer: the edges of its front surfaces.
-            if (!gbuffer.open(geometryPath, part, chbegin, chend, tool.threads(), error, true)) {
-                tool.fail(cannotRead(geometryPath, error));
-                return false;
-            }
-        }
-        const OIIO::ImageSpec& frame = colour.spec();
-        const OIIO::ImageSpec& geometrySpec = separate ? gbuffer.spec() : frame;
-        if (geometrySpec.width != frame.width || geometrySpec.height != frame.height) {
-            tool.fail(geometryPath + ": is " + std::to_string(geometrySpec.width) + "x" +
-                      std::to_string(geometrySpec.height) + " but " + path + " is " +
-                      std::to_string(frame.width) + "x" + std::to_string(frame.height));
-            return false;
-        }
-        const GeometryChannels channels = findGeometry(geometrySpec);
-        if (use != "depth" && channels.normal < 0) {
-            tool.fail(geometryPath + ": no channel 'N.X' — give a G-buffer with --gbuffer");
-            return false;
-        }
-        if (use != "normal" && channels.depth < 0) {
-            tool.fail(geometryPath + ": no channel 'Z' — give a G-buffer with --gbuffer");
-            return false;
-        }
-        // The layer's R, G, B (A) come first (ColourStripReader); nothing else is filtered.
-        const int ncolour = frame.alpha_channel == 3 ? 4 : 3;
-        app::AtomicOutput file(tool, out);
-        if (!file.open(frame, colour.formats())) return false;
-        // Strip by strip with a halo: each output row sees the rows it would see in the whole
-        // frame, so the result does not depend on the strips, and memory stays at a strip.
-        StripPipelineParams strips;
-        strips.halo = halo;
-        strips.nthreads = tool.threads();
-        app::Progress progress(tool, "dhdr-aa: " + path);
-        strips.progress = progress.over();
-        StripPipeline pipeline(OIIO::get_roi(frame), strips);
-        std::vector<std::pair<int, int>> colourChannels = {{0, ncolour}}, normalChannels;
-        if (channels.normal >= 0)
-            (separate ? normalChannels : colourChannels)
-                .emplace_back(channels.normal, channels.normal + 3);
-        pipeline.addInput({[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
-                               return colour.read(y0, y1, s, e);
-                           },
-                           path, colourChannels});
-        if (separate)
-            pipeline.addInput({[&](int y0, int y1, OIIO::ImageBuf& s, std::string& e) {
-                                   return gbuffer.read(y0, y1, s, e);
-                               },
-                               geometryPath, normalChannels});
-        pipeline.setOutput(file.file());
-        OIIO::ImageBuf normal, depth;
-        bool anySurface = false;
-        const bool run = pipeline.run([&](StripContext& strip) {
-            const OIIO::ImageBuf& image = *strip.inputs[0];
-            extractGeometry(separate ? *strip.inputs[1] : image, channels, normal, depth);
-            OIIO::ROI core = image.roi();
-            core.ybegin = strip.rows.ybegin;
-            core.yend = strip.rows.yend;
-            core.chend = ncolour;
-            anySurface = anySurface || app::hasSurface(image, core);
-            strip.output->copy(image);
-            if (!edgeAA(*strip.output, image, use != "depth" ? &normal : nullptr,
-                        use != "normal" ? &depth : nullptr, params, core, tool.threads())) {
-                strip.error = path + ": " + strip.output->geterror();
-                return false;
-            }
-            return true;
-        });
-        if (!run) {
-            tool.fail(pipeline.error());
-            return false;
-        }
-        const NonFiniteCount replacedColour = pipeline.replaced()[0];
-        const NonFiniteCount replacedNormal = separate ? pipeline.replaced()[1] : NonFiniteCount();
-        if (!file.commit()) return false;
-        tool.reportNonFinite(path, replacedColour, false);
-        tool.reportNonFinite(geometryPath, replacedNormal, false);
-        if (!anySurface) tool.warnNoSurface(path);
-        return true;
+        AAFrame f;
+        f.path = in[0];
+        f.out = out;
+        f.use = use;
+        f.separate = in.size() > 1;
+        f.geometryPath = f.separate ? in[1] : f.path;
+        if (!tool.openColour(f.path, layer, true, f.colour)) return false;
+        if (f.separate && !openGeometry(tool, f.geometryPath, f.gbuffer)) return false;
+        const OIIO::ImageSpec& frame = f.colour.spec();
+        return checkGeometry(tool, f.path, f.geometryPath, frame,
+                             f.separate ? f.gbuffer.spec() : frame, use, f.channels) &&
+               filterFrame(tool, f, params);
     });
 }
 

@@ -5,7 +5,6 @@
 #include "../common/tool.h"
 #include "flat_frame.h"
 #include "frame_probes.h"
-#include "posed_scene.h"
 #include "whole_frame.h"
 
 #include <algorithm>
@@ -13,6 +12,7 @@
 #include <cstdio>
 #include <dhdr/deferred/gbuffer/gbuffer.h>
 #include <dhdr/deferred/gbuffer/gbuffer_import.h>
+#include <dhdr/deferred/geometry/posed_scene.h>
 #include <dhdr/deferred/integrator/lighting.h>
 #include <dhdr/deferred/integrator/lighting_options.h>
 #include <dhdr/deferred/scene/scene.h>
@@ -161,7 +161,7 @@ private:
     const Settings& m_s;
     LightingParams& m_params;
     const SsaoParams& m_ssao;
-    app::PosedScene m_posed;
+    PosedScene m_posed;
     std::string m_sceneSHA;
     std::vector<Light> m_sceneLights, m_fileLights, m_lights;
     LightingInputs m_inputs{m_lights, nullptr};
@@ -182,8 +182,10 @@ bool LightRun::loadScene() {
         return true;
     }
     const auto t = std::chrono::steady_clock::now();
-    if (!m_posed.load(m_tool, path, SceneOptions{m_s.strict})) return false;
+    if (std::string e; !m_posed.load(path, SceneOptions{m_s.strict}, e)) return failed(e);
     const Scene& scene = m_posed.scene();
+    for (const std::string& warning : scene.warnings)
+        m_tool.info(path + ": " + warning);
     m_sceneSHA = sceneFingerprint(path);
     m_sceneLights = app::sceneLights(m_tool, scene, path, m_s.lights);
     if (m_s.lights.files.empty() && m_sceneLights.empty()) {
@@ -294,9 +296,13 @@ bool LightRun::poseFor(const std::string& path, const OIIO::ImageSpec& gspec) {
     }
     if (m_probes.given() && !m_probes.checkMoment(m_tool, path, gspec)) return false;
     if (!m_s.scenePath.empty()) {
-        if (!m_posed.poseFor(m_tool, path, gspec, moved)) return false;
-        m_inputs.visibility = m_posed.caster();
-        m_inputs.scene = m_posed.caster();
+        PoseReport report;
+        const bool posedFor = m_posed.poseFor(path, gspec, report);
+        m_tool.say(report.warnings, report.notes);
+        if (!posedFor) return failed(report.error);
+        moved = report.moved;
+        m_inputs.visibility = m_posed.caster().get();
+        m_inputs.scene = m_posed.caster().get();
         if (moved) m_sceneLights = app::sceneLights(m_posed.scene(), m_s.lights);
     }
     if (moved || m_animatedLights) {

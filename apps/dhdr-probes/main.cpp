@@ -1,6 +1,5 @@
 // dhdr-probes: bakes light probes for diffuse global illumination (docs/gi.md), for a still
 // scene or for each frame of an animated one (docs/animation.md, "Lighting a shot").
-#include "../common/animated_scene.h"
 #include "../common/frame_timing.h"
 #include "../common/frames.h"
 #include "../common/light_options.h"
@@ -10,7 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <dhdr/deferred/geometry/ray_caster.h>
+#include <dhdr/deferred/geometry/posed_scene.h>
 #include <dhdr/deferred/gi/probes.h>
 #include <dhdr/deferred/scene/lights.h>
 #include <dhdr/deferred/scene/scene.h>
@@ -18,6 +17,73 @@
 using namespace dhdr;
 
 namespace {
+
+// What -v says of a frame's probes (`when` they are of) and its `timing`, and the warning when
+// none lights anything.
+void reportFrame(const app::Tool& tool, const ProbeVolume& volume, const std::string& path,
+                 const std::string& outPath, const std::string& when, size_t lights,
+                 const std::string& timing) {
+    int active = 0, relocated = 0, off = 0;
+    for (const ProbeState s : volume.states) {
+        active += s == ProbeState::Active;
+        relocated += s == ProbeState::Relocated;
+        off += s == ProbeState::Off;
+    }
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "%s%d probes (%dx%dx%d, spacing %.3g %.3g %.3g): %d in place, %d "
+                  "relocated, %d off; %d rays each, %d bounces, %zu lights",
+                  when.c_str(), volume.probeCount(), volume.counts.x, volume.counts.y,
+                  volume.counts.z, volume.spacing.x, volume.spacing.y, volume.spacing.z, active,
+                  relocated, off, volume.rays, volume.bounces, lights);
+    tool.info(outPath + ": " + line);
+    tool.info(timing);
+    if (active + relocated == 0)
+        tool.warn(path + ": every probe is inside geometry: the volume lights nothing");
+}
+
+// --grid NX,NY,NZ into `counts`; false when it is not three whole numbers 1-256.
+bool parseGrid(const std::string& grid, glm::ivec3& counts) {
+    std::vector<double> v;
+    if (!app::parseNumbers(grid, v) || v.size() != 3 || v[0] < 1 || v[1] < 1 || v[2] < 1 ||
+        v[0] > 256 || v[1] > 256 || v[2] > 256 || v[0] != std::floor(v[0]) ||
+        v[1] != std::floor(v[1]) || v[2] != std::floor(v[2]))
+        return false;
+    counts = glm::ivec3(int(v[0]), int(v[1]), int(v[2]));
+    return true;
+}
+
+// What the command line says.
+struct Options {
+    app::LightOptions lightOptions;
+    std::string grid;
+    ProbeBakeParams p;
+    double spacing = 0.0;
+    bool strict = false;
+    app::FrameTiming timing;
+};
+
+void declareOptions(app::CommandLine& cl, Options& o) {
+    app::addLightOptions(cl, o.lightOptions);
+    cl.option("--spacing", o.spacing, "M",
+              "distance between probes in scene units, at most (each axis's is the largest "
+              "that puts the outer probes a quarter spacing inside the scene's bounds; "
+              "default: from the bounds and --max-probes)",
+              {0.0, 1e6, true, false});
+    cl.option("--grid", o.grid, "NX,NY,NZ", "probe counts along X, Y, Z instead of --spacing");
+    app::addParamOptions(cl, o.p, kProbeBakeParamTable);
+    cl.flag("--strict", o.strict,
+            "a texture the scene names that cannot be read is an error (default: a warning, and "
+            "the material shows magenta (1, 0, 1) times its factor)");
+    o.timing.declare(cl);
+    cl.epilog(
+        "Examples:\n  dhdr-probes testdata/cornell_box.gltf --spacing 0.1 -o cornell.probes.exr\n"
+        "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --probes "
+        "cornell.probes.exr -o frame.hdr.exr\n"
+        "  dhdr-probes shot.gltf --frames 1-24 -o shot.probes.####.exr\n"
+        "  dhdr-light shot.gbuf.####.exr --scene shot.gltf --probes shot.probes.####.exr "
+        "-o shot.hdr.####.exr");
+}
 
 int run(int argc, char** argv) {
     app::CommandLine cl(
@@ -32,31 +98,13 @@ int run(int argc, char** argv) {
         "it (--frame, --time, --fps, --animation; frame 0 by default), or at every frame of\n"
         "--frames A-B into -o probes.####.exr, the scene loaded once; the file records the\n"
         "moment as a G-buffer does.");
-    app::LightOptions lightOptions;
-    std::string grid;
-    ProbeBakeParams p;
-    double spacing = 0.0;
-    app::addLightOptions(cl, lightOptions);
-    cl.option("--spacing", spacing, "M",
-              "distance between probes in scene units, at most (each axis's is the largest "
-              "that puts the outer probes a quarter spacing inside the scene's bounds; "
-              "default: from the bounds and --max-probes)",
-              {0.0, 1e6, true, false});
-    cl.option("--grid", grid, "NX,NY,NZ", "probe counts along X, Y, Z instead of --spacing");
-    app::addParamOptions(cl, p, kProbeBakeParamTable);
-    bool strict = false;
-    cl.flag("--strict", strict,
-            "a texture the scene names that cannot be read is an error (default: a warning, and "
-            "the material shows magenta (1, 0, 1) times its factor)");
-    app::FrameTiming timing;
-    timing.declare(cl);
-    cl.epilog(
-        "Examples:\n  dhdr-probes testdata/cornell_box.gltf --spacing 0.1 -o cornell.probes.exr\n"
-        "  dhdr-light frame.gbuf.exr --scene testdata/cornell_box.gltf --probes "
-        "cornell.probes.exr -o frame.hdr.exr\n"
-        "  dhdr-probes shot.gltf --frames 1-24 -o shot.probes.####.exr\n"
-        "  dhdr-light shot.gbuf.####.exr --scene shot.gltf --probes shot.probes.####.exr "
-        "-o shot.hdr.####.exr");
+    Options o;
+    declareOptions(cl, o);
+    app::LightOptions& lightOptions = o.lightOptions;
+    ProbeBakeParams& p = o.p;
+    const std::string& grid = o.grid;
+    const bool& strict = o.strict;
+    app::FrameTiming& timing = o.timing;
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
     app::Tool tool("dhdr-probes", cl);
     if (cl.inputs().size() != 1 || cl.output().empty()) {
@@ -69,18 +117,12 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-probes: usage error: %s\n", problem.c_str());
         return app::kExitUsage;
     }
-    p.spacing = spacing;
+    p.spacing = o.spacing;
     p.diffuse = app::diffuseModel(lightOptions);
-    if (!grid.empty()) {
-        std::vector<double> v;
-        if (!app::parseNumbers(grid, v) || v.size() != 3 || v[0] < 1 || v[1] < 1 || v[2] < 1 ||
-            v[0] > 256 || v[1] > 256 || v[2] > 256 || v[0] != std::floor(v[0]) ||
-            v[1] != std::floor(v[1]) || v[2] != std::floor(v[2])) {
-            std::fprintf(stderr, "dhdr-probes: usage error: --grid needs three whole numbers "
-                                 "1-256\n");
-            return app::kExitUsage;
-        }
-        p.counts = glm::ivec3(int(v[0]), int(v[1]), int(v[2]));
+    if (!grid.empty() && !parseGrid(grid, p.counts)) {
+        std::fprintf(stderr, "dhdr-probes: usage error: --grid needs three whole numbers "
+                             "1-256\n");
+        return app::kExitUsage;
     }
     // The frames, as every tool plans them: the output checked (not an input, in a folder
     // that exists) for each frame; the scene and lights files may be patterns too (a lights
@@ -99,18 +141,18 @@ int run(int argc, char** argv) {
 
     // The scene is loaded once for all the frames that name the same file and posed at each
     // frame's time, its BVH refitted, as dhdr-gbuffer does.
-    app::AnimatedScene loaded;
+    PosedScene loaded;
+    std::string loadedPath;
+    bool loadFailed = false; // reported once
     auto load = [&](const std::string& path) {
-        if (loaded.path == path) return !loaded.failed;
-        loaded = app::AnimatedScene{};
-        loaded.path = path;
-        loaded.failed = true; // until it is ready: a failure is reported once
+        if (loadedPath == path) return !loadFailed;
+        loadedPath = path;
+        loadFailed = true; // until it is ready
         std::string error;
-        if (!loadScene(path, loaded.scene, error, SceneOptions{strict}))
-            return tool.fail(error), false;
+        if (!loaded.load(path, SceneOptions{strict}, error)) return tool.fail(error), false;
         // dhdr-probes is often the first to read the scene (before dhdr-gbuffer, which warns
         // the same way): what the loader repaired, a missing texture among it, is a warning.
-        for (const std::string& warning : loaded.scene.warnings)
+        for (const std::string& warning : loaded.scene().warnings)
             tool.warn(path + ": " + warning);
         if (!loaded.selectAnimations(timing.animation, error)) {
             tool.fail(path + ": " + error);
@@ -119,7 +161,7 @@ int run(int argc, char** argv) {
         if (!loaded.animated() && timing.given)
             tool.warn(path + ": the scene has no animation; --frame, --time and --fps change "
                              "nothing");
-        loaded.failed = false;
+        loadFailed = false;
         return true;
     };
     // A still scene under the same lights bakes the same probes at every frame: baked once.
@@ -139,8 +181,8 @@ int run(int argc, char** argv) {
         // The lights in dhdr-light's order, the scene's as posed at this frame: the probes'
         // hits are lit as the frame's pixels are.
         std::vector<Light> lights = frame == plan.frames.front()
-                                        ? app::sceneLights(tool, loaded.scene, path, lightOptions)
-                                        : app::sceneLights(loaded.scene, lightOptions);
+                                        ? app::sceneLights(tool, loaded.scene(), path, lightOptions)
+                                        : app::sceneLights(loaded.scene(), lightOptions);
         if (framedLights &&
             !app::addLightsFiles(tool, {in.begin() + 1, in.end()}, lightOptions, lights))
             return false;
@@ -150,8 +192,8 @@ int run(int argc, char** argv) {
         if (again) {
             app::Progress progress(tool, "dhdr-probes: baking");
             p.progress = [&](float f) { progress.update(f); };
-            if (!bakeProbes(loaded.scene, *loaded.caster, lights, lightOptions.emissive != "off", p,
-                            volume, error, tool.threads())) {
+            if (!bakeProbes(loaded.scene(), *loaded.caster(), lights,
+                            lightOptions.emissive != "off", p, volume, error, tool.threads())) {
                 bakedFor.clear();
                 tool.fail(path + ": " + error);
                 return false;
@@ -159,14 +201,7 @@ int run(int argc, char** argv) {
             bakedFor = path;
             // Which moment of the animation these probes hold, recorded as G-buffers record
             // theirs, so that dhdr-light can tell when a G-buffer shows another.
-            volume.moment.reset();
-            if (loaded.animated()) {
-                gbuffer::Moment moment;
-                moment.time = time;
-                moment.fps = timing.fps;
-                moment.animations = loaded.playing;
-                volume.moment = moment;
-            }
+            volume.moment = loaded.moment(time, timing.fps);
         }
         const auto t2 = std::chrono::steady_clock::now();
         if (!tool.writeAtomically(outPath, [&](const std::string& temporary, std::string& why) {
@@ -174,30 +209,16 @@ int run(int argc, char** argv) {
             }))
             return false;
         const auto t3 = std::chrono::steady_clock::now();
-        int active = 0, relocated = 0, off = 0;
-        for (const ProbeState s : volume.states) {
-            active += s == ProbeState::Active;
-            relocated += s == ProbeState::Relocated;
-            off += s == ProbeState::Off;
-        }
-        const std::string when = loaded.animated() ? "time " + std::to_string(time) + " s: " : "";
-        char line[400];
-        std::snprintf(line, sizeof line,
-                      "%s%d probes (%dx%dx%d, spacing %.3g %.3g %.3g): %d in place, %d "
-                      "relocated, %d off; %d rays each, %d bounces, %zu lights",
-                      when.c_str(), volume.probeCount(), volume.counts.x, volume.counts.y,
-                      volume.counts.z, volume.spacing.x, volume.spacing.y, volume.spacing.z, active,
-                      relocated, off, volume.rays, volume.bounces, lights.size());
-        tool.info(outPath + ": " + line);
         auto ms = [](auto a, auto b) {
             return std::to_string(int(std::chrono::duration<double, std::milli>(b - a).count())) +
                    " ms";
         };
-        tool.info((frame == plan.frames.front() ? "load and pose " : "pose ") + ms(t0, t1) +
-                  (again ? ", bake " + ms(t1, t2) : ", the last frame's bake (a still scene)") +
-                  ", write " + ms(t2, t3));
-        if (active + relocated == 0)
-            tool.warn(path + ": every probe is inside geometry: the volume lights nothing");
+        reportFrame(
+            tool, volume, path, outPath,
+            loaded.animated() ? "time " + std::to_string(time) + " s: " : "", lights.size(),
+            (frame == plan.frames.front() ? "load and pose " : "pose ") + ms(t0, t1) +
+                (again ? ", bake " + ms(t1, t2) : ", the last frame's bake (a still scene)") +
+                ", write " + ms(t2, t3));
         return true;
     });
 }

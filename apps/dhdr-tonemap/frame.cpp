@@ -7,8 +7,8 @@
 #include <dhdr/io/layers.h>
 #include <dhdr/io/sanitize.h>
 #include <dhdr/io/strip_pipeline.h>
+#include <dhdr/tonemap/frame_recipe.h>
 #include <dhdr/tonemap/metering.h>
-#include <dhdr/tonemap/quantize.h>
 #include <filesystem>
 #include <vector>
 
@@ -22,17 +22,10 @@ constexpr int kStripRows = 64;
 constexpr int kPngFilterNone = 0x08;
 
 // Replaces what a display cannot show in `hdr` (the whole frame or a strip of it) and brings
-// it to scene-linear, where metering and operators work. A display shows no negative light:
-// negative colour goes with NaN and Inf, in one warning; alpha keeps its negatives.
+// it to scene-linear, where metering and operators work (prepareFrame).
 bool toSceneLinear(const FrameJob& job, OIIO::ImageBuf& hdr, NonFiniteCount& replaced,
                    int nthreads) {
-    OIIO::ROI colour = hdr.roi(), alpha = hdr.roi();
-    colour.chend = 3;
-    alpha.chbegin = 3;
-    alpha.chend = std::min(hdr.nchannels(), 4);
-    replaced += replaceNonFinite(hdr, colour, nthreads, true);
-    if (alpha.chend > alpha.chbegin) replaced += replaceNonFinite(hdr, alpha, nthreads, false);
-    return job.display.toSceneLinear(hdr, {}, nthreads);
+    return prepareFrame(hdr, hdr, job.display, &replaced, {}, nthreads);
 }
 
 void reportInput(const Tool& tool, const FrameJob& job, const std::string& path,
@@ -141,21 +134,6 @@ OIIO::ImageBuf& threadFrame() {
     return frame;
 }
 
-// The image a display is sent: at most R, G, B and alpha of `hdr`, in `type`, with `hdr`'s
-// metadata.
-OIIO::ImageSpec displaySpec(const OIIO::ImageSpec& hdr, OIIO::TypeDesc type) {
-    const int nch = std::min(hdr.nchannels, 4);
-    OIIO::ImageSpec spec = hdr;
-    spec.nchannels = nch;
-    spec.channelnames = {"R", "G", "B", "A"};
-    spec.channelnames.resize(size_t(nch));
-    spec.alpha_channel = nch == 4 ? 3 : -1;
-    spec.z_channel = -1;
-    spec.channelformats.clear();
-    spec.set_format(type);
-    return spec;
-}
-
 } // namespace
 
 std::string lowerExtension(const std::string& path) {
@@ -175,6 +153,82 @@ bool meterFrame(const Tool& tool, const FrameJob& job, const std::string& in, Lu
            meter(stats, hdr, job.params.metering, {}, nthreads);
 }
 
+namespace {
+
+// The header of the display image of `hdr`: what it was mapped with, from where, for which
+// display. Strings, which every format keeps (PNG drops numeric attributes).
+OIIO::ImageSpec outputSpec(const FrameJob& job, const std::string& in, const OIIO::ImageSpec& hdr,
+                           const FrameRecipe& recipe, OIIO::TypeDesc type,
+                           const LuminanceStats& used) {
+    OIIO::ImageSpec spec = displaySpec(hdr, type);
+    const ToneMapParams& params = recipe.toneMap;
+    spec.attribute("dhdr:toneMap", toneOperatorName(params.op));
+    char line[320];
+    std::snprintf(line, sizeof line,
+                  "key %g, exposure %g, white %s, weights %s, delta %g, metering %s%s%s -> %.6g",
+                  params.key, params.exposure, job.white.c_str(), job.weights.c_str(),
+                  params.metering.luminance.delta, job.metering.c_str(),
+                  job.metering == "histogram" ? " " : "",
+                  job.metering == "histogram" ? job.percentiles.c_str() : "", used.logAverage);
+    spec.attribute("dhdr:toneMapParameters", line);
+    spec.attribute("dhdr:source", in);
+    spec.attribute("dhdr:display", job.display.describe());
+    // The input's "Linear" would make PNG declare a gamma of 1 to viewers.
+    spec.attribute("oiio:ColorSpace", job.display.outputColorSpace());
+    if (type == OIIO::TypeDesc::UINT8 && recipe.dither) {
+        spec.attribute("dhdr:dither", "ordered, 8x8 Bayer");
+        // Dithered pixels defeat PNG's row predictors: unfiltered rows compress as well or
+        // better and encode three times faster (docs/tonemap.md).
+        spec.attribute("png:filter", kPngFilterNone);
+    }
+    return spec;
+}
+
+// Writes `out` a strip at a time: each strip of `hdr` (mapped already) encoded, or with
+// `strips` each strip read, mapped and encoded (toneMapFrame).
+bool writeDisplay(const Tool& tool, const std::string& in, const std::string& out,
+                  const OIIO::ImageSpec& spec, const FrameRecipe& recipe, const OIIO::ImageBuf& hdr,
+                  SceneLinearStrips* strips, int nthreads) {
+    AtomicOutput file(tool, out);
+    if (!file.open(spec, {spec.format})) return false;
+    // EXR gets floats that OpenImageIO converts to half; the others their integer pixels.
+    const OIIO::TypeDesc buffer = recipe.type;
+    StripPipelineParams streamingParams;
+    streamingParams.rows = kStripRows;
+    streamingParams.writeBehind = nthreads != 1;
+    streamingParams.nthreads = nthreads;
+    StripPipeline pipeline(OIIO::get_roi(spec), streamingParams);
+    if (strips) pipeline.addInput(strips->input(true));
+    pipeline.setOutput(file.file());
+    const bool written = pipeline.run([&](StripContext& strip) {
+        OIIO::ImageSpec rows(strip.rows.width(), strip.rows.height(), spec.nchannels, buffer);
+        rows.x = strip.rows.xbegin;
+        rows.y = strip.rows.ybegin;
+        OIIO::ImageBuf& dst = *strip.output;
+        if (dst.spec().width != rows.width || dst.spec().height != rows.height ||
+            dst.spec().format != buffer)
+            dst.reset(rows);
+        dst.set_origin(rows.x, rows.y);
+        if (strips && !toneMapFrame(dst, *strip.inputs[0], recipe, strip.rows, nthreads)) {
+            strip.error = in + ": " + dst.geterror();
+            return false;
+        }
+        if (!strips && !encodeFrame(dst, hdr, recipe, strip.rows, nthreads)) {
+            strip.error = out + ": " + dst.geterror();
+            return false;
+        }
+        return true;
+    });
+    if (!written) {
+        tool.fail(pipeline.error());
+        return false;
+    }
+    if (strips) strips->report();
+    return file.commit();
+}
+
+} // namespace
+
 // Meters `in` (or uses `given`; or meters it and maps it with the log-average `adapted`),
 // tone-maps it and writes `out`; `used` receives the metering.
 bool mapFrame(const Tool& tool, const FrameJob& job, const std::string& in, const std::string& out,
@@ -189,7 +243,10 @@ bool mapFrame(const Tool& tool, const FrameJob& job, const std::string& in, cons
     } else if (!readSceneLinear(tool, job, in, hdr, true, nthreads)) {
         return false;
     }
-    ToneMapParams params = job.params;
+    FrameRecipe recipe;
+    recipe.toneMap = job.params;
+    recipe.display = &job.display;
+    ToneMapParams& params = recipe.toneMap;
     if (given) {
         used = *given;
     } else {
@@ -204,80 +261,22 @@ bool mapFrame(const Tool& tool, const FrameJob& job, const std::string& in, cons
                   given || adapted ? "adapted" : job.metering.c_str(), used.logAverage,
                   used.maxLuminance);
     tool.info(line);
-    // In place: the frame is not needed in scene-linear after this.
+    // In place, once for the whole frame (reinhard-local's blur reaches across it): the frame
+    // is not needed in scene-linear after this.
     if (!streaming && !toneMap(hdr, hdr, params, {}, nthreads)) {
         tool.fail(in + ": " + hdr.geterror());
         return false;
     }
-
     // Every format gets the same display-referred values; only their quantization differs.
-    const std::string ext = lowerExtension(out);
-    const bool exr = ext == ".exr";
-    const bool sixteen = job.bits == 16;
-    const OIIO::TypeDesc type = exr       ? OIIO::TypeDesc::HALF
-                                : sixteen ? OIIO::TypeDesc::UINT16
-                                          : OIIO::TypeDesc::UINT8;
-    OIIO::ImageSpec spec = displaySpec(streaming ? strips.spec() : hdr.spec(), type);
-    // Strings, which every format keeps (PNG drops numeric attributes).
-    spec.attribute("dhdr:toneMap", toneOperatorName(params.op));
-    std::snprintf(line, sizeof line,
-                  "key %g, exposure %g, white %s, weights %s, delta %g, metering %s%s%s -> %.6g",
-                  params.key, params.exposure, job.white.c_str(), job.weights.c_str(),
-                  params.metering.luminance.delta, job.metering.c_str(),
-                  job.metering == "histogram" ? " " : "",
-                  job.metering == "histogram" ? job.percentiles.c_str() : "", used.logAverage);
-    spec.attribute("dhdr:toneMapParameters", line);
-    spec.attribute("dhdr:source", in);
-    spec.attribute("dhdr:display", job.display.describe());
-    // The input's "Linear" would make PNG declare a gamma of 1 to viewers.
-    spec.attribute("oiio:ColorSpace", job.display.outputColorSpace());
-    QuantizeParams quantizing;
-    quantizing.dither = type == OIIO::TypeDesc::UINT8 && job.dither;
-    if (quantizing.dither) {
-        spec.attribute("dhdr:dither", "ordered, 8x8 Bayer");
-        // Dithered pixels defeat PNG's row predictors: unfiltered rows compress as well or
-        // better and encode three times faster (docs/tonemap.md).
-        spec.attribute("png:filter", kPngFilterNone);
-    }
-
-    AtomicOutput file(tool, out);
-    if (!file.open(spec, {type})) return false;
-    // EXR gets floats that OpenImageIO converts to half; the others their integer pixels.
-    const OIIO::TypeDesc buffer = exr ? OIIO::TypeDesc::FLOAT : type;
-    StripPipelineParams streamingParams;
-    streamingParams.rows = kStripRows;
-    streamingParams.writeBehind = nthreads != 1;
-    streamingParams.nthreads = nthreads;
-    StripPipeline pipeline(OIIO::get_roi(spec), streamingParams);
-    if (streaming) pipeline.addInput(strips.input(true));
-    pipeline.setOutput(file.file());
-    const bool written = pipeline.run([&](StripContext& strip) {
-        if (streaming && !toneMap(*strip.inputs[0], *strip.inputs[0], params, {}, nthreads)) {
-            strip.error = in + ": " + strip.inputs[0]->geterror();
-            return false;
-        }
-        OIIO::ImageBuf& src = streaming ? *strip.inputs[0] : hdr;
-        job.display.toDisplay(src, strip.rows, nthreads);
-        OIIO::ImageSpec rows(strip.rows.width(), strip.rows.height(), spec.nchannels, buffer);
-        rows.x = strip.rows.xbegin;
-        rows.y = strip.rows.ybegin;
-        OIIO::ImageBuf& dst = *strip.output;
-        if (dst.spec().width != rows.width || dst.spec().height != rows.height ||
-            dst.spec().format != buffer)
-            dst.reset(rows);
-        dst.set_origin(rows.x, rows.y);
-        const bool done =
-            exr ? OIIO::ImageBufAlgo::copy(dst, src, OIIO::TypeUnknown, strip.rows, nthreads)
-                : quantize(dst, src, quantizing, strip.rows, nthreads);
-        if (!done) strip.error = out + ": " + dst.geterror();
-        return done;
-    });
-    if (!written) {
-        tool.fail(pipeline.error());
-        return false;
-    }
-    if (streaming) strips.report();
-    return file.commit();
+    const bool exr = lowerExtension(out) == ".exr";
+    const OIIO::TypeDesc type = exr              ? OIIO::TypeDesc::HALF
+                                : job.bits == 16 ? OIIO::TypeDesc::UINT16
+                                                 : OIIO::TypeDesc::UINT8;
+    recipe.type = exr ? OIIO::TypeDesc::FLOAT : type;
+    recipe.dither = job.dither;
+    const OIIO::ImageSpec spec =
+        outputSpec(job, in, streaming ? strips.spec() : hdr.spec(), recipe, type, used);
+    return writeDisplay(tool, in, out, spec, recipe, hdr, streaming ? &strips : nullptr, nthreads);
 }
 
 // Everything that decides a frame's metered luminance, so that statistics metered one way

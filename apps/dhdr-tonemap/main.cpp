@@ -48,33 +48,23 @@ private:
     std::atomic<size_t> m_done{0};
 };
 
-int run(int argc, char** argv) {
-    app::CommandLine cl("dhdr-tonemap", "HDR.exr -o IMAGE.png [options]",
-                        "Tone mapping: meters the image's luminance, maps it with an operator "
-                        "(default the\nphotographic operator of Reinhard et al. 2002) in "
-                        "scene-linear, and encodes it for a display\nthrough OpenColorIO (sRGB "
-                        "by default). Every format gets the same display-referred\nvalues: PNG "
-                        "(8- or 16-bit), JPEG and TIFF quantized, 8-bit output dithered, EXR as\n"
-                        "half floats. A frame pattern (shot.####.exr or shot.%04d.exr) in\nboth "
-                        "input and output maps a sequence in one process; --adapt lets the "
-                        "exposure follow\nthe eye's adaptation across it.");
+// What the command line says besides the frame job.
+struct Options {
     double key = 0.18, exposure = 0.0, delta = 1e-4, fps = 24.0, memoryMiB = 512.0;
-    FrameJob job;
-    job.white = "auto";
-    job.weights = "seed";
-    job.metering = "log-average";
-    job.percentiles = "5,95";
     std::string opName = "reinhard", statsOut, adaptFrom;
     DisplaySettings display;
     bool noDither = false, adapt = false, meterOnly = false, scan = false;
-    cl.option("--op", opName, "NAME",
+};
+
+void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
+    cl.option("--op", o.opName, "NAME",
               "reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure, "
               "aces (the ACES 1.0 SDR output transform, as the view) or none (scene-linear "
               "x 2^exposure, unclipped, to the display/view: a config's own view such as "
               "Filmic or AgX tone-maps)");
-    cl.option("--key", key, "A", "key α: the metered luminance maps to this (default 0.18)",
+    cl.option("--key", o.key, "A", "key α: the metered luminance maps to this (default 0.18)",
               {0.0, 100.0, true});
-    cl.option("--exposure", exposure, "STOPS", "extra exposure in stops (default 0)",
+    cl.option("--exposure", o.exposure, "STOPS", "extra exposure in stops (default 0)",
               {-64.0, 64.0});
     cl.option("--white", job.white, "L|auto|inf",
               "reinhard's white point in scaled luminance (default auto: the largest in the "
@@ -85,40 +75,40 @@ int run(int argc, char** argv) {
               "the percentile window of --metering histogram (default 5,95)");
     cl.option("--weights", job.weights, "seed|rec709",
               "luminance weights: 0.27/0.67/0.06 (default) or 0.2126/0.7152/0.0722");
-    cl.option("--delta", delta, "D", "δ of the log-average (default 1e-4)", {0.0, 1.0, true});
+    cl.option("--delta", o.delta, "D", "δ of the log-average (default 1e-4)", {0.0, 1.0, true});
     cl.option("--bits", job.bits, "8|16", "bits per channel of PNG/TIFF output (default 8)", 8, 16);
-    cl.flag("--no-dither", noDither, "quantize 8-bit output without dithering");
-    cl.option("--ocio-config", display.config, "FILE",
+    cl.flag("--no-dither", o.noDither, "quantize 8-bit output without dithering");
+    cl.option("--ocio-config", o.display.config, "FILE",
               "OpenColorIO config (default: $OCIO, else a built-in one: scene-linear Rec.709 in, "
               "display sRGB, views Standard and ACES)");
-    cl.option("--colorspace", display.colorspace, "NAME",
+    cl.option("--colorspace", o.display.colorspace, "NAME",
               "colour space of the input (default: the config's scene_linear)");
-    cl.option("--display", display.display, "NAME", "display (default: the config's default)");
-    cl.option("--view", display.view, "NAME",
+    cl.option("--display", o.display.display, "NAME", "display (default: the config's default)");
+    cl.option("--view", o.display.view, "NAME",
               "view (default: the display's default; ACES with --op aces)");
-    cl.option("--look", display.look, "NAME", "look applied in scene-linear before the view");
+    cl.option("--look", o.display.look, "NAME", "look applied in scene-linear before the view");
     cl.option("--layer", job.layer, "NAME",
               "the layer or EXR part to map (default: the unnamed R,G,B,A, else the one "
               "called Combined, rgba or beauty)");
-    cl.flag("--adapt", adapt,
+    cl.flag("--adapt", o.adapt,
             "eye adaptation over the sequence: adapted += (L - adapted)(1 - 0.98^(30 dt))");
-    cl.option("--fps", fps, "N", "frames per second of the sequence, dt = 1/fps (default 24)",
+    cl.option("--fps", o.fps, "N", "frames per second of the sequence, dt = 1/fps (default 24)",
               {0.0, 1000.0, true});
-    cl.option("--stats-out", statsOut, "FILE.json",
+    cl.option("--stats-out", o.statsOut, "FILE.json",
               "write each frame's metered and adapted luminance");
-    cl.option("--memory", memoryMiB, "MiB",
+    cl.option("--memory", o.memoryMiB, "MiB",
               "a frame whose float pixels need more than this is streamed: read strip by strip, "
               "once per metering pass and once to map, instead of whole (default 512; 0 "
               "streams every frame; the same pixels either way; reinhard-local always reads "
               "the frame whole)",
               {0.0, 1048576.0});
-    cl.flag("--meter-only", meterOnly,
+    cl.flag("--meter-only", o.meterOnly,
             "meter the frames and write --stats-out, no images (the first step of adaptation "
             "split into jobs: docs/farm.md)");
-    cl.flag("--scan", scan,
+    cl.flag("--scan", o.scan,
             "the inputs are --meter-only statistics files: combine them in frame order, run "
             "the adaptation (--fps) and write --stats-out");
-    cl.option("--adapt-from", adaptFrom, "FILE.json",
+    cl.option("--adapt-from", o.adaptFrom, "FILE.json",
               "map each frame with the adapted luminance a --scan (or --adapt --stats-out) "
               "wrote for it: the same pictures as one --adapt run over the whole sequence");
     cl.epilog("Examples:\n  dhdr-tonemap frame.hdr.exr -o frame.png -v\n"
@@ -133,32 +123,33 @@ int run(int argc, char** argv) {
     cl.namesFile("--ocio-config", app::FileRole::Input);
     cl.namesFile("--adapt-from", app::FileRole::Input);
     cl.namesFile("--stats-out", app::FileRole::Output);
-    if (const int status = cl.parse(argc, argv); status >= 0) return status;
-    app::Tool tool("dhdr-tonemap", cl);
-    const int modes = int(adapt) + int(meterOnly) + int(scan) + int(!adaptFrom.empty());
-    if (modes > 1) return usage("give at most one of --adapt, --meter-only, --scan, --adapt-from");
-    if ((meterOnly || scan) && statsOut.empty())
-        return usage(std::string(meterOnly ? "--meter-only" : "--scan") +
-                     " writes its statistics to --stats-out FILE.json");
-    if ((meterOnly || scan) && !cl.output().empty())
-        return usage(std::string(meterOnly ? "--meter-only" : "--scan") +
-                     " writes no image; give --stats-out FILE.json instead of -o");
-    if (scan) {
-        if (cl.inputs().empty()) return usage("--scan needs the statistics files to combine");
-        if (const int status = tool.start(cl.inputs(), statsOut); status >= 0) return status;
-        return app::scanStatistics(tool, cl.inputs(), fps, statsOut);
-    }
-    if (cl.inputs().size() != 1) return usage("give one HDR image or frame pattern");
+}
 
+// The usage errors of the modes (--adapt, --meter-only, --scan, --adapt-from). Returns -1 to
+// go on, else the exit status.
+int checkModes(const app::CommandLine& cl, const Options& o) {
+    const int modes = int(o.adapt) + int(o.meterOnly) + int(o.scan) + int(!o.adaptFrom.empty());
+    if (modes > 1) return usage("give at most one of --adapt, --meter-only, --scan, --adapt-from");
+    if ((o.meterOnly || o.scan) && o.statsOut.empty())
+        return usage(std::string(o.meterOnly ? "--meter-only" : "--scan") +
+                     " writes its statistics to --stats-out FILE.json");
+    if ((o.meterOnly || o.scan) && !cl.output().empty())
+        return usage(std::string(o.meterOnly ? "--meter-only" : "--scan") +
+                     " writes no image; give --stats-out FILE.json instead of -o");
+    return -1;
+}
+
+// The operator and metering options into `job`. Returns -1 to go on, else the exit status.
+int parseJob(const app::CommandLine& cl, Options& o, FrameJob& job) {
     ToneMapParams& params = job.params;
-    if (!parseToneOperator(opName, params.op))
+    if (!parseToneOperator(o.opName, params.op))
         return usage("--op must be reinhard, reinhard-local, drago, hable, pbr-neutral, agx, "
                      "exposure, aces or none");
-    if (params.op == ToneOperator::Aces && display.view.empty()) display.view = "ACES";
-    params.key = key;
-    params.exposure = exposure;
+    if (params.op == ToneOperator::Aces && o.display.view.empty()) o.display.view = "ACES";
+    params.key = o.key;
+    params.exposure = o.exposure;
     LuminanceStatsParams& lum = params.metering.luminance;
-    lum.delta = delta;
+    lum.delta = o.delta;
     if (job.weights == "seed")
         lum.weights = kSeedLuminanceWeights;
     else if (job.weights == "rec709")
@@ -188,166 +179,238 @@ int run(int argc, char** argv) {
     if (const std::string ext = app::lowerExtension(cl.output());
         job.bits == 16 && (ext == ".jpg" || ext == ".jpeg"))
         return usage("--bits 16: JPEG holds 8 bits per channel; write PNG or TIFF for 16");
-    job.dither = !noDither;
-    job.wholeFrameBytes = size_t(memoryMiB * 1048576.0);
+    job.dither = !o.noDither;
+    job.wholeFrameBytes = size_t(o.memoryMiB * 1048576.0);
+    return -1;
+}
 
-    const std::string& frames = cl.frames();
-    const app::FramePattern input(cl.inputs()[0]), output(cl.output());
-    if (!meterOnly && input.isSequence() != output.isSequence())
-        return usage("give a frame pattern for both the input and the output, or for neither");
-    if (!input.isSequence() && (adapt || meterOnly || !adaptFrom.empty() || !frames.empty()))
-        return usage("--adapt, --meter-only, --adapt-from and --frames need a frame pattern "
-                     "(shot.####.exr)");
-    if (const int status = tool.start(cl.inputs(), meterOnly ? statsOut : cl.output()); status >= 0)
-        return status;
-    if (std::string error; !job.display.init(display, error)) return tool.fail(error);
-    tool.info("display " + job.display.describe());
-
-    if (!input.isSequence()) {
-        LuminanceStats used;
-        return app::mapFrame(tool, job, input.path(0), output.path(0), nullptr, nullptr, used,
-                             tool.threads())
-                   ? app::kExitSuccess
-                   : app::kExitFailure;
-    }
-
-    // A sequence: frames are independent except for adaptation, which is a scan over the
-    // per-frame metering: meter every frame (in parallel), scan, then map every frame (in
-    // parallel). Each frame runs on one thread, so the result does not depend on how many.
-    std::vector<int> numbers;
+// The frame numbers of a sequence: --frames, else those on disk (warning about gaps). Returns
+// -1 to go on, else the exit status.
+int sequenceNumbers(const app::Tool& tool, const std::string& frames,
+                    const app::FramePattern& input, bool adapt, std::vector<int>& numbers) {
     if (!frames.empty()) {
         int first = 0, last = 0;
         if (!app::parseFrameRange(frames, first, last))
             return usage(std::string("--frames must be A-B, ") + app::kFrameRangeText);
         for (int f = first; f <= last; ++f)
             numbers.push_back(f);
-    } else {
-        numbers = input.existingFrames();
-        if (numbers.empty()) return tool.fail(input.text() + ": no frames match the pattern");
-        // A gap in the sequence: adaptation would step over it as if it were one frame.
-        std::string missing;
-        int gaps = 0;
-        for (size_t i = 1; i < numbers.size(); ++i)
-            for (int f = numbers[i - 1] + 1; f < numbers[i]; ++f)
-                if (++gaps <= 5) missing += (missing.empty() ? "" : ", ") + input.path(f);
-        if (gaps > 0)
-            tool.warn(std::to_string(gaps) + " frames missing from the sequence (" + missing +
-                      (gaps > 5 ? ", …" : "") + ")" +
-                      (adapt ? "; adaptation steps over them as if they were not there" : ""));
+        return -1;
     }
-    if (const int status =
-            app::checkFrameOutputs(tool, cl.inputs(), meterOnly ? statsOut : cl.output(), numbers);
+    numbers = input.existingFrames();
+    if (numbers.empty()) return tool.fail(input.text() + ": no frames match the pattern");
+    // A gap in the sequence: adaptation would step over it as if it were one frame.
+    std::string missing;
+    int gaps = 0;
+    for (size_t i = 1; i < numbers.size(); ++i)
+        for (int f = numbers[i - 1] + 1; f < numbers[i]; ++f)
+            if (++gaps <= 5) missing += (missing.empty() ? "" : ", ") + input.path(f);
+    if (gaps > 0)
+        tool.warn(std::to_string(gaps) + " frames missing from the sequence (" + missing +
+                  (gaps > 5 ? ", …" : "") + ")" +
+                  (adapt ? "; adaptation steps over them as if they were not there" : ""));
+    return -1;
+}
+
+// A sequence's run: every frame's metering, adaptation and mapping.
+struct Sequence {
+    Sequence(const std::string& in, const std::string& out) : input(in), output(out) {}
+    app::FramePattern input, output;
+    std::vector<int> numbers;
+    std::string metering;                     // meteringDescription
+    std::vector<double> given, givenMeasured; // --adapt-from's adapted and measured luminance
+    std::vector<LuminanceStats> metered;
+    std::vector<double> measured;     // each frame's own metering, before adaptation
+    std::vector<LuminanceStats> used; // the metering each frame was mapped with
+    std::vector<char> failed;
+};
+
+// --adapt-from: every frame's adapted luminance, found before anything is written.
+bool readAdaptFrom(const app::Tool& tool, const std::string& adaptFrom, Sequence& seq) {
+    app::SequenceStats file;
+    if (std::string error; !app::readSequenceStats(adaptFrom, file, error))
+        return tool.fail(error), false;
+    if (!file.adapt)
+        return tool.fail(adaptFrom + ": holds no adapted luminance (write it with --scan "
+                                     "or --adapt --stats-out)"),
+               false;
+    if (file.metering != seq.metering)
+        return tool.fail(adaptFrom + ": metered with " + file.metering +
+                         ", but this run "
+                         "meters with " +
+                         seq.metering),
+               false;
+    for (size_t i = 0; i < seq.numbers.size(); ++i) {
+        const auto row =
+            std::find_if(file.frames.begin(), file.frames.end(),
+                         [&](const app::FrameLuminance& f) { return f.frame == seq.numbers[i]; });
+        if (row == file.frames.end())
+            return tool.fail(adaptFrom + ": has no frame " + std::to_string(seq.numbers[i])), false;
+        seq.given[i] = row->adapted;
+        seq.givenMeasured[i] = row->logAverage;
+    }
+    return true;
+}
+
+// Meters every frame (in parallel; each frame on one thread). False when any cannot be read.
+bool meterSequence(const app::Tool& tool, const FrameJob& job, Sequence& seq, int workers) {
+    const size_t n = seq.numbers.size();
+    OIIO::parallel_for(
+        int64_t(0), int64_t(n),
+        [&](int64_t i) {
+            if (!app::meterFrame(tool, job, seq.input.path(seq.numbers[size_t(i)]),
+                                 seq.metered[size_t(i)], 1))
+                seq.failed[size_t(i)] = 1;
+        },
+        perItem(workers));
+    if (std::find(seq.failed.begin(), seq.failed.end(), 1) != seq.failed.end()) return false;
+    for (size_t i = 0; i < n; ++i)
+        seq.measured[i] = seq.metered[i].logAverage;
+    return true;
+}
+
+// Maps every frame (in parallel; each frame on one thread, so the result does not depend on
+// how many).
+void mapSequence(const app::Tool& tool, const FrameJob& job, const Options& o, Sequence& seq,
+                 int workers) {
+    SequenceProgress progress(tool, seq.numbers.size());
+    OIIO::parallel_for(
+        int64_t(0), int64_t(seq.numbers.size()),
+        [&](int64_t i) {
+            const int f = seq.numbers[size_t(i)];
+            if (!app::mapFrame(tool, job, seq.input.path(f), seq.output.path(f),
+                               o.adapt ? &seq.metered[size_t(i)] : nullptr,
+                               o.adaptFrom.empty() ? nullptr : &seq.given[size_t(i)],
+                               seq.used[size_t(i)], 1))
+                seq.failed[size_t(i)] = 1;
+            progress.frameDone();
+        },
+        perItem(workers));
+}
+
+// --stats-out of a run that mapped: each frame's measured and used luminance.
+bool writeStats(const app::Tool& tool, const Options& o, const Sequence& seq) {
+    app::SequenceStats stats;
+    stats.fps = o.fps;
+    stats.adapt = o.adapt || !o.adaptFrom.empty();
+    stats.metering = seq.metering;
+    // Without adaptation, each frame is mapped with its own metering.
+    for (size_t i = 0; i < seq.numbers.size(); ++i)
+        stats.frames.push_back({seq.numbers[i], seq.input.path(seq.numbers[i]),
+                                o.adapt               ? seq.measured[i]
+                                : o.adaptFrom.empty() ? seq.used[i].logAverage
+                                                      : seq.givenMeasured[i],
+                                seq.used[i].logAverage});
+    return tool.writeText(app::toJson(stats), o.statsOut);
+}
+
+// A sequence: frames are independent except for adaptation, which is a scan over the
+// per-frame metering: meter every frame (in parallel), scan, then map every frame (in
+// parallel).
+int runSequence(const app::Tool& tool, const app::CommandLine& cl, const FrameJob& job,
+                const Options& o, Sequence& seq) {
+    if (const int status = sequenceNumbers(tool, cl.frames(), seq.input, o.adapt, seq.numbers);
         status >= 0)
         return status;
-    const size_t n = numbers.size();
-    const std::string metering = app::meteringDescription(job);
-
-    // --adapt-from: every frame's adapted luminance, found before anything is written.
-    std::vector<double> given(n), givenMeasured(n);
-    if (!adaptFrom.empty()) {
-        app::SequenceStats file;
-        if (std::string error; !app::readSequenceStats(adaptFrom, file, error))
-            return tool.fail(error);
-        if (!file.adapt)
-            return tool.fail(adaptFrom + ": holds no adapted luminance (write it with --scan "
-                                         "or --adapt --stats-out)");
-        if (file.metering != metering)
-            return tool.fail(adaptFrom + ": metered with " + file.metering +
-                             ", but this run "
-                             "meters with " +
-                             metering);
-        for (size_t i = 0; i < n; ++i) {
-            const auto row =
-                std::find_if(file.frames.begin(), file.frames.end(),
-                             [&](const app::FrameLuminance& f) { return f.frame == numbers[i]; });
-            if (row == file.frames.end())
-                return tool.fail(adaptFrom + ": has no frame " + std::to_string(numbers[i]));
-            given[i] = row->adapted;
-            givenMeasured[i] = row->logAverage;
-        }
-    }
+    if (const int status = app::checkFrameOutputs(
+            tool, cl.inputs(), o.meterOnly ? o.statsOut : cl.output(), seq.numbers);
+        status >= 0)
+        return status;
+    const size_t n = seq.numbers.size();
+    seq.metering = app::meteringDescription(job);
+    seq.given.assign(n, 0.0);
+    seq.givenMeasured.assign(n, 0.0);
+    if (!o.adaptFrom.empty() && !readAdaptFrom(tool, o.adaptFrom, seq)) return app::kExitFailure;
     const int workers = tool.threads() > 0 ? tool.threads() : 0;
     const auto start = std::chrono::steady_clock::now();
-
-    std::vector<LuminanceStats> metered(n);
-    std::vector<double> measured(n); // each frame's own metering, before adaptation
-    std::vector<char> failed(n, 0);
+    seq.metered.assign(n, LuminanceStats{});
+    seq.measured.assign(n, 0.0);
+    seq.failed.assign(n, 0);
     // The metering pass reads every frame, and the mapping pass reads it again: keeping frames
     // between the passes (as half floats) was measured no faster and took 1.7 GB for 100
     // frames of 1080p.
-    if (adapt || meterOnly) {
-        OIIO::parallel_for(
-            int64_t(0), int64_t(n),
-            [&](int64_t i) {
-                if (!app::meterFrame(tool, job, input.path(numbers[size_t(i)]), metered[size_t(i)],
-                                     1))
-                    failed[size_t(i)] = 1;
-            },
-            perItem(workers));
+    if (o.adapt || o.meterOnly) {
         // Nothing is written when any frame cannot be read.
-        if (std::find(failed.begin(), failed.end(), 1) != failed.end()) return app::kExitFailure;
-        for (size_t i = 0; i < n; ++i)
-            measured[i] = metered[i].logAverage;
-        if (meterOnly) {
+        if (!meterSequence(tool, job, seq, workers)) return app::kExitFailure;
+        if (o.meterOnly) {
             app::SequenceStats stats;
-            stats.fps = fps;
-            stats.metering = metering;
+            stats.fps = o.fps;
+            stats.metering = seq.metering;
             for (size_t i = 0; i < n; ++i)
-                stats.frames.push_back(
-                    {numbers[i], input.path(numbers[i]), measured[i], measured[i]});
+                stats.frames.push_back({seq.numbers[i], seq.input.path(seq.numbers[i]),
+                                        seq.measured[i], seq.measured[i]});
             tool.info("metered " + std::to_string(n) + " frames");
-            return tool.writeText(app::toJson(stats), statsOut) ? app::kExitSuccess
-                                                                : app::kExitFailure;
+            return tool.writeText(app::toJson(stats), o.statsOut) ? app::kExitSuccess
+                                                                  : app::kExitFailure;
         }
         AdaptationParams ap;
-        ap.fps = fps;
-        const std::vector<double> adapted = adaptLuminance(measured, ap);
+        ap.fps = o.fps;
+        const std::vector<double> adapted = adaptLuminance(seq.measured, ap);
         for (size_t i = 0; i < n; ++i)
-            metered[i].logAverage = adapted[i];
+            seq.metered[i].logAverage = adapted[i];
     }
-
-    std::vector<LuminanceStats> used(n); // the metering each frame was mapped with
-    {
-        SequenceProgress progress(tool, n);
-        OIIO::parallel_for(
-            int64_t(0), int64_t(n),
-            [&](int64_t i) {
-                const int f = numbers[size_t(i)];
-                if (!app::mapFrame(tool, job, input.path(f), output.path(f),
-                                   adapt ? &metered[size_t(i)] : nullptr,
-                                   adaptFrom.empty() ? nullptr : &given[size_t(i)], used[size_t(i)],
-                                   1))
-                    failed[size_t(i)] = 1;
-                progress.frameDone();
-            },
-            perItem(workers));
-    }
+    seq.used.assign(n, LuminanceStats{});
+    mapSequence(tool, job, o, seq, workers);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     char line[160];
     std::snprintf(line, sizeof line, "%zu frames in %.2f s (%.1f frames/s)", n, seconds,
                   double(n) / seconds);
     tool.info(line);
-    const size_t failures = size_t(std::count(failed.begin(), failed.end(), 1));
+    const size_t failures = size_t(std::count(seq.failed.begin(), seq.failed.end(), 1));
     if (failures > 0)
         return tool.fail(std::to_string(failures) + " of " + std::to_string(n) +
                          " frames failed (see above)");
-
-    if (!statsOut.empty()) {
-        app::SequenceStats stats;
-        stats.fps = fps;
-        stats.adapt = adapt || !adaptFrom.empty();
-        stats.metering = metering;
-        // Without adaptation, each frame is mapped with its own metering.
-        for (size_t i = 0; i < n; ++i)
-            stats.frames.push_back({numbers[i], input.path(numbers[i]),
-                                    adapt               ? measured[i]
-                                    : adaptFrom.empty() ? used[i].logAverage
-                                                        : givenMeasured[i],
-                                    used[i].logAverage});
-        if (!tool.writeText(app::toJson(stats), statsOut)) return app::kExitFailure;
-    }
+    if (!o.statsOut.empty() && !writeStats(tool, o, seq)) return app::kExitFailure;
     return app::kExitSuccess;
+}
+
+int run(int argc, char** argv) {
+    app::CommandLine cl("dhdr-tonemap", "HDR.exr -o IMAGE.png [options]",
+                        "Tone mapping: meters the image's luminance, maps it with an operator "
+                        "(default the\nphotographic operator of Reinhard et al. 2002) in "
+                        "scene-linear, and encodes it for a display\nthrough OpenColorIO (sRGB "
+                        "by default). Every format gets the same display-referred\nvalues: PNG "
+                        "(8- or 16-bit), JPEG and TIFF quantized, 8-bit output dithered, EXR as\n"
+                        "half floats. A frame pattern (shot.####.exr or shot.%04d.exr) in\nboth "
+                        "input and output maps a sequence in one process; --adapt lets the "
+                        "exposure follow\nthe eye's adaptation across it.");
+    FrameJob job;
+    job.white = "auto";
+    job.weights = "seed";
+    job.metering = "log-average";
+    job.percentiles = "5,95";
+    Options o;
+    declareOptions(cl, o, job);
+    if (const int status = cl.parse(argc, argv); status >= 0) return status;
+    app::Tool tool("dhdr-tonemap", cl);
+    if (const int status = checkModes(cl, o); status >= 0) return status;
+    if (o.scan) {
+        if (cl.inputs().empty()) return usage("--scan needs the statistics files to combine");
+        if (const int status = tool.start(cl.inputs(), o.statsOut); status >= 0) return status;
+        return app::scanStatistics(tool, cl.inputs(), o.fps, o.statsOut);
+    }
+    if (cl.inputs().size() != 1) return usage("give one HDR image or frame pattern");
+    if (const int status = parseJob(cl, o, job); status >= 0) return status;
+
+    Sequence seq(cl.inputs()[0], cl.output());
+    const app::FramePattern& input = seq.input;
+    if (!o.meterOnly && input.isSequence() != seq.output.isSequence())
+        return usage("give a frame pattern for both the input and the output, or for neither");
+    if (!input.isSequence() &&
+        (o.adapt || o.meterOnly || !o.adaptFrom.empty() || !cl.frames().empty()))
+        return usage("--adapt, --meter-only, --adapt-from and --frames need a frame pattern "
+                     "(shot.####.exr)");
+    if (const int status = tool.start(cl.inputs(), o.meterOnly ? o.statsOut : cl.output());
+        status >= 0)
+        return status;
+    if (std::string error; !job.display.init(o.display, error)) return tool.fail(error);
+    tool.info("display " + job.display.describe());
+    if (input.isSequence()) return runSequence(tool, cl, job, o, seq);
+    LuminanceStats used;
+    return app::mapFrame(tool, job, input.path(0), seq.output.path(0), nullptr, nullptr, used,
+                         tool.threads())
+               ? app::kExitSuccess
+               : app::kExitFailure;
 }
 
 } // namespace

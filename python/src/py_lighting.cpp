@@ -13,12 +13,12 @@
 #include <dhdr/deferred/gbuffer/gbuffer.h>
 #include <dhdr/deferred/gbuffer/gbuffer_import.h>
 #include <dhdr/deferred/gbuffer/gbuffer_time.h>
+#include <dhdr/deferred/geometry/posed_scene.h>
 #include <dhdr/deferred/gi/probes.h>
 #include <dhdr/deferred/integrator/lighting.h>
 #include <dhdr/deferred/integrator/lighting_options.h>
 #include <dhdr/deferred/lights/emissive_lights.h>
 #include <dhdr/deferred/scene/lights.h>
-#include <dhdr/deferred/scene/scene_rig.h>
 #include <dhdr/io/errors.h>
 #include <dhdr/io/pixel_limit.h>
 #include <dhdr/io/sanitize.h>
@@ -146,37 +146,26 @@ PosedFor poseFor(const SceneHandle& h, const OIIO::ImageSpec& gspec) {
     std::optional<gbuffer::Moment> moment;
     if (std::string error; !gbuffer::readMoment(gspec, moment, error))
         throw py::value_error("gbuffer: " + error);
-    const std::vector<Animation> none;
-    const std::vector<Animation>& animations = h.scene->rig ? h.scene->rig->animations : none;
     std::vector<int> playing;
-    if (moment && !animations.empty())
-        playing = moment->animations ? *moment->animations : std::vector<int>{0};
-    else if (!moment && !animations.empty())
-        python::warn(std::string("gbuffer: records no animation time (") + gbuffer::kAnimationTime +
-                     "): shadows and reflections see the rest pose of " + h.path);
-    for (const int a : playing) {
-        if (a < 0 || size_t(a) >= animations.size()) {
-            std::string names;
-            for (size_t i = 0; i < animations.size(); ++i)
-                names += (i ? ", " : "") + std::to_string(i) + " '" + animations[i].name + "'";
-            throw py::value_error("gbuffer: rendered with animation " + std::to_string(a) +
-                                  ", which " + h.path + " does not have (it has: " + names +
-                                  "): is it the scene the G-buffer was rendered from?");
-        }
-        if (!animations[size_t(a)].problem.empty())
-            raiseError(h.path + ": animation '" + animations[size_t(a)].name +
-                       "' cannot be played: " + animations[size_t(a)].problem);
-    }
+    PoseReport report;
+    const bool chosen = animationsAtMoment(*h.scene, h.path, "gbuffer", moment, playing, report);
+    for (const std::string& w : report.warnings)
+        python::warn(w);
+    if (!chosen && report.fault == PoseFault::GBuffer) throw py::value_error(report.error);
+    if (!chosen) raiseError(report.error);
     if (playing.empty()) return {h.scene, nullptr};
-    auto posed = std::make_shared<Scene>(*h.scene);
-    std::shared_ptr<RayCaster> caster;
+    auto posed = std::make_shared<PosedScene>();
+    std::string error;
+    bool ok = false;
     {
         py::gil_scoped_release gil;
-        ScenePoser(*posed, playing).pose(moment->time);
-        caster = std::make_shared<RayCaster>(*posed, posed->rig->movingMeshes(playing));
+        posed->hold(h.scene, h.path);
+        posed->play(playing);
+        ok = posed->pose(moment->time, error);
     }
-    if (!caster->ok()) raiseError(h.path + ": " + caster->error());
-    return {posed, caster};
+    if (!ok) raiseError(h.path + ": " + error);
+    return {std::shared_ptr<const Scene>(posed, &posed->scene()),
+            std::shared_ptr<const RayCaster>(posed, posed->caster().get())};
 }
 
 // light()'s keywords after its G-buffer, in the order declared (lightKeywords): what a call

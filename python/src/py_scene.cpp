@@ -4,7 +4,10 @@
 #include "py_ops.h"
 
 #include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <dhdr/deferred/gbuffer/gbuffer_depth.h>
+#include <dhdr/deferred/gbuffer/gbuffer_stamp.h>
 #include <dhdr/deferred/gbuffer/gbuffer_time.h>
+#include <dhdr/deferred/geometry/posed_scene.h>
 #include <dhdr/deferred/render/gbuffer_render.h>
 #include <dhdr/deferred/scene/camera.h>
 #include <dhdr/deferred/scene/scene_camera.h>
@@ -118,28 +121,17 @@ SceneHandle posed(const SceneHandle& h, const py::object& time, const py::object
         momentOf(h, animation,
                  frame.is_none() ? std::nullopt : std::optional<long long>(frame.cast<long long>()),
                  time.is_none() ? std::nullopt : std::optional<double>(time.cast<double>()), fps);
-    SceneHandle out{h.path, std::make_shared<Scene>(*h.scene)};
+    SceneHandle out{h.path, nullptr};
     {
         py::gil_scoped_release gil;
-        if (!moment.playing.empty()) ScenePoser(*out.scene, moment.playing).pose(moment.time);
-        // Standing still: traced as its triangles lie, no mesh an instance.
-        out.scene->rig.reset();
-        for (Mesh& mesh : out.scene->meshes)
-            mesh.instance.reset();
+        out.scene = std::make_shared<Scene>(stillCopy(*h.scene, moment.playing, moment.time));
     }
     return out;
 }
 
-py::object render(const SceneHandle& h, const std::string& camera, const py::object& lookat,
-                  double fov, std::pair<int, int> size, bool frameAll, const py::object& deepGiven,
-                  int maxLayers, const py::object& time, const py::object& frame, double fps,
-                  const py::object& animation, int nthreads) {
-    // deep: True (--deep), False (--flat) or 'auto', the tool's default: deep when a partly
-    // transparent surface is in view.
-    const bool autoDeep = py::isinstance<py::str>(deepGiven);
-    if (autoDeep && deepGiven.cast<std::string>() != "auto")
-        throw py::value_error("deep must be True, False or 'auto'");
-    bool deep = !autoDeep && deepGiven.cast<bool>();
+// render_gbuffer's size and max_layers, checked as dhdr-gbuffer checks --size and
+// --max-layers.
+GBufferParams gbufferParams(std::pair<int, int> size, int maxLayers) {
     GBufferParams params;
     if (maxLayers < 1 || maxLayers > 64)
         throw py::value_error("max_layers: " + std::to_string(maxLayers) + " is outside [1, 64]");
@@ -150,113 +142,129 @@ py::object render(const SceneHandle& h, const std::string& camera, const py::obj
         throw py::value_error("size: expected (width, height) of positive numbers");
     if (const std::string e = pixelLimitError(params.width, params.height); !e.empty())
         throw py::value_error("size: " + e);
+    return params;
+}
+
+// deep: True (--deep), False (--flat) or 'auto', the tool's default: deep when a partly
+// transparent surface is in view.
+GBufferDepth depthOf(const py::object& deep) {
+    if (py::isinstance<py::str>(deep)) {
+        if (deep.cast<std::string>() != "auto")
+            throw py::value_error("deep must be True, False or 'auto'");
+        return GBufferDepth::Auto;
+    }
+    return deep.cast<bool>() ? GBufferDepth::Deep : GBufferDepth::Flat;
+}
+
+// render_gbuffer's camera, lookat, fov (checked) and frame_all, as dhdr-gbuffer's --camera,
+// --lookat, --fov and --frame-all.
+CameraChoice cameraChoice(const std::string& camera, const py::object& lookat, double fov,
+                          bool frameAll) {
+    CameraChoice choice;
+    choice.name = camera;
+    choice.fovDegrees = fov;
+    choice.frameAll = frameAll;
+    if (lookat.is_none()) return choice;
+    // (eye, target[, up]) as dhdr-gbuffer --lookat, 39.6 degrees unless fov says.
+    const std::vector<double> v = lookat.cast<std::vector<double>>();
+    if (v.size() != 6 && v.size() != 9)
+        throw py::value_error("lookat needs 6 or 9 numbers (eye, target[, up])");
+    const glm::dvec3 eye(v[0], v[1], v[2]), target(v[3], v[4], v[5]);
+    const glm::dvec3 up = v.size() == 9 ? glm::dvec3(v[6], v[7], v[8]) : glm::dvec3(0, 1, 0);
+    if (glm::length(target - eye) < 1e-9 * std::max(1.0, glm::length(eye)))
+        throw py::value_error("lookat: the eye and the target are the same point");
+    if (glm::length(up) == 0.0) throw py::value_error("lookat: the up vector is zero");
+    choice.lookat = Camera::lookAt(eye, target, up, glm::radians(39.6));
+    return choice;
+}
+
+// What render_gbuffer renders, without the GIL: the G-buffer flat or deep, or why not.
+struct Rendered {
+    OIIO::ImageBuf gbuf;
+    DeepHandle layers;
+    bool deep = false, ok = false;
+    std::string error, cameraError;
+    std::vector<std::string> warnings; // what the frame's camera choice warns about
+};
+
+// Traces the G-buffer of `scene` (with `caster`, or its own) from the camera `choice` gives,
+// flat or deep as `depth` says.
+void trace(const SceneHandle& h, const Scene& scene, std::shared_ptr<const RayCaster> caster,
+           const GBufferParams& params, const CameraChoice& choice, GBufferDepth depth,
+           int nthreads, Rendered& out) {
+    std::vector<std::string> notes;
+    Camera cam;
+    const double aspect = double(params.width) / double(params.height);
+    if (!chooseCamera(scene, h.path, choice, aspect, cam, out.cameraError, notes, out.warnings))
+        return;
+    const GBufferRenderer renderer =
+        caster ? GBufferRenderer(scene, cam, params, caster) : GBufferRenderer(scene, cam, params);
+    if (!renderer.ok()) {
+        out.error = h.path + ": " + renderer.error();
+        return;
+    }
+    if (tracesLayers(depth, scene)) {
+        long long transparent = 0;
+        out.ok = renderer.renderDeep(*out.layers.g, {}, nthreads, &transparent);
+        if (!out.ok) out.error = h.path + ": cannot render the layers";
+        out.deep = writtenDeep(depth, transparent);
+    }
+    if (!out.deep && out.error.empty()) {
+        out.ok = renderer.render(out.gbuf, {}, nthreads);
+        if (!out.ok) out.error = h.path + ": " + out.gbuf.geterror();
+    }
+}
+
+py::object render(const SceneHandle& h, const std::string& camera, const py::object& lookat,
+                  double fov, std::pair<int, int> size, bool frameAll, const py::object& deepGiven,
+                  int maxLayers, const py::object& time, const py::object& frame, double fps,
+                  const py::object& animation, int nthreads) {
+    const GBufferDepth depth = depthOf(deepGiven);
+    GBufferParams params = gbufferParams(size, maxLayers);
     if (!(fov >= 0.0 && fov < 180.0)) throw py::value_error("fov: must be in (0, 180) degrees");
     const Moment moment =
         momentOf(h, animation,
                  frame.is_none() ? std::nullopt : std::optional<long long>(frame.cast<long long>()),
                  time.is_none() ? std::nullopt : std::optional<double>(time.cast<double>()), fps);
-    CameraChoice choice;
-    choice.name = camera;
-    choice.fovDegrees = fov;
-    choice.frameAll = frameAll;
-    if (!lookat.is_none()) {
-        // (eye, target[, up]) as dhdr-gbuffer --lookat, 39.6 degrees unless fov says.
-        const std::vector<double> v = lookat.cast<std::vector<double>>();
-        if (v.size() != 6 && v.size() != 9)
-            throw py::value_error("lookat needs 6 or 9 numbers (eye, target[, up])");
-        const glm::dvec3 eye(v[0], v[1], v[2]), target(v[3], v[4], v[5]);
-        const glm::dvec3 up = v.size() == 9 ? glm::dvec3(v[6], v[7], v[8]) : glm::dvec3(0, 1, 0);
-        if (glm::length(target - eye) < 1e-9 * std::max(1.0, glm::length(eye)))
-            throw py::value_error("lookat: the eye and the target are the same point");
-        if (glm::length(up) == 0.0) throw py::value_error("lookat: the up vector is zero");
-        choice.lookat = Camera::lookAt(eye, target, up, glm::radians(39.6));
-    }
+    const CameraChoice choice = cameraChoice(camera, lookat, fov, frameAll);
     const double aspect = double(params.width) / double(params.height);
-    std::string cameraError, error;
-    std::vector<std::string> warnings;
-    // The camera of the scene as posed (chooseCamera: lookat's, else the scene's, with fov and
-    // frame_all); what it warns about is said for the frame itself only, as the tool does.
-    auto cameraOf = [&](const Scene& s, Camera& c, bool announce) {
-        std::vector<std::string> notes, said;
-        const bool ok = chooseCamera(s, h.path, choice, aspect, c, cameraError, notes, said);
-        if (announce) warnings = said;
-        return ok;
-    };
-    OIIO::ImageBuf gbuf;
-    DeepHandle layers;
-    bool ok = false;
+    Rendered out;
     {
         py::gil_scoped_release gil;
         // An animated render poses its own copy of the scene, as dhdr-gbuffer --frame does:
         // the frames before and after first (the motion layer), then this one, and builds its
         // ray caster on it, so that renders of one dhdr.Scene at other times may run at once.
-        std::shared_ptr<const Scene> scene = h.scene;
-        std::shared_ptr<RayCaster> caster;
+        PosedScene posed;
         if (!moment.playing.empty()) {
-            auto posed = std::make_shared<Scene>(*h.scene);
-            ScenePoser poser(*posed, moment.playing);
-            auto motion = std::make_shared<FrameMotion>();
-            const double dt = 1.0 / fps;
-            poser.pose(moment.time - dt);
-            bool framed = cameraOf(*posed, motion->previousCamera, false);
-            for (const Mesh& mesh : posed->meshes)
-                motion->previous.push_back(mesh.positions);
-            poser.pose(moment.time + dt);
-            framed = framed && cameraOf(*posed, motion->nextCamera, false);
-            for (const Mesh& mesh : posed->meshes)
-                motion->next.push_back(mesh.positions);
-            poser.pose(moment.time);
-            if (framed) {
-                caster =
-                    std::make_shared<RayCaster>(*posed, posed->rig->movingMeshes(moment.playing));
-                if (!caster->ok()) error = h.path + ": " + caster->error();
+            posed.hold(h.scene, h.path);
+            posed.play(moment.playing);
+            // The cameras either side say nothing: what the camera warns about is said for the
+            // frame itself only, as the tool does.
+            auto around = [&](const Scene& s, Camera& c) {
+                std::vector<std::string> notes, warnings;
+                return chooseCamera(s, h.path, choice, aspect, c, out.cameraError, notes, warnings);
+            };
+            std::shared_ptr<FrameMotion> motion;
+            if (std::string e; !posed.pose(moment.time, 1.0 / fps, around, motion, e)) {
+                if (!e.empty()) out.error = h.path + ": " + e;
             }
             params.motion = motion;
-            scene = posed;
         }
-        Camera cam;
-        if (cameraError.empty() && error.empty() && cameraOf(*scene, cam, true)) {
-            const GBufferRenderer renderer = caster ? GBufferRenderer(*scene, cam, params, caster)
-                                                    : GBufferRenderer(*scene, cam, params);
-            // Only a Blend material makes a partly transparent surface.
-            const bool blends =
-                std::any_of(scene->materials.begin(), scene->materials.end(),
-                            [](const Material& mat) { return mat.alphaMode == AlphaMode::Blend; });
-            long long transparent = 0;
-            if (!renderer.ok()) {
-                error = h.path + ": " + renderer.error();
-            } else if (deep || (autoDeep && blends)) {
-                ok = renderer.renderDeep(*layers.g, {}, nthreads, &transparent);
-                if (!ok) error = h.path + ": cannot render the layers";
-                deep = deep || transparent > 0;
-            }
-            if (renderer.ok() && !deep && error.empty()) {
-                ok = renderer.render(gbuf, {}, nthreads);
-                if (!ok) error = h.path + ": " + gbuf.geterror();
-            }
-        }
-        if (ok) {
-            // What dhdr-gbuffer records: the scene file and its fingerprint (dhdr-light
-            // compares it with --scene), and for an animated frame which moment it shows.
-            OIIO::ImageSpec& spec = deep ? layers.g->spec : gbuf.specmod();
-            spec.attribute("dhdr:source", h.path);
-            if (!moment.playing.empty()) {
-                gbuffer::Moment m;
-                m.time = moment.time;
-                m.fps = fps;
-                m.animations = moment.playing;
-                gbuffer::writeMoment(spec, m);
-            }
-            if (const std::string sha = sceneFingerprint(h.path); !sha.empty())
-                spec.attribute(gbuffer::kSceneFingerprint, sha);
-        }
+        if (out.cameraError.empty() && out.error.empty())
+            trace(h, posed.animated() ? posed.scene() : *h.scene, posed.caster(), params, choice,
+                  depth, nthreads, out);
+        // What dhdr-gbuffer records: the scene file and its fingerprint (dhdr-light compares
+        // it with --scene), and for an animated frame which moment it shows.
+        if (out.ok)
+            gbuffer::stampGBuffer(out.deep ? out.layers.g->spec : out.gbuf.specmod(), h.path,
+                                  posed.moment(moment.time, fps));
     }
-    for (const std::string& w : warnings)
+    for (const std::string& w : out.warnings)
         warn(w);
-    if (!cameraError.empty()) throw py::value_error(cameraError);
-    if (!ok) raiseError(error);
-    if (deep) return py::cast(std::move(layers));
-    return py::cast(Image::fromBuf(std::move(gbuf)));
+    if (!out.cameraError.empty()) throw py::value_error(out.cameraError);
+    if (!out.ok) raiseError(out.error);
+    if (out.deep) return py::cast(std::move(out.layers));
+    return py::cast(Image::fromBuf(std::move(out.gbuf)));
 }
 
 } // namespace

@@ -3,7 +3,7 @@
 #pragma once
 
 #include <dhdr/deferred/geometry/ray_caster.h>
-#include <dhdr/deferred/render/frame_motion.h>
+#include <dhdr/deferred/scene/frame_motion.h>
 
 namespace dhdr {
 

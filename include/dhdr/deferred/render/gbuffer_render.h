@@ -2,7 +2,7 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
-#include <dhdr/deferred/render/frame_motion.h>
+#include <dhdr/deferred/scene/frame_motion.h>
 #include <dhdr/deferred/scene/camera.h>
 #include <functional>
 #include <glm/glm.hpp>
