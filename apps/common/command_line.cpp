@@ -187,8 +187,9 @@ void CommandLine::printHelp() const {
                               "for a faster zip (default: the format's)");
     row("--frames A-B", "frames of a pattern (in.####.exr, in.%04d.exr) in the input and "
                         "output (default: every frame whose input exists)");
-    row("--threads N",
-        "worker threads (0: one per core; default 0) [0, " + std::to_string(kMaxThreads) + "]");
+    row("--threads N", "worker threads (0: one per core; default " +
+                           std::to_string(kDefaultThreads) + ") [0, " +
+                           std::to_string(kMaxThreads) + "]");
     row("--max-pixels N",
         "refuse an image of more than N pixels (width x height) before reading it (default " +
             std::to_string(kDefaultMaxPixels) + " = 16384x16384; 0: no limit)");

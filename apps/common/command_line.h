@@ -11,6 +11,9 @@
 
 namespace dhdr::app {
 
+// --threads when not given: one worker per core.
+inline constexpr int kDefaultThreads = 0;
+
 inline constexpr int kExitSuccess = 0;
 inline constexpr int kExitFailure = 1;
 inline constexpr int kExitUsage = 2;
@@ -104,7 +107,7 @@ private:
     std::string m_output;
     std::string m_compression;
     std::string m_frames;
-    int m_threads = 0;
+    int m_threads = kDefaultThreads;
     long long m_maxPixels = kDefaultMaxPixels;
     int m_verbosity = 1;
 };

@@ -1,5 +1,6 @@
 // dhdr-aa: edge-detect anti-aliasing of an image from its geometry (docs/tools.md).
 #include "../common/frames.h"
+#include "../common/param_options.h"
 #include "../common/tool.h"
 
 #include <OpenImageIO/imagebufalgo.h>
@@ -197,13 +198,8 @@ int run(int argc, char** argv) {
     std::string gbufferPath, use = "both", layer;
     EdgeAAParams params; // the options write into it
     cl.option("--gbuffer", gbufferPath, "FILE", "G-buffer with N.X N.Y N.Z and Z");
-    cl.option("--use", use, "normal|depth|both", "which discontinuities count (default both)");
-    cl.option("--normal-weight", params.normalWeight, "W", "weight of Σ|ΔN|² (default 1)",
-              {0.0, 1e6});
-    cl.option("--depth-weight", params.depthWeight, "W", "weight of Σ(ΔZ/Z)² (default 1)",
-              {0.0, 1e6});
-    cl.option("--max-offset", params.maxOffset, "PX",
-              "tap offset at full blur, pixels (default 0.5)", {0.0, 4.0});
+    cl.option("--use", use, "normal|depth|both", "which discontinuities count");
+    app::addParamOptions(cl, params, kEdgeAAFloatTable);
     cl.option("--layer", layer, "NAME",
               "the layer or EXR part to filter (default: the unnamed R,G,B,A, else the one "
               "called Combined, rgba or beauty)");

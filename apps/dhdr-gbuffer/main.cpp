@@ -42,7 +42,7 @@ struct Options {
 };
 
 void declareOptions(app::CommandLine& cl, Options& o) {
-    cl.option("--size", o.size, "WxH", "image size in pixels (default 1920x1080)");
+    cl.option("--size", o.size, "WxH", "image size in pixels");
     cl.option("--camera", o.cameraName, "NAME", "the scene camera to use (default: the first)");
     cl.option("--lookat", o.lookat, "EX,EY,EZ,TX,TY,TZ[,UX,UY,UZ]",
               "a camera at E looking at T (up U, default 0,1,0) instead of the scene's");
@@ -57,10 +57,11 @@ void declareOptions(app::CommandLine& cl, Options& o) {
             "(default: only when some pixel holds a partly transparent surface)");
     cl.flag("--flat", o.flat,
             "never write a deep EXR: each pixel's first surface, transparent or not");
-    cl.option("--max-layers", o.maxLayers, "N",
-              "deep G-buffers: at most N samples a pixel (1-64, default 8); the opaque surface "
-              "keeps its place, Blend surfaces beyond the first N-1 are left out",
-              1, 64);
+    cl.option(
+        "--max-layers", o.maxLayers, "N",
+        "deep G-buffers: at most N samples a pixel; the opaque surface keeps its place, Blend "
+        "surfaces beyond the first N-1 are left out",
+        1, 64);
     cl.flagWithNumber("--ground-plane", o.groundPlane, o.groundY, "Y",
                       "add an infinite horizontal plane at height Y (default: the scene's lowest "
                       "point) that dhdr-light treats as a shadow catcher for compositing "

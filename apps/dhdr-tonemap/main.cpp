@@ -62,10 +62,8 @@ void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
               "aces (the ACES 1.0 SDR output transform, as the view) or none (scene-linear "
               "x 2^exposure, unclipped, to the display/view: a config's own view such as "
               "Filmic or AgX tone-maps)");
-    cl.option("--key", o.key, "A", "key α: the metered luminance maps to this (default 0.18)",
-              {0.0, 100.0, true});
-    cl.option("--exposure", o.exposure, "STOPS", "extra exposure in stops (default 0)",
-              {-64.0, 64.0});
+    cl.option("--key", o.key, "A", "key α: the metered luminance maps to this", {0.0, 100.0, true});
+    cl.option("--exposure", o.exposure, "STOPS", "extra exposure in stops", {-64.0, 64.0});
     cl.option("--white", job.white, "L|auto|inf",
               "reinhard's white point in scaled luminance (default auto: the largest in the "
               "image; inf: L/(1+L))");
@@ -75,8 +73,8 @@ void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
               "the percentile window of --metering histogram (default 5,95)");
     cl.option("--weights", job.weights, "seed|rec709",
               "luminance weights: 0.27/0.67/0.06 (default) or 0.2126/0.7152/0.0722");
-    cl.option("--delta", o.delta, "D", "δ of the log-average (default 1e-4)", {0.0, 1.0, true});
-    cl.option("--bits", job.bits, "8|16", "bits per channel of PNG/TIFF output (default 8)", 8, 16);
+    cl.option("--delta", o.delta, "D", "δ of the log-average", {0.0, 1.0, true});
+    cl.option("--bits", job.bits, "8|16", "bits per channel of PNG/TIFF output", 8, 16);
     cl.flag("--no-dither", o.noDither, "quantize 8-bit output without dithering");
     cl.option("--ocio-config", o.display.config, "FILE",
               "OpenColorIO config (default: $OCIO, else a built-in one: scene-linear Rec.709 in, "
@@ -92,15 +90,14 @@ void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
               "called Combined, rgba or beauty)");
     cl.flag("--adapt", o.adapt,
             "eye adaptation over the sequence: adapted += (L - adapted)(1 - 0.98^(30 dt))");
-    cl.option("--fps", o.fps, "N", "frames per second of the sequence, dt = 1/fps (default 24)",
+    cl.option("--fps", o.fps, "N", "frames per second of the sequence, dt = 1/fps",
               {0.0, 1000.0, true});
     cl.option("--stats-out", o.statsOut, "FILE.json",
               "write each frame's metered and adapted luminance");
     cl.option("--memory", o.memoryMiB, "MiB",
               "a frame whose float pixels need more than this is streamed: read strip by strip, "
-              "once per metering pass and once to map, instead of whole (default 512; 0 "
-              "streams every frame; the same pixels either way; reinhard-local always reads "
-              "the frame whole)",
+              "once per metering pass and once to map, instead of whole (0 streams every frame; "
+              "the same pixels either way; reinhard-local always reads the frame whole)",
               {0.0, 1048576.0});
     cl.flag("--meter-only", o.meterOnly,
             "meter the frames and write --stats-out, no images (the first step of adaptation "

@@ -103,14 +103,11 @@ ImageOp toneMapOp(const Image&, const std::string& op, double key, double exposu
 BloomParams bloomParams(float threshold, float key, float sigma, float strength,
                         const std::string& weights, double delta, bool skip) {
     BloomParams p;
-    checkRange("threshold", threshold, 0.0, 1.0, false, true);
-    checkRange("key", key, 0.0, 100.0, true);
-    checkRange("sigma", sigma, 0.0, 64.0);
-    checkRange("strength", strength, 0.0, 1000.0);
     p.threshold = threshold;
     p.key = key;
     p.sigma = sigma;
     p.strength = strength;
+    checkParams(p, kBloomFloatTable);
     p.metering = luminanceParams(weights, delta, skip);
     return p;
 }
