@@ -147,12 +147,17 @@ def quantize(src: ImageLike, *, bits: int = 8, dither: bool = True, roi: Roi = N
              nthreads: int = 0) -> Union[npt.NDArray[np.uint8], npt.NDArray[np.uint16]]: ...
 def replace_non_finite(image: Image, *, zero_negative: bool = False, roi: Roi = None,
                        nthreads: int = 0) -> Dict[str, int]: ...
-def prepare_frame(src: Image, *, config: str = "", colorspace: str = "",
+def prepare_frame(src: ImageLike, *, config: str = "", colorspace: str = "",
                   nthreads: int = 0) -> Image: ...
-def tonemap_frame(src: Image, *, stats: Optional[LuminanceStats] = None, config: str = "",
+def tonemap_frame(src: ImageLike, *, stats: Optional[LuminanceStats] = None, config: str = "",
                   colorspace: str = "", display: str = "", view: str = "", look: str = "",
                   bits: Optional[int] = None, dither: bool = True, nthreads: int = 0,
-                  **tone: Any) -> Union[Image, np.ndarray]: ...
+                  op: str = "reinhard", key: float = 0.18, exposure: float = 0.0,
+                  white: Union[float, str] = "auto", metering: str = "log-average",
+                  percentiles: Tuple[float, float] = (5.0, 95.0), weights: str = "seed",
+                  delta: float = 1e-4, skip_transparent: bool = True, phi: float = 8.0,
+                  epsilon: float = 0.05,
+                  drago_bias: float = 0.85) -> Union[Image, np.ndarray]: ...
 
 # Scenes (py_scene.cpp)
 class Scene:

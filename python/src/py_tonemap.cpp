@@ -9,6 +9,7 @@
 #include <dhdr/tonemap/adaptation.h>
 #include <dhdr/tonemap/bloom.h>
 #include <dhdr/tonemap/display_transform.h>
+#include <dhdr/tonemap/frame_recipe.h>
 #include <dhdr/tonemap/metering.h>
 #include <dhdr/tonemap/quantize.h>
 #include <dhdr/tonemap/tone_map.h>
@@ -57,11 +58,12 @@ MeteringParams meteringParams(const std::string& metering, Percentiles window,
     py::arg("metering") = "log-average", py::arg("percentiles") = Percentiles{5.0, 95.0},          \
     py::arg("weights") = "seed", py::arg("delta") = 1e-4, py::arg("skip_transparent") = true
 
-ImageOp toneMapOp(const Image&, const std::string& op, double key, double exposure,
-                  const py::object& white, const std::string& metering, Percentiles window,
-                  const std::string& weights, double delta, bool skip,
-                  std::optional<LuminanceStats> stats, double phi, double epsilon,
-                  double dragoBias) {
+// tone_map's keywords as dhdr-tonemap's --op, --key, --exposure, --white, the metering
+// options, --phi, --epsilon and --drago-bias.
+ToneMapParams toneMapParams(const std::string& op, double key, double exposure,
+                            const py::object& white, const std::string& metering,
+                            Percentiles window, const std::string& weights, double delta, bool skip,
+                            double phi, double epsilon, double dragoBias) {
     ToneMapParams p;
     if (!parseToneOperator(op, p.op))
         throw py::value_error("op must be reinhard, reinhard-local, drago, hable, pbr-neutral, "
@@ -91,6 +93,16 @@ ImageOp toneMapOp(const Image&, const std::string& op, double key, double exposu
     p.phi = phi;
     p.epsilon = epsilon;
     p.dragoBias = dragoBias;
+    return p;
+}
+
+ImageOp toneMapOp(const Image&, const std::string& op, double key, double exposure,
+                  const py::object& white, const std::string& metering, Percentiles window,
+                  const std::string& weights, double delta, bool skip,
+                  std::optional<LuminanceStats> stats, double phi, double epsilon,
+                  double dragoBias) {
+    const ToneMapParams p = toneMapParams(op, key, exposure, white, metering, window, weights,
+                                          delta, skip, phi, epsilon, dragoBias);
     std::shared_ptr<LuminanceStats> given;
     if (stats) given = std::make_shared<LuminanceStats>(*stats);
     return [p, given](OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int n) {
@@ -201,6 +213,70 @@ bool quantizeInto(py::array& dst, const Image& src, bool dither, OIIO::ROI roi, 
     }
     if (!ok) raiseError(out.geterror());
     return true;
+}
+
+// dhdr-tonemap's reading of a frame (prepareFrame), on a copy of src.
+Image prepareFrameOf(const py::object& src, const std::string& config,
+                     const std::string& colorspace, int nthreads) {
+    Image storage;
+    const Image& image = asImage(src, "src", storage);
+    const std::shared_ptr<DisplayTransform> t = displayTransform(config, colorspace, "", "", "");
+    return runNew(image, {}, nthreads,
+                  [t](OIIO::ImageBuf& dst, const OIIO::ImageBuf& s, OIIO::ROI roi, int n) {
+                      return prepareFrame(dst, s, *t, nullptr, roi, n);
+                  });
+}
+
+// dhdr-tonemap on one frame in memory (the frame recipe): prepared as the tool reads it,
+// tone-mapped, encoded for the display; at most R, G, B, A, as floats or with `bits`
+// quantized into an integer array.
+// `reading`: the transform of prepare_frame.
+py::object tonemapFrame(const Image& image, const DisplayTransform& reading,
+                        const ToneMapParams& tone, const std::optional<LuminanceStats>& stats,
+                        const std::string& config, const std::string& colorspace,
+                        const std::string& display, const std::string& view,
+                        const std::string& look, const py::object& bits, bool dither,
+                        int nthreads) {
+    // The display's transform (op='aces' defaults the view to ACES, as --op aces does).
+    const auto shown =
+        displayTransform(config, colorspace, display,
+                         view.empty() && tone.op == ToneOperator::Aces ? "ACES" : view, look);
+    FrameRecipe recipe;
+    recipe.toneMap = tone;
+    recipe.toneMap.stats = stats ? &*stats : nullptr;
+    recipe.display = shown.get();
+    recipe.dither = dither;
+    const int nbits = bits.is_none() ? 0 : bits.cast<int>();
+    if (nbits != 0 && nbits != 8 && nbits != 16)
+        throw py::value_error("bits: " + std::to_string(nbits) + " is not 8 or 16");
+    recipe.type = nbits == 8    ? OIIO::TypeDesc::UINT8
+                  : nbits == 16 ? OIIO::TypeDesc::UINT16
+                                : OIIO::TypeDesc::FLOAT;
+    const ImageView in = python::view(image);
+    // The frame's own channel names and metadata on the first four channels.
+    OIIO::ImageSpec spec = in.buf.spec();
+    spec.nchannels = std::min(spec.nchannels, 4);
+    spec.channelnames.resize(size_t(spec.nchannels));
+    spec.channelformats.clear();
+    if (spec.alpha_channel >= spec.nchannels) spec.alpha_channel = -1;
+    if (spec.z_channel >= spec.nchannels) spec.z_channel = -1;
+    spec.set_format(recipe.type);
+    const std::vector<py::ssize_t> shape = {spec.height, spec.width, spec.nchannels};
+    py::array quantized;
+    if (nbits == 8) quantized = py::array_t<uint8_t>(shape);
+    if (nbits == 16) quantized = py::array_t<uint16_t>(shape);
+    OIIO::ImageBuf out =
+        nbits ? OIIO::ImageBuf(spec, quantized.mutable_data()) : OIIO::ImageBuf(spec);
+    OIIO::ImageBuf prepared;
+    bool ok = false;
+    {
+        py::gil_scoped_release gil;
+        ok = prepareFrame(prepared, in.buf, reading, nullptr, {}, nthreads) &&
+             toneMapFrame(out, prepared, recipe, {}, nthreads);
+    }
+    if (!ok) raiseError(out.has_error() ? out.geterror() : prepared.geterror());
+    if (nbits) return std::move(quantized);
+    return py::cast(Image::fromBuf(std::move(out)));
 }
 
 } // namespace
@@ -393,6 +469,44 @@ dithers 8-bit output unless --no-dither, never 16-bit). Returns a uint8 or uint1
         "image"_a, py::kw_only(), "zero_negative"_a = false, "roi"_a = py::none(), "nthreads"_a = 0,
         R"(In place, as the tools do on reading: NaN and -Inf become 0, +Inf 65504, and with
 zero_negative finite negatives 0 (dhdr-tonemap's colour). Returns the counts.)");
+
+    m.def("prepare_frame", &prepareFrameOf, "src"_a, py::kw_only(), "config"_a = "",
+          "colorspace"_a = "", "nthreads"_a = 0,
+          R"(dhdr-tonemap's reading of a frame, on a copy of src (an Image as dhdr.read gives it):
+non-finite and negative colour replaced (NaN, -Inf and negatives by 0, +Inf by 65504;
+alpha's non-finite values too), then brought to scene-linear from colorspace (or sRGB
+when the image says so: to_scene_linear). What the tool meters and maps.)");
+    m.def(
+        "tonemap_frame",
+        [](const py::object& src, std::optional<LuminanceStats> stats, const std::string& config,
+           const std::string& colorspace, const std::string& display, const std::string& view,
+           const std::string& look, const py::object& bits, bool dither, int nthreads,
+           const std::string& op, double key, double exposure, const py::object& white,
+           const std::string& metering, Percentiles window, const std::string& weights,
+           double delta, bool skip, double phi, double epsilon, double dragoBias) {
+            Image storage;
+            const Image& image = asImage(src, "src", storage);
+            // In the order the steps check their keywords: the reading, the tone map, the
+            // display, the quantization.
+            const auto reading = displayTransform(config, colorspace, "", "", "");
+            const ToneMapParams tone = toneMapParams(op, key, exposure, white, metering, window,
+                                                     weights, delta, skip, phi, epsilon, dragoBias);
+            return tonemapFrame(image, *reading, tone, stats, config, colorspace, display, view,
+                                look, bits, dither, nthreads);
+        },
+        "src"_a, py::kw_only(), "stats"_a = py::none(), "config"_a = "", "colorspace"_a = "",
+        "display"_a = "", "view"_a = "", "look"_a = "", "bits"_a = py::none(), "dither"_a = true,
+        "nthreads"_a = 0, py::arg("op") = "reinhard", py::arg("key") = 0.18,
+        py::arg("exposure") = 0.0, py::arg("white") = "auto", DHDR_METERING_ARGS,
+        py::arg("phi") = ToneMapParams{}.phi, py::arg("epsilon") = ToneMapParams{}.epsilon,
+        py::arg("drago_bias") = ToneMapParams{}.dragoBias,
+        R"(dhdr-tonemap on one frame in memory: what the tool does between reading and writing
+(libtonemap's frame recipe, frame_recipe.h). src (an Image as dhdr.read gives it, left
+unchanged) is prepared as the tool reads it (prepare_frame), tone-mapped (tone_map's
+keywords and stats, e.g. one of dhdr.adapt's), and encoded for the display (to_display;
+op='aces' defaults the view to ACES, as --op aces does). With bits=8 or 16 the result is
+quantize()'s integer array (what PNG and TIFF get; dither applies to 8 bits only, as in the
+tool), else the float Image an EXR gets (at most R, G, B, A).)");
 }
 
 } // namespace dhdr::python
