@@ -111,16 +111,6 @@ Mesh flatShaded(const Mesh& shared, const aiMesh& am, const glm::dmat4& world,
 
 } // namespace
 
-glm::dmat3 normalMatrixOf(const glm::dmat4& world) {
-    glm::dmat3 normalMatrix = glm::transpose(glm::inverse(glm::dmat3(world)));
-    double largest = 0.0;
-    for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r)
-            largest = std::max(largest, std::abs(normalMatrix[c][r]));
-    if (largest > 0.0 && std::isfinite(largest)) normalMatrix /= largest;
-    return normalMatrix;
-}
-
 bool MeshReader::add(const aiMesh& am, const aiNode& node, unsigned primitive,
                      const glm::dmat4& world, const glm::dmat3& normalMatrix, int object,
                      std::string& error) {

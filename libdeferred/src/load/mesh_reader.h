@@ -7,14 +7,11 @@
 
 #include <assimp/scene.h>
 #include <dhdr/deferred/scene/scene.h>
+#include <dhdr/deferred/scene/scene_rig.h>
 #include <glm/glm.hpp>
 #include <string>
 
 namespace dhdr::detail {
-
-// The normal matrix of a node's world transform: the inverse transpose, scaled to its largest
-// entry, so that a node scaled by 1e38 keeps usable normals (only their direction matters).
-glm::dmat3 normalMatrixOf(const glm::dmat4& world);
 
 class MeshReader {
 public:

@@ -184,7 +184,7 @@ private:
                 name =
                     shownName(m_ai.mMeshes[node.mMeshes[0]]->mName.C_Str(), m_meshNames, "meshes");
             m_scene.objectNames.push_back(name);
-            const glm::dmat3 normalMatrix = detail::normalMatrixOf(world);
+            const glm::dmat3 normalMatrix = normalMatrixOf(world);
             for (unsigned i = 0; i < node.mNumMeshes && ok; ++i)
                 ok = m_meshes.add(*m_ai.mMeshes[node.mMeshes[i]], node, i, world, normalMatrix,
                                   object, error);

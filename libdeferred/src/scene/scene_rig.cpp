@@ -8,17 +8,6 @@
 
 namespace dhdr {
 
-namespace {
-
-glm::dmat4 trs(const glm::dvec3& t, const glm::dquat& r, const glm::dvec3& s) {
-    glm::dmat4 m(1.0);
-    m[3] = glm::dvec4(t, 1.0);
-    m = m * glm::mat4_cast(r);
-    return m * glm::scale(glm::dmat4(1.0), s);
-}
-
-// The inverse transpose scaled to its largest entry, as the loader computes it: a node scaled
-// by 1e38 keeps usable normals (only their direction matters).
 glm::dmat3 normalMatrixOf(const glm::dmat4& world) {
     glm::dmat3 n = glm::transpose(glm::inverse(glm::dmat3(world)));
     double largest = 0.0;
@@ -27,6 +16,15 @@ glm::dmat3 normalMatrixOf(const glm::dmat4& world) {
             largest = std::max(largest, std::abs(n[c][r]));
     if (largest > 0.0 && std::isfinite(largest)) n /= largest;
     return n;
+}
+
+namespace {
+
+glm::dmat4 trs(const glm::dvec3& t, const glm::dquat& r, const glm::dvec3& s) {
+    glm::dmat4 m(1.0);
+    m[3] = glm::dvec4(t, 1.0);
+    m = m * glm::mat4_cast(r);
+    return m * glm::scale(glm::dmat4(1.0), s);
 }
 
 glm::vec3 unitOrZero(const glm::dvec3& d) {

@@ -108,4 +108,8 @@ private:
     bool m_first = true;
 };
 
+// The normal matrix of a node's world transform: the inverse transpose, scaled to its largest
+// entry, so that a node scaled by 1e38 keeps usable normals (only their direction matters).
+glm::dmat3 normalMatrixOf(const glm::dmat4& world);
+
 } // namespace dhdr
