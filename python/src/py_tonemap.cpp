@@ -279,9 +279,8 @@ py::object tonemapFrame(const Image& image, const DisplayTransform& reading,
     return py::cast(Image::fromBuf(std::move(out)));
 }
 
-} // namespace
-
-void bindTonemap(py::module_& m) {
+// The metering: LuminanceStats, meter, eye adaptation (dhdr-tonemap --metering, --adapt).
+void bindMetering(py::module_& m) {
     py::class_<LuminanceStats>(m, "LuminanceStats",
                                "A frame's metered luminance (dhdr.meter), or the one a tone map "
                                "uses (tone_map(stats=...)).")
@@ -310,24 +309,6 @@ void bindTonemap(py::module_& m) {
                           s.logAverage, s.maxLuminance, s.pixels);
             return std::string(text);
         });
-
-    defImageOp(m, "tone_map",
-               R"(Tone-maps scene-linear RGB to display-linear RGB (dhdr-tonemap's --op).
-
-Meters src (or uses stats=, e.g. an adapted luminance from dhdr.adapt) and maps it with
-op: reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure, aces
-(metered exposure; the ACES view does the rest) or none (x 2^exposure, unclipped).
-key: the metered luminance maps to it (0.18); exposure: stops; white: reinhard's white
-point ('auto': the largest, 'inf', or a number); metering: 'log-average' or 'histogram'
-(within percentiles); weights: 'seed' (0.27/0.67/0.06) or 'rec709'; delta: the
-log-average's delta; skip_transparent: leave alpha-0 pixels out of the metering.
-phi, epsilon: reinhard-local; drago_bias: drago. Alpha and further channels are copied.
-The result is display-linear; to_display() encodes it, quantize() makes integers.)",
-               &toneMapOp, py::kw_only(), py::arg("op") = "reinhard", py::arg("key") = 0.18,
-               py::arg("exposure") = 0.0, py::arg("white") = "auto", DHDR_METERING_ARGS,
-               py::arg("stats") = py::none(), py::arg("phi") = ToneMapParams{}.phi,
-               py::arg("epsilon") = ToneMapParams{}.epsilon,
-               py::arg("drago_bias") = ToneMapParams{}.dragoBias);
 
     m.def(
         "meter",
@@ -383,6 +364,27 @@ The result is display-linear; to_display() encodes it, quantize() makes integers
         "frames"_a, py::kw_only(), "fps"_a = 24.0, DHDR_METERING_ARGS, "nthreads"_a = 0,
         R"(Eye adaptation over a list of frames (dhdr-tonemap --adapt): each frame metered, the
 luminances adapted in order; returns one LuminanceStats per frame to give tone_map(stats=...).)");
+}
+
+// The operators: tone_map (--op) and bloom (dhdr-bloom).
+void bindOperators(py::module_& m) {
+    defImageOp(m, "tone_map",
+               R"(Tone-maps scene-linear RGB to display-linear RGB (dhdr-tonemap's --op).
+
+Meters src (or uses stats=, e.g. an adapted luminance from dhdr.adapt) and maps it with
+op: reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure, aces
+(metered exposure; the ACES view does the rest) or none (x 2^exposure, unclipped).
+key: the metered luminance maps to it (0.18); exposure: stops; white: reinhard's white
+point ('auto': the largest, 'inf', or a number); metering: 'log-average' or 'histogram'
+(within percentiles); weights: 'seed' (0.27/0.67/0.06) or 'rec709'; delta: the
+log-average's delta; skip_transparent: leave alpha-0 pixels out of the metering.
+phi, epsilon: reinhard-local; drago_bias: drago. Alpha and further channels are copied.
+The result is display-linear; to_display() encodes it, quantize() makes integers.)",
+               &toneMapOp, py::kw_only(), py::arg("op") = "reinhard", py::arg("key") = 0.18,
+               py::arg("exposure") = 0.0, py::arg("white") = "auto", DHDR_METERING_ARGS,
+               py::arg("stats") = py::none(), py::arg("phi") = ToneMapParams{}.phi,
+               py::arg("epsilon") = ToneMapParams{}.epsilon,
+               py::arg("drago_bias") = ToneMapParams{}.dragoBias);
 
     defImageOp(m, "bloom", R"(Bloom (dhdr-bloom): a bright pass on a quarter-size copy (pixels whose
 tone-mapped luminance L/(1+L), L = key Lw / log-average, exceeds threshold), downsampled to
@@ -405,7 +407,10 @@ R, G, B. Other channels are copied.)",
         },
         "src"_a, py::kw_only(), DHDR_BLOOM_ARGS, "nthreads"_a = 0,
         "The bloom layer alone (3 channels, src's size, before strength).");
+}
 
+// The display: OpenColorIO both ways and quantization.
+void bindDisplay(py::module_& m) {
     defImageOp(m, "to_display", R"(Encodes display-linear (tone-mapped) RGB for a display through
 OpenColorIO, as dhdr-tonemap does after its operator: look, view and display of config (empty:
 $OCIO, else the built-in config with display sRGB, views Standard and ACES). Names a config
@@ -451,7 +456,10 @@ the image's oiio:ColorSpace says so) to scene-linear, as dhdr-tonemap does on re
 (2^bits - 1) + offset), the offset from an 8x8 Bayer matrix on R, G, B when dither (the tool
 dithers 8-bit output unless --no-dither, never 16-bit). Returns a uint8 or uint16 array
 (height, width, channels); the dst form fills such an array.)");
+}
 
+// What the tools do on reading, and dhdr-tonemap's frame recipe.
+void bindFrames(py::module_& m) {
     m.def(
         "replace_non_finite",
         [](Image& image, bool zeroNegative, const py::object& roi, int nthreads) {
@@ -507,6 +515,15 @@ keywords and stats, e.g. one of dhdr.adapt's), and encoded for the display (to_d
 op='aces' defaults the view to ACES, as --op aces does). With bits=8 or 16 the result is
 quantize()'s integer array (what PNG and TIFF get; dither applies to 8 bits only, as in the
 tool), else the float Image an EXR gets (at most R, G, B, A).)");
+}
+
+} // namespace
+
+void bindTonemap(py::module_& m) {
+    bindMetering(m);
+    bindOperators(m);
+    bindDisplay(m);
+    bindFrames(m);
 }
 
 } // namespace dhdr::python
