@@ -40,8 +40,7 @@ void FrameTiming::declare(CommandLine& cl) {
                   given = true;
                   return true;
               });
-    cl.option("--fps", fps, "F",
-              "frames a second: frame N shows the animation at time N / F",
+    cl.option("--fps", fps, "F", "frames a second: frame N shows the animation at time N / F",
               {0.0, 1e6, true, false});
     cl.option("--animation", animation, "NAME|INDEX|all",
               "the animation that plays (default: the file's first, as glTF viewers play; all: "

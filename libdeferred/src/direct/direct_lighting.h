@@ -1,7 +1,7 @@
 // Direct light at a surface point: each light's unshadowed value (lights/light.h) times its
 // visibility (shadows.h), summed into the parts that occlusion treats apart. Shared by the
-// frame's shading (integrator/shade_sample.cpp) and the probe bake (probe_bake.cpp), so that a probe's ray
-// sees a surface lit exactly as the camera does.
+// frame's shading (integrator/shade_sample.cpp) and the probe bake (probe_bake.cpp), so that a
+// probe's ray sees a surface lit exactly as the camera does.
 #pragma once
 
 #include <cstdint>

@@ -192,9 +192,9 @@ struct IblShading {
 };
 // With IblSpecular::Quadrature (or Auto at high roughness) the first specular term is
 // specularQuadrature's. `spread` (radians, ≥ 0) is the angle the mirror directions of the
-// pixel's footprint span (reflectionSpread in integrator/shade_sample.cpp; 0: a point): the split sum reads
-// the levels at the lobe widened by it, α' = √(α² + (kFootprintAlpha · spread)²), so that a
-// mirror shows the sky filtered over its pixel instead of one point of it. Matching GGX's half
+// pixel's footprint span (reflectionSpread in integrator/shade_sample.cpp; 0: a point): the split
+// sum reads the levels at the lobe widened by it, α' = √(α² + (kFootprintAlpha · spread)²), so that
+// a mirror shows the sky filtered over its pixel instead of one point of it. Matching GGX's half
 // width at half maximum (1.29 α) to half the spread gives 0.39, which over-blurs (the lobe's
 // long tail); measured against a supersampled mirror
 // (EnvironmentReflections.AMirrorShowsTheSkyFilteredOverItsPixel), 0.12 / 0.18 / 0.25 / 0.39 /

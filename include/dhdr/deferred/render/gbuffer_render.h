@@ -2,8 +2,8 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
-#include <dhdr/deferred/scene/frame_motion.h>
 #include <dhdr/deferred/scene/camera.h>
+#include <dhdr/deferred/scene/frame_motion.h>
 #include <functional>
 #include <glm/glm.hpp>
 #include <memory>
