@@ -70,7 +70,7 @@ void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
     cl.option("--metering", job.metering, "log-average|histogram",
               "the log-average of all pixels (default), or of those between two percentiles");
     cl.option("--percentiles", job.percentiles, "LO,HI",
-              "the percentile window of --metering histogram (default 5,95)");
+              "the percentile window of --metering histogram");
     cl.option("--weights", job.weights, "seed|rec709",
               "luminance weights: 0.27/0.67/0.06 (default) or 0.2126/0.7152/0.0722");
     cl.option("--delta", o.delta, "D", "δ of the log-average", {0.0, 1.0, true});
