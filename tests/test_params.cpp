@@ -4,9 +4,11 @@
 #include "tool_test.h"
 
 #include <dhdr/deferred/direct/ambient_occlusion.h>
+#include <dhdr/deferred/environment/ibl.h>
 #include <dhdr/deferred/gi/probes.h>
 #include <dhdr/deferred/integrator/lighting.h>
 #include <dhdr/deferred/integrator/lighting_options.h>
+#include <dhdr/deferred/render/gbuffer_render.h>
 #include <dhdr/tonemap/bloom.h>
 #include <dhdr/tonemap/edge_aa.h>
 #include <dhdr/tonemap/motion_blur.h>
@@ -90,6 +92,8 @@ TEST_F(Params, DocsStateTheTablesRanges) {
     checkTable(kLightingParamTable, "tools.md");
     checkTable(kSsaoParamTable, "tools.md");
     checkTable(kProbeBakeParamTable, "gi.md");
+    checkTable(kGBufferParamTable, "tools.md");
+    checkTable(kIblBakeParamTable, "tools.md");
 }
 
 // The library refuses what the table refuses, naming the option.

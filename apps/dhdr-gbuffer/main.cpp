@@ -1,6 +1,7 @@
 // dhdr-gbuffer: a scene in, a multi-channel EXR G-buffer out (docs/tools.md).
 #include "../common/frame_timing.h"
 #include "../common/frames.h"
+#include "../common/param_options.h"
 #include "../common/tool.h"
 
 #include <algorithm>
@@ -36,7 +37,7 @@ struct Options {
     double fov = 0.0;
     bool frameAll = false, info = false, groundPlane = false, deep = false, flat = false;
     bool strict = false;
-    int maxLayers = 8;
+    GBufferParams limits; // --max-layers (kGBufferParamTable)
     std::optional<double> groundY;
     app::FrameTiming timing;
 };
@@ -57,11 +58,7 @@ void declareOptions(app::CommandLine& cl, Options& o) {
             "(default: only when some pixel holds a partly transparent surface)");
     cl.flag("--flat", o.flat,
             "never write a deep EXR: each pixel's first surface, transparent or not");
-    cl.option(
-        "--max-layers", o.maxLayers, "N",
-        "deep G-buffers: at most N samples a pixel; the opaque surface keeps its place, Blend "
-        "surfaces beyond the first N-1 are left out",
-        1, 64);
+    app::addParamOptions(cl, o.limits, kGBufferParamTable);
     cl.flagWithNumber("--ground-plane", o.groundPlane, o.groundY, "Y",
                       "add an infinite horizontal plane at height Y (default: the scene's lowest "
                       "point) that dhdr-light treats as a shadow catcher for compositing "
@@ -93,7 +90,7 @@ int usage(const std::string& message) {
 // --size and --max-layers into `params`. Returns -1 to go on, else the exit status.
 int parseImage(const Options& o, GBufferParams& params) {
     if (o.deep && o.flat) return usage("--deep and --flat exclude each other");
-    params.maxLayers = o.maxLayers;
+    params.maxLayers = o.limits.maxLayers;
     if (!app::parseSize(o.size, params.width, params.height))
         return usage("--size '" + o.size + "' is not WxH");
     if (const std::string e = pixelLimitError(params.width, params.height); !e.empty())

@@ -133,9 +133,8 @@ SceneHandle posed(const SceneHandle& h, const py::object& time, const py::object
 // --max-layers.
 GBufferParams gbufferParams(std::pair<int, int> size, int maxLayers) {
     GBufferParams params;
-    if (maxLayers < 1 || maxLayers > 64)
-        throw py::value_error("max_layers: " + std::to_string(maxLayers) + " is outside [1, 64]");
     params.maxLayers = maxLayers;
+    checkParams(params, kGBufferParamTable);
     params.width = size.first;
     params.height = size.second;
     if (params.width <= 0 || params.height <= 0)

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <dhdr/common/param_table.h>
 #include <dhdr/deferred/scene/camera.h>
 #include <dhdr/deferred/scene/frame_motion.h>
 #include <functional>
@@ -30,6 +31,15 @@ struct GBufferParams {
     // With animation: the scene one frame before and one after, for the motion layer
     // (gbuffer::kMotion, docs/animation.md); null (the default) writes none.
     std::shared_ptr<const FrameMotion> motion;
+};
+
+// GBufferParams' ranges, and the options of dhdr-gbuffer and keywords of
+// dhdr.render_gbuffer() that set them.
+inline constexpr IntParam<GBufferParams> kGBufferParamTable[] = {
+    {"--max-layers", &GBufferParams::maxLayers, 1, 64, "N",
+     "deep G-buffers: at most N samples a pixel; the opaque surface keeps its place, Blend "
+     "surfaces beyond the first N-1 are left out",
+     "max_layers"},
 };
 
 // Casts primary rays through each pixel centre and writes the channels of the G-buffer
