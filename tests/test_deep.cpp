@@ -111,7 +111,7 @@ bool writeDeep(const std::string& path, const DeepGBuffer& deep) {
     auto out = OIIO::ImageOutput::create(path);
     OIIO::ImageSpec spec = deep.spec;
     spec.deep = true;
-    spec.channelformats = gbuffer::deepChannelFormats();
+    spec.channelformats = gbuffer::channelFormats(deep.spec.channelnames);
     OIIO::DeepData data;
     toDeepData(deep, deep.spec.y, deep.spec.y + deep.spec.height, data);
     return out && out->open(path, spec) &&
@@ -585,15 +585,23 @@ TEST(GBufferContract, DocsListTheTable) {
                                                                : "half";
         const char* need = c.need == gbuffer::Need::Required   ? "required"
                            : c.need == gbuffer::Need::Optional ? "optional"
+                           : c.need == gbuffer::Need::WhenUsed ? "when used"
                                                                : "deep only";
         expected.push_back("| `" + names + "` | " + type + " | " + need + " | " + c.meaning + " |");
     }
     EXPECT_EQ(rows, expected);
     // And the writers follow it: the flat names are the table's without ZBack, in its order.
-    std::vector<std::string> deep = gbuffer::deepChannelNames(), flat = gbuffer::channelNames();
-    deep.erase(std::find(deep.begin(), deep.end(), std::string(gbuffer::kDepthBack)));
-    EXPECT_EQ(deep, flat);
-    EXPECT_EQ(gbuffer::deepChannelFormats().size(), gbuffer::deepChannelNames().size());
+    for (const bool occlusion : {false, true}) {
+        std::vector<std::string> deep = gbuffer::deepChannelNames(occlusion),
+                                 flat = gbuffer::channelNames(occlusion);
+        deep.erase(std::find(deep.begin(), deep.end(), std::string(gbuffer::kDepthBack)));
+        EXPECT_EQ(deep, flat);
+        // The WhenUsed channel only when asked for.
+        EXPECT_EQ(std::count(flat.begin(), flat.end(), std::string(gbuffer::kOcclusion)),
+                  occlusion ? 1 : 0);
+    }
+    EXPECT_EQ(gbuffer::channelFormats(gbuffer::deepChannelNames()).size(),
+              gbuffer::deepChannelNames().size());
 }
 
 TEST(DeepGBuffer, MaterialsReadTheirAlphaModes) {

@@ -138,11 +138,10 @@ private:
                          std::vector<std::pair<DeepGBuffer, long long>>& kept, bool& found) const;
     bool writeDeep(const GBufferRenderer& renderer, const std::string& scenePath,
                    const std::string& outPath, const std::optional<gbuffer::Moment>& moment,
-                   bool motion, std::vector<std::pair<DeepGBuffer, long long>>& kept,
+                   std::vector<std::pair<DeepGBuffer, long long>>& kept,
                    std::chrono::steady_clock::time_point s0) const;
     bool writeFlat(const GBufferRenderer& renderer, const std::string& scenePath,
-                   const std::string& outPath, const OIIO::ImageSpec& spec, bool motion,
-                   double& traceMs) const;
+                   const std::string& outPath, const OIIO::ImageSpec& spec, double& traceMs) const;
     bool writeLightsOut(int frame, const Scene& scene, const std::string& scenePath) const;
 
     const app::Tool& m_tool;
@@ -259,13 +258,13 @@ bool GBufferFrames::frame(int frame, const std::string& scenePath, const std::st
         bool deep = m_depth == GBufferDepth::Deep;
         if (!deep && !findTransparent(renderer, scenePath, kept, deep)) return false;
         if (deep) {
-            return writeDeep(renderer, scenePath, outPath, moment, bool(motion), kept, s0) &&
+            return writeDeep(renderer, scenePath, outPath, moment, kept, s0) &&
                    writeLightsOut(frame, scene, scenePath);
         }
         m_tool.info("no partly transparent surface in view: writing a flat G-buffer");
     }
     double traceMs = 0.0;
-    if (!writeFlat(renderer, scenePath, outPath, spec, bool(motion), traceMs)) return false;
+    if (!writeFlat(renderer, scenePath, outPath, spec, traceMs)) return false;
     if (!writeLightsOut(frame, scene, scenePath)) return false;
     const auto t2 = std::chrono::steady_clock::now();
     auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
@@ -308,12 +307,11 @@ bool GBufferFrames::findTransparent(const GBufferRenderer& renderer, const std::
 // EXR, stamped as the flat one would be. `s0`: when the layers' work began.
 bool GBufferFrames::writeDeep(const GBufferRenderer& renderer, const std::string& scenePath,
                               const std::string& outPath,
-                              const std::optional<gbuffer::Moment>& moment, bool motion,
+                              const std::optional<gbuffer::Moment>& moment,
                               std::vector<std::pair<DeepGBuffer, long long>>& kept,
                               std::chrono::steady_clock::time_point s0) const {
     long long transparent = 0, samples = 0;
-    std::vector<OIIO::TypeDesc> deepFormats = gbuffer::deepChannelFormats();
-    if (motion) deepFormats.insert(deepFormats.end(), 4, OIIO::TypeDesc::FLOAT);
+    std::vector<OIIO::TypeDesc> deepFormats = gbuffer::channelFormats(renderer.deepChannelNames());
     app::AtomicOutput file(m_tool, outPath);
     app::Progress progress(m_tool, "dhdr-gbuffer: rendering layers");
     StripPipelineParams streaming;
@@ -368,10 +366,10 @@ bool GBufferFrames::writeDeep(const GBufferRenderer& renderer, const std::string
 // written while the next is traced, and memory stays at two strips whatever the image size.
 // `traceMs` receives the tracing's time.
 bool GBufferFrames::writeFlat(const GBufferRenderer& renderer, const std::string& scenePath,
-                              const std::string& outPath, const OIIO::ImageSpec& spec, bool motion,
+                              const std::string& outPath, const OIIO::ImageSpec& spec,
                               double& traceMs) const {
     app::AtomicOutput file(m_tool, outPath);
-    if (!file.open(spec, gbufferChannelFormats(motion))) return false;
+    if (!file.open(spec, gbuffer::channelFormats(spec.channelnames))) return false;
     long long covered = 0;
     StripPipelineParams streaming;
     streaming.rows = kStrip;

@@ -12,16 +12,10 @@ namespace dhdr::python {
 using namespace pybind11::literals;
 
 std::vector<OIIO::TypeDesc> deepFileFormats(const OIIO::ImageSpec& spec) {
-    std::vector<std::string> names = gbuffer::deepChannelNames();
-    std::vector<OIIO::TypeDesc> formats = gbuffer::deepChannelFormats();
-    if (spec.channelnames.size() == names.size() + 4) {
-        names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
-        formats.insert(formats.end(), 4, OIIO::TypeDesc::FLOAT);
-    }
-    if (spec.channelnames != names)
+    if (!gbuffer::isWrittenLayout(spec.channelnames, true))
         throw py::value_error("gbuffer: not the channels of a deep dhdr G-buffer, in order "
                               "(render_gbuffer(deep=True)'s)");
-    return formats;
+    return gbuffer::channelFormats(spec.channelnames);
 }
 
 bool readDeep(const std::string& path, int part, DeepGBuffer& out, std::string& error) {

@@ -356,12 +356,9 @@ dhdr:animation in its header. Each animated call poses its own copy of the scene
         "write_gbuffer",
         [](const std::string& path, const Image& gbuffer) {
             const ImageView v = view(gbuffer);
-            // The contract's channels, then the motion layer of an animated frame.
-            std::vector<std::string> names = gbuffer::channelNames();
-            const bool motion = v.buf.spec().channelnames.size() == names.size() + 4;
-            if (motion)
-                names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
-            if (v.buf.spec().channelnames != names)
+            // The contract's channels (with or without occlusion), then the motion layer of an
+            // animated frame.
+            if (!gbuffer::isWrittenLayout(v.buf.spec().channelnames, false))
                 throw py::value_error("gbuffer: not the channels of a dhdr G-buffer, in order "
                                       "(render_gbuffer's)");
             std::string error;
@@ -370,7 +367,7 @@ dhdr:animation in its header. Each animated call poses its own copy of the scene
                 ImageOutputOptions options;
                 options.software = "dhdr python module (dhdr " DHDR_VERSION ")";
                 ImageFileOutput file(path, options);
-                if (!file.open(v.buf.spec(), gbufferChannelFormats(motion)) ||
+                if (!file.open(v.buf.spec(), gbuffer::channelFormats(v.buf.spec().channelnames)) ||
                     !file.writeRows(v.buf, v.buf.roi()) || !file.commit())
                     error = file.geterror();
             }

@@ -25,6 +25,8 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
             shadeEnvironment(light, p.surface, p.N, p.V, o.environmentSpecular, p.reflectionSpread);
         if (!o.environmentDiffuse) e.diffuse = glm::vec3(0.0f);
         if (p.specularFromProbes) e.specular = glm::vec3(0.0f);
+        e.diffuse = scaled(e.diffuse, p.occlusion);
+        e.specular = scaled(e.specular, p.occlusion);
         if (e.diffuse == glm::vec3(0.0f) && e.specular == glm::vec3(0.0f)) return;
         // The visible shares of the environment's diffuse and specular light, from the same
         // rays, scale the prefiltered results.
@@ -52,8 +54,9 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
         if (open) addTo(*open, EnvironmentVisibility{});
         return;
     }
-    const glm::vec3 c =
+    glm::vec3 c =
         shadeLight(light, p.surface, p.P, p.N, p.V, p.reflectionSpread, p.footprintRadius);
+    if (isAmbient(light)) c = scaled(c, p.occlusion);
     if (c == glm::vec3(0.0f)) return;
     float v = 1.0f;
     if (given)

@@ -34,6 +34,8 @@ struct LitPoint {
     // traced, kProbeGlossyRoughness): environments add no specular light there, as they add no
     // diffuse light with probes (their rays see the sky where nothing blocks it).
     bool specularFromProbes = false;
+    // The material's occlusion (ShadingPoint::occlusion): scales ambient and environment light.
+    float occlusion = 1.0f;
 };
 
 // The light of a surface point in the parts that occlusion treats apart: what shadows have

@@ -13,20 +13,6 @@
 
 namespace dhdr {
 
-namespace gbuffer {
-
-std::vector<OIIO::TypeDesc> deepChannelFormats() {
-    std::vector<OIIO::TypeDesc> formats;
-    for (const ContractChannel& c : kContract)
-        for (int i = 0; i < c.components; ++i)
-            formats.push_back(c.type == FileType::Float  ? OIIO::TypeDesc::FLOAT
-                              : c.type == FileType::Uint ? OIIO::TypeDesc::UINT
-                                                         : OIIO::TypeDesc::HALF);
-    return formats;
-}
-
-} // namespace gbuffer
-
 struct DeepGBufferReader::File {
     std::unique_ptr<OIIO::ImageInput> in;
     DeepScanlineReader scanlines; // OpenEXR's own reader (deep_exr.h)
@@ -259,7 +245,7 @@ void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out,
                 std::vector<OIIO::TypeDesc> formats) {
     const OIIO::ImageSpec& spec = g.spec;
     const int nch = spec.nchannels;
-    if (formats.empty()) formats = gbuffer::deepChannelFormats();
+    if (formats.empty()) formats = gbuffer::channelFormats(spec.channelnames);
     const size_t firstPixel = size_t(ybegin - spec.y) * size_t(spec.width);
     const size_t npix = size_t(yend - ybegin) * size_t(spec.width);
     out.init(int64_t(npix), nch, formats, spec.channelnames);

@@ -15,10 +15,11 @@ namespace dhdr::gbuffer {
 
 namespace {
 
-std::vector<std::string> namesOf(bool deep) {
+std::vector<std::string> namesOf(bool deep, bool occlusion) {
     std::vector<std::string> names;
     for (const ContractChannel& c : kContract)
-        if (deep || c.need != Need::DeepOnly)
+        if ((deep || c.need != Need::DeepOnly) &&
+            (c.need != Need::WhenUsed || (occlusion && c.field == &Layout::occlusion)))
             for (int i = 0; i < c.components; ++i)
                 names.push_back(c.names[i]);
     return names;
@@ -70,12 +71,37 @@ void writeCryptomatteHeader(OIIO::ImageSpec& spec, const std::string& layer,
     spec.attribute(prefix + "manifest", manifest);
 }
 
-std::vector<std::string> channelNames() {
-    return namesOf(false);
+std::vector<std::string> channelNames(bool occlusion) {
+    return namesOf(false, occlusion);
 }
 
-std::vector<std::string> deepChannelNames() {
-    return namesOf(true);
+std::vector<std::string> deepChannelNames(bool occlusion) {
+    return namesOf(true, occlusion);
+}
+
+bool isWrittenLayout(const std::vector<std::string>& names, bool deep) {
+    for (const bool occlusion : {false, true}) {
+        std::vector<std::string> written = namesOf(deep, occlusion);
+        if (names == written) return true;
+        written.insert(written.end(), std::begin(kMotion), std::end(kMotion));
+        if (names == written) return true;
+    }
+    return false;
+}
+
+std::vector<OIIO::TypeDesc> channelFormats(const std::vector<std::string>& names) {
+    std::vector<OIIO::TypeDesc> formats;
+    for (const std::string& name : names) {
+        OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT;
+        for (const ContractChannel& c : kContract)
+            for (int i = 0; i < c.components; ++i)
+                if (name == c.names[i])
+                    type = c.type == FileType::Float  ? OIIO::TypeDesc::FLOAT
+                           : c.type == FileType::Uint ? OIIO::TypeDesc::UINT
+                                                      : OIIO::TypeDesc::HALF;
+        formats.push_back(type);
+    }
+    return formats;
 }
 
 namespace {

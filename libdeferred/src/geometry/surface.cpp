@@ -27,6 +27,66 @@ double positionError(const glm::dvec3& P, const glm::dvec3 vertices[3],
     return ulp * size + kKernelUlps * 2.0 * ulp * kernel;
 }
 
+namespace {
+
+// glTF 2.0 §3.9.3: n = normalize(T·x + B·y + N·z) with (x, y, z) = 2·texel − 1 and x, y
+// scaled by normalTexture.scale. A mapped normal that faces away from the viewer is bent back
+// to just in front of it, in the plane of it and the view direction (as Cycles'
+// ensure_valid_reflection does), not turned round: negating it would mirror the map's slope.
+glm::dvec3 mappedNormal(const Mesh& mesh, const glm::uvec3& tri, double w0, double w1, double w2,
+                        const glm::vec4& texel, double scale, const SurfaceSample& s,
+                        const glm::dvec3& direction) {
+    const glm::dvec3 T = w0 * glm::dvec3(mesh.tangents[tri[0]]) +
+                         w1 * glm::dvec3(mesh.tangents[tri[1]]) +
+                         w2 * glm::dvec3(mesh.tangents[tri[2]]);
+    const glm::dvec3 B = w0 * glm::dvec3(mesh.bitangents[tri[0]]) +
+                         w1 * glm::dvec3(mesh.bitangents[tri[1]]) +
+                         w2 * glm::dvec3(mesh.bitangents[tri[2]]);
+    const glm::dvec3 t = glm::dvec3(texel) * 2.0 - 1.0;
+    const glm::dvec3 mapped = T * (t.x * scale) + B * (t.y * scale) + s.interpolated * t.z;
+    if (!(glm::dot(mapped, mapped) > 1e-20)) return s.normal;
+    glm::dvec3 n = glm::normalize(mapped);
+    const glm::dvec3 toViewer = -direction;
+    const double facing = glm::dot(n, toViewer);
+    constexpr double kGrazing = 1e-3; // cosine left between the bent normal and the horizon
+    if (facing < kGrazing) {
+        n += (kGrazing - facing) * toViewer;
+        n = glm::dot(n, n) > 1e-20 ? glm::normalize(n) : s.normal;
+    }
+    return n;
+}
+
+// The material's factors at the hit times its textures (on their UV sets) and the vertex
+// colour, into `s`.
+void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1, double w2,
+                   const Ray& ray, SurfaceSample& s) {
+    const Material& m = *s.material;
+    const glm::vec4 color = vertexColor(mesh, triangle, w1, w2);
+    s.albedo = m.baseColor * glm::vec3(color);
+    s.emission = m.emission;
+    s.roughness = m.roughness;
+    s.metallic = m.metallic;
+    if (mesh.uvs.empty()) return;
+    const MeshUvs uvs = meshUvs(mesh, triangle, w1, w2);
+    auto sample = [&](const TextureRef& ref) { return sampleTexture(scene, ref, uvs); };
+    if (m.baseColorTexture.texture >= 0) s.albedo *= glm::vec3(sample(m.baseColorTexture));
+    if (m.emissiveTexture.texture >= 0) s.emission *= glm::vec3(sample(m.emissiveTexture));
+    if (m.metallicRoughnessTexture.texture >= 0) {
+        const glm::vec4 mr = sample(m.metallicRoughnessTexture);
+        s.roughness *= mr.g;
+        s.metallic *= mr.b;
+    }
+    if (m.occlusionTexture.texture >= 0)
+        s.occlusion = 1.0f + m.occlusionStrength * (sample(m.occlusionTexture).r - 1.0f);
+    if (m.normalTexture.texture >= 0 && !mesh.tangents.empty()) {
+        const glm::uvec3 tri = mesh.triangles[size_t(triangle)];
+        s.normal = mappedNormal(mesh, tri, 1.0 - w1 - w2, w1, w2, sample(m.normalTexture),
+                                double(m.normalScale), s, ray.direction);
+    }
+}
+
+} // namespace
+
 SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
     if (hit.mesh == kGroundPlaneHit) {
         SurfaceSample s;
@@ -41,6 +101,8 @@ SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
         s.material = &scene.materials[size_t(scene.groundMaterial)];
         s.albedo = s.material->baseColor;
         s.emission = glm::vec3(0.0f);
+        s.roughness = s.material->roughness;
+        s.metallic = s.material->metallic;
         return s;
     }
     const Mesh& mesh = scene.meshes[size_t(hit.mesh)];
@@ -74,32 +136,7 @@ SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
     s.interpolated = s.normal;
 
     s.material = &scene.materials[size_t(mesh.material)];
-    const Material& m = *s.material;
-    s.albedo = m.baseColor;
-    s.emission = m.emission;
-    if (mesh.uvs.empty()) return s;
-    const glm::vec2 uv =
-        float(w0) * mesh.uvs[tri[0]] + float(w1) * mesh.uvs[tri[1]] + float(w2) * mesh.uvs[tri[2]];
-    auto sample = [&](const TextureRef& ref) {
-        return scene.textures[size_t(ref.texture)].sample(ref.transform.apply(uv));
-    };
-    if (m.baseColorTexture.texture >= 0) s.albedo *= glm::vec3(sample(m.baseColorTexture));
-    if (m.emissiveTexture.texture >= 0) s.emission *= glm::vec3(sample(m.emissiveTexture));
-    if (m.normalTexture.texture >= 0 && !mesh.tangents.empty()) {
-        // glTF 2.0 §3.9.3: n = normalize(T·x + B·y + N·z) with (x, y, z) = (2·texel − 1) and
-        // x, y scaled by normalTexture.scale.
-        const glm::dvec3 T = w0 * glm::dvec3(mesh.tangents[tri[0]]) +
-                             w1 * glm::dvec3(mesh.tangents[tri[1]]) +
-                             w2 * glm::dvec3(mesh.tangents[tri[2]]);
-        const glm::dvec3 B = w0 * glm::dvec3(mesh.bitangents[tri[0]]) +
-                             w1 * glm::dvec3(mesh.bitangents[tri[1]]) +
-                             w2 * glm::dvec3(mesh.bitangents[tri[2]]);
-        const glm::dvec3 t = glm::dvec3(sample(m.normalTexture)) * 2.0 - 1.0;
-        const glm::dvec3 mapped = T * (t.x * double(m.normalScale)) +
-                                  B * (t.y * double(m.normalScale)) + s.interpolated * t.z;
-        if (glm::dot(mapped, mapped) > 1e-20) s.normal = glm::normalize(mapped);
-        if (glm::dot(s.normal, ray.direction) > 0.0) s.normal = -s.normal;
-    }
+    applyMaterial(scene, mesh, hit.triangle, w1, w2, ray, s);
     return s;
 }
 

@@ -16,8 +16,8 @@ glm::vec3 HitShading::trace(const Ray& ray, const SeedKey& key, long long* rays)
     if (s.backFace) return glm::vec3(0.0f);
     PbrSurface surface;
     surface.baseColor = s.albedo;
-    surface.roughness = std::max(s.material->roughness, m_minRoughness);
-    surface.metallic = s.material->metallic;
+    surface.roughness = std::max(s.roughness, m_minRoughness);
+    surface.metallic = s.metallic;
     surface.diffuse = m_diffuse;
     const glm::vec3 P(s.position), N(s.normal), V(-ray.direction);
     LitPoint point{surface, P, N, V,

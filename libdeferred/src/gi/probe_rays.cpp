@@ -63,8 +63,8 @@ ProbeRayTracer::LitHit ProbeRayTracer::light(const SurfaceSample& s, const glm::
                                              float distance, SeedKey key) const {
     LitHit h;
     h.surface.baseColor = s.albedo;
-    h.surface.roughness = s.material->roughness;
-    h.surface.metallic = s.material->metallic;
+    h.surface.roughness = s.roughness;
+    h.surface.metallic = s.metallic;
     h.surface.diffuse = m_diffuse;
     const glm::vec3 P(s.position), N(s.normal);
     const float NdotV = std::max(0.0f, glm::dot(N, towards));

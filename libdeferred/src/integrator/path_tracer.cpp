@@ -191,8 +191,8 @@ glm::vec3 PathTracer::path(const LitPoint& first, Random& random, long long& ray
         }
         PbrSurface surface;
         surface.baseColor = s.albedo;
-        surface.roughness = s.material->roughness;
-        surface.metallic = s.material->metallic;
+        surface.roughness = s.roughness;
+        surface.metallic = s.metallic;
         surface.diffuse = m_options.diffuse;
         const glm::vec3 P(s.position);
         v = Vertex{surface, P, glm::vec3(s.normal), -wi,

@@ -120,6 +120,7 @@ LitPoint SampleShader::litPoint(const ShadingPoint& sp, const At& at) const {
     point.tracedSpecular = m_estimators.specular && SpecularIndirect::traced(point, probes);
     point.specularFromProbes =
         probes && !point.tracedSpecular && sp.surface.roughness >= kProbeGlossyRoughness;
+    point.occlusion = sp.occlusion;
     return point;
 }
 
@@ -181,6 +182,7 @@ glm::vec3 SampleShader::probeIndirect(const ShadingPoint& sp, const LitPoint& po
         indirect = m_setup.probes->reflectedAt(sp.surface, sp.P, sp.N, sp.V,
                                                point.specularFromProbes, m_inputs.visibility);
         if (m_setup.aoActive) indirect *= occlusion;
+        if (sp.occlusion != 1.0f) indirect *= sp.occlusion;
     }
     return indirect;
 }
@@ -188,9 +190,12 @@ glm::vec3 SampleShader::probeIndirect(const ShadingPoint& sp, const LitPoint& po
 // The scene in the glossy lobe, traced (not occluded by AO: its rays see the occluders).
 glm::vec3 SampleShader::specularIndirect(const LitPoint& point, const At& at) const {
     if (!point.tracedSpecular) return glm::vec3(0.0f);
-    if (m_filtered.filtersSpecular() && at.k == 0) return m_filtered.specularIndirect(at.x, at.y);
-    return m_estimators.specular->radiance(point, at.x, at.y, at.k, m_params.specularSamples,
-                                           &at.stats.specularRays);
+    const glm::vec3 L =
+        m_filtered.filtersSpecular() && at.k == 0
+            ? m_filtered.specularIndirect(at.x, at.y)
+            : m_estimators.specular->radiance(point, at.x, at.y, at.k, m_params.specularSamples,
+                                              &at.stats.specularRays);
+    return point.occlusion != 1.0f ? L * point.occlusion : L;
 }
 
 bool SampleShader::onCatcher(const At& at) const {

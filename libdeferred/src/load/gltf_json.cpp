@@ -199,13 +199,18 @@ std::map<std::string, GltfCamera> gltfCamerasByNode(const nlohmann::json& doc) {
 
 namespace {
 
-// KHR_texture_transform of a textureInfo, and whether it asks for a UV set other than 0.
-TextureTransform textureTransform(const nlohmann::json& info, bool& otherUvSet) {
-    TextureTransform t;
-    if (!info.is_object()) return t;
-    if (info.contains("texCoord") && info["texCoord"].is_number() && info["texCoord"] != 0)
-        otherUvSet = true;
-    if (!info.contains("extensions") || !info["extensions"].is_object()) return t;
+// The UV set a textureInfo (or its KHR_texture_transform) names; -1 when it names none.
+int texCoordOf(const nlohmann::json& info) {
+    if (!info.is_object() || !info.contains("texCoord") || !info["texCoord"].is_number_integer())
+        return -1;
+    return info["texCoord"].get<int>();
+}
+
+// KHR_texture_transform of a textureInfo, with its texCoord override.
+GltfTextureInfo textureInfo(const nlohmann::json& info) {
+    GltfTextureInfo t;
+    if (!info.is_object() || !info.contains("extensions") || !info["extensions"].is_object())
+        return t;
     const nlohmann::json& ext = info["extensions"];
     if (!ext.contains("KHR_texture_transform") || !ext["KHR_texture_transform"].is_object())
         return t;
@@ -216,11 +221,33 @@ TextureTransform textureTransform(const nlohmann::json& info, bool& otherUvSet) 
             return fallback;
         return glm::vec2(k[key][0].get<float>(), k[key][1].get<float>());
     };
-    t.offset = vec2("offset", glm::vec2(0.0f));
-    t.scale = vec2("scale", glm::vec2(1.0f));
-    if (k.contains("rotation") && isFloat(k["rotation"])) t.rotation = k["rotation"].get<float>();
-    if (k.contains("texCoord") && k["texCoord"].is_number() && k["texCoord"] != 0)
-        otherUvSet = true;
+    t.transform.offset = vec2("offset", glm::vec2(0.0f));
+    t.transform.scale = vec2("scale", glm::vec2(1.0f));
+    if (k.contains("rotation") && isFloat(k["rotation"]))
+        t.transform.rotation = k["rotation"].get<float>();
+    t.texCoord = texCoordOf(k);
+    return t;
+}
+
+// A material's texture references by slot, as the file writes them (null where absent).
+struct TextureSlots {
+    const nlohmann::json *baseColor = nullptr, *metallicRoughness = nullptr, *normal = nullptr,
+                         *occlusion = nullptr, *emissive = nullptr;
+};
+
+TextureSlots textureSlots(const nlohmann::json& m) {
+    TextureSlots t;
+    if (!m.is_object()) return t;
+    auto at = [](const nlohmann::json& o, const char* key) {
+        return o.contains(key) ? &o[key] : nullptr;
+    };
+    if (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object()) {
+        t.baseColor = at(m["pbrMetallicRoughness"], "baseColorTexture");
+        t.metallicRoughness = at(m["pbrMetallicRoughness"], "metallicRoughnessTexture");
+    }
+    t.normal = at(m, "normalTexture");
+    t.occlusion = at(m, "occlusionTexture");
+    t.emissive = at(m, "emissiveTexture");
     return t;
 }
 
@@ -232,22 +259,37 @@ std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann:
         return out;
     for (const auto& m : doc["materials"]) {
         if (!m.is_object() || !m.contains("name") || !m["name"].is_string()) continue;
-        GltfMaterialTextures t;
-        bool other = false;
-        if (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object() &&
-            m["pbrMetallicRoughness"].contains("baseColorTexture"))
-            t.baseColor = textureTransform(m["pbrMetallicRoughness"]["baseColorTexture"], other);
-        if (m.contains("emissiveTexture"))
-            t.emissive = textureTransform(m["emissiveTexture"], other);
-        if (m.contains("normalTexture")) {
-            t.normal = textureTransform(m["normalTexture"], other);
-            if (m["normalTexture"].is_object() && m["normalTexture"].contains("scale") &&
-                isFloat(m["normalTexture"]["scale"]))
-                t.normalScale = m["normalTexture"]["scale"].get<float>();
-        }
-        out[m["name"].get<std::string>()] = t;
+        const TextureSlots slots = textureSlots(m);
+        auto info = [](const nlohmann::json* ref) {
+            return ref ? textureInfo(*ref) : GltfTextureInfo{};
+        };
+        out[m["name"].get<std::string>()] = {info(slots.baseColor), info(slots.emissive),
+                                             info(slots.normal), info(slots.metallicRoughness),
+                                             info(slots.occlusion)};
     }
     return out;
+}
+
+bool gltfHasRgbVertexColors(const nlohmann::json& doc) {
+    if (doc.is_discarded() || !doc.is_object() || !doc.contains("meshes") ||
+        !doc["meshes"].is_array() || !doc.contains("accessors") || !doc["accessors"].is_array())
+        return false;
+    const nlohmann::json& accessors = doc["accessors"];
+    for (const auto& mesh : doc["meshes"]) {
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array())
+            continue;
+        for (const auto& p : mesh["primitives"]) {
+            if (!p.is_object() || !p.contains("attributes") || !p["attributes"].is_object() ||
+                !p["attributes"].contains("COLOR_0") ||
+                !p["attributes"]["COLOR_0"].is_number_unsigned())
+                continue;
+            const size_t i = p["attributes"]["COLOR_0"].get<size_t>();
+            if (i < accessors.size() && accessors[i].is_object() && accessors[i].contains("type") &&
+                accessors[i]["type"] == "VEC3")
+                return true;
+        }
+    }
+    return false;
 }
 
 std::string gltfEmptySceneReason(const nlohmann::json& doc) {
@@ -296,26 +338,19 @@ std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
                                   : skins        ? "skins"
                                                  : "morph targets") +
                       " are not applied: meshes are rendered in their rest pose");
-    bool otherUv = false, metallicRoughness = false, occlusion = false;
+    // TEXCOORD_0 and _1 are read; a texture on a later set falls back to the first.
+    int highestSet = 0;
     if (doc.contains("materials") && doc["materials"].is_array())
         for (const auto& m : doc["materials"]) {
-            if (!m.is_object()) continue;
-            occlusion = occlusion || m.contains("occlusionTexture");
-            metallicRoughness =
-                metallicRoughness ||
-                (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object() &&
-                 m["pbrMetallicRoughness"].contains("metallicRoughnessTexture"));
-            for (const char* slot : {"normalTexture", "emissiveTexture", "occlusionTexture"})
-                if (m.contains(slot)) textureTransform(m[slot], otherUv);
-            if (m.contains("pbrMetallicRoughness") && m["pbrMetallicRoughness"].is_object())
-                for (const char* slot : {"baseColorTexture", "metallicRoughnessTexture"})
-                    if (m["pbrMetallicRoughness"].contains(slot))
-                        textureTransform(m["pbrMetallicRoughness"][slot], otherUv);
+            const TextureSlots t = textureSlots(m);
+            for (const nlohmann::json* ref :
+                 {t.baseColor, t.metallicRoughness, t.normal, t.occlusion, t.emissive})
+                if (ref)
+                    highestSet =
+                        std::max({highestSet, texCoordOf(*ref), textureInfo(*ref).texCoord});
         }
-    if (otherUv) out.push_back("textures on a second UV set are sampled with the first");
-    if (metallicRoughness)
-        out.push_back("metallic-roughness textures are not read: their factors alone are used");
-    if (occlusion) out.push_back("occlusion textures are not read");
+    if (highestSet > 1)
+        out.push_back("textures on UV sets past TEXCOORD_1 are sampled with TEXCOORD_0");
     return out;
 }
 

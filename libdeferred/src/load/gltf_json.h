@@ -19,19 +19,28 @@ nlohmann::json gltfJson(const std::string& path);
 // other files, or when no material uses the extension.
 std::map<std::string, float> gltfEmissiveStrengths(const nlohmann::json& doc);
 
-// What Assimp 5.2 does not report of a glTF material's textures: KHR_texture_transform of
-// each reference and the normal map's scale.
+// What Assimp 5.2 does not report of a glTF material's texture reference: its
+// KHR_texture_transform, and the UV set that extension's `texCoord` overrides the
+// reference's with (−1: none).
+struct GltfTextureInfo {
+    TextureTransform transform;
+    int texCoord = -1;
+};
+
+// Those of each texture slot of a material.
 struct GltfMaterialTextures {
-    TextureTransform baseColor, emissive, normal;
-    float normalScale = 1.0f;
+    GltfTextureInfo baseColor, emissive, normal, metallicRoughness, occlusion;
 };
 
 // Per material name, from a .gltf or .glb file; empty for other files.
 std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann::json& doc);
 
+// Whether a primitive of the file has a COLOR_0 accessor of type VEC3 (RGB, no alpha).
+bool gltfHasRgbVertexColors(const nlohmann::json& doc);
+
 // What the file uses that dhdr leaves out, one line each: extensions it does not read
 // (from extensionsUsed), skins and morph targets (the rest pose is rendered), texture
-// references to a second UV set.
+// references to a UV set past the second.
 std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc);
 
 // Why a glTF file Assimp loads without a message holds nothing to render ("its scene has no

@@ -121,8 +121,31 @@ bool readSkin(const json& doc, GltfBuffers& buffers, int node, const json& attri
 
 namespace {
 
-// POSITION, NORMAL (when `normals`) and TEXCOORD_0 of the primitive; `count`: how many
-// vertices it has.
+// COLOR_0 of the primitive, RGB or RGBA (alpha 1), when it has one.
+bool readColors(GltfBuffers& buffers, const json& attributes, size_t count, Mesh& mesh,
+                std::string& error) {
+    mesh.colors.clear();
+    if (!attributes.contains("COLOR_0")) return true;
+    std::vector<float> v;
+    int components = 0;
+    if (!attributes["COLOR_0"].is_number_unsigned() ||
+        !buffers.readFloats(attributes["COLOR_0"].get<size_t>(), v, components, error) ||
+        (components != 3 && components != 4) || v.size() != count * size_t(components)) {
+        error = "COLOR_0: " +
+                (error.empty() ? "not " + std::to_string(count) + " RGB or RGBA colours" : error);
+        return false;
+    }
+    for (size_t i = 0; i < count; ++i) {
+        const float* c = &v[i * size_t(components)];
+        glm::vec4 color(c[0], c[1], c[2], components == 4 ? c[3] : 1.0f);
+        if (!std::isfinite(color.r + color.g + color.b + color.a)) color = glm::vec4(1.0f);
+        mesh.colors.push_back(glm::clamp(color, 0.0f, 1.0f));
+    }
+    return true;
+}
+
+// POSITION, NORMAL (when `normals`), TEXCOORD_0 and _1 and COLOR_0 of the primitive; `count`:
+// how many vertices it has.
 bool readVertices(GltfBuffers& buffers, const json& attributes, bool normals, MeshRest& rest,
                   Mesh& mesh, size_t& count, std::string& error) {
     std::vector<float> v;
@@ -139,7 +162,13 @@ bool readVertices(GltfBuffers& buffers, const json& attributes, bool normals, Me
         for (size_t i = 0; i < count; ++i)
             mesh.uvs.emplace_back(v[2 * i], v[2 * i + 1]); // glTF's origin, as Mesh::uvs
     }
-    return true;
+    mesh.uvs1.clear();
+    if (!mesh.uvs.empty() && attributes.contains("TEXCOORD_1")) {
+        if (!readAttribute(buffers, attributes, "TEXCOORD_1", 2, count, v, error)) return false;
+        for (size_t i = 0; i < count; ++i)
+            mesh.uvs1.emplace_back(v[2 * i], v[2 * i + 1]);
+    }
+    return readColors(buffers, attributes, count, mesh, error);
 }
 
 // The primitive's triangles (its indices, else its vertices in order), each index checked
@@ -204,7 +233,8 @@ void splitFlat(MeshRest& rest, Mesh& mesh) {
         t.clear();
     split.joints.clear();
     split.jointWeights.clear();
-    std::vector<glm::vec2> uvs;
+    std::vector<glm::vec2> uvs, uvs1;
+    std::vector<glm::vec4> colors;
     std::vector<glm::uvec3> triangles;
     for (const glm::uvec3& tri : mesh.triangles) {
         const unsigned first = unsigned(split.positions.size());
@@ -213,6 +243,8 @@ void splitFlat(MeshRest& rest, Mesh& mesh) {
             for (size_t t = 0; t < rest.positionTargets.size(); ++t)
                 split.positionTargets[t].push_back(rest.positionTargets[t][i]);
             if (!mesh.uvs.empty()) uvs.push_back(mesh.uvs[i]);
+            if (!mesh.uvs1.empty()) uvs1.push_back(mesh.uvs1[i]);
+            if (!mesh.colors.empty()) colors.push_back(mesh.colors[i]);
             if (rest.skin >= 0) {
                 split.joints.push_back(rest.joints[i]);
                 split.jointWeights.push_back(rest.jointWeights[i]);
@@ -222,6 +254,8 @@ void splitFlat(MeshRest& rest, Mesh& mesh) {
     }
     rest = std::move(split);
     mesh.uvs = std::move(uvs);
+    mesh.uvs1 = std::move(uvs1);
+    mesh.colors = std::move(colors);
     mesh.triangles = std::move(triangles);
 }
 

@@ -76,24 +76,65 @@ void readEmission(const aiMaterial& am, const std::map<std::string, float>& stre
     m.emission = glm::vec3(emissive.r, emissive.g, emissive.b) * strength;
 }
 
-// The base colour, emissive and normal textures, with their KHR_texture_transform.
-void readTextures(const aiMaterial& am, const GltfMaterialTextures& transforms,
+TextureWrap wrapOf(aiTextureMapMode mode) {
+    switch (mode) {
+    case aiTextureMapMode_Clamp:
+        return TextureWrap::ClampToEdge;
+    case aiTextureMapMode_Mirror:
+        return TextureWrap::MirroredRepeat;
+    default:
+        return TextureWrap::Repeat;
+    }
+}
+
+// The texture of slot `type` into `ref`: its file, UV set and sampler as Assimp 5.2 reports
+// them for glTF (AI_MATKEY_UVWSRC, AI_MATKEY_MAPPINGMODE_U/V, the glTF mag filter), the
+// KHR_texture_transform and its texCoord override from the file (`info`). False when the
+// material has none.
+bool readSlot(const aiMaterial& am, aiTextureType type, const GltfTextureInfo& info, bool srgb,
+              const char* slot, TextureTable& textures, TextureRef& ref) {
+    aiString path;
+    unsigned uvIndex = 0;
+    aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
+    if (am.GetTexture(type, 0, &path, nullptr, &uvIndex, nullptr, nullptr, modes) != AI_SUCCESS)
+        return false;
+    ref.texture = textures.load(path.C_Str(), srgb, slot);
+    ref.transform = info.transform;
+    // TEXCOORD_0 and _1 are kept; a later set falls back to the first (gltfIgnoredFeatures).
+    const int set = info.texCoord >= 0 ? info.texCoord : int(uvIndex);
+    ref.texCoord = set == 1 ? 1 : 0;
+    ref.sampler.wrapS = wrapOf(modes[0]);
+    ref.sampler.wrapT = wrapOf(modes[1]);
+    int magFilter = 0;
+    constexpr int kNearest = 9728; // glTF's (and OpenGL's) NEAREST
+    ref.sampler.nearest =
+        am.Get(AI_MATKEY_GLTF_MAPPINGFILTER_MAG(type, 0), magFilter) == AI_SUCCESS &&
+        magFilter == kNearest;
+    return true;
+}
+
+// Every texture slot of the material (glTF 2.0 §3.9), with the file's texture-transform data.
+void readTextures(const aiMaterial& am, bool gltf, const GltfMaterialTextures& info,
                   TextureTable& textures, Material& m) {
-    aiString texPath;
-    if (am.GetTexture(aiTextureType_BASE_COLOR, 0, &texPath) == AI_SUCCESS ||
-        am.GetTexture(aiTextureType_DIFFUSE, 0, &texPath) == AI_SUCCESS) {
-        m.baseColorTexture.texture = textures.load(texPath.C_Str(), true, "base colour");
-        m.baseColorTexture.transform = transforms.baseColor;
-    }
-    if (am.GetTexture(aiTextureType_EMISSIVE, 0, &texPath) == AI_SUCCESS) {
-        m.emissiveTexture.texture = textures.load(texPath.C_Str(), true, "emissive");
-        m.emissiveTexture.transform = transforms.emissive;
-    }
-    if (am.GetTexture(aiTextureType_NORMALS, 0, &texPath) == AI_SUCCESS) {
-        m.normalTexture.texture = textures.load(texPath.C_Str(), false, "normal");
-        m.normalTexture.transform = transforms.normal;
-        m.normalScale = transforms.normalScale;
-    }
+    if (!readSlot(am, aiTextureType_BASE_COLOR, info.baseColor, true, "base colour", textures,
+                  m.baseColorTexture))
+        readSlot(am, aiTextureType_DIFFUSE, info.baseColor, true, "base colour", textures,
+                 m.baseColorTexture);
+    readSlot(am, aiTextureType_EMISSIVE, info.emissive, true, "emissive", textures,
+             m.emissiveTexture);
+    if (readSlot(am, aiTextureType_NORMALS, info.normal, false, "normal", textures,
+                 m.normalTexture))
+        am.Get(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0), m.normalScale);
+    if (!std::isfinite(m.normalScale)) m.normalScale = 1.0f; // a number past float's range
+    if (!gltf) return; // MTL's map_Pr, map_Pm are one texture each, not glTF's packed one
+    readSlot(am, aiTextureType_METALNESS, info.metallicRoughness, false, "metallic-roughness",
+             textures, m.metallicRoughnessTexture);
+    if (readSlot(am, aiTextureType_LIGHTMAP, info.occlusion, false, "occlusion", textures,
+                 m.occlusionTexture))
+        am.Get(AI_MATKEY_GLTF_TEXTURE_STRENGTH(aiTextureType_LIGHTMAP, 0), m.occlusionStrength);
+    // The schema's range, [0, 1].
+    m.occlusionStrength =
+        std::isfinite(m.occlusionStrength) ? std::clamp(m.occlusionStrength, 0.0f, 1.0f) : 1.0f;
 }
 
 } // namespace
@@ -111,7 +152,8 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
         readMetallicRoughness(am, gltf, m);
         readEmission(am, strengths, m);
         const auto t = transforms.find(m.name);
-        readTextures(am, t != transforms.end() ? t->second : GltfMaterialTextures{}, textures, m);
+        readTextures(am, gltf, t != transforms.end() ? t->second : GltfMaterialTextures{}, textures,
+                     m);
         scene.materials.push_back(m);
     }
     if (scene.materials.empty()) scene.materials.push_back(Material{});

@@ -92,6 +92,8 @@ Mesh flatShaded(const Mesh& shared, const aiMesh& am, const glm::dmat4& world,
                 flat.tangents.push_back(frame.tangent);
                 flat.bitangents.push_back(frame.bitangent);
             }
+            if (!shared.uvs1.empty()) flat.uvs1.push_back(shared.uvs1[i]);
+            if (!shared.colors.empty()) flat.colors.push_back(shared.colors[i]);
             if (!rest) continue;
             inNode.positions.push_back(glm::vec3(local(i)));
             inNode.normals.push_back(glm::vec3(glm::cross(b - a, c - a)));
@@ -172,10 +174,30 @@ bool MeshReader::readVertices(const aiMesh& am, const aiNode& node, const glm::d
         // Assimp's UVs have their origin at the image's bottom-left (it flips glTF's).
         if (am.HasTextureCoords(0))
             mesh.uvs.emplace_back(am.mTextureCoords[0][v].x, 1.0f - am.mTextureCoords[0][v].y);
+        if (am.HasTextureCoords(0) && am.HasTextureCoords(1))
+            mesh.uvs1.emplace_back(am.mTextureCoords[1][v].x, 1.0f - am.mTextureCoords[1][v].y);
         if (am.HasTangentsAndBitangents() && am.HasTextureCoords(0))
             addTangentFrame(am, v, world, mesh);
     }
+    readColors(am, mesh);
     return true;
+}
+
+void MeshReader::readColors(const aiMesh& am, Mesh& mesh) const {
+    if (!m_colors.read || !am.HasVertexColors(0)) return;
+    bool anyAlpha = false;
+    for (unsigned v = 0; v < am.mNumVertices; ++v) {
+        const aiColor4D& c = am.mColors[0][v];
+        mesh.colors.emplace_back(c.r, c.g, c.b, c.a);
+        anyAlpha = anyAlpha || c.a != 0.0f;
+    }
+    // All alphas 0 where the file has RGB colours: Assimp's (VertexColors), made 1.
+    for (glm::vec4& c : mesh.colors) {
+        if (m_colors.rgbInFile && !anyAlpha) c.a = 1.0f;
+        // Past float's range or NaN in the file: no colour.
+        if (!std::isfinite(c.r + c.g + c.b + c.a)) c = glm::vec4(1.0f);
+        c = glm::clamp(c, 0.0f, 1.0f);
+    }
 }
 
 // A mesh with triangles joins the scene, and its rest the rig.

@@ -225,7 +225,8 @@ private:
     const std::set<std::string> m_meshNames =
         m_gltf ? detail::gltfNames(m_doc, "meshes") : std::set<std::string>{};
     detail::TextureTable m_textures{m_ai, m_path, m_scene};
-    detail::MeshReader m_meshes{m_path, m_scene, m_rig};
+    detail::MeshReader m_meshes{
+        m_path, m_scene, m_rig, {m_gltf, m_gltf&& detail::gltfHasRgbVertexColors(m_doc)}};
 };
 
 // Hands Assimp a glTF file whose deep node tree dhdr flattened (gltfFlattenDeepNodes), or

@@ -36,7 +36,10 @@ bool loadTexture(Texture& texture, const std::string& name, const void* data, si
         error = name + ": cannot read texture: " + error;
         return false;
     }
-    OIIO::ImageBuf image(name, 0, 0, nullptr, size > 0 ? &config : nullptr);
+    // glTF's colours are straight, and the sRGB decode below applies to the colour as stored:
+    // OpenImageIO must not premultiply a PNG's colour by its alpha as it reads it.
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    OIIO::ImageBuf image(name, 0, 0, nullptr, &config);
     if (double(image.spec().width) * double(image.spec().height) > 16384.0 * 16384.0) {
         error = name + ": cannot read texture: " + std::to_string(image.spec().width) + "x" +
                 std::to_string(image.spec().height) +
@@ -59,11 +62,13 @@ bool loadTexture(Texture& texture, const std::string& name, const void* data, si
     texture.rgba.assign(size_t(spec.width) * size_t(spec.height) * 4, 1.0f);
     std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
     image.get_pixels(image.roi(), OIIO::TypeDesc::FLOAT, pixels.data());
+    // Grey (+ alpha) images give their grey to R, G and B.
+    const int colors = spec.nchannels >= 3 ? 3 : 1;
     for (size_t i = 0; i < size_t(spec.width) * size_t(spec.height); ++i) {
         const float* p = &pixels[i * size_t(spec.nchannels)];
         float* q = &texture.rgba[i * 4];
         for (int c = 0; c < 3; ++c) {
-            const float v = p[std::min(c, spec.nchannels - 1)];
+            const float v = p[std::min(c, colors - 1)];
             q[c] = encoded ? srgbDecode(v) : v;
         }
         if (spec.nchannels == 4 || spec.nchannels == 2) q[3] = p[spec.nchannels - 1];

@@ -1,6 +1,7 @@
 #include "render/motion_vectors.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <dhdr/common/parallel.h>
@@ -75,7 +76,6 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
                 const CryptoIds& crypto, const Ray& ray, const RayHit& hit, float alpha,
                 float* out) {
     const SurfaceSample s = surfaceAt(scene, ray, hit);
-    const Material& m = *s.material;
     const bool ground = hit.mesh == kGroundPlaneHit;
     const int object = ground ? scene.groundObject : scene.meshes[size_t(hit.mesh)].object;
     const int material = ground ? scene.groundMaterial : scene.meshes[size_t(hit.mesh)].material;
@@ -90,8 +90,9 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
         out[layout.emission + c] = s.emission[c];
     }
     out[layout.positionError] = float(s.positionError) * (1.0f + 0x1p-20f); // rounded up
-    out[layout.roughness] = m.roughness;
-    out[layout.metallic] = m.metallic;
+    out[layout.roughness] = s.roughness;
+    out[layout.metallic] = s.metallic;
+    if (layout.occlusion >= 0) out[layout.occlusion] = s.occlusion;
     out[layout.objectId] = float(object + 1);
     out[layout.materialId] = float(material + 1);
     // Cryptomatte: rank 0 is this surface, covering what its alpha covers; rank 1 is empty
@@ -116,18 +117,6 @@ gbuffer::Layout layoutOf(const std::vector<std::string>& names) {
 
 } // namespace
 
-std::vector<OIIO::TypeDesc> gbufferChannelFormats(bool motion) {
-    std::vector<OIIO::TypeDesc> formats;
-    for (const gbuffer::ContractChannel& c : gbuffer::kContract)
-        if (c.need != gbuffer::Need::DeepOnly)
-            for (int i = 0; i < c.components; ++i)
-                formats.push_back(c.type == gbuffer::FileType::Float  ? OIIO::TypeDesc::FLOAT
-                                  : c.type == gbuffer::FileType::Uint ? OIIO::TypeDesc::UINT
-                                                                      : OIIO::TypeDesc::HALF);
-    if (motion) formats.insert(formats.end(), 4, OIIO::TypeDesc::FLOAT);
-    return formats;
-}
-
 GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
                                  const GBufferParams& params)
     : GBufferRenderer(scene, camera, params, std::make_shared<RayCaster>(scene)) {}
@@ -135,8 +124,11 @@ GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
 GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
                                  const GBufferParams& params,
                                  std::shared_ptr<const RayCaster> caster)
-    : m_scene(scene), m_camera(camera), m_params(params), m_caster(std::move(caster)) {
-    std::vector<std::string> names = gbuffer::channelNames();
+    : m_scene(scene), m_camera(camera), m_params(params),
+      m_occlusion(std::any_of(scene.materials.begin(), scene.materials.end(),
+                              [](const Material& m) { return m.occlusionTexture.texture >= 0; })),
+      m_caster(std::move(caster)) {
+    std::vector<std::string> names = gbuffer::channelNames(m_occlusion);
     if (params.motion)
         names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
     m_spec = OIIO::ImageSpec(std::max(params.width, 1), std::max(params.height, 1),
@@ -244,6 +236,13 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
     return true;
 }
 
+std::vector<std::string> GBufferRenderer::deepChannelNames() const {
+    std::vector<std::string> names = gbuffer::deepChannelNames(m_occlusion);
+    if (m_params.motion)
+        names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
+    return names;
+}
+
 bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
                                  long long* transparentSamples) const {
     if (!ok()) return false;
@@ -251,9 +250,7 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
     const OIIO::ROI frame = OIIO::get_roi_full(m_spec);
     roi = roi.defined() ? OIIO::roi_intersection(roi, frame) : frame;
     dst.spec = m_spec;
-    std::vector<std::string> names = gbuffer::deepChannelNames();
-    if (m_params.motion)
-        names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
+    const std::vector<std::string> names = deepChannelNames();
     dst.spec.nchannels = int(names.size());
     dst.spec.channelnames = names;
     dst.spec.x = roi.xbegin;

@@ -13,32 +13,90 @@ glm::vec2 TextureTransform::apply(glm::vec2 uv) const {
     return glm::vec2(c * s.x + n * s.y, -n * s.x + c * s.y) + offset;
 }
 
-glm::vec4 Texture::sample(glm::vec2 uv) const {
+namespace {
+
+// A coordinate brought into the range whose texels its wrap mode repeats, so that huge UVs
+// neither lose the texel grid nor overflow an int: [0, 1) for Repeat, [0, 2) for
+// MirroredRepeat; ClampToEdge clamps to just outside [0, 1].
+float reduce(float t, TextureWrap wrap) {
+    if (!std::isfinite(t)) return 0.0f;
+    switch (wrap) {
+    case TextureWrap::Repeat:
+        return t - std::floor(t);
+    case TextureWrap::MirroredRepeat:
+        return t - 2.0f * std::floor(0.5f * t);
+    case TextureWrap::ClampToEdge:
+        break;
+    }
+    return std::clamp(t, -1.0f, 2.0f);
+}
+
+// A texel index wrapped into [0, size) (OpenGL 4.6 §8.14.2's wrap of i and j).
+int wrapIndex(int i, int size, TextureWrap wrap) {
+    switch (wrap) {
+    case TextureWrap::Repeat:
+        return ((i % size) + size) % size;
+    case TextureWrap::MirroredRepeat: {
+        const int m = ((i % (2 * size)) + 2 * size) % (2 * size);
+        return m < size ? m : 2 * size - 1 - m;
+    }
+    case TextureWrap::ClampToEdge:
+        break;
+    }
+    return std::clamp(i, 0, size - 1);
+}
+
+} // namespace
+
+glm::vec4 Texture::sample(glm::vec2 uv, const TextureSampler& sampler) const {
     if (width <= 0 || height <= 0) return glm::vec4(1.0f);
-    const float x = (uv.x - std::floor(uv.x)) * float(width) - 0.5f;
-    const float y = (uv.y - std::floor(uv.y)) * float(height) - 0.5f;
-    const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
-    const float tx = x - float(x0), ty = y - float(y0);
     auto texel = [&](int xi, int yi) {
-        xi = ((xi % width) + width) % width;
-        yi = ((yi % height) + height) % height;
+        xi = wrapIndex(xi, width, sampler.wrapS);
+        yi = wrapIndex(yi, height, sampler.wrapT);
         const float* p = &rgba[(size_t(yi) * size_t(width) + size_t(xi)) * 4];
         return glm::vec4(p[0], p[1], p[2], p[3]);
     };
+    const float u = reduce(uv.x, sampler.wrapS) * float(width);
+    const float v = reduce(uv.y, sampler.wrapT) * float(height);
+    if (sampler.nearest) return texel(int(std::floor(u)), int(std::floor(v)));
+    const float x = u - 0.5f, y = v - 0.5f;
+    const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+    const float tx = x - float(x0), ty = y - float(y0);
     return glm::mix(glm::mix(texel(x0, y0), texel(x0 + 1, y0), tx),
                     glm::mix(texel(x0, y0 + 1), texel(x0 + 1, y0 + 1), tx), ty);
+}
+
+MeshUvs meshUvs(const Mesh& mesh, int triangle, double w1, double w2) {
+    const glm::uvec3 t = mesh.triangles[size_t(triangle)];
+    const float b1 = float(w1), b2 = float(w2), b0 = float(1.0 - w1 - w2);
+    auto at = [&](const std::vector<glm::vec2>& uv) {
+        return b0 * uv[t[0]] + b1 * uv[t[1]] + b2 * uv[t[2]];
+    };
+    MeshUvs out;
+    if (!mesh.uvs.empty()) out.set[0] = at(mesh.uvs);
+    out.set[1] = mesh.uvs1.empty() ? out.set[0] : at(mesh.uvs1);
+    return out;
+}
+
+glm::vec4 sampleTexture(const Scene& scene, const TextureRef& ref, const MeshUvs& uvs) {
+    const glm::vec2 uv = uvs.set[ref.texCoord == 1 ? 1 : 0];
+    return scene.textures[size_t(ref.texture)].sample(ref.transform.apply(uv), ref.sampler);
+}
+
+glm::vec4 vertexColor(const Mesh& mesh, int triangle, double w1, double w2) {
+    if (mesh.colors.empty()) return glm::vec4(1.0f);
+    const glm::uvec3 t = mesh.triangles[size_t(triangle)];
+    return float(1.0 - w1 - w2) * mesh.colors[t[0]] + float(w1) * mesh.colors[t[1]] +
+           float(w2) * mesh.colors[t[2]];
 }
 
 float surfaceAlpha(const Scene& scene, int mesh, int triangle, float u, float v) {
     const Mesh& m = scene.meshes[size_t(mesh)];
     const Material& material = scene.materials[size_t(m.material)];
-    float alpha = material.alpha;
+    float alpha = material.alpha * vertexColor(m, triangle, u, v).a;
     const TextureRef& ref = material.baseColorTexture;
-    if (ref.texture >= 0 && !m.uvs.empty()) {
-        const glm::uvec3 t = m.triangles[size_t(triangle)];
-        const glm::vec2 uv = (1.0f - u - v) * m.uvs[t[0]] + u * m.uvs[t[1]] + v * m.uvs[t[2]];
-        alpha *= scene.textures[size_t(ref.texture)].sample(ref.transform.apply(uv)).a;
-    }
+    if (ref.texture >= 0 && !m.uvs.empty())
+        alpha *= sampleTexture(scene, ref, meshUvs(m, triangle, u, v)).a;
     return std::clamp(alpha, 0.0f, 1.0f);
 }
 

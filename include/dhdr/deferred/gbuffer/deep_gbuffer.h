@@ -13,11 +13,6 @@
 
 namespace dhdr {
 
-namespace gbuffer {
-// The file types of a deep G-buffer's channels (deepChannelNames(), gbuffer.h).
-std::vector<OIIO::TypeDesc> deepChannelFormats();
-} // namespace gbuffer
-
 struct DeepGBuffer {
     // Size, data window and header attributes (camera, name tables) of the frame, with
     // deepChannelNames() as its channels; not itself deep.
@@ -71,7 +66,7 @@ bool readDeepGBuffer(const std::string& path, int subimage, DeepGBuffer& out, st
 
 // The samples of rows [ybegin, yend) of `g` as OIIO DeepData, ready for
 // ImageOutput::write_deep_scanlines: in `formats` (one type a channel; empty: the deep
-// G-buffer contract's, deepChannelFormats()).
+// G-buffer contract's, gbuffer::channelFormats of its channels).
 void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out,
                 std::vector<OIIO::TypeDesc> formats = {});
 

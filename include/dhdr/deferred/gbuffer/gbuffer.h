@@ -3,6 +3,7 @@
 #pragma once
 
 #include <OpenImageIO/oiioversion.h>
+#include <OpenImageIO/typedesc.h>
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <string>
@@ -24,6 +25,7 @@ inline constexpr const char* kPositionError = "Perr";
 inline constexpr const char* kAlbedo[3] = {"albedo.R", "albedo.G", "albedo.B"};
 inline constexpr const char* kRoughness = "roughness";
 inline constexpr const char* kMetallic = "metallic";
+inline constexpr const char* kOcclusion = "occlusion";
 inline constexpr const char* kEmission[3] = {"emission.R", "emission.G", "emission.B"};
 inline constexpr const char* kObjectId = "id.object";
 inline constexpr const char* kMaterialId = "id.material";
@@ -48,7 +50,8 @@ inline constexpr const char* kShadowCatcher = "dhdr:shadowCatcher";
 struct Layout {
     int coverage = -1, depth = -1, depthBack = -1, position = -1, normal = -1, albedo = -1;
     int geometricNormal = -1, positionError = -1;
-    int roughness = -1, metallic = -1, emission = -1, objectId = -1, materialId = -1;
+    int roughness = -1, metallic = -1, occlusion = -1, emission = -1, objectId = -1,
+        materialId = -1;
     int cryptoObject = -1, cryptoMaterial = -1;
 };
 
@@ -66,7 +69,8 @@ enum class FileType { Half, Float, Uint };
 enum class Need {
     Required, // dhdr-light rejects a G-buffer without it
     Optional, // used when present
-    DeepOnly  // in deep G-buffers only
+    DeepOnly, // in deep G-buffers only
+    WhenUsed  // written only when a material of the scene uses it; used when present
 };
 
 // One entry of the contract: a scalar, a 3-vector or a Cryptomatte layer, in the order
@@ -132,25 +136,32 @@ inline constexpr ContractChannel kContract[] = {
      FileType::Half,
      Need::Required,
      &Layout::albedo,
-     "linear base colour: material factor × base-colour texture"},
+     "linear base colour: material factor × base-colour texture × vertex colour"},
     {{kRoughness},
      1,
      FileType::Half,
      Need::Required,
      &Layout::roughness,
-     "glTF metallic-roughness roughness"},
+     "glTF roughness: roughnessFactor × metallic-roughness texture's G"},
     {{kMetallic},
      1,
      FileType::Half,
      Need::Required,
      &Layout::metallic,
-     "glTF metallic-roughness metallic"},
+     "glTF metallic: metallicFactor × metallic-roughness texture's B"},
+    {{kOcclusion},
+     1,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::occlusion,
+     "glTF occlusion: 1 + strength · (occlusion texture's R − 1); scales ambient, environment "
+     "and indirect light, never direct light"},
     {{kEmission[0], kEmission[1], kEmission[2]},
      3,
      FileType::Half,
      Need::Optional,
      &Layout::emission,
-     "linear emitted radiance (emissive factor × strength)"},
+     "linear emitted radiance: emissive factor × strength × emissive texture"},
     {{kObjectId},
      1,
      FileType::Uint,
@@ -187,10 +198,17 @@ float cryptomatteId(const std::string& name, std::uint32_t* hash = nullptr);
 void writeCryptomatteHeader(OIIO::ImageSpec& spec, const std::string& layer,
                             const std::vector<std::string>& names);
 
-// All channels of the flat contract in writing order (kContract without the deep-only ones).
-std::vector<std::string> channelNames();
-// A deep G-buffer sample's channels: all of kContract, in its order.
-std::vector<std::string> deepChannelNames();
+// All channels of the flat contract in writing order (kContract without the deep-only ones),
+// with the WhenUsed ones a scene uses: `occlusion` (a material with an occlusion texture).
+std::vector<std::string> channelNames(bool occlusion = false);
+// A deep G-buffer sample's channels: all of kContract, in its order, the same WhenUsed ones.
+std::vector<std::string> deepChannelNames(bool occlusion = false);
+// The file types of `names`: the contract's for its channels, float for any other (the
+// motion layer).
+std::vector<OIIO::TypeDesc> channelFormats(const std::vector<std::string>& names);
+// Whether `names` are, in order, the channels dhdr-gbuffer writes: the flat (or `deep`)
+// contract's, with or without the WhenUsed ones, then the motion layer or not.
+bool isWrittenLayout(const std::vector<std::string>& names, bool deep);
 
 // Finds the channels that dhdr-light shades with (A, Z, P, N, albedo, roughness, metallic;
 // emission and ids are optional). On a missing channel returns false and names it in

@@ -19,6 +19,9 @@ struct ShadingPoint {
     glm::vec3 V{0.0f}; // unit, towards the eye
     PbrSurface surface;
     glm::vec3 emission{0.0f};
+    // The material's occlusion (the occlusion channel; 1 without one): it scales ambient,
+    // environment and indirect light, never direct light (glTF 2.0 §3.9.3).
+    float occlusion = 1.0f;
     float coverage = 0.0f; // the pixel's A
     float depth = 0.0f;    // Z
 };
@@ -89,6 +92,10 @@ public:
         if (m_layout.emission >= 0)
             s.emission =
                 glm::vec3(g[m_layout.emission], g[m_layout.emission + 1], g[m_layout.emission + 2]);
+        if (m_layout.occlusion >= 0) {
+            const float o = g[m_layout.occlusion];
+            s.occlusion = std::isnan(o) ? 1.0f : std::clamp(o, 0.0f, 1.0f);
+        }
         s.coverage = g[m_layout.coverage];
         s.depth = g[m_layout.depth];
         return s;

@@ -1,6 +1,6 @@
 // What a ray hit: the shading attributes of a scene's surface at a hit, interpolated over its
-// triangle (normal and base colour maps applied), as the G-buffer stores them and as the
-// probes' rays see them.
+// triangle (the material's textures and vertex colours applied), as the G-buffer stores them and as
+// the probes' rays see them.
 #pragma once
 
 #include <dhdr/deferred/geometry/ray_caster.h>
@@ -18,8 +18,11 @@ struct SurfaceSample {
     glm::dvec3 interpolated; // the interpolated normal before the normal map, facing the same way
     glm::dvec3 geometric;    // the triangle's own unit normal, facing the ray's origin
     bool backFace = false;   // the ray came from behind the file's normals (inside a closed mesh)
-    glm::vec3 albedo;
-    glm::vec3 emission;
+    // The material there, its textures and vertex colour applied (glTF 2.0 §3.9).
+    glm::vec3 albedo;                        // baseColorFactor × base-colour texture × COLOR_0
+    glm::vec3 emission;                      // emissive factor × strength × emissive texture
+    float roughness = 1.0f, metallic = 0.0f; // factors × metallic-roughness texture (G, B)
+    float occlusion = 1.0f; // 1 + strength · (occlusion texture's R − 1); 1 without one
     const Material* material;
 };
 

@@ -62,6 +62,9 @@ public:
 
     // The whole frame's spec: size, channel names, camera matrices, name tables.
     const OIIO::ImageSpec& spec() const { return m_spec; }
+    // The channels of renderDeep's samples: the deep contract's (with the WhenUsed ones the
+    // scene uses), then the motion layer's when there is one.
+    std::vector<std::string> deepChannelNames() const;
 
     // Renders the pixels of `roi` (default: the whole frame) into `dst`, which becomes a float
     // image with spec() over exactly that region (its data window) when it is not already.
@@ -79,6 +82,7 @@ private:
     const Scene& m_scene;
     const Camera& m_camera;
     GBufferParams m_params;
+    bool m_occlusion; // a material has an occlusion texture: the occlusion channel is written
     OIIO::ImageSpec m_spec;
     std::shared_ptr<const RayCaster> m_caster;
     std::shared_ptr<const CryptoIds> m_crypto; // the Cryptomatte ids of names
@@ -87,9 +91,5 @@ private:
 // The whole frame in one call.
 bool renderGBuffer(OIIO::ImageBuf& dst, const Scene& scene, const Camera& camera,
                    const GBufferParams& params, int nthreads = 0);
-
-// The per-channel file types of the contract (half, float or uint), for writing; with
-// `motion`, the motion layer's four floats after them.
-std::vector<OIIO::TypeDesc> gbufferChannelFormats(bool motion = false);
 
 } // namespace dhdr

@@ -14,14 +14,22 @@ namespace dhdr {
 
 struct SceneRig;
 
-// A base-colour texture decoded to linear RGBA float.
+// How a texture is looked up outside [0, 1] and between texels (glTF 2.0 §3.8.4 samplers).
+enum class TextureWrap { Repeat, ClampToEdge, MirroredRepeat };
+struct TextureSampler {
+    TextureWrap wrapS = TextureWrap::Repeat, wrapT = TextureWrap::Repeat; // along u, along v
+    bool nearest = false; // magFilter NEAREST: the texel itself, no bilinear blend
+};
+
+// A texture decoded to linear RGBA float, straight (not premultiplied) alpha.
 struct Texture {
     std::string name;
     int width = 0, height = 0;
     std::vector<float> rgba;
 
-    // Bilinear lookup with repeat wrapping, glTF's default sampler; uv (0, 0) is the top-left.
-    glm::vec4 sample(glm::vec2 uv) const;
+    // Bilinear (or nearest) lookup, each texel index wrapped as `sampler` says, as OpenGL
+    // does; uv (0, 0) is the image's top-left.
+    glm::vec4 sample(glm::vec2 uv, const TextureSampler& sampler = {}) const;
 };
 
 // KHR_texture_transform of one texture reference: uv' = T(offset) · R(rotation) · S(scale) · uv,
@@ -34,10 +42,13 @@ struct TextureTransform {
     glm::vec2 apply(glm::vec2 uv) const;
 };
 
-// A material's use of a texture: which one (−1: none) and how its UVs are transformed.
+// A material's use of a texture: which one (−1: none), on which UV set, how its UVs are
+// transformed and how it is sampled.
 struct TextureRef {
     int texture = -1; // index into Scene::textures
+    int texCoord = 0; // TEXCOORD_n: 0 (Mesh::uvs) or 1 (Mesh::uvs1)
     TextureTransform transform;
+    TextureSampler sampler;
 };
 
 // How a material's alpha is used (glTF 2.0 §3.9.4 alphaMode).
@@ -60,12 +71,21 @@ struct Material {
     TextureRef emissiveTexture;  // sRGB-encoded, multiplies emission
     TextureRef normalTexture;    // linear, tangent space (+X along u, +Y up the image)
     float normalScale = 1.0f;    // glTF normalTexture.scale: scales the map's X and Y
+    // Linear; B scales metallic and G roughness (glTF 2.0 §3.9.2).
+    TextureRef metallicRoughnessTexture;
+    // Linear; R is the ambient occlusion, applied as 1 + strength · (R − 1) (§3.9.3).
+    TextureRef occlusionTexture;
+    float occlusionStrength = 1.0f;
 };
 
 struct Mesh {
     std::vector<glm::vec3> positions; // world space
     std::vector<glm::vec3> normals;   // world space, unit; zero where the file's was unusable
     std::vector<glm::vec2> uvs;       // origin at the image's top-left, as glTF; may be empty
+    std::vector<glm::vec2> uvs1;      // the second UV set (TEXCOORD_1), the same; may be empty
+    // Vertex colours (glTF COLOR_0, linear RGBA): they multiply the base colour and its alpha;
+    // may be empty.
+    std::vector<glm::vec4> colors;
     // World-space tangent (along +u) and bitangent (up the image) per vertex, from the file
     // or generated from the UVs; empty without UVs.
     std::vector<glm::vec3> tangents, bitangents;
@@ -111,8 +131,21 @@ struct Scene {
     glm::dvec3 boundsMax() const;
 };
 
+// A triangle's UV sets at barycentrics (w1, w2): set[0] from Mesh::uvs, set[1] from
+// Mesh::uvs1 (set[0] where the mesh has no second set); zero where it has none.
+struct MeshUvs {
+    glm::vec2 set[2] = {glm::vec2(0.0f), glm::vec2(0.0f)};
+};
+MeshUvs meshUvs(const Mesh& mesh, int triangle, double w1, double w2);
+
+// `ref`'s texture (ref.texture ≥ 0) at the UVs of its set, transformed and wrapped as it says.
+glm::vec4 sampleTexture(const Scene& scene, const TextureRef& ref, const MeshUvs& uvs);
+
+// The mesh's vertex colour at barycentrics (w1, w2) of a triangle; 1 without vertex colours.
+glm::vec4 vertexColor(const Mesh& mesh, int triangle, double w1, double w2);
+
 // The alpha of a mesh's surface at barycentrics (u, v) of a triangle: the material's alpha
-// times its base colour texture's alpha there.
+// times its vertex colour's and its base colour texture's alpha there.
 float surfaceAlpha(const Scene& scene, int mesh, int triangle, float u, float v);
 
 // Whether a hit on that surface is a surface at all (false: a Mask material cut out there),
