@@ -1,0 +1,304 @@
+// The glTF 2.0 material model as dhdr-gbuffer reads it (issue 44): samplers' wrap modes and
+// filters, the second UV set, metallic-roughness, occlusion and vertex colours, straight
+// alpha, normal maps seen from behind their slope. Each through the tools, on files written
+// here, against values computed from the files' own numbers.
+#include "scene_writer.h"
+#include "tool_test.h"
+
+#include <OpenImageIO/imagebufalgo.h>
+#include <cmath>
+#include <cstring>
+#include <dhdr/deferred/scene/scene.h>
+#include <glm/glm.hpp>
+
+using namespace dhdr::test;
+using OIIO::ImageSpec;
+using OIIO::TypeDesc;
+
+namespace {
+
+constexpr int kRepeat = 10497, kClamp = 33071, kMirror = 33648, kNearest = 9728;
+
+double srgbDecode(double v) {
+    return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
+
+class Materials : public ToolTest {
+protected:
+    static void SetUpTestSuite() { makeScratch(); }
+
+    // An 8-bit PNG of `width` × 1 texels (RGB, or RGBA with `alpha`) from 0-255 values.
+    static void writePng(const std::string& name, const std::vector<std::array<int, 4>>& texels,
+                         bool alpha = false) {
+        const int nch = alpha ? 4 : 3;
+        ImageBuf img(ImageSpec(int(texels.size()), 1, nch, TypeDesc::UINT8));
+        // The values are the file's: straight, not to be un-premultiplied on the way out.
+        img.specmod().attribute("oiio:UnassociatedAlpha", 1);
+        for (size_t x = 0; x < texels.size(); ++x)
+            for (int c = 0; c < nch; ++c)
+                static_cast<std::uint8_t*>(img.pixeladdr(int(x), 0))[c] =
+                    std::uint8_t(texels[x][size_t(c)]);
+        ASSERT_TRUE(img.write(path(name)));
+    }
+
+    // A float accessor of `count` `type` elements ("VEC2", "VEC3", "VEC4") in a buffer of its
+    // own; returns its index.
+    static size_t addAccessor(nlohmann::json& doc, const std::vector<float>& values,
+                              const char* type, size_t count) {
+        std::vector<std::uint8_t> bytes(values.size() * 4);
+        std::memcpy(bytes.data(), values.data(), bytes.size());
+        doc["buffers"].push_back(
+            {{"byteLength", bytes.size()},
+             {"uri", "data:application/octet-stream;base64," + base64(bytes)}});
+        doc["bufferViews"].push_back(
+            {{"buffer", doc["buffers"].size() - 1}, {"byteLength", bytes.size()}});
+        doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1},
+                                    {"componentType", 5126},
+                                    {"count", count},
+                                    {"type", type}});
+        return doc["accessors"].size() - 1;
+    }
+
+    // The 2 × 2 square at z = 0 with TEXCOORD_0 running from u0 to u1 along +X (v from 0 at
+    // the top to 1 at the bottom), seen from the front.
+    static nlohmann::json square(float u0 = 0.0f, float u1 = 1.0f) {
+        nlohmann::json doc = gltfWithMesh(squareMesh(1.0f));
+        // Vertices (−1,−1), (1,−1), (1,1), (−1,1).
+        const size_t uv = addAccessor(doc, {u0, 1, u1, 1, u1, 0, u0, 0}, "VEC2", 4);
+        doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = uv;
+        doc["nodes"] = {{{"name", "square"}, {"mesh", 0}}};
+        doc["scenes"] = {{{"nodes", {0}}}};
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1, 1, 1, 1};
+        return doc;
+    }
+
+    // dhdr-gbuffer of `doc` seen head-on; the G-buffer read back.
+    ImageBuf gbuffer(const std::string& name, const nlohmann::json& doc,
+                     const std::string& extra = "") {
+        writeJson(path(name + ".gltf"), doc);
+        const Result r = run("dhdr-gbuffer " + path(name + ".gltf") +
+                             " --lookat 0,0,3,0,0,0 --fov 60 --size 64x64 " + extra + " -o " +
+                             path(name + ".exr"));
+        EXPECT_EQ(r.status, 0) << r.err;
+        m_err = r.err;
+        return read(name + ".exr");
+    }
+
+    static float channel(const ImageBuf& g, int x, int y, const char* name) {
+        const int c = g.spec().channelindex(name);
+        EXPECT_GE(c, 0) << name;
+        return c < 0 ? NAN : static_cast<const float*>(g.pixeladdr(x, y))[c];
+    }
+
+    std::string m_err;
+};
+
+// Each wrap mode against OpenGL's rule for the texel index i of u on a 4-texel row (NEAREST,
+// so that every pixel is one texel): REPEAT i mod 4, MIRRORED_REPEAT the period-8 mirror,
+// CLAMP_TO_EDGE clamped to [0, 3]; the square's u runs from −1 to 2.
+TEST_F(Materials, WrapModesFollowTheSampler) {
+    const std::vector<std::array<int, 4>> texels = {
+        {255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 0, 255}};
+    writePng("row.png", texels);
+    for (const int wrap : {kRepeat, kMirror, kClamp}) {
+        nlohmann::json doc = square(-1.0f, 2.0f);
+        doc["images"] = {{{"uri", "row.png"}}};
+        doc["samplers"] = {{{"wrapS", wrap}, {"wrapT", kRepeat}, {"magFilter", kNearest}}};
+        doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+        const ImageBuf g = gbuffer("wrap" + std::to_string(wrap), doc);
+        int checked = 0;
+        for (int x = 0; x < 64; ++x) {
+            if (channel(g, x, 32, "A") != 1.0f) continue;
+            const double u = (double(channel(g, x, 32, "P.X")) + 1.0) / 2.0 * 3.0 - 1.0;
+            const double t = u * 4.0;
+            if (std::abs(t - std::round(t)) < 0.1) continue; // a texel's edge
+            const int i = int(std::floor(t));
+            int expected = wrap == kRepeat  ? ((i % 4) + 4) % 4
+                           : wrap == kClamp ? std::clamp(i, 0, 3)
+                                            : ((i % 8) + 8) % 8;
+            if (wrap == kMirror && expected >= 4) expected = 7 - expected;
+            const auto& e = texels[size_t(expected)];
+            EXPECT_EQ(channel(g, x, 32, "albedo.R"), e[0] / 255.0f) << wrap << " u " << u;
+            EXPECT_EQ(channel(g, x, 32, "albedo.G"), e[1] / 255.0f) << wrap << " u " << u;
+            EXPECT_EQ(channel(g, x, 32, "albedo.B"), e[2] / 255.0f) << wrap << " u " << u;
+            ++checked;
+        }
+        EXPECT_GE(checked, 30) << wrap;
+    }
+}
+
+// A texture on TEXCOORD_1, named by the reference or by KHR_texture_transform's texCoord: its
+// halves follow the second set (u along +X) while the first set is constant.
+TEST_F(Materials, SecondUvSetIsSampled) {
+    writePng("halves.png", {{255, 0, 0, 255}, {0, 0, 255, 255}});
+    for (const bool override : {false, true}) {
+        nlohmann::json doc = square(0.3f, 0.3f); // TEXCOORD_0: one point of the red half
+        const size_t uv1 = addAccessor(doc, {0, 1, 1, 1, 1, 0, 0, 0}, "VEC2", 4);
+        doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = uv1;
+        doc["images"] = {{{"uri", "halves.png"}}};
+        doc["samplers"] = {{{"magFilter", kNearest}}};
+        doc["textures"] = {{{"source", 0}, {"sampler", 0}}};
+        nlohmann::json ref = {{"index", 0}, {"texCoord", 1}};
+        if (override) {
+            ref = {{"index", 0}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 1}}}}}};
+            doc["extensionsUsed"] = {"KHR_texture_transform"};
+        }
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = ref;
+        const ImageBuf g = gbuffer(override ? "uv1o" : "uv1", doc);
+        EXPECT_EQ(m_err.find("UV set"), std::string::npos) << m_err;
+        // A quarter of the square in from each side.
+        EXPECT_EQ(channel(g, 21, 32, "albedo.R"), 1.0f) << override;
+        EXPECT_EQ(channel(g, 42, 32, "albedo.B"), 1.0f) << override;
+        EXPECT_EQ(channel(g, 42, 32, "albedo.R"), 0.0f) << override;
+    }
+}
+
+// roughness = roughnessFactor × G, metallic = metallicFactor × B of the linear texture.
+TEST_F(Materials, MetallicRoughnessTextureScalesTheFactors) {
+    writePng("mr.png", {{200, 128, 255, 255}});
+    nlohmann::json doc = square();
+    doc["images"] = {{{"uri", "mr.png"}}};
+    doc["textures"] = {{{"source", 0}}};
+    auto& pbr = doc["materials"][0]["pbrMetallicRoughness"];
+    pbr["metallicRoughnessTexture"] = {{"index", 0}};
+    pbr["roughnessFactor"] = 0.8;
+    pbr["metallicFactor"] = 0.6;
+    const ImageBuf g = gbuffer("mr", doc);
+    // Stored as half: within half's rounding (2⁻¹¹ relative).
+    EXPECT_NEAR(channel(g, 32, 32, "roughness"), 0.8 * 128.0 / 255.0, 1e-3);
+    EXPECT_NEAR(channel(g, 32, 32, "metallic"), 0.6, 1e-3);
+    EXPECT_LT(g.spec().channelindex("occlusion"), 0); // no occlusion texture, no channel
+}
+
+// The occlusion channel: 1 + strength · (R − 1), written only for a scene that uses it; in
+// dhdr-light it scales an ambient light's contribution and leaves a directional light's.
+TEST_F(Materials, OcclusionScalesAmbientButNotDirectLight) {
+    writePng("ao.png", {{64, 255, 255, 255}});
+    nlohmann::json doc = square();
+    doc["images"] = {{{"uri", "ao.png"}}};
+    doc["textures"] = {{{"source", 0}}};
+    doc["materials"][0]["occlusionTexture"] = {{"index", 0}, {"strength", 0.5}};
+    const ImageBuf g = gbuffer("ao", doc);
+    const double occlusion = 1.0 + 0.5 * (64.0 / 255.0 - 1.0);
+    ASSERT_NEAR(channel(g, 32, 32, "occlusion"), occlusion, 1e-3);
+    // The same G-buffer without the channel: what a reader without occlusion sees.
+    std::vector<int> keep;
+    std::vector<std::string> names;
+    for (int c = 0; c < g.nchannels(); ++c)
+        if (g.spec().channelnames[size_t(c)] != "occlusion") {
+            keep.push_back(c);
+            names.push_back(g.spec().channelnames[size_t(c)]);
+        }
+    ImageBuf without = OIIO::ImageBufAlgo::channels(g, int(keep.size()), keep, {}, names);
+    without.specmod().channelformats.clear();
+    ASSERT_TRUE(without.write(path("ao_without.exr"), TypeDesc::FLOAT));
+    std::ofstream(path("ambient.json"))
+        << R"({"lights": [{"type": "ambient", "color": [1, 1, 1], "intensity": 0.5}]})";
+    std::ofstream(path("sun.json"))
+        << R"({"lights": [{"type": "directional", "direction": [0, 0, -1], "intensity": 2}]})";
+    for (const char* lights : {"ambient", "sun"}) {
+        for (const char* in : {"ao", "ao_without"}) {
+            const Result r = run("dhdr-light " + path(std::string(in) + ".exr") + " --lights " +
+                                 path(std::string(lights) + ".json") + " -o " +
+                                 path(std::string(in) + "_" + lights + ".exr"));
+            ASSERT_EQ(r.status, 0) << r.err;
+        }
+        const ImageBuf with = read(std::string("ao_") + lights + ".exr"),
+                       plain = read(std::string("ao_without_") + lights + ".exr");
+        const float a = static_cast<const float*>(with.pixeladdr(32, 32))[0];
+        const float b = static_cast<const float*>(plain.pixeladdr(32, 32))[0];
+        ASSERT_GT(b, 0.0f) << lights;
+        const double expected = std::string(lights) == "ambient" ? occlusion : 1.0;
+        EXPECT_NEAR(a / b, expected, 2e-3) << lights;
+    }
+}
+
+// COLOR_0 multiplies the base colour: RGB floats (whose alpha Assimp 5.2 reads as 0, dhdr
+// as 1: the MASK material stays), and RGBA whose alpha cuts a MASK material out.
+TEST_F(Materials, VertexColoursMultiplyBaseColourAndAlpha) {
+    for (const bool rgba : {false, true}) {
+        nlohmann::json doc = square();
+        std::vector<float> colors;
+        for (int v = 0; v < 4; ++v)
+            for (const float c : {0.5f, 0.25f, 1.0f, 0.2f})
+                if (rgba || c != 0.2f) colors.push_back(c);
+        doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] =
+            addAccessor(doc, colors, rgba ? "VEC4" : "VEC3", 4);
+        doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {0.8, 0.8, 0.8, 1.0};
+        doc["materials"][0]["alphaMode"] = "MASK";
+        const ImageBuf g = gbuffer(rgba ? "colors4" : "colors3", doc);
+        if (rgba) {
+            EXPECT_EQ(channel(g, 32, 32, "A"), 0.0f); // alpha 0.2 < the cutoff 0.5
+            continue;
+        }
+        ASSERT_EQ(channel(g, 32, 32, "A"), 1.0f);
+        EXPECT_NEAR(channel(g, 32, 32, "albedo.R"), 0.8 * 0.5, 1e-3);
+        EXPECT_NEAR(channel(g, 32, 32, "albedo.G"), 0.8 * 0.25, 1e-3);
+        EXPECT_NEAR(channel(g, 32, 32, "albedo.B"), 0.8 * 1.0, 1e-3);
+    }
+}
+
+// A half-transparent texel's colour is its own, decoded from sRGB, not premultiplied by its
+// alpha before the decode (OpenImageIO associates a PNG's alpha unless told not to).
+TEST_F(Materials, TextureColourIsStraightNotPremultiplied) {
+    writePng("half.png", {{128, 128, 128, 128}}, true);
+    // The texel as libpng holds it, read back by OpenImageIO without associating its alpha.
+    ImageSpec config;
+    config.attribute("oiio:UnassociatedAlpha", 1);
+    ImageBuf check(path("half.png"), 0, 0, nullptr, &config);
+    ASSERT_TRUE(check.read(0, 0, true, TypeDesc::UINT8));
+    ASSERT_EQ(static_cast<const std::uint8_t*>(check.pixeladdr(0, 0))[0], 128);
+    nlohmann::json doc = square();
+    doc["images"] = {{{"uri", "half.png"}}};
+    doc["textures"] = {{{"source", 0}}};
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    doc["materials"][0]["alphaMode"] = "BLEND";
+    const ImageBuf g = gbuffer("straight", doc, "--flat");
+    EXPECT_NEAR(channel(g, 32, 32, "albedo.R"), srgbDecode(128.0 / 255.0), 1e-3) << m_err;
+}
+
+// A normal map tilted towards +u, seen from the −X side where the mapped normal faces away:
+// the normal is bent to just in front of the viewer, keeping its tilt (N.X > 0), not turned
+// round to −mapped.
+TEST_F(Materials, MappedNormalFacingAwayIsBentNotTurned) {
+    writePng("tilt.png", {{255, 128, 153, 255}}); // (x, y, z) ≈ (1, 0, 0.2)
+    nlohmann::json doc = square();
+    doc["images"] = {{{"uri", "tilt.png"}}};
+    doc["textures"] = {{{"source", 0}}};
+    doc["materials"][0]["normalTexture"] = {{"index", 0}};
+    writeJson(path("tilt.gltf"), doc);
+    const Result r = run("dhdr-gbuffer " + path("tilt.gltf") +
+                         " --lookat -3,0,1,0,0,0 --fov 40 --size 32x32 -o " + path("tilt.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf g = read("tilt.exr");
+    int checked = 0;
+    for (int y = 0; y < 32; ++y)
+        for (int x = 0; x < 32; ++x) {
+            if (channel(g, x, y, "A") != 1.0f) continue;
+            const glm::vec3 P(channel(g, x, y, "P.X"), channel(g, x, y, "P.Y"),
+                              channel(g, x, y, "P.Z"));
+            const glm::vec3 N(channel(g, x, y, "N.X"), channel(g, x, y, "N.Y"),
+                              channel(g, x, y, "N.Z"));
+            const glm::vec3 V = glm::normalize(glm::vec3(-3, 0, 1) - P);
+            EXPECT_GT(N.x, 0.0f) << x << "," << y;
+            EXPECT_GE(glm::dot(N, V), -2e-3f) << x << "," << y; // half's rounding
+            ++checked;
+        }
+    EXPECT_GT(checked, 50);
+}
+
+// A texture on a UV set dhdr does not read is named; the render goes on with TEXCOORD_0.
+TEST_F(Materials, UvSetsPastTheSecondAreNamed) {
+    writePng("one.png", {{255, 0, 0, 255}});
+    nlohmann::json doc = square();
+    doc["images"] = {{{"uri", "one.png"}}};
+    doc["textures"] = {{{"source", 0}}};
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0},
+                                                                       {"texCoord", 7}};
+    const ImageBuf g = gbuffer("uv7", doc);
+    EXPECT_NE(m_err.find("past TEXCOORD_1"), std::string::npos) << m_err;
+    EXPECT_EQ(channel(g, 32, 32, "albedo.R"), 1.0f);
+}
+
+} // namespace
