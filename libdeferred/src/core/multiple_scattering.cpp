@@ -60,7 +60,7 @@ MsFactors factors(const PbrSurface& s, float NdotV) {
     m.oneMinusEo = std::max(0.0f, 1.0f - ggxAlbedoTerms(NdotV, s.roughness).y);
     m.norm = 1.0f / (kPi * lost);
     const glm::vec3 F0 = s.F0();
-    const glm::vec3 Favg = F0 + (glm::vec3(1.0f) - F0) * (1.0f / 21.0f);
+    const glm::vec3 Favg = F0 + (glm::vec3(s.f90()) - F0) * (1.0f / 21.0f);
     m.fresnel = Favg * Favg * Eavg / (glm::vec3(1.0f) - Favg * lost);
     return m;
 }

@@ -188,7 +188,6 @@ glm::vec3 specularQuadrature(const Ibl& ibl, const PbrSurface& s, const glm::vec
     glm::vec3 t, b;
     orthonormalBasis(N, t, b);
     const glm::vec3 Vl(glm::dot(V, t), glm::dot(V, b), NdotV);
-    const glm::vec3 F0 = s.F0();
     const float G1v = smithGgxMasking(NdotV, alpha);
     glm::vec3 sum(0.0f), weight(0.0f);
     for (int i = 0; i < samples; ++i) {
@@ -199,7 +198,7 @@ glm::vec3 specularQuadrature(const Ibl& ibl, const PbrSurface& s, const glm::vec
         if (!(l.z > 0.0f) || !(VdotH > 0.0f)) continue;
         // f cos / pdf = F · G2 / G1(V), with G2 = Vis · 4 (n·l)(n·v).
         const float g2 = smithGgxCorrelatedVisibility(l.z, NdotV, alpha) * 4.0f * l.z * NdotV;
-        const glm::vec3 F = schlickFresnel(F0, VdotH);
+        const glm::vec3 F = s.fresnel(VdotH);
         const float pdf = ggxVisibleNormalReflectionPdf(NdotV, h.z, alpha);
         // Each direction stands for Ωs = 1 / (n p) of the lobe (filtered importance sampling,
         // Křivánek & Colbert 2008) and reads the sky blurred over that much: the prefiltered
@@ -216,7 +215,7 @@ glm::vec3 specularQuadrature(const Ibl& ibl, const PbrSurface& s, const glm::vec
     // the albedo within a few per cent, the mean radiance far better (a uniform sky gives it
     // exactly, so the white furnace stays exact).
     const glm::vec2 dfg = ibl.dfgAt(NdotV, s.roughness);
-    const glm::vec3 albedo = F0 * (dfg.y - dfg.x) + glm::vec3(dfg.x);
+    const glm::vec3 albedo = s.lobeReflectance(dfg);
     return glm::vec3(weight.r > 0.0f ? sum.r / weight.r : 0.0f,
                      weight.g > 0.0f ? sum.g / weight.g : 0.0f,
                      weight.b > 0.0f ? sum.b / weight.b : 0.0f) *
@@ -231,7 +230,6 @@ IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, con
     out.diffuse = diffuseAlbedo(s, NdotV) * irradiance * (1.0f / kPi);
     const glm::vec3 R = glm::reflect(-V, N);
     const glm::vec2 dfg = ibl.dfgAt(NdotV, s.roughness);
-    const glm::vec3 F0 = s.F0();
     const bool quadrature = method == IblSpecular::Quadrature ||
                             (method == IblSpecular::Auto && s.roughness >= kIblQuadratureRoughness);
     // The footprint widens the lobe the levels are read at, added in quadrature as two blurs
@@ -241,10 +239,9 @@ IblShading shadeIbl(const Ibl& ibl, const PbrSurface& s, const glm::vec3& N, con
         const float a = s.roughness * s.roughness, af = kFootprintAlpha * spread;
         lookup = std::min(1.0f, std::sqrt(std::sqrt(a * a + af * af)));
     }
-    const glm::vec3 single =
-        quadrature && !ibl.levels.empty()
-            ? specularQuadrature(ibl, s, N, V)
-            : ibl.prefiltered(R, lookup) * (F0 * (dfg.y - dfg.x) + glm::vec3(dfg.x));
+    const glm::vec3 single = quadrature && !ibl.levels.empty()
+                                 ? specularQuadrature(ibl, s, N, V)
+                                 : ibl.prefiltered(R, lookup) * s.lobeReflectance(dfg);
     // The multiple-scattering lobe, nearly diffuse, reflects the irradiance (as for every
     // other light; Turquin's 1 + F0 (1/y − 1) on the prefiltered value brightened coloured
     // rough metals past Cycles' multiscatter GGX).

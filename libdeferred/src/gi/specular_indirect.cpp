@@ -10,9 +10,8 @@ bool SpecularIndirect::applies(const LitPoint& p) {
     const float NdotV = glm::dot(p.N, p.V);
     if (!(NdotV > 0.0f)) return false;
     const glm::vec2 e = ggxAlbedoTerms(NdotV, p.surface.roughness);
-    const glm::vec3 F0 = p.surface.F0();
     const glm::vec3 albedo =
-        F0 * (e.y - e.x) + glm::vec3(e.x) + multipleScatteringAlbedo(p.surface, NdotV);
+        p.surface.lobeReflectance(e) + multipleScatteringAlbedo(p.surface, NdotV);
     return luminance(albedo) >= kSpecularIndirectAlbedo;
 }
 

@@ -53,7 +53,7 @@ bool reachableByRays(const Light& light) {
 // The GGX lobe's share of BRDF samples: its Fresnel reflectance at N·V against the diffuse
 // layer's albedo, kept within [0.1, 0.9] where both layers reflect.
 float specularChance(const PbrSurface& s, float NdotV) {
-    const float specular = luminance(schlickFresnel(s.F0(), NdotV));
+    const float specular = luminance(s.fresnel(NdotV));
     const float diffuse = luminance(s.diffuseColor()) * (1.0f - specular);
     if (!(diffuse > 0.0f)) return 1.0f;
     if (!(specular > 0.0f)) return 0.0f;

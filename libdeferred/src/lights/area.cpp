@@ -199,8 +199,7 @@ glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec
     const float NdotV = glm::dot(N, V);
     // Diffuse: the diffuse layer towards the centre × E, with F at the centre's half vector.
     if (view.irradiance > 0.0f && NdotV > 0.0f) {
-        const glm::vec3 F =
-            schlickFresnel(s.F0(), std::max(glm::dot(V, glm::normalize(Lc + V)), 0.0f));
+        const glm::vec3 F = s.fresnel(std::max(glm::dot(V, glm::normalize(Lc + V)), 0.0f));
         Lo += diffuseBrdf(s, N, V, Lc, F) * (view.radiance * view.irradiance);
         // The multiple-scattering lobe is nearly diffuse: the irradiance, at the centre's
         // angle.
@@ -215,7 +214,7 @@ glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec
         const float alpha = s.alpha();
         const float widened = std::min(1.0f, alpha + view.size / (2.0f * d));
         const float normalization = (alpha / widened) * (alpha / widened);
-        const glm::vec3 F = schlickFresnel(s.F0(), std::max(glm::dot(V, H), 0.0f));
+        const glm::vec3 F = s.fresnel(std::max(glm::dot(V, H), 0.0f));
         const float spec = ggxDistribution(std::max(glm::dot(N, H), 0.0f), alpha) *
                            smithGgxCorrelatedVisibility(NdotL, NdotV, alpha) * normalization;
         Lo += F * (spec * view.intensity / d2 * NdotL);

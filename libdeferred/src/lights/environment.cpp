@@ -25,9 +25,7 @@ glm::vec3 shadeAmbient(const Light& light, const PbrSurface& s, const glm::vec3&
     // scattered; the diffuse layer's from its Fresnel transmission (multiple_scattering.h).
     const float NdotV = std::max(glm::dot(N, V), 1e-4f);
     const glm::vec2 e = ggxAlbedoTerms(NdotV, s.roughness);
-    const glm::vec3 F0 = s.F0();
-    const glm::vec3 specular =
-        F0 * (e.y - e.x) + glm::vec3(e.x) + multipleScatteringAlbedo(s, NdotV);
+    const glm::vec3 specular = s.lobeReflectance(e) + multipleScatteringAlbedo(s, NdotV);
     return light.color * light.intensity * (diffuseAlbedo(s, NdotV) + specular);
 }
 

@@ -38,7 +38,7 @@ glm::vec3 shadeSunDisk(const Light& light, const PbrSurface& s, const glm::vec3&
     const glm::vec3 E = light.color * light.intensity;
     const glm::vec3 Hc = glm::normalize(L + V);
     const glm::vec3 diffuse =
-        diffuseBrdf(s, N, V, L, schlickFresnel(s.F0(), std::max(glm::dot(V, Hc), 0.0f))) * NdotL;
+        diffuseBrdf(s, N, V, L, s.fresnel(std::max(glm::dot(V, Hc), 0.0f))) * NdotL;
     const float cosR = std::cos(0.5f * light.angle), sinR = std::sin(0.5f * light.angle);
     const glm::vec3 R = glm::reflect(-V, N);
     const float LdotR = glm::dot(L, R);
@@ -59,7 +59,7 @@ glm::vec3 shadeSunDisk(const Light& light, const PbrSurface& s, const glm::vec3&
                           : s.alpha();
         const float widened = std::min(1.0f, alpha + 0.5f * sinR);
         const float normalization = (alpha / widened) * (alpha / widened);
-        specular = schlickFresnel(s.F0(), std::max(glm::dot(V, H), 0.0f)) *
+        specular = s.fresnel(std::max(glm::dot(V, H), 0.0f)) *
                    (ggxDistribution(std::max(glm::dot(N, H), 0.0f), alpha) *
                     smithGgxCorrelatedVisibility(NdotLs, NdotV, alpha) * normalization * NdotLs);
     }

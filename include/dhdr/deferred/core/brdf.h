@@ -29,10 +29,10 @@ inline float smithGgxCorrelatedVisibility(float NdotL, float NdotV, float alpha)
 }
 
 // Schlick 1994 Fresnel approximation.
-inline glm::vec3 schlickFresnel(const glm::vec3& F0, float VdotH) {
+inline glm::vec3 schlickFresnel(const glm::vec3& F0, float VdotH, float f90 = 1.0f) {
     const float m = std::clamp(1.0f - VdotH, 0.0f, 1.0f);
     const float m2 = m * m;
-    return F0 + (glm::vec3(1.0f) - F0) * (m2 * m2 * m);
+    return F0 + (glm::vec3(f90) - F0) * (m2 * m2 * m);
 }
 
 // The luminance of linear Rec. 709 RGB (Y of CIE XYZ).
@@ -59,9 +59,24 @@ struct PbrSurface {
     float metallic = 0.0f;
     DiffuseModel diffuse = DiffuseModel::Lambert;
 
+    // The dielectric layer's reflectance at normal and at grazing incidence: 4 % and 1, or as
+    // KHR_materials_ior and KHR_materials_specular set them (dielectric_f0 and specular_factor).
+    glm::vec3 dielectricF0{0.04f};
+    float dielectricF90 = 1.0f;
+
     float alpha() const { return std::max(roughness * roughness, kMinAlpha); }
-    // Normal-incidence reflectance: 4 % for dielectrics, the base colour for metals.
-    glm::vec3 F0() const { return glm::mix(glm::vec3(0.04f), baseColor, metallic); }
+    // Normal-incidence reflectance: the dielectric's, the base colour for metals.
+    glm::vec3 F0() const { return glm::mix(dielectricF0, baseColor, metallic); }
+    // Grazing-incidence reflectance: the dielectric's, 1 for metals.
+    float f90() const { return dielectricF90 + (1.0f - dielectricF90) * metallic; }
+    // Schlick's Fresnel of the surface at a half vector's cosine (glTF 2.0 Appendix B,
+    // KHR_materials_specular's fresnel_mix): F0 + (f90 − F0)(1 − v·h)⁵.
+    glm::vec3 fresnel(float VdotH) const { return schlickFresnel(F0(), VdotH, f90()); }
+    // The reflectance of a lobe whose split-sum terms are `e` = (x, y) (ggxAlbedoTerms, the DFG
+    // table): F0 (y − x) + f90 x.
+    glm::vec3 lobeReflectance(const glm::vec2& e) const {
+        return F0() * (e.y - e.x) + glm::vec3(e.x) * f90();
+    }
     glm::vec3 diffuseColor() const { return baseColor * (1.0f - metallic); }
 };
 
@@ -97,7 +112,7 @@ inline glm::vec3 evaluateBrdf(const PbrSurface& s, const glm::vec3& N, const glm
     const float NdotH = std::max(glm::dot(N, H), 0.0f);
     const float VdotH = std::max(glm::dot(V, H), 0.0f);
     const float alpha = s.alpha();
-    const glm::vec3 F = schlickFresnel(s.F0(), VdotH);
+    const glm::vec3 F = s.fresnel(VdotH);
     const glm::vec3 specular =
         F * (ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(NdotL, NdotV, alpha)) +
         multipleScatteringBrdf(s, NdotV, NdotL);
@@ -114,7 +129,7 @@ inline glm::vec3 singleScatteringBrdf(const PbrSurface& s, const glm::vec3& N, c
     const glm::vec3 H = glm::normalize(L + V);
     const float NdotH = std::max(glm::dot(N, H), 0.0f);
     const float alpha = s.alpha();
-    return schlickFresnel(s.F0(), std::max(glm::dot(V, H), 0.0f)) *
+    return s.fresnel(std::max(glm::dot(V, H), 0.0f)) *
            (ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(NdotL, NdotV, alpha));
 }
 inline glm::vec3 specularBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,

@@ -44,7 +44,10 @@ float burleyDiffuseAlbedo(float NdotV, float roughness);
 inline glm::vec3 diffuseAlbedo(const PbrSurface& s, float NdotV) {
     if (s.diffuse == DiffuseModel::Burley)
         return s.diffuseColor() * burleyDiffuseAlbedo(NdotV, s.roughness);
-    return s.diffuseColor() * (glm::vec3(1.0f) - s.F0()) * diffuseFresnelTransmission(NdotV);
+    // With f90 < 1, 1 − F = (1 − F0)(1 − (1 − v·h)⁵) + (1 − f90)(1 − v·h)⁵.
+    const float T = diffuseFresnelTransmission(NdotV);
+    return s.diffuseColor() * (glm::vec3(1.0f) - s.F0()) * T +
+           s.diffuseColor() * ((1.0f - s.f90()) * (1.0f - T));
 }
 
 // The specular layer under light from every direction: the split sum's F0 (y − x) + x plus
@@ -52,7 +55,7 @@ inline glm::vec3 diffuseAlbedo(const PbrSurface& s, float NdotV) {
 // irradiance E (exact for uniform light).
 inline glm::vec3 specularAlbedo(const PbrSurface& s, float NdotV) {
     const glm::vec2 e = ggxAlbedoTerms(NdotV, s.roughness);
-    return s.F0() * (e.y - e.x) + glm::vec3(e.x) + multipleScatteringAlbedo(s, NdotV);
+    return s.lobeReflectance(e) + multipleScatteringAlbedo(s, NdotV);
 }
 
 } // namespace dhdr
