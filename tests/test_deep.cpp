@@ -591,14 +591,17 @@ TEST(GBufferContract, DocsListTheTable) {
     }
     EXPECT_EQ(rows, expected);
     // And the writers follow it: the flat names are the table's without ZBack, in its order.
-    for (const bool occlusion : {false, true}) {
-        std::vector<std::string> deep = gbuffer::deepChannelNames(occlusion),
-                                 flat = gbuffer::channelNames(occlusion);
+    for (unsigned uses = 0; uses <= gbuffer::kAllUses; ++uses) {
+        std::vector<std::string> deep = gbuffer::deepChannelNames(uses),
+                                 flat = gbuffer::channelNames(uses);
         deep.erase(std::find(deep.begin(), deep.end(), std::string(gbuffer::kDepthBack)));
         EXPECT_EQ(deep, flat);
-        // The WhenUsed channel only when asked for.
+        EXPECT_TRUE(gbuffer::isWrittenLayout(flat, false)) << uses;
+        // The WhenUsed channels only when asked for.
         EXPECT_EQ(std::count(flat.begin(), flat.end(), std::string(gbuffer::kOcclusion)),
-                  occlusion ? 1 : 0);
+                  uses & gbuffer::kUsesOcclusion ? 1 : 0);
+        EXPECT_EQ(std::count(flat.begin(), flat.end(), std::string(gbuffer::kSpecularWeight)),
+                  uses & gbuffer::kUsesSpecular ? 1 : 0);
     }
     EXPECT_EQ(gbuffer::channelFormats(gbuffer::deepChannelNames()).size(),
               gbuffer::deepChannelNames().size());

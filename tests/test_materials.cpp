@@ -302,3 +302,74 @@ TEST_F(Materials, UvSetsPastTheSecondAreNamed) {
 }
 
 } // namespace
+
+namespace {
+
+// KHR_materials_ior and KHR_materials_specular: the G-buffer's dielectric reflectance is
+// min(((ior − 1)/(ior + 1))² · specularColorFactor, 1) · specularFactor at normal incidence and
+// specularFactor at grazing incidence; a scene without them has no such channels.
+TEST_F(Materials, IorAndSpecularSetTheDielectricReflectance) {
+    nlohmann::json doc = square();
+    doc["materials"][0]["extensions"] = {
+        {"KHR_materials_ior", {{"ior", 2.0}}},
+        {"KHR_materials_specular",
+         {{"specularFactor", 0.5}, {"specularColorFactor", {1.0, 0.5, 0.25}}}}};
+    doc["extensionsUsed"] = {"KHR_materials_ior", "KHR_materials_specular"};
+    const ImageBuf g = gbuffer("ior", doc);
+    EXPECT_EQ(m_err.find("not read"), std::string::npos) << m_err;
+    const double f0 = 1.0 / 9.0 * 0.5;
+    EXPECT_NEAR(channel(g, 32, 32, "specular.R"), f0 * 1.0, 1e-4);
+    EXPECT_NEAR(channel(g, 32, 32, "specular.G"), f0 * 0.5, 1e-4);
+    EXPECT_NEAR(channel(g, 32, 32, "specular.B"), f0 * 0.25, 1e-4);
+    EXPECT_EQ(channel(g, 32, 32, "specularWeight"), 0.5f);
+    const ImageBuf plain = gbuffer("plain", square());
+    EXPECT_LT(plain.spec().channelindex("specular.R"), 0);
+    EXPECT_LT(plain.spec().channelindex("specularWeight"), 0);
+}
+
+// specularFactor 0 leaves a dielectric its diffuse layer alone, undimmed by any Fresnel:
+// lit head-on by a directional light of illuminance π, Lo = albedo / π · π · cos 0 = albedo.
+TEST_F(Materials, SpecularFactorZeroLeavesLambertsLawExactly) {
+    nlohmann::json doc = square();
+    doc["materials"][0]["pbrMetallicRoughness"] = {{"baseColorFactor", {0.5, 0.25, 0.125, 1.0}},
+                                                   {"metallicFactor", 0.0},
+                                                   {"roughnessFactor", 0.5}};
+    doc["materials"][0]["extensions"] = {{"KHR_materials_specular", {{"specularFactor", 0.0}}}};
+    gbuffer("nospec", doc);
+    std::ofstream(path("pi.json"))
+        << R"({"lights": [{"type": "directional", "direction": [0, 0, -1], "intensity": 3.14159265358979}]})";
+    const Result r = run("dhdr-light " + path("nospec.exr") + " --lights " + path("pi.json") +
+                         " -o " + path("nospec_lit.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf lit = read("nospec_lit.exr");
+    const float* p = static_cast<const float*>(lit.pixeladdr(32, 32));
+    // The G-buffer's half albedo and the output's half: 2⁻¹¹ relative each.
+    EXPECT_NEAR(p[0], 0.5, 1e-3);
+    EXPECT_NEAR(p[1], 0.25, 1e-3);
+    EXPECT_NEAR(p[2], 0.125, 1e-3);
+}
+
+// KHR_materials_unlit: what the surface shows is its base colour (× vertex colour), whatever
+// lights the scene: its emission, with nothing reflected.
+TEST_F(Materials, UnlitShowsItsBaseColourUnderAnyLight) {
+    nlohmann::json doc = square();
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {0.2, 0.4, 0.6, 1.0};
+    doc["materials"][0]["extensions"] = {{"KHR_materials_unlit", nlohmann::json::object()}};
+    doc["extensionsUsed"] = {"KHR_materials_unlit"};
+    const ImageBuf g = gbuffer("unlit", doc);
+    EXPECT_EQ(m_err.find("not read"), std::string::npos) << m_err;
+    EXPECT_EQ(channel(g, 32, 32, "albedo.R"), 0.0f);
+    std::ofstream(path("bright.json"))
+        << R"({"lights": [{"type": "directional", "direction": [0, 0, -1], "intensity": 5},
+                          {"type": "ambient", "intensity": 2}]})";
+    const Result r = run("dhdr-light " + path("unlit.exr") + " --lights " + path("bright.json") +
+                         " -o " + path("unlit_lit.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf lit = read("unlit_lit.exr");
+    const float* p = static_cast<const float*>(lit.pixeladdr(32, 32));
+    EXPECT_NEAR(p[0], 0.2, 1e-3);
+    EXPECT_NEAR(p[1], 0.4, 1e-3);
+    EXPECT_NEAR(p[2], 0.6, 1e-3);
+}
+
+} // namespace

@@ -15,11 +15,10 @@ namespace dhdr::gbuffer {
 
 namespace {
 
-std::vector<std::string> namesOf(bool deep, bool occlusion) {
+std::vector<std::string> namesOf(bool deep, unsigned uses) {
     std::vector<std::string> names;
     for (const ContractChannel& c : kContract)
-        if ((deep || c.need != Need::DeepOnly) &&
-            (c.need != Need::WhenUsed || (occlusion && c.field == &Layout::occlusion)))
+        if ((deep || c.need != Need::DeepOnly) && (c.need != Need::WhenUsed || (c.use & uses)))
             for (int i = 0; i < c.components; ++i)
                 names.push_back(c.names[i]);
     return names;
@@ -71,17 +70,17 @@ void writeCryptomatteHeader(OIIO::ImageSpec& spec, const std::string& layer,
     spec.attribute(prefix + "manifest", manifest);
 }
 
-std::vector<std::string> channelNames(bool occlusion) {
-    return namesOf(false, occlusion);
+std::vector<std::string> channelNames(unsigned uses) {
+    return namesOf(false, uses);
 }
 
-std::vector<std::string> deepChannelNames(bool occlusion) {
-    return namesOf(true, occlusion);
+std::vector<std::string> deepChannelNames(unsigned uses) {
+    return namesOf(true, uses);
 }
 
 bool isWrittenLayout(const std::vector<std::string>& names, bool deep) {
-    for (const bool occlusion : {false, true}) {
-        std::vector<std::string> written = namesOf(deep, occlusion);
+    for (unsigned uses = 0; uses <= kAllUses; ++uses) {
+        std::vector<std::string> written = namesOf(deep, uses);
         if (names == written) return true;
         written.insert(written.end(), std::begin(kMotion), std::end(kMotion));
         if (names == written) return true;

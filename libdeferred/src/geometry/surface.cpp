@@ -66,6 +66,8 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
     s.emission = m.emission;
     s.roughness = m.roughness;
     s.metallic = m.metallic;
+    s.dielectricF0 = m.dielectricF0();
+    s.dielectricF90 = m.dielectricF90();
     if (mesh.uvs.empty()) return;
     const MeshUvs uvs = meshUvs(mesh, triangle, w1, w2);
     auto sample = [&](const TextureRef& ref) { return sampleTexture(scene, ref, uvs); };
@@ -83,6 +85,15 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
         s.normal = mappedNormal(mesh, tri, 1.0 - w1 - w2, w1, w2, sample(m.normalTexture),
                                 double(m.normalScale), s, ray.direction);
     }
+}
+
+// KHR_materials_unlit: the base colour shown as it is (its emission), nothing reflected.
+void applyUnlit(SurfaceSample& s) {
+    s.emission = s.albedo;
+    s.albedo = glm::vec3(0.0f);
+    s.metallic = 0.0f;
+    s.dielectricF0 = glm::vec3(0.0f);
+    s.dielectricF90 = 0.0f;
 }
 
 } // namespace
@@ -137,6 +148,7 @@ SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
 
     s.material = &scene.materials[size_t(mesh.material)];
     applyMaterial(scene, mesh, hit.triangle, w1, w2, ray, s);
+    if (s.material->unlit) applyUnlit(s);
     return s;
 }
 

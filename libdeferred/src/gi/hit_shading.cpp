@@ -14,11 +14,8 @@ glm::vec3 HitShading::trace(const Ray& ray, const SeedKey& key, long long* rays)
     const SurfaceSample s = surfaceAt(m_caster.scene(), ray, hit);
     // A back face is the inside of a closed mesh: dark.
     if (s.backFace) return glm::vec3(0.0f);
-    PbrSurface surface;
-    surface.baseColor = s.albedo;
+    PbrSurface surface = s.pbr(m_diffuse);
     surface.roughness = std::max(s.roughness, m_minRoughness);
-    surface.metallic = s.metallic;
-    surface.diffuse = m_diffuse;
     const glm::vec3 P(s.position), N(s.normal), V(-ray.direction);
     LitPoint point{surface, P, N, V,
                    SurfacePoint{P, glm::vec3(s.geometric), float(s.positionError)}};

@@ -62,10 +62,7 @@ RayHit ProbeRayTracer::surfaceHit(const Ray& ray, std::int64_t probe, std::int64
 ProbeRayTracer::LitHit ProbeRayTracer::light(const SurfaceSample& s, const glm::vec3& towards,
                                              float distance, SeedKey key) const {
     LitHit h;
-    h.surface.baseColor = s.albedo;
-    h.surface.roughness = s.roughness;
-    h.surface.metallic = s.metallic;
-    h.surface.diffuse = m_diffuse;
+    h.surface = s.pbr(m_diffuse);
     const glm::vec3 P(s.position), N(s.normal);
     const float NdotV = std::max(0.0f, glm::dot(N, towards));
     // A glossy lobe is followed along a sample: only its nearly diffuse multiple scattering

@@ -189,11 +189,7 @@ glm::vec3 PathTracer::path(const LitPoint& first, Random& random, long long& ray
             if (random.next() < q) break;
             beta /= 1.0f - q;
         }
-        PbrSurface surface;
-        surface.baseColor = s.albedo;
-        surface.roughness = s.roughness;
-        surface.metallic = s.metallic;
-        surface.diffuse = m_options.diffuse;
+        const PbrSurface surface = s.pbr(m_options.diffuse);
         const glm::vec3 P(s.position);
         v = Vertex{surface, P, glm::vec3(s.normal), -wi,
                    SurfacePoint{P, glm::vec3(s.geometric), float(s.positionError)}};

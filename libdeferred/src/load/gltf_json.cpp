@@ -83,6 +83,30 @@ std::map<std::string, float> gltfEmissiveStrengths(const nlohmann::json& doc) {
     return out;
 }
 
+std::map<std::string, GltfSpecular> gltfSpecular(const nlohmann::json& doc) {
+    std::map<std::string, GltfSpecular> out;
+    if (doc.is_discarded() || !doc.contains("materials") || !doc["materials"].is_array())
+        return out;
+    for (const auto& m : doc["materials"]) {
+        if (!m.is_object() || !m.contains("name") || !m["name"].is_string()) continue;
+        const auto ext = m.value("extensions", nlohmann::json::object());
+        if (!ext.is_object() || !ext.contains("KHR_materials_specular") ||
+            !ext["KHR_materials_specular"].is_object())
+            continue;
+        const nlohmann::json& k = ext["KHR_materials_specular"];
+        GltfSpecular s;
+        if (k.contains("specularFactor") && isFloat(k["specularFactor"]))
+            s.factor = std::clamp(k["specularFactor"].get<float>(), 0.0f, 1.0f);
+        const nlohmann::json& c = k.value("specularColorFactor", nlohmann::json());
+        if (c.is_array() && c.size() == 3 && isFloat(c[0]) && isFloat(c[1]) && isFloat(c[2]))
+            s.color = glm::max(glm::vec3(c[0].get<float>(), c[1].get<float>(), c[2].get<float>()),
+                               glm::vec3(0.0f));
+        s.textures = k.contains("specularTexture") || k.contains("specularColorTexture");
+        out[m["name"].get<std::string>()] = s;
+    }
+    return out;
+}
+
 bool gltfLightsByNode(const nlohmann::json& doc, std::map<std::string, GltfLight>& out,
                       std::string& error) {
     out.clear();
@@ -307,8 +331,9 @@ std::string gltfEmptySceneReason(const nlohmann::json& doc) {
 }
 
 std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
-    static const char* const kRead[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                        "KHR_texture_transform"};
+    static const char* const kRead[] = {"KHR_lights_punctual",    "KHR_materials_emissive_strength",
+                                        "KHR_texture_transform",  "KHR_materials_ior",
+                                        "KHR_materials_specular", "KHR_materials_unlit"};
     std::vector<std::string> out;
     if (doc.is_discarded() || !doc.is_object()) return out;
     if (doc.contains("extensionsUsed") && doc["extensionsUsed"].is_array()) {

@@ -19,6 +19,17 @@ nlohmann::json gltfJson(const std::string& path);
 // other files, or when no material uses the extension.
 std::map<std::string, float> gltfEmissiveStrengths(const nlohmann::json& doc);
 
+// KHR_materials_specular of a material (Assimp 5.2 does not read it): its factors, and whether
+// it names textures (not read yet).
+struct GltfSpecular {
+    float factor = 1.0f;
+    glm::vec3 color{1.0f};
+    bool textures = false;
+};
+
+// Per material name, for the materials that use it; empty for other files.
+std::map<std::string, GltfSpecular> gltfSpecular(const nlohmann::json& doc);
+
 // What Assimp 5.2 does not report of a glTF material's texture reference: its
 // KHR_texture_transform, and the UV set that extension's `texCoord` overrides the
 // reference's with (−1: none).

@@ -137,6 +137,29 @@ void readTextures(const aiMaterial& am, bool gltf, const GltfMaterialTextures& i
         std::isfinite(m.occlusionStrength) ? std::clamp(m.occlusionStrength, 0.0f, 1.0f) : 1.0f;
 }
 
+// glTF's dielectric layer: KHR_materials_ior (Assimp 5.2 reports it as AI_MATKEY_REFRACTI),
+// KHR_materials_specular (from the file, `specular`), and KHR_materials_unlit (Assimp's
+// unlit shading model). False when the material's specular extension names textures, which
+// are not read.
+bool readDielectric(const aiMaterial& am, const std::map<std::string, GltfSpecular>& specular,
+                    Material& m) {
+    float ior = 1.5f;
+    if (am.Get(AI_MATKEY_REFRACTI, ior) == AI_SUCCESS) {
+        // The schema's range: 1 or more (0, "infinitely refractive", is not a dielectric).
+        m.ior = std::isfinite(ior) ? std::max(ior, 1.0f) : 1.5f;
+        m.dielectricSet = true;
+    }
+    int shading = 0;
+    if (am.Get(AI_MATKEY_SHADING_MODEL, shading) == AI_SUCCESS && shading == aiShadingMode_Unlit)
+        m.unlit = m.dielectricSet = true;
+    const auto it = specular.find(m.name);
+    if (it == specular.end()) return true;
+    m.specularFactor = it->second.factor;
+    m.specularColor = it->second.color;
+    m.dielectricSet = true;
+    return !it->second.textures;
+}
+
 } // namespace
 
 void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, TextureTable& textures,
@@ -144,6 +167,8 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
     const auto strengths = gltf ? gltfEmissiveStrengths(doc) : std::map<std::string, float>{};
     const auto transforms =
         gltf ? gltfMaterialTextures(doc) : std::map<std::string, GltfMaterialTextures>{};
+    const auto specular = gltf ? gltfSpecular(doc) : std::map<std::string, GltfSpecular>{};
+    std::string specularTextures; // materials whose specular textures are left out
     for (unsigned i = 0; i < ai.mNumMaterials; ++i) {
         const aiMaterial& am = *ai.mMaterials[i];
         Material m;
@@ -154,8 +179,13 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
         const auto t = transforms.find(m.name);
         readTextures(am, gltf, t != transforms.end() ? t->second : GltfMaterialTextures{}, textures,
                      m);
+        if (gltf && !readDielectric(am, specular, m))
+            specularTextures += (specularTextures.empty() ? "'" : ", '") + m.name + "'";
         scene.materials.push_back(m);
     }
+    if (!specularTextures.empty())
+        scene.warnings.push_back("KHR_materials_specular textures are not read (material " +
+                                 specularTextures + "): their factors alone are used");
     if (scene.materials.empty()) scene.materials.push_back(Material{});
 }
 

@@ -93,6 +93,11 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
     out[layout.roughness] = s.roughness;
     out[layout.metallic] = s.metallic;
     if (layout.occlusion >= 0) out[layout.occlusion] = s.occlusion;
+    if (layout.specular >= 0) {
+        for (int c = 0; c < 3; ++c)
+            out[layout.specular + c] = s.dielectricF0[c];
+        out[layout.specularWeight] = s.dielectricF90;
+    }
     out[layout.objectId] = float(object + 1);
     out[layout.materialId] = float(material + 1);
     // Cryptomatte: rank 0 is this surface, covering what its alpha covers; rank 1 is empty
@@ -103,6 +108,16 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
         out[layout.cryptoObject + c] = ranks[0][c];
         out[layout.cryptoMaterial + c] = ranks[1][c];
     }
+}
+
+// The WhenUsed channels the scene's materials ask for.
+unsigned channelUses(const Scene& scene) {
+    unsigned uses = 0;
+    for (const Material& m : scene.materials) {
+        if (m.occlusionTexture.texture >= 0) uses |= gbuffer::kUsesOcclusion;
+        if (m.dielectricSet) uses |= gbuffer::kUsesSpecular;
+    }
+    return uses;
 }
 
 // Where the writers put each channel: the contract's table, flat or deep.
@@ -124,11 +139,9 @@ GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
 GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
                                  const GBufferParams& params,
                                  std::shared_ptr<const RayCaster> caster)
-    : m_scene(scene), m_camera(camera), m_params(params),
-      m_occlusion(std::any_of(scene.materials.begin(), scene.materials.end(),
-                              [](const Material& m) { return m.occlusionTexture.texture >= 0; })),
+    : m_scene(scene), m_camera(camera), m_params(params), m_uses(channelUses(scene)),
       m_caster(std::move(caster)) {
-    std::vector<std::string> names = gbuffer::channelNames(m_occlusion);
+    std::vector<std::string> names = gbuffer::channelNames(m_uses);
     if (params.motion)
         names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
     m_spec = OIIO::ImageSpec(std::max(params.width, 1), std::max(params.height, 1),
@@ -237,7 +250,7 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
 }
 
 std::vector<std::string> GBufferRenderer::deepChannelNames() const {
-    std::vector<std::string> names = gbuffer::deepChannelNames(m_occlusion);
+    std::vector<std::string> names = gbuffer::deepChannelNames(m_uses);
     if (m_params.motion)
         names.insert(names.end(), std::begin(gbuffer::kMotion), std::end(gbuffer::kMotion));
     return names;

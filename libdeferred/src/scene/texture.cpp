@@ -90,6 +90,12 @@ glm::vec4 vertexColor(const Mesh& mesh, int triangle, double w1, double w2) {
            float(w2) * mesh.colors[t[2]];
 }
 
+glm::vec3 Material::dielectricF0() const {
+    if (!dielectricSet) return glm::vec3(0.04f);
+    const float r = (ior - 1.0f) / (ior + 1.0f);
+    return glm::min(r * r * specularColor, glm::vec3(1.0f)) * specularFactor;
+}
+
 float surfaceAlpha(const Scene& scene, int mesh, int triangle, float u, float v) {
     const Mesh& m = scene.meshes[size_t(mesh)];
     const Material& material = scene.materials[size_t(m.material)];

@@ -26,6 +26,8 @@ inline constexpr const char* kAlbedo[3] = {"albedo.R", "albedo.G", "albedo.B"};
 inline constexpr const char* kRoughness = "roughness";
 inline constexpr const char* kMetallic = "metallic";
 inline constexpr const char* kOcclusion = "occlusion";
+inline constexpr const char* kSpecular[3] = {"specular.R", "specular.G", "specular.B"};
+inline constexpr const char* kSpecularWeight = "specularWeight";
 inline constexpr const char* kEmission[3] = {"emission.R", "emission.G", "emission.B"};
 inline constexpr const char* kObjectId = "id.object";
 inline constexpr const char* kMaterialId = "id.material";
@@ -50,8 +52,8 @@ inline constexpr const char* kShadowCatcher = "dhdr:shadowCatcher";
 struct Layout {
     int coverage = -1, depth = -1, depthBack = -1, position = -1, normal = -1, albedo = -1;
     int geometricNormal = -1, positionError = -1;
-    int roughness = -1, metallic = -1, occlusion = -1, emission = -1, objectId = -1,
-        materialId = -1;
+    int roughness = -1, metallic = -1, occlusion = -1, specular = -1, specularWeight = -1;
+    int emission = -1, objectId = -1, materialId = -1;
     int cryptoObject = -1, cryptoMaterial = -1;
 };
 
@@ -73,6 +75,13 @@ enum class Need {
     WhenUsed  // written only when a material of the scene uses it; used when present
 };
 
+// What a scene's materials use, which decides the WhenUsed channels written (bits).
+enum ChannelUse : unsigned {
+    kUsesOcclusion = 1u, // an occlusion texture
+    kUsesSpecular = 2u,  // KHR_materials_ior, _specular or _unlit
+    kAllUses = 3u
+};
+
 // One entry of the contract: a scalar, a 3-vector or a Cryptomatte layer, in the order
 // dhdr-gbuffer writes them.
 // The writers (flat and deep), findLayout, the type checks of findGBufferPart and the table of
@@ -84,6 +93,7 @@ struct ContractChannel {
     Need need;
     int Layout::*field; // where findLayout records the index of its first component
     const char* meaning;
+    unsigned use = 0; // WhenUsed: the ChannelUse bit that has it written
 };
 
 inline constexpr ContractChannel kContract[] = {
@@ -155,7 +165,24 @@ inline constexpr ContractChannel kContract[] = {
      Need::WhenUsed,
      &Layout::occlusion,
      "glTF occlusion: 1 + strength · (occlusion texture's R − 1); scales ambient, environment "
-     "and indirect light, never direct light"},
+     "and indirect light, never direct light",
+     kUsesOcclusion},
+    {{kSpecular[0], kSpecular[1], kSpecular[2]},
+     3,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::specular,
+     "the dielectric layer's reflectance at normal incidence: min(((ior − 1)/(ior + 1))² × "
+     "specularColorFactor, 1) × specularFactor (KHR_materials_ior, _specular); 0.04 without "
+     "them",
+     kUsesSpecular},
+    {{kSpecularWeight},
+     1,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::specularWeight,
+     "the dielectric layer's reflectance at grazing incidence: specularFactor; 1 without it",
+     kUsesSpecular},
     {{kEmission[0], kEmission[1], kEmission[2]},
      3,
      FileType::Half,
@@ -199,10 +226,10 @@ void writeCryptomatteHeader(OIIO::ImageSpec& spec, const std::string& layer,
                             const std::vector<std::string>& names);
 
 // All channels of the flat contract in writing order (kContract without the deep-only ones),
-// with the WhenUsed ones a scene uses: `occlusion` (a material with an occlusion texture).
-std::vector<std::string> channelNames(bool occlusion = false);
+// with the WhenUsed ones that `uses` (ChannelUse bits) asks for.
+std::vector<std::string> channelNames(unsigned uses = 0);
 // A deep G-buffer sample's channels: all of kContract, in its order, the same WhenUsed ones.
-std::vector<std::string> deepChannelNames(bool occlusion = false);
+std::vector<std::string> deepChannelNames(unsigned uses = 0);
 // The file types of `names`: the contract's for its channels, float for any other (the
 // motion layer).
 std::vector<OIIO::TypeDesc> channelFormats(const std::vector<std::string>& names);

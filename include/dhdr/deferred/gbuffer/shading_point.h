@@ -89,6 +89,11 @@ public:
         s.surface.roughness = std::clamp(g[m_layout.roughness], 0.0f, 1.0f);
         s.surface.metallic = std::clamp(g[m_layout.metallic], 0.0f, 1.0f);
         s.surface.diffuse = m_diffuse;
+        if (m_layout.specular >= 0 && m_layout.specularWeight >= 0) {
+            for (int c = 0; c < 3; ++c)
+                s.surface.dielectricF0[c] = unitOr(g[m_layout.specular + c], 0.04f);
+            s.surface.dielectricF90 = unitOr(g[m_layout.specularWeight], 1.0f);
+        }
         if (m_layout.emission >= 0)
             s.emission =
                 glm::vec3(g[m_layout.emission], g[m_layout.emission + 1], g[m_layout.emission + 2]);
@@ -112,6 +117,11 @@ public:
     }
 
 private:
+    // `v` in [0, 1], `fallback` for NaN.
+    static float unitOr(float v, float fallback) {
+        return std::isnan(v) ? fallback : std::clamp(v, 0.0f, 1.0f);
+    }
+
     size_t pixel(int x, int y) const {
         return size_t(y - m_y0) * size_t(m_width) + size_t(x - m_x0);
     }

@@ -3,6 +3,7 @@
 // the probes' rays see them.
 #pragma once
 
+#include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/geometry/ray_caster.h>
 #include <dhdr/deferred/scene/scene.h>
 
@@ -23,7 +24,23 @@ struct SurfaceSample {
     glm::vec3 emission;                      // emissive factor × strength × emissive texture
     float roughness = 1.0f, metallic = 0.0f; // factors × metallic-roughness texture (G, B)
     float occlusion = 1.0f; // 1 + strength · (occlusion texture's R − 1); 1 without one
+    // The dielectric layer's reflectance at normal and grazing incidence (Material); both 0
+    // for an unlit material, whose base colour is then its emission.
+    glm::vec3 dielectricF0{0.04f};
+    float dielectricF90 = 1.0f;
     const Material* material;
+
+    // The BSDF's parameters there, with the diffuse layer `diffuse`.
+    PbrSurface pbr(DiffuseModel diffuse) const {
+        PbrSurface p;
+        p.baseColor = albedo;
+        p.roughness = roughness;
+        p.metallic = metallic;
+        p.dielectricF0 = dielectricF0;
+        p.dielectricF90 = dielectricF90;
+        p.diffuse = diffuse;
+        return p;
+    }
 };
 
 SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit);

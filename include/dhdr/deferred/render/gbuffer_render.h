@@ -82,7 +82,7 @@ private:
     const Scene& m_scene;
     const Camera& m_camera;
     GBufferParams m_params;
-    bool m_occlusion; // a material has an occlusion texture: the occlusion channel is written
+    unsigned m_uses; // what the scene's materials use (gbuffer::ChannelUse): channels written
     OIIO::ImageSpec m_spec;
     std::shared_ptr<const RayCaster> m_caster;
     std::shared_ptr<const CryptoIds> m_crypto; // the Cryptomatte ids of names

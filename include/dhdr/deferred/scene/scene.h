@@ -76,6 +76,22 @@ struct Material {
     // Linear; R is the ambient occlusion, applied as 1 + strength · (R − 1) (§3.9.3).
     TextureRef occlusionTexture;
     float occlusionStrength = 1.0f;
+    // The dielectric layer (KHR_materials_ior, KHR_materials_specular): its index of
+    // refraction, and the specular factor and colour that scale its reflectance.
+    float ior = 1.5f;
+    float specularFactor = 1.0f;
+    glm::vec3 specularColor{1.0f};
+    // The file sets any of them (or `unlit`): the G-buffer carries the dielectric's
+    // reflectance (its specular channels).
+    bool dielectricSet = false;
+    // KHR_materials_unlit: the base colour is what the surface shows, lit by nothing.
+    bool unlit = false;
+
+    // KHR_materials_specular's dielectric_f0: min(((ior − 1) / (ior + 1))² · specularColor, 1)
+    // · specularFactor; 4 % when the file sets none of them.
+    glm::vec3 dielectricF0() const;
+    // Its f90: specularFactor.
+    float dielectricF90() const { return dielectricSet ? specularFactor : 1.0f; }
 };
 
 struct Mesh {
