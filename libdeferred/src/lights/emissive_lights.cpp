@@ -13,7 +13,7 @@ glm::vec3 meanColour(const Texture& t) {
     glm::dvec3 sum(0.0);
     const size_t texels = size_t(t.width) * size_t(t.height);
     for (size_t i = 0; i < texels; ++i)
-        sum += glm::dvec3(t.rgba[4 * i], t.rgba[4 * i + 1], t.rgba[4 * i + 2]);
+        sum += glm::dvec3(glm::vec3(t.texel(i)));
     return texels ? glm::vec3(sum / double(texels)) : glm::vec3(1.0f);
 }
 

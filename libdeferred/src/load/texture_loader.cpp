@@ -8,7 +8,9 @@
 #include <cmath>
 #include <dhdr/io/exr_header.h>
 #include <filesystem>
+#include <limits>
 #include <memory>
+#include <type_traits>
 #include <vector>
 
 namespace dhdr::detail {
@@ -17,6 +19,55 @@ namespace {
 
 float srgbDecode(float v) {
     return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+// Each code of an 8- or 16-bit type as OpenImageIO converts it to float, and that decoded from
+// sRGB: the values a texture converted to float whole would hold.
+struct DecodeTables {
+    std::shared_ptr<const std::vector<float>> linear, srgb;
+};
+
+const DecodeTables& decodeTables(OIIO::TypeDesc type) {
+    static const auto make = [](OIIO::TypeDesc t) {
+        const size_t n = t == OIIO::TypeDesc::UINT8 ? 256 : 65536;
+        std::vector<std::uint16_t> wide(n);
+        std::vector<std::uint8_t> narrow(n);
+        for (size_t i = 0; i < n; ++i) {
+            wide[i] = std::uint16_t(i);
+            narrow[i] = std::uint8_t(i);
+        }
+        auto linear = std::make_shared<std::vector<float>>(n);
+        const void* codes = t == OIIO::TypeDesc::UINT8 ? static_cast<const void*>(narrow.data())
+                                                       : static_cast<const void*>(wide.data());
+        OIIO::convert_pixel_values(t, codes, OIIO::TypeDesc::FLOAT, linear->data(), int(n));
+        auto srgb = std::make_shared<std::vector<float>>(n);
+        for (size_t i = 0; i < n; ++i)
+            (*srgb)[i] = srgbDecode((*linear)[i]);
+        return DecodeTables{linear, srgb};
+    };
+    static const DecodeTables eight = make(OIIO::TypeDesc::UINT8);
+    static const DecodeTables sixteen = make(OIIO::TypeDesc::UINT16);
+    return type == OIIO::TypeDesc::UINT8 ? eight : sixteen;
+}
+
+// The image's texels as RGBA of type T: grey (+ alpha) gives its grey to R, G and B; without
+// alpha, alpha is the type's 1.
+template <class T>
+std::vector<T> rgbaOf(const OIIO::ImageBuf& image) {
+    const OIIO::ImageSpec& spec = image.spec();
+    const size_t texels = size_t(spec.width) * size_t(spec.height);
+    const T one = std::is_floating_point_v<T> ? T(1) : std::numeric_limits<T>::max();
+    std::vector<T> out(texels * 4, one);
+    const T* p = static_cast<const T*>(image.localpixels());
+    const int nch = spec.nchannels;
+    const int colors = nch >= 3 ? 3 : 1;
+    for (size_t i = 0; i < texels; ++i, p += nch) {
+        T* q = &out[i * 4];
+        for (int c = 0; c < 3; ++c)
+            q[c] = p[std::min(c, colors - 1)];
+        if (nch == 4 || nch == 2) q[3] = p[nch - 1];
+    }
+    return out;
 }
 
 } // namespace
@@ -47,31 +98,30 @@ bool loadTexture(Texture& texture, const std::string& name, const void* data, si
                 "(16384x16384)";
         return false;
     }
-    if (!image.read(0, 0, true, OIIO::TypeDesc::FLOAT)) {
+    // Integer images carry sRGB-encoded values; float images (EXR, HDR) are linear already.
+    const OIIO::TypeDesc::BASETYPE base = OIIO::TypeDesc::BASETYPE(image.spec().format.basetype);
+    const bool codes = base == OIIO::TypeDesc::UINT8 || base == OIIO::TypeDesc::UINT16;
+    const OIIO::TypeDesc held = base == OIIO::TypeDesc::UINT8    ? OIIO::TypeDesc::UINT8
+                                : base == OIIO::TypeDesc::UINT16 ? OIIO::TypeDesc::UINT16
+                                                                 : OIIO::TypeDesc::FLOAT;
+    if (!image.read(0, 0, true, held)) {
         error = name + ": cannot read texture: " + image.geterror();
         return false;
     }
-    const OIIO::ImageSpec& spec = image.spec();
-    // Integer images carry sRGB-encoded values; float images (EXR, HDR) are linear already.
-    const OIIO::TypeDesc fileFormat = image.nativespec().format;
-    const bool encoded = srgb && (fileFormat.basetype == OIIO::TypeDesc::UINT8 ||
-                                  fileFormat.basetype == OIIO::TypeDesc::UINT16);
     texture.name = name;
-    texture.width = spec.width;
-    texture.height = spec.height;
-    texture.rgba.assign(size_t(spec.width) * size_t(spec.height) * 4, 1.0f);
-    std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels));
-    image.get_pixels(image.roi(), OIIO::TypeDesc::FLOAT, pixels.data());
-    // Grey (+ alpha) images give their grey to R, G and B.
-    const int colors = spec.nchannels >= 3 ? 3 : 1;
-    for (size_t i = 0; i < size_t(spec.width) * size_t(spec.height); ++i) {
-        const float* p = &pixels[i * size_t(spec.nchannels)];
-        float* q = &texture.rgba[i * 4];
-        for (int c = 0; c < 3; ++c) {
-            const float v = p[std::min(c, colors - 1)];
-            q[c] = encoded ? srgbDecode(v) : v;
-        }
-        if (spec.nchannels == 4 || spec.nchannels == 2) q[3] = p[spec.nchannels - 1];
+    texture.width = image.spec().width;
+    texture.height = image.spec().height;
+    if (held == OIIO::TypeDesc::UINT8) {
+        texture.codes8 = rgbaOf<std::uint8_t>(image);
+    } else if (held == OIIO::TypeDesc::UINT16) {
+        texture.codes16 = rgbaOf<std::uint16_t>(image);
+    } else {
+        texture.rgba = rgbaOf<float>(image);
+    }
+    if (codes) {
+        const DecodeTables& tables = decodeTables(held);
+        texture.colorTable = srgb ? tables.srgb : tables.linear;
+        texture.alphaTable = tables.linear;
     }
     return true;
 }

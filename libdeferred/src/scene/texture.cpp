@@ -53,8 +53,7 @@ glm::vec4 Texture::sample(glm::vec2 uv, const TextureSampler& sampler) const {
     auto texel = [&](int xi, int yi) {
         xi = wrapIndex(xi, width, sampler.wrapS);
         yi = wrapIndex(yi, height, sampler.wrapT);
-        const float* p = &rgba[(size_t(yi) * size_t(width) + size_t(xi)) * 4];
-        return glm::vec4(p[0], p[1], p[2], p[3]);
+        return this->texel(size_t(yi) * size_t(width) + size_t(xi));
     };
     const float u = reduce(uv.x, sampler.wrapS) * float(width);
     const float v = reduce(uv.y, sampler.wrapT) * float(height);

@@ -2,6 +2,7 @@
 // metallic-roughness materials, cameras and punctual lights.
 #pragma once
 
+#include <cstdint>
 #include <dhdr/deferred/scene/camera.h>
 #include <dhdr/deferred/scene/lights.h>
 #include <glm/glm.hpp>
@@ -21,15 +22,36 @@ struct TextureSampler {
     bool nearest = false; // magFilter NEAREST: the texel itself, no bilinear blend
 };
 
-// A texture decoded to linear RGBA float, straight (not premultiplied) alpha.
+// A texture's RGBA texels, straight (not premultiplied) alpha. An 8- or 16-bit file's texels
+// stay the file's codes (a quarter or half of float's memory), each turned into its linear
+// value through a table as it is read (sRGB-decoded for colour textures); others are floats.
 struct Texture {
     std::string name;
     int width = 0, height = 0;
-    std::vector<float> rgba;
+    std::vector<float> rgba;            // float texels, when the codes are empty
+    std::vector<std::uint8_t> codes8;   // 8-bit texels, RGBA
+    std::vector<std::uint16_t> codes16; // 16-bit texels, RGBA
+    // Each code's linear value: the colour channels' and alpha's tables (256 or 65536 each).
+    std::shared_ptr<const std::vector<float>> colorTable, alphaTable;
+
+    // Texel i (y · width + x) as linear RGBA.
+    glm::vec4 texel(size_t i) const {
+        if (!codes8.empty()) return decoded(&codes8[4 * i]);
+        if (!codes16.empty()) return decoded(&codes16[4 * i]);
+        const float* p = &rgba[4 * i];
+        return glm::vec4(p[0], p[1], p[2], p[3]);
+    }
 
     // Bilinear (or nearest) lookup, each texel index wrapped as `sampler` says, as OpenGL
     // does; uv (0, 0) is the image's top-left.
     glm::vec4 sample(glm::vec2 uv, const TextureSampler& sampler = {}) const;
+
+private:
+    template <class Code>
+    glm::vec4 decoded(const Code* p) const {
+        const std::vector<float>& c = *colorTable;
+        return glm::vec4(c[p[0]], c[p[1]], c[p[2]], (*alphaTable)[p[3]]);
+    }
 };
 
 // KHR_texture_transform of one texture reference: uv' = T(offset) · R(rotation) · S(scale) · uv,
