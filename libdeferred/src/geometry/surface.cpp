@@ -99,6 +99,15 @@ void applyUnlit(SurfaceSample& s) {
 } // namespace
 
 SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
+    SurfaceSample s = surfaceGeometryAt(scene, ray, hit);
+    if (hit.mesh == kGroundPlaneHit) return s;
+    const Mesh& mesh = scene.meshes[size_t(hit.mesh)];
+    applyMaterial(scene, mesh, hit.triangle, hit.u, hit.v, ray, s);
+    if (s.material->unlit) applyUnlit(s);
+    return s;
+}
+
+SurfaceSample surfaceGeometryAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
     if (hit.mesh == kGroundPlaneHit) {
         SurfaceSample s;
         s.position = ray.origin + hit.t * ray.direction;
@@ -147,8 +156,6 @@ SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
     s.interpolated = s.normal;
 
     s.material = &scene.materials[size_t(mesh.material)];
-    applyMaterial(scene, mesh, hit.triangle, w1, w2, ray, s);
-    if (s.material->unlit) applyUnlit(s);
     return s;
 }
 

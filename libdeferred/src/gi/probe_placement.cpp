@@ -29,7 +29,7 @@ bool freeSpace(const RayCaster& caster, const glm::dvec3& p, double nearest, flo
         const RayHit hit = caster.intersect(ray);
         if (!hit.hit) continue;
         if (hit.t < nearest) return false;
-        back += surfaceAt(scene, ray, hit).backFace;
+        back += surfaceGeometryAt(scene, ray, hit).backFace;
     }
     return back <= int(backfaceLimit * kPlacementRays);
 }

@@ -55,7 +55,7 @@ int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int
         RayHit hit = caster.intersect(search);
         if (!hit.hit) break;
         hit.t += travelled;
-        const SurfaceSample s = surfaceAt(scene, ray, hit);
+        const SurfaceSample s = surfaceGeometryAt(scene, ray, hit);
         const SurfacePoint at{glm::vec3(s.position), glm::vec3(s.geometric),
                               float(s.positionError)};
         search.origin = glm::dvec3(offsetRayOrigin(at, glm::vec3(ray.direction)));

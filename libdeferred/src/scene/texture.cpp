@@ -31,13 +31,15 @@ float reduce(float t, TextureWrap wrap) {
     return std::clamp(t, -1.0f, 2.0f);
 }
 
-// A texel index wrapped into [0, size) (OpenGL 4.6 §8.14.2's wrap of i and j).
+// A texel index of a reduced coordinate (within one texel of its period: [−1, size] for
+// Repeat, [−1, 2 size] for MirroredRepeat) wrapped into [0, size), as OpenGL 4.6 §8.14.2
+// wraps i and j; without a division, as the G-buffer pass does it for every texel it reads.
 int wrapIndex(int i, int size, TextureWrap wrap) {
     switch (wrap) {
     case TextureWrap::Repeat:
-        return ((i % size) + size) % size;
+        return i < 0 ? i + size : i >= size ? i - size : i;
     case TextureWrap::MirroredRepeat: {
-        const int m = ((i % (2 * size)) + 2 * size) % (2 * size);
+        const int m = i < 0 ? i + 2 * size : i >= 2 * size ? i - 2 * size : i;
         return m < size ? m : 2 * size - 1 - m;
     }
     case TextureWrap::ClampToEdge:

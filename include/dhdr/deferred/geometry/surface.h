@@ -44,6 +44,10 @@ struct SurfaceSample {
 };
 
 SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit);
+// The same without the material's textures and vertex colours: position, its error bound,
+// the normals (before any normal map) and `material`, for what needs only where the surface
+// is (the next ray's origin, which side was hit).
+SurfaceSample surfaceGeometryAt(const Scene& scene, const Ray& ray, const RayHit& hit);
 
 // The error bound of a point P = Σ wᵢ pᵢ on a triangle of float vertices pᵢ, per coordinate
 // (pbrt-v4 §6.8.4 bounds its own interpolation by γ₇ Σ|wᵢ pᵢ|; here P is interpolated in
