@@ -15,6 +15,7 @@
 #include <dhdr/tonemap/bloom.h>
 #include <dhdr/tonemap/edge_aa.h>
 #include <dhdr/tonemap/luminance.h>
+#include <dhdr/tonemap/metering.h>
 #include <dhdr/tonemap/motion_blur.h>
 #include <dhdr/tonemap/tone_map.h>
 #include <fstream>
@@ -176,6 +177,26 @@ TEST_F(Params, ProbeGridTableAgreesWithDocsHelpAndTool) {
                                 std::to_string(p.max + 1) + " -o " + path("x.exr"));
         EXPECT_EQ(over.status, 2) << over.err;
         EXPECT_NE(over.err.find(text), std::string::npos) << over.err;
+    }
+}
+
+// The histogram metering's window, one rule for dhdr-tonemap and dhdr.meter()/tone_map().
+TEST_F(Params, PercentileWindowIsOneRule) {
+    MeteringParams m;
+    EXPECT_EQ(percentilesProblem(m, Spelling::Option), "");
+    m.lowPercentile = 0.0;
+    m.highPercentile = 100.0;
+    EXPECT_EQ(percentilesProblem(m, Spelling::Option), "");
+    m.lowPercentile = 90.0;
+    m.highPercentile = 10.0;
+    EXPECT_EQ(percentilesProblem(m, Spelling::Keyword),
+              "percentiles must be (LO, HI) with 0 <= LO < HI <= 100");
+    const std::string message = percentilesProblem(m, Spelling::Option);
+    for (const char* window : {"90,10", "-1,50", "5,101", "5"}) {
+        const Result r = run("dhdr-tonemap " + path("in.exr") + " --metering histogram " +
+                             "--percentiles " + window + " -o " + path("x.png"));
+        EXPECT_EQ(r.status, 2) << window;
+        EXPECT_NE(r.err.find(message), std::string::npos) << r.err;
     }
 }
 

@@ -148,11 +148,14 @@ int parseJob(const app::CommandLine& cl, Options& o, FrameJob& job) {
     else if (job.metering != "log-average")
         return usage("--metering must be log-average or histogram");
     std::vector<double> window;
-    if (!app::parseNumbers(job.percentiles, window, 2) || !(window[0] >= 0.0) ||
-        !(window[0] < window[1]) || !(window[1] <= 100.0))
-        return usage("--percentiles must be LO,HI with 0 <= LO < HI <= 100");
-    params.metering.lowPercentile = window[0];
-    params.metering.highPercentile = window[1];
+    if (app::parseNumbers(job.percentiles, window, 2)) {
+        params.metering.lowPercentile = window[0];
+        params.metering.highPercentile = window[1];
+    } else {
+        params.metering.highPercentile = -1.0; // not LO,HI: no window, refused below
+    }
+    if (const std::string e = percentilesProblem(params.metering, Spelling::Option); !e.empty())
+        return usage(e);
     if (job.white == "inf")
         params.white = INFINITY;
     else if (job.white != "auto") {

@@ -45,10 +45,10 @@ MeteringParams meteringParams(const std::string& metering, Percentiles window,
         p.mode = MeteringMode::Histogram;
     else if (metering != "log-average")
         throw py::value_error("metering must be log-average or histogram, got '" + metering + "'");
-    if (!(window.first >= 0.0) || !(window.first < window.second) || !(window.second <= 100.0))
-        throw py::value_error("percentiles must be (LO, HI) with 0 <= LO < HI <= 100");
     p.lowPercentile = window.first;
     p.highPercentile = window.second;
+    if (const std::string e = percentilesProblem(p, Spelling::Keyword); !e.empty())
+        throw py::value_error(e);
     p.luminance = luminanceParams(weights, delta, skip);
     return p;
 }
