@@ -159,9 +159,8 @@ GBufferDepth depthOf(const py::object& deep) {
     return deep.cast<bool>() ? GBufferDepth::Deep : GBufferDepth::Flat;
 }
 
-// render_gbuffer's camera, lookat, fov (checked; 0: the camera's) and frame_all, as dhdr-gbuffer's
-// --camera,
-// --lookat, --fov and --frame-all.
+// render_gbuffer's camera, lookat, fov (checked; 0: the camera's) and frame_all, as
+// dhdr-gbuffer's --camera, --lookat, --fov and --frame-all.
 CameraChoice cameraChoice(const std::string& camera, const py::object& lookat, double fov,
                           bool frameAll) {
     CameraChoice choice;
