@@ -269,7 +269,7 @@ TEST_F(Robustness, MultiPartExrFindsThePartByName) {
     EXPECT_EQ(bloomedAO.nchannels(), 3);
 }
 
-// 3. An orthographic glTF camera, and --fov outside (0, 180).
+// 3. An orthographic glTF camera, and --fov outside [0, 180) (0: the camera's own).
 TEST_F(Robustness, OrthographicCamera) {
     nlohmann::json doc = gltfWithMesh(squareMesh(1.0f));
     doc["cameras"] = {
@@ -323,7 +323,7 @@ TEST_F(Robustness, OrthographicCamera) {
             }
     EXPECT_LT(worst, 1e-5);
     EXPECT_GT(energy, 0.0);
-    for (const char* fov : {"0", "180", "-5", "nan"}) {
+    for (const char* fov : {"180", "-5", "-0.001", "nan"}) {
         r = run("dhdr-gbuffer " + kCornell + " --fov " + fov + " -o " + path("fov.exr"));
         EXPECT_EQ(r.status, 2) << fov;
         EXPECT_NE(r.err.find("--fov"), std::string::npos) << r.err;

@@ -153,8 +153,10 @@ void CommandLine::option(const std::string& name, float& target, const std::stri
 void CommandLine::option(const std::string& name, int& target, const std::string& metavar,
                          const std::string& help, int lo, int hi) {
     const Range range{double(lo), double(hi)};
-    option(name, metavar, withDefault(help, std::to_string(target)) + " " + range.text(),
-           [&target, range](const std::string& v, std::string& err) {
+    // Whole numbers in full: %g would show 999999999 as 1e+09.
+    const std::string rangeText = "[" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    option(name, metavar, withDefault(help, std::to_string(target)) + " " + rangeText,
+           [&target, range, rangeText](const std::string& v, std::string& err) {
                char* end = nullptr;
                errno = 0;
                const long long n = std::strtoll(v.c_str(), &end, 10);
@@ -163,7 +165,7 @@ void CommandLine::option(const std::string& name, int& target, const std::string
                    return false;
                }
                if (errno == ERANGE || !range.contains(double(n))) {
-                   err = v + " is outside " + range.text();
+                   err = v + " is outside " + rangeText;
                    return false;
                }
                target = int(n);
@@ -200,6 +202,10 @@ void CommandLine::printHelp() const {
     row("--version", "show the version and exit");
     if (!m_epilog.empty()) std::printf("\n%s\n", m_epilog.c_str());
     std::printf("\nExit status: 0 success, 1 failure, 2 usage error.\n");
+}
+
+bool CommandLine::given(const std::string& name) const {
+    return std::find(m_given.begin(), m_given.end(), name) != m_given.end();
 }
 
 int CommandLine::usageError(const std::string& message) const {
@@ -312,6 +318,7 @@ int CommandLine::parse(int argc, char** argv) {
                                   " [options] -- " + std::string(argv[i]) + ")"
                             : std::string()));
             }
+            m_given.push_back(arg);
             if (found->number) {
                 *found->flag = true;
                 std::string v = hasValue ? value : (i + 1 < argc ? argv[i + 1] : "");

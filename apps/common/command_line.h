@@ -82,6 +82,8 @@ public:
     const std::string& frames() const { return m_frames; }
     // 0 quiet, 1 normal, 2 verbose.
     int verbosity() const { return m_verbosity; }
+    // Whether option `name` (one declared with option() or flag()) was on the command line.
+    bool given(const std::string& name) const;
     // The files the options marked by namesFile named, in the order given (-o is output()).
     const std::vector<NamedFile>& inputFiles() const { return m_inputFiles; }
     const std::vector<NamedFile>& outputFiles() const { return m_outputFiles; }
@@ -103,6 +105,7 @@ private:
     std::string m_tool, m_synopsis, m_description, m_epilog;
     std::vector<Option> m_options;
     std::vector<std::string> m_inputs;
+    std::vector<std::string> m_given; // the declared options parsed
     std::vector<NamedFile> m_inputFiles, m_outputFiles;
     std::string m_output;
     std::string m_compression;

@@ -5,6 +5,7 @@
 
 #include "command_line.h"
 
+#include <dhdr/deferred/scene/animation.h>
 #include <optional>
 #include <string>
 
@@ -13,7 +14,7 @@ namespace dhdr::app {
 class Tool;
 
 struct FrameTiming {
-    double fps = 24.0;
+    MomentChoice moment;        // --fps, and --frame and --time when given (animation.h's tables)
     std::optional<int> frame;   // --frame N: the frame shown (the output is one file)
     std::optional<double> time; // --time S: the time shown, seconds
     bool given = false;         // --frame or --time on the command line
@@ -23,16 +24,17 @@ struct FrameTiming {
     // Frame N shows time N / fps (frame 0 is time 0, as in Blender's glTF import and export).
     double timeOf(int planned) const {
         if (time) return *time;
-        return double(frame ? *frame : planned) / fps;
+        return double(frame ? *frame : planned) / moment.fps;
     }
 
     // Declares the four options, with one help text for every tool that takes them.
     void declare(CommandLine& cl);
 
-    // The usage errors of the four with the run's output and --frames: --frame and --time
-    // exclude each other, and each makes one file (no frame pattern in -o, no --frames).
-    // Returns -1 to go on, else the exit status (2) after printing why not.
-    int check(const Tool& tool) const;
+    // After parsing: takes --frame and --time when given, then their usage errors with the
+    // run's output and --frames: they exclude each other, and each makes one file (no frame
+    // pattern in -o, no --frames). Returns -1 to go on, else the exit status (2) after
+    // printing why not.
+    int check(const Tool& tool);
 };
 
 } // namespace dhdr::app

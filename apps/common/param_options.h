@@ -4,7 +4,9 @@
 
 #include "command_line.h"
 
+#include <cmath>
 #include <dhdr/common/param_table.h>
+#include <vector>
 
 namespace dhdr::app {
 
@@ -16,10 +18,33 @@ void addParamOptions(CommandLine& cl, Params& params, const IntParam<Params> (&t
         cl.option(p.option, params.*(p.field), p.metavar, p.help, p.min, p.max);
 }
 
-template <class Params, size_t N>
-void addParamOptions(CommandLine& cl, Params& params, const FloatParam<Params> (&table)[N]) {
-    for (const FloatParam<Params>& p : table)
+template <class Params, class T, size_t N>
+void addParamOptions(CommandLine& cl, Params& params, const FloatParam<Params, T> (&table)[N]) {
+    for (const FloatParam<Params, T>& p : table)
         cl.option(p.option, params.*(p.field), p.metavar, p.help, p.range);
+}
+
+// "NX,NY,NZ": exactly as many whole numbers as the field holds, each in the row's range.
+template <class Params, class Vec, size_t N>
+void addParamOptions(CommandLine& cl, Params& params, const IntVecParam<Params, Vec> (&table)[N]) {
+    for (const IntVecParam<Params, Vec>& p : table)
+        cl.option(p.option, p.metavar, std::string(p.help) + ", each in " + intRangeText(p),
+                  [&params, &p](const std::string& v, std::string& error) {
+                      Vec counts{};
+                      std::vector<double> numbers;
+                      bool ok = parseNumbers(v, numbers, size_t(counts.length()));
+                      for (size_t i = 0; ok && i < numbers.size(); ++i) {
+                          ok = numbers[i] == std::floor(numbers[i]) && numbers[i] >= p.min &&
+                               numbers[i] <= p.max;
+                          counts[int(i)] = ok ? int(numbers[i]) : 0;
+                      }
+                      if (!ok)
+                          error = "'" + v + "' is not " + std::to_string(counts.length()) +
+                                  " whole numbers in " + intRangeText(p);
+                      else
+                          params.*(p.field) = counts;
+                      return ok;
+                  });
 }
 
 template <class Params, size_t N>

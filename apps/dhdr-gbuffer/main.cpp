@@ -34,10 +34,10 @@ constexpr size_t kKeptBytes = size_t(256) << 20;
 // What the command line says.
 struct Options {
     std::string size = "1920x1080", cameraName, lookat, lightsOut;
-    double fov = 0.0;
     bool frameAll = false, info = false, groundPlane = false, deep = false, flat = false;
     bool strict = false;
     GBufferParams limits; // --max-layers (kGBufferParamTable)
+    CameraChoice camera;  // --fov (kCameraFloatTable)
     std::optional<double> groundY;
     app::FrameTiming timing;
 };
@@ -47,10 +47,7 @@ void declareOptions(app::CommandLine& cl, Options& o) {
     cl.option("--camera", o.cameraName, "NAME", "the scene camera to use (default: the first)");
     cl.option("--lookat", o.lookat, "EX,EY,EZ,TX,TY,TZ[,UX,UY,UZ]",
               "a camera at E looking at T (up U, default 0,1,0) instead of the scene's");
-    cl.option("--fov", o.fov, "DEG",
-              "vertical field of view in degrees (default: the scene "
-              "camera's, or 39.6 with --lookat)",
-              {0.0, 180.0, true, true});
+    app::addParamOptions(cl, o.camera, kCameraFloatTable);
     cl.option("--lights-out", o.lightsOut, "FILE",
               "also write the scene's punctual lights as a lights file (docs/lights.md)");
     cl.flag("--deep", o.deep,
@@ -192,7 +189,7 @@ bool GBufferFrames::cameraOf(const Scene& scene, const std::string& scenePath,
     CameraChoice choice;
     choice.name = m_o.cameraName;
     choice.lookat = m_lookat;
-    choice.fovDegrees = m_o.fov;
+    choice.fovDegrees = m_o.camera.fovDegrees;
     choice.frameAll = m_o.frameAll;
     std::vector<std::string> notes, warnings;
     std::string error;
@@ -211,7 +208,7 @@ bool GBufferFrames::poseAndFrame(const std::string& scenePath, double time, Came
     std::string error;
     m_announce = false;
     auto around = [&](const Scene& s, Camera& c) { return cameraOf(s, scenePath, c); };
-    if (!m_loaded.pose(time, 1.0 / m_o.timing.fps, around, motion, error)) {
+    if (!m_loaded.pose(time, 1.0 / m_o.timing.moment.fps, around, motion, error)) {
         if (!error.empty()) m_tool.fail(scenePath + ": " + error);
         return false;
     }
@@ -245,7 +242,7 @@ bool GBufferFrames::frame(int frame, const std::string& scenePath, const std::st
     }
     // When the file plays, which moment of it this is, so that a compositor can tell and
     // dhdr-light --scene poses the scene where the pixels are.
-    const std::optional<gbuffer::Moment> moment = m_loaded.moment(time, m_o.timing.fps);
+    const std::optional<gbuffer::Moment> moment = m_loaded.moment(time, m_o.timing.moment.fps);
     OIIO::ImageSpec spec = renderer.spec();
     gbuffer::stampGBuffer(spec, scenePath, moment);
     if (tracesLayers(m_depth, scene)) {

@@ -42,35 +42,18 @@ void reportFrame(const app::Tool& tool, const ProbeVolume& volume, const std::st
         tool.warn(path + ": every probe is inside geometry: the volume lights nothing");
 }
 
-// --grid NX,NY,NZ into `counts`; false when it is not three whole numbers 1-256.
-bool parseGrid(const std::string& grid, glm::ivec3& counts) {
-    std::vector<double> v;
-    if (!app::parseNumbers(grid, v) || v.size() != 3 || v[0] < 1 || v[1] < 1 || v[2] < 1 ||
-        v[0] > 256 || v[1] > 256 || v[2] > 256 || v[0] != std::floor(v[0]) ||
-        v[1] != std::floor(v[1]) || v[2] != std::floor(v[2]))
-        return false;
-    counts = glm::ivec3(int(v[0]), int(v[1]), int(v[2]));
-    return true;
-}
-
 // What the command line says.
 struct Options {
     app::LightOptions lightOptions;
-    std::string grid;
     ProbeBakeParams p;
-    double spacing = 0.0;
     bool strict = false;
     app::FrameTiming timing;
 };
 
 void declareOptions(app::CommandLine& cl, Options& o) {
     app::addLightOptions(cl, o.lightOptions);
-    cl.option("--spacing", o.spacing, "M",
-              "distance between probes in scene units, at most (each axis's is the largest "
-              "that puts the outer probes a quarter spacing inside the scene's bounds; "
-              "default: from the bounds and --max-probes)",
-              {0.0, 1e6, true, false});
-    cl.option("--grid", o.grid, "NX,NY,NZ", "probe counts along X, Y, Z instead of --spacing");
+    app::addParamOptions(cl, o.p, kProbeBakeFloatTable);
+    app::addParamOptions(cl, o.p, kProbeGridTable);
     app::addParamOptions(cl, o.p, kProbeBakeParamTable);
     cl.flag("--strict", o.strict,
             "a texture the scene names that cannot be read is an error (default: a warning, and "
@@ -102,7 +85,6 @@ int run(int argc, char** argv) {
     declareOptions(cl, o);
     app::LightOptions& lightOptions = o.lightOptions;
     ProbeBakeParams& p = o.p;
-    const std::string& grid = o.grid;
     const bool& strict = o.strict;
     app::FrameTiming& timing = o.timing;
     if (const int status = cl.parse(argc, argv); status >= 0) return status;
@@ -117,13 +99,7 @@ int run(int argc, char** argv) {
         std::fprintf(stderr, "dhdr-probes: usage error: %s\n", problem.c_str());
         return app::kExitUsage;
     }
-    p.spacing = o.spacing;
     p.diffuse = app::diffuseModel(lightOptions);
-    if (!grid.empty() && !parseGrid(grid, p.counts)) {
-        std::fprintf(stderr, "dhdr-probes: usage error: --grid needs three whole numbers "
-                             "1-256\n");
-        return app::kExitUsage;
-    }
     // The frames, as every tool plans them: the output checked (not an input, in a folder
     // that exists) for each frame; the scene and lights files may be patterns too (a lights
     // file a frame, from dhdr-gbuffer --lights-out).
@@ -201,7 +177,7 @@ int run(int argc, char** argv) {
             bakedFor = path;
             // Which moment of the animation these probes hold, recorded as G-buffers record
             // theirs, so that dhdr-light can tell when a G-buffer shows another.
-            volume.moment = loaded.moment(time, timing.fps);
+            volume.moment = loaded.moment(time, timing.moment.fps);
         }
         const auto t2 = std::chrono::steady_clock::now();
         if (!tool.writeAtomically(outPath, [&](const std::string& temporary, std::string& why) {

@@ -1,5 +1,6 @@
 // dhdr-tonemap: linear HDR in, a display image out; one frame or a sequence (docs/tools.md).
 #include "../common/frames.h"
+#include "../common/param_options.h"
 #include "../common/tool.h"
 #include "frame.h"
 #include "sequence_stats.h"
@@ -50,20 +51,16 @@ private:
 
 // What the command line says besides the frame job.
 struct Options {
-    double key = 0.18, exposure = 0.0, delta = 1e-4, fps = 24.0, memoryMiB = 512.0;
-    std::string opName = "reinhard", statsOut, adaptFrom;
+    AdaptationParams adaptation; // --fps
+    double memoryMiB = 512.0;
+    std::string statsOut, adaptFrom;
     DisplaySettings display;
     bool noDither = false, adapt = false, meterOnly = false, scan = false;
 };
 
 void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
-    cl.option("--op", o.opName, "NAME",
-              "reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure, "
-              "aces (the ACES 1.0 SDR output transform, as the view) or none (scene-linear "
-              "x 2^exposure, unclipped, to the display/view: a config's own view such as "
-              "Filmic or AgX tone-maps)");
-    cl.option("--key", o.key, "A", "key α: the metered luminance maps to this", {0.0, 100.0, true});
-    cl.option("--exposure", o.exposure, "STOPS", "extra exposure in stops", {-64.0, 64.0});
+    app::addParamOptions(cl, job.params, kToneMapChoiceTable);
+    app::addParamOptions(cl, job.params, kToneMapFloatTable);
     cl.option("--white", job.white, "L|auto|inf",
               "reinhard's white point in scaled luminance (default auto: the largest in the "
               "image; inf: L/(1+L))");
@@ -73,7 +70,7 @@ void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
               "the percentile window of --metering histogram");
     cl.option("--weights", job.weights, "seed|rec709",
               "luminance weights: 0.27/0.67/0.06 (default) or 0.2126/0.7152/0.0722");
-    cl.option("--delta", o.delta, "D", "δ of the log-average", {0.0, 1.0, true});
+    app::addParamOptions(cl, job.params.metering.luminance, kLuminanceFloatTable);
     cl.option("--bits", job.bits, "8|16", "bits per channel of PNG/TIFF output", 8, 16);
     cl.flag("--no-dither", o.noDither, "quantize 8-bit output without dithering");
     cl.option("--ocio-config", o.display.config, "FILE",
@@ -90,8 +87,7 @@ void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
               "called Combined, rgba or beauty)");
     cl.flag("--adapt", o.adapt,
             "eye adaptation over the sequence: adapted += (L - adapted)(1 - 0.98^(30 dt))");
-    cl.option("--fps", o.fps, "N", "frames per second of the sequence, dt = 1/fps",
-              {0.0, 1000.0, true});
+    app::addParamOptions(cl, o.adaptation, kAdaptationFloatTable);
     cl.option("--stats-out", o.statsOut, "FILE.json",
               "write each frame's metered and adapted luminance");
     cl.option("--memory", o.memoryMiB, "MiB",
@@ -139,14 +135,8 @@ int checkModes(const app::CommandLine& cl, const Options& o) {
 // The operator and metering options into `job`. Returns -1 to go on, else the exit status.
 int parseJob(const app::CommandLine& cl, Options& o, FrameJob& job) {
     ToneMapParams& params = job.params;
-    if (!parseToneOperator(o.opName, params.op))
-        return usage("--op must be reinhard, reinhard-local, drago, hable, pbr-neutral, agx, "
-                     "exposure, aces or none");
     if (params.op == ToneOperator::Aces && o.display.view.empty()) o.display.view = "ACES";
-    params.key = o.key;
-    params.exposure = o.exposure;
     LuminanceStatsParams& lum = params.metering.luminance;
-    lum.delta = o.delta;
     if (job.weights == "seed")
         lum.weights = kSeedLuminanceWeights;
     else if (job.weights == "rec709")
@@ -158,11 +148,14 @@ int parseJob(const app::CommandLine& cl, Options& o, FrameJob& job) {
     else if (job.metering != "log-average")
         return usage("--metering must be log-average or histogram");
     std::vector<double> window;
-    if (!app::parseNumbers(job.percentiles, window, 2) || !(window[0] >= 0.0) ||
-        !(window[0] < window[1]) || !(window[1] <= 100.0))
-        return usage("--percentiles must be LO,HI with 0 <= LO < HI <= 100");
-    params.metering.lowPercentile = window[0];
-    params.metering.highPercentile = window[1];
+    if (app::parseNumbers(job.percentiles, window, 2)) {
+        params.metering.lowPercentile = window[0];
+        params.metering.highPercentile = window[1];
+    } else {
+        params.metering.highPercentile = -1.0; // not LO,HI: no window, refused below
+    }
+    if (const std::string e = percentilesProblem(params.metering, Spelling::Option); !e.empty())
+        return usage(e);
     if (job.white == "inf")
         params.white = INFINITY;
     else if (job.white != "auto") {
@@ -287,7 +280,7 @@ void mapSequence(const app::Tool& tool, const FrameJob& job, const Options& o, S
 // --stats-out of a run that mapped: each frame's measured and used luminance.
 bool writeStats(const app::Tool& tool, const Options& o, const Sequence& seq) {
     app::SequenceStats stats;
-    stats.fps = o.fps;
+    stats.fps = o.adaptation.fps;
     stats.adapt = o.adapt || !o.adaptFrom.empty();
     stats.metering = seq.metering;
     // Without adaptation, each frame is mapped with its own metering.
@@ -330,7 +323,7 @@ int runSequence(const app::Tool& tool, const app::CommandLine& cl, const FrameJo
         if (!meterSequence(tool, job, seq, workers)) return app::kExitFailure;
         if (o.meterOnly) {
             app::SequenceStats stats;
-            stats.fps = o.fps;
+            stats.fps = o.adaptation.fps;
             stats.metering = seq.metering;
             for (size_t i = 0; i < n; ++i)
                 stats.frames.push_back({seq.numbers[i], seq.input.path(seq.numbers[i]),
@@ -339,9 +332,7 @@ int runSequence(const app::Tool& tool, const app::CommandLine& cl, const FrameJo
             return tool.writeText(app::toJson(stats), o.statsOut) ? app::kExitSuccess
                                                                   : app::kExitFailure;
         }
-        AdaptationParams ap;
-        ap.fps = o.fps;
-        const std::vector<double> adapted = adaptLuminance(seq.measured, ap);
+        const std::vector<double> adapted = adaptLuminance(seq.measured, o.adaptation);
         for (size_t i = 0; i < n; ++i)
             seq.metered[i].logAverage = adapted[i];
     }
@@ -384,7 +375,7 @@ int run(int argc, char** argv) {
     if (o.scan) {
         if (cl.inputs().empty()) return usage("--scan needs the statistics files to combine");
         if (const int status = tool.start(cl.inputs(), o.statsOut); status >= 0) return status;
-        return app::scanStatistics(tool, cl.inputs(), o.fps, o.statsOut);
+        return app::scanStatistics(tool, cl.inputs(), o.adaptation.fps, o.statsOut);
     }
     if (cl.inputs().size() != 1) return usage("give one HDR image or frame pattern");
     if (const int status = parseJob(cl, o, job); status >= 0) return status;

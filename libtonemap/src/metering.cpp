@@ -115,6 +115,13 @@ bool MeteringAccumulator::add(const OIIO::ImageBuf& src, OIIO::ROI roi, int nthr
     return true;
 }
 
+std::string percentilesProblem(const MeteringParams& params, Spelling spelling) {
+    const double lo = params.lowPercentile, hi = params.highPercentile;
+    if (lo >= 0.0 && lo < hi && hi <= 100.0) return {};
+    return spelling == Spelling::Option ? "--percentiles must be LO,HI with 0 <= LO < HI <= 100"
+                                        : "percentiles must be (LO, HI) with 0 <= LO < HI <= 100";
+}
+
 bool meter(LuminanceStats& stats, const OIIO::ImageBuf& src, const MeteringParams& params,
            OIIO::ROI roi, int nthreads) {
     MeteringAccumulator accumulator(params);

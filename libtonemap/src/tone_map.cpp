@@ -11,39 +11,18 @@ namespace dhdr {
 
 namespace {
 
-struct Named {
-    ToneOperator op;
-    const char* name;
-};
-constexpr Named kOperators[] = {
-    {ToneOperator::Reinhard, "reinhard"},
-    {ToneOperator::ReinhardLocal, "reinhard-local"},
-    {ToneOperator::Drago, "drago"},
-    {ToneOperator::Hable, "hable"},
-    {ToneOperator::PbrNeutral, "pbr-neutral"},
-    {ToneOperator::Exposure, "exposure"},
-    {ToneOperator::Aces, "aces"},
-    {ToneOperator::Agx, "agx"},
-    {ToneOperator::None, "none"},
-};
-
 using detail::mapColour;
 
 } // namespace
 
 bool parseToneOperator(const std::string& name, ToneOperator& op) {
-    for (const Named& n : kOperators)
-        if (name == n.name) {
-            op = n.op;
-            return true;
-        }
-    return false;
+    const int index = choiceIndex(kToneMapChoiceTable[0].names, name);
+    if (index >= 0) op = ToneOperator(index);
+    return index >= 0;
 }
 
-const char* toneOperatorName(ToneOperator op) {
-    for (const Named& n : kOperators)
-        if (n.op == op) return n.name;
-    return "reinhard";
+std::string toneOperatorName(ToneOperator op) {
+    return choiceName(kToneMapChoiceTable[0].names, int(op));
 }
 
 bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams& params,

@@ -110,20 +110,22 @@ py::object bakeProbesTo(const SceneHandle& scene, const py::object& outGiven,
                         int maxProbes, int rays, int bounces, int shadowSamples, bool emissive,
                         bool radiometric, const std::string& diffuse, int nthreads) {
     ProbeBakeParams p;
-    if (!(spacing >= 0.0 && spacing <= 1e6)) throw py::value_error("spacing: must be in [0, 1e6]");
     p.spacing = spacing;
     if (!grid.is_none()) {
         const std::vector<int> v = grid.cast<std::vector<int>>();
-        if (v.size() != 3 || *std::min_element(v.begin(), v.end()) < 1 ||
-            *std::max_element(v.begin(), v.end()) > 256)
-            throw py::value_error("grid needs three whole numbers 1-256");
+        if (v.size() != 3) throw py::value_error("grid needs three whole numbers (NX, NY, NZ)");
         p.counts = glm::ivec3(v[0], v[1], v[2]);
+        // Given, so (0, 0, 0) too is refused, as dhdr-probes --grid 0,0,0 is.
+        if (const std::string e = rangeProblem(kProbeGridTable[0], p.counts, Spelling::Keyword);
+            !e.empty())
+            throw py::value_error(e);
     }
     p.maxProbes = maxProbes;
     p.rays = rays;
     p.bounces = bounces;
     p.shadowSamples = shadowSamples;
     checkParams(p, kProbeBakeParamTable);
+    checkParams(p, kProbeBakeFloatTable);
     if (diffuse != "lambert" && diffuse != "burley")
         throw py::value_error("diffuse must be lambert or burley");
     p.diffuse = diffuse == "burley" ? DiffuseModel::Burley : DiffuseModel::Lambert;

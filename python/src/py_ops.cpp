@@ -1,8 +1,5 @@
 #include "py_ops.h"
 
-#include <cmath>
-#include <cstdio>
-
 namespace dhdr::python {
 
 Image runNew(const Image& src, OIIO::ROI roi, int nthreads, const ImageOp& op) {
@@ -45,14 +42,6 @@ bool runInto(Image& dst, const Image& src, OIIO::ROI roi, int nthreads, const Im
         dst.spec().extra_attribs = out.buf.spec().extra_attribs;
     }
     return true;
-}
-
-void checkRange(const char* name, double v, double lo, double hi, bool openLo, bool openHi) {
-    if (std::isfinite(v) && (openLo ? v > lo : v >= lo) && (openHi ? v < hi : v <= hi)) return;
-    char text[200];
-    std::snprintf(text, sizeof text, "%s: %g is outside %s%g, %g%s", name, v, openLo ? "(" : "[",
-                  lo, hi, openHi ? ")" : "]");
-    throw py::value_error(text);
 }
 
 } // namespace dhdr::python

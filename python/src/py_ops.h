@@ -61,9 +61,4 @@ void checkParams(const Params& params, const Table& table) {
         throw py::value_error(e);
 }
 
-// Raises ValueError "NAME: V is outside RANGE" (the tools' words) unless v is finite and in
-// [lo, hi], open at an end where `openLo`/`openHi`; the ranges are the tools' option ranges.
-void checkRange(const char* name, double v, double lo, double hi, bool openLo = false,
-                bool openHi = false);
-
 } // namespace dhdr::python

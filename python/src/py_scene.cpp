@@ -9,6 +9,7 @@
 #include <dhdr/deferred/gbuffer/gbuffer_time.h>
 #include <dhdr/deferred/geometry/posed_scene.h>
 #include <dhdr/deferred/render/gbuffer_render.h>
+#include <dhdr/deferred/scene/animation.h>
 #include <dhdr/deferred/scene/camera.h>
 #include <dhdr/deferred/scene/scene_camera.h>
 #include <dhdr/deferred/scene/scene_info.h>
@@ -89,12 +90,15 @@ struct Moment {
 Moment momentOf(const SceneHandle& h, const py::object& animation, std::optional<long long> frame,
                 std::optional<double> time, double fps) {
     if (frame && time) throw py::value_error("frame and time exclude each other");
-    checkRange("fps", fps, 0.0, 1e6, true, false);
-    // dhdr-gbuffer's --frame and --time ranges (apps/common/frames.h).
-    if (frame && (*frame < -99999999 || *frame > 999999999))
-        throw py::value_error("frame: " + std::to_string(*frame) +
-                              " is not a frame number in [-99999999, 999999999]");
-    if (time) checkRange("time", *time, -1e9, 1e9);
+    // dhdr-gbuffer's --fps, --time and --frame ranges; the frame as Python's integer.
+    MomentChoice given;
+    given.fps = fps;
+    if (time) given.time = *time;
+    checkParams(given, kMomentFloatTable);
+    if (frame)
+        if (const std::string e = rangeProblem(kMomentIntTable[0], *frame, Spelling::Keyword);
+            !e.empty())
+            throw py::value_error(e);
     Moment m;
     const std::vector<Animation> none;
     const std::vector<Animation>& all = h.scene->rig ? h.scene->rig->animations : none;
@@ -155,13 +159,14 @@ GBufferDepth depthOf(const py::object& deep) {
     return deep.cast<bool>() ? GBufferDepth::Deep : GBufferDepth::Flat;
 }
 
-// render_gbuffer's camera, lookat, fov (checked) and frame_all, as dhdr-gbuffer's --camera,
-// --lookat, --fov and --frame-all.
+// render_gbuffer's camera, lookat, fov (checked; 0: the camera's) and frame_all, as
+// dhdr-gbuffer's --camera, --lookat, --fov and --frame-all.
 CameraChoice cameraChoice(const std::string& camera, const py::object& lookat, double fov,
                           bool frameAll) {
     CameraChoice choice;
     choice.name = camera;
     choice.fovDegrees = fov;
+    checkParams(choice, kCameraFloatTable);
     choice.frameAll = frameAll;
     if (lookat.is_none()) return choice;
     // (eye, target[, up]) as dhdr-gbuffer --lookat, 39.6 degrees unless fov says.
@@ -220,7 +225,6 @@ py::object render(const SceneHandle& h, const std::string& camera, const py::obj
                   const py::object& animation, int nthreads) {
     const GBufferDepth depth = depthOf(deepGiven);
     GBufferParams params = gbufferParams(size, maxLayers);
-    if (!(fov >= 0.0 && fov < 180.0)) throw py::value_error("fov: must be in (0, 180) degrees");
     const Moment moment =
         momentOf(h, animation,
                  frame.is_none() ? std::nullopt : std::optional<long long>(frame.cast<long long>()),
@@ -319,7 +323,7 @@ lowest point) or a height adds dhdr-gbuffer --ground-plane's shadow catcher.)")
             "duration, start and end (its first and last key, seconds), channels, and the "
             "problem that keeps it from playing (empty when it plays).")
         .def("posed", &posed, py::kw_only(), "time"_a = py::none(), "frame"_a = py::none(),
-             "fps"_a = 24.0, "animation"_a = py::none(),
+             "fps"_a = MomentChoice{}.fps, "animation"_a = py::none(),
              R"(The scene at one moment of its animation (time seconds, or frame / fps; animation as
 render_gbuffer takes them), standing still there: its meshes, cameras and lights where
 dhdr-gbuffer --frame renders them (lights: what --lights-out writes for that frame), without
@@ -333,10 +337,10 @@ animations. light(scene=...) then traces shadows from the posed geometry.)")
         });
 
     m.def("render_gbuffer", &render, "scene"_a, py::kw_only(), "camera"_a = "",
-          "lookat"_a = py::none(), "fov"_a = 0.0, "size"_a = std::pair<int, int>{1920, 1080},
-          "frame_all"_a = false, "deep"_a = false, "max_layers"_a = GBufferParams{}.maxLayers,
-          "time"_a = py::none(), "frame"_a = py::none(), "fps"_a = 24.0, "animation"_a = py::none(),
-          "nthreads"_a = 0,
+          "lookat"_a = py::none(), "fov"_a = CameraChoice{}.fovDegrees,
+          "size"_a = std::pair<int, int>{1920, 1080}, "frame_all"_a = false, "deep"_a = false,
+          "max_layers"_a = GBufferParams{}.maxLayers, "time"_a = py::none(), "frame"_a = py::none(),
+          "fps"_a = MomentChoice{}.fps, "animation"_a = py::none(), "nthreads"_a = 0,
           R"(A flat G-buffer of the scene (dhdr-gbuffer): one primary ray per pixel, the channels of
 docs/gbuffer.md as float32 by name, the header (camera matrices, name tables, Cryptomatte
 manifests) in attributes. camera: a scene camera by name (default the first); lookat:

@@ -32,8 +32,8 @@ LuminanceStatsParams luminanceParams(const std::string& weights, double delta, b
         p.weights = kRec709LuminanceWeights;
     else
         throw py::value_error("weights must be seed or rec709, got '" + weights + "'");
-    checkRange("delta", delta, 0.0, 1.0, true);
     p.delta = delta;
+    checkParams(p, kLuminanceFloatTable);
     p.skipTransparent = skip;
     return p;
 }
@@ -45,10 +45,10 @@ MeteringParams meteringParams(const std::string& metering, Percentiles window,
         p.mode = MeteringMode::Histogram;
     else if (metering != "log-average")
         throw py::value_error("metering must be log-average or histogram, got '" + metering + "'");
-    if (!(window.first >= 0.0) || !(window.first < window.second) || !(window.second <= 100.0))
-        throw py::value_error("percentiles must be (LO, HI) with 0 <= LO < HI <= 100");
     p.lowPercentile = window.first;
     p.highPercentile = window.second;
+    if (const std::string e = percentilesProblem(p, Spelling::Keyword); !e.empty())
+        throw py::value_error(e);
     p.luminance = luminanceParams(weights, delta, skip);
     return p;
 }
@@ -56,7 +56,8 @@ MeteringParams meteringParams(const std::string& metering, Percentiles window,
 // The metering keyword arguments every metering call takes, with dhdr-tonemap's defaults.
 #define DHDR_METERING_ARGS                                                                         \
     py::arg("metering") = "log-average", py::arg("percentiles") = Percentiles{5.0, 95.0},          \
-    py::arg("weights") = "seed", py::arg("delta") = 1e-4, py::arg("skip_transparent") = true
+    py::arg("weights") = "seed", py::arg("delta") = LuminanceStatsParams{}.delta,                  \
+    py::arg("skip_transparent") = true
 
 // tone_map's keywords as dhdr-tonemap's --op, --key, --exposure, --white, the metering
 // options, --phi, --epsilon and --drago-bias.
@@ -65,14 +66,14 @@ ToneMapParams toneMapParams(const std::string& op, double key, double exposure,
                             Percentiles window, const std::string& weights, double delta, bool skip,
                             double phi, double epsilon, double dragoBias) {
     ToneMapParams p;
-    if (!parseToneOperator(op, p.op))
-        throw py::value_error("op must be reinhard, reinhard-local, drago, hable, pbr-neutral, "
-                              "agx, exposure, aces or none, got '" +
-                              op + "'");
-    checkRange("key", key, 0.0, 100.0, true);
-    checkRange("exposure", exposure, -64.0, 64.0);
+    if (std::string error; !setChoice(kToneMapChoiceTable[0], p, op, Spelling::Keyword, error))
+        throw py::value_error(error);
     p.key = key;
     p.exposure = exposure;
+    p.phi = phi;
+    p.epsilon = epsilon;
+    p.dragoBias = dragoBias;
+    checkParams(p, kToneMapFloatTable);
     // "auto" (the largest), "inf", or a positive number, as --white.
     if (py::isinstance<py::str>(white)) {
         const std::string w = white.cast<std::string>();
@@ -87,12 +88,6 @@ ToneMapParams toneMapParams(const std::string& op, double key, double exposure,
             throw py::value_error("white must be a positive number, 'auto' or 'inf'");
     }
     p.metering = meteringParams(metering, window, weights, delta, skip);
-    checkRange("phi", phi, 0.0, 100.0, true);
-    checkRange("epsilon", epsilon, 0.0, 1.0, true);
-    checkRange("drago_bias", dragoBias, 0.0, 1.0, true);
-    p.phi = phi;
-    p.epsilon = epsilon;
-    p.dragoBias = dragoBias;
     return p;
 }
 
@@ -127,7 +122,8 @@ BloomParams bloomParams(float threshold, float key, float sigma, float strength,
 #define DHDR_BLOOM_ARGS                                                                            \
     py::arg("threshold") = BloomParams{}.threshold, py::arg("key") = BloomParams{}.key,            \
     py::arg("sigma") = BloomParams{}.sigma, py::arg("strength") = BloomParams{}.strength,          \
-    py::arg("weights") = "seed", py::arg("delta") = 1e-4, py::arg("skip_transparent") = true
+    py::arg("weights") = "seed", py::arg("delta") = LuminanceStatsParams{}.delta,                  \
+    py::arg("skip_transparent") = true
 
 ImageOp bloomOp(const Image&, float threshold, float key, float sigma, float strength,
                 const std::string& weights, double delta, bool skip) {
@@ -327,9 +323,9 @@ void bindMetering(py::module_& m) {
     m.def(
         "adapt_luminance",
         [](const std::vector<double>& metered, double fps, double rate, double speed) {
-            checkRange("fps", fps, 0.0, 1000.0, true);
             AdaptationParams p;
             p.fps = fps;
+            checkParams(p, kAdaptationFloatTable);
             p.rate = rate;
             p.speed = speed;
             return adaptLuminance(metered, p);
@@ -343,7 +339,9 @@ void bindMetering(py::module_& m) {
         "adapt",
         [](const std::vector<py::object>& frames, double fps, const std::string& metering,
            Percentiles window, const std::string& weights, double delta, bool skip, int nthreads) {
-            checkRange("fps", fps, 0.0, 1000.0, true);
+            AdaptationParams ap;
+            ap.fps = fps;
+            checkParams(ap, kAdaptationFloatTable);
             const MeteringParams p = meteringParams(metering, window, weights, delta, skip);
             std::vector<LuminanceStats> stats;
             std::vector<double> measured;
@@ -354,14 +352,13 @@ void bindMetering(py::module_& m) {
                     meterImage(asImage(frames[i], what.c_str(), storage), p, {}, nthreads));
                 measured.push_back(stats.back().logAverage);
             }
-            AdaptationParams ap;
-            ap.fps = fps;
             const std::vector<double> adapted = adaptLuminance(measured, ap);
             for (size_t i = 0; i < stats.size(); ++i)
                 stats[i].logAverage = adapted[i];
             return stats;
         },
-        "frames"_a, py::kw_only(), "fps"_a = 24.0, DHDR_METERING_ARGS, "nthreads"_a = 0,
+        "frames"_a, py::kw_only(), "fps"_a = AdaptationParams{}.fps, DHDR_METERING_ARGS,
+        "nthreads"_a = 0,
         R"(Eye adaptation over a list of frames (dhdr-tonemap --adapt): each frame metered, the
 luminances adapted in order; returns one LuminanceStats per frame to give tone_map(stats=...).)");
 }
@@ -372,18 +369,18 @@ void bindOperators(py::module_& m) {
                R"(Tone-maps scene-linear RGB to display-linear RGB (dhdr-tonemap's --op).
 
 Meters src (or uses stats=, e.g. an adapted luminance from dhdr.adapt) and maps it with
-op: reinhard (default), reinhard-local, drago, hable, pbr-neutral, agx, exposure, aces
+op: reinhard, reinhard-local, drago, hable, pbr-neutral, agx, exposure, aces
 (metered exposure; the ACES view does the rest) or none (x 2^exposure, unclipped).
-key: the metered luminance maps to it (0.18); exposure: stops; white: reinhard's white
+key: the metered luminance maps to it; exposure: stops; white: reinhard's white
 point ('auto': the largest, 'inf', or a number); metering: 'log-average' or 'histogram'
 (within percentiles); weights: 'seed' (0.27/0.67/0.06) or 'rec709'; delta: the
 log-average's delta; skip_transparent: leave alpha-0 pixels out of the metering.
-phi, epsilon: reinhard-local; drago_bias: drago. Alpha and further channels are copied.
+phi, epsilon: reinhard-local (--phi, --epsilon); drago_bias: drago (--drago-bias). Alpha and further channels are copied.
 The result is display-linear; to_display() encodes it, quantize() makes integers.)",
-               &toneMapOp, py::kw_only(), py::arg("op") = "reinhard", py::arg("key") = 0.18,
-               py::arg("exposure") = 0.0, py::arg("white") = "auto", DHDR_METERING_ARGS,
-               py::arg("stats") = py::none(), py::arg("phi") = ToneMapParams{}.phi,
-               py::arg("epsilon") = ToneMapParams{}.epsilon,
+               &toneMapOp, py::kw_only(), py::arg("op") = toneOperatorName(ToneMapParams{}.op),
+               py::arg("key") = ToneMapParams{}.key, py::arg("exposure") = ToneMapParams{}.exposure,
+               py::arg("white") = "auto", DHDR_METERING_ARGS, py::arg("stats") = py::none(),
+               py::arg("phi") = ToneMapParams{}.phi, py::arg("epsilon") = ToneMapParams{}.epsilon,
                py::arg("drago_bias") = ToneMapParams{}.dragoBias);
 
     defImageOp(m, "bloom", R"(Bloom (dhdr-bloom): a bright pass on a quarter-size copy (pixels whose
@@ -504,9 +501,10 @@ when the image says so: to_scene_linear). What the tool meters and maps.)");
         },
         "src"_a, py::kw_only(), "stats"_a = py::none(), "config"_a = "", "colorspace"_a = "",
         "display"_a = "", "view"_a = "", "look"_a = "", "bits"_a = py::none(), "dither"_a = true,
-        "nthreads"_a = 0, py::arg("op") = "reinhard", py::arg("key") = 0.18,
-        py::arg("exposure") = 0.0, py::arg("white") = "auto", DHDR_METERING_ARGS,
-        py::arg("phi") = ToneMapParams{}.phi, py::arg("epsilon") = ToneMapParams{}.epsilon,
+        "nthreads"_a = 0, py::arg("op") = toneOperatorName(ToneMapParams{}.op),
+        py::arg("key") = ToneMapParams{}.key, py::arg("exposure") = ToneMapParams{}.exposure,
+        py::arg("white") = "auto", DHDR_METERING_ARGS, py::arg("phi") = ToneMapParams{}.phi,
+        py::arg("epsilon") = ToneMapParams{}.epsilon,
         py::arg("drago_bias") = ToneMapParams{}.dragoBias,
         R"(dhdr-tonemap on one frame in memory: what the tool does between reading and writing
 (libtonemap's frame recipe, frame_recipe.h). src (an Image as dhdr.read gives it, left

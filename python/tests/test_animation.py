@@ -9,7 +9,7 @@ import OpenImageIO as oiio
 import pytest
 
 import dhdr
-from conftest import TESTDATA, read_channels, read_file, run_tool, tool_error
+from conftest import TESTDATA, range_error_is_the_tools, read_channels, read_file, run_tool, tool_error
 from test_tonemap import same_bits
 
 ANIMATED = str(TESTDATA / "cornell_animated.gltf")
@@ -93,8 +93,10 @@ def test_animation_errors_are_the_tools(animated, tmp_path):
         dhdr.render_gbuffer(animated, size=(8, 8), frame=1, time=0.5)
     with pytest.raises(ValueError, match="fps: 0 is outside"):
         dhdr.render_gbuffer(animated, size=(8, 8), fps=0)
-    with pytest.raises(ValueError, match="frame: 1000000000 is not a frame number"):
+    with pytest.raises(ValueError, match=r"frame: 1000000000 is outside \[-99999999, 999999999\]"):
         dhdr.render_gbuffer(animated, size=(8, 8), frame=10**9)
+    with pytest.raises(ValueError, match="frame: 1000000000000 is outside"):
+        dhdr.render_gbuffer(animated, size=(8, 8), frame=10**12)
     with pytest.raises(ValueError, match="time: inf is outside"):
         dhdr.render_gbuffer(animated, size=(8, 8), time=float("inf"))
     with pytest.raises(TypeError, match="animation: expected a name"):
@@ -193,3 +195,12 @@ def test_light_poses_the_scene_as_the_tool(animated, tmp_path):
     g.set_attribute("dhdr:animation", "3")
     with pytest.raises(ValueError, match="rendered with animation 3, which .* does not have"):
         dhdr.light(g, scene=animated)
+
+
+@pytest.mark.parametrize("keyword, value", [("fps", 0), ("time", -2e9), ("frame", -10**8)])
+def test_moment_range_errors_are_the_tools(animated, keyword, value, tmp_path):
+    args = [ANIMATED, "-o", tmp_path / "x.exr"]
+    range_error_is_the_tools(lambda: dhdr.render_gbuffer(animated, size=(8, 8), **{keyword: value}),
+                             "dhdr-gbuffer", "--" + keyword, value, *args)
+    range_error_is_the_tools(lambda: animated.posed(**{keyword: value}), "dhdr-probes",
+                             "--" + keyword, value, *args)

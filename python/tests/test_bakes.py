@@ -7,7 +7,8 @@ import OpenImageIO as oiio
 import pytest
 
 import dhdr
-from conftest import LIGHTS, TESTDATA, read_channels, read_file, run_tool, write_exr
+from conftest import (LIGHTS, TESTDATA, range_error_is_the_tools, read_channels, read_file,
+                      run_tool, write_exr)
 from test_tonemap import same_bits
 
 CORNELL = str(TESTDATA / "cornell_box.gltf")
@@ -94,6 +95,14 @@ def test_bake_probes_equals_tool_and_lights(gbuffer, tmp_path):
     same_bits(mine.pixels, read_file(tmp_path / "lit.exr"))
     with pytest.raises(ValueError, match="rays: 1 is outside"):
         dhdr.bake_probes(scene, str(tmp_path / "x.exr"), rays=1)
+    range_error_is_the_tools(lambda: dhdr.bake_probes(scene, str(tmp_path / "x.exr"), spacing=-1),
+                             "dhdr-probes", "--spacing", -1, CORNELL, "-o", tmp_path / "x.exr")
+    for grid in [(0, 2, 2), (2, 257, 2), (0, 0, 0)]:
+        with pytest.raises(ValueError, match=r"grid: .* has a number outside \[1, 256\]"):
+            dhdr.bake_probes(scene, str(tmp_path / "x.exr"), grid=grid)
+        bad = run_tool("dhdr-probes", CORNELL, "--grid", ",".join(map(str, grid)), "-o",
+                       tmp_path / "x.exr", check=False)
+        assert bad.returncode == 2 and "[1, 256]" in bad.stderr
 
 
 def test_probes_in_memory_light_as_the_tools_file(gbuffer, tmp_path):

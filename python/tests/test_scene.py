@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 import dhdr
-from conftest import LIGHTS, TESTDATA, read_channels, read_file, run_tool, tool_error
+from conftest import (LIGHTS, TESTDATA, range_error_is_the_tools, read_channels, read_file,
+                      run_tool, tool_error)
 from test_tonemap import same_bits
 
 CORNELL = str(TESTDATA / "cornell_box.gltf")
@@ -54,6 +55,9 @@ def test_camera_errors_are_the_tools(cornell, tmp_path):
         dhdr.render_gbuffer(cornell, deep=True, max_layers=0)
     with pytest.raises(ValueError, match="6 or 9 numbers"):
         dhdr.render_gbuffer(cornell, lookat=(0, 0, 1))
+    for fov in (180, -1):
+        range_error_is_the_tools(lambda: dhdr.render_gbuffer(cornell, size=(8, 8), fov=fov),
+                                 "dhdr-gbuffer", "--fov", fov, CORNELL, "-o", tmp_path / "x.exr")
 
 
 def test_light_with_scene_equals_tool(cornell, gbuffer, tmp_path):

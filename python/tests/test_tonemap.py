@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import dhdr
-from conftest import hdr_frame, read_file, run_tool, tool_error, write_exr
+from conftest import hdr_frame, range_error_is_the_tools, read_file, run_tool, tool_error, write_exr
 
 OPERATORS = ["reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "agx", "exposure",
              "aces", "none"]
@@ -81,6 +81,39 @@ def test_errors_carry_the_tools_message(frame_exr, tmp_path):
 def test_bad_parameters_raise_value_error(kwargs, word):
     with pytest.raises(ValueError, match=word):
         dhdr.tone_map(hdr_frame(), **kwargs)
+
+
+@pytest.mark.parametrize("keyword, value", [
+    ("key", 0), ("exposure", 65), ("phi", 0), ("epsilon", 1.5), ("drago_bias", 0),
+    ("delta", 0)])
+def test_range_errors_are_the_tools(keyword, value, tmp_path):
+    option = "--" + keyword.replace("_", "-")
+    args = ["in.exr", "-o", tmp_path / "x.png"]
+    range_error_is_the_tools(lambda: dhdr.tone_map(hdr_frame(), **{keyword: value}),
+                             "dhdr-tonemap", option, value, *args)
+    if keyword == "delta":
+        range_error_is_the_tools(lambda: dhdr.meter(hdr_frame(), delta=value), "dhdr-tonemap",
+                                 option, value, *args)
+
+
+def test_adaptation_fps_range_is_the_tools(tmp_path):
+    args = ["in.####.exr", "--adapt", "-o", tmp_path / "x.####.png"]
+    range_error_is_the_tools(lambda: dhdr.adapt([hdr_frame()], fps=0), "dhdr-tonemap", "--fps",
+                             0, *args)
+    range_error_is_the_tools(lambda: dhdr.adapt_luminance([0.2, 0.3], fps=1001), "dhdr-tonemap",
+                             "--fps", 1001, *args)
+
+
+@pytest.mark.parametrize("op, extra", [("reinhard-local", ["--phi", "4", "--epsilon", "0.1"]),
+                                       ("drago", ["--drago-bias", "0.7"])])
+def test_operator_parameters_equal_tool(op, extra, frame_exr, tmp_path):
+    run_tool("dhdr-tonemap", frame_exr, "--op", op, *extra, "-o", tmp_path / "tool.exr")
+    keywords = {extra[i][2:].replace("-", "_"): float(extra[i + 1]) for i in range(0, len(extra), 2)}
+    mine = dhdr.tonemap_frame(dhdr.read(str(frame_exr)), op=op, **keywords)
+    dhdr.write(str(tmp_path / "py.exr"), mine)
+    same_bits(read_file(tmp_path / "py.exr"), read_file(tmp_path / "tool.exr"))
+    default = dhdr.tonemap_frame(dhdr.read(str(frame_exr)), op=op)
+    assert not np.array_equal(default.pixels, mine.pixels)
 
 
 def test_meter_histogram_and_stats_object():

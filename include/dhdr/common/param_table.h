@@ -43,14 +43,28 @@ struct IntParam {
     const char* keyword = nullptr; // the Python keyword (null: none)
 };
 
-template <class Params>
+// A real number: a float field, or a double one (FloatParam<Params, double>) where the library
+// computes in double (the tone map's key, the animation's time).
+template <class Params, class T = float>
 struct FloatParam {
     const char* option;
     const char* keyword;
-    float Params::*field;
+    T Params::*field;
     ParamRange range;
     const char* metavar;
     const char* help; // what it is and its unit, without the range or the default
+};
+
+// Whole numbers given together ("NX,NY,NZ"), each in [min, max], in a field of that many ints
+// (glm::ivec3); all 0, the default, means not given.
+template <class Params, class Vec>
+struct IntVecParam {
+    const char* option;
+    const char* keyword;
+    Vec Params::*field;
+    int min, max; // inclusive, each number
+    const char* metavar;
+    const char* help;
 };
 
 // One of a few names ("off|rt|ssao"), stored as the index of the name (an enum or a bool)
@@ -126,24 +140,65 @@ bool setChoice(const ChoiceParam<Params>& p, Params& params, const std::string& 
     return true;
 }
 
+// "[MIN, MAX]" of an IntParam or IntVecParam.
+template <class P>
+std::string intRangeText(const P& p) {
+    return "[" + std::to_string(p.min) + ", " + std::to_string(p.max) + "]";
+}
+
+// "NAME: V is outside [MIN, MAX]" when `v` is outside `p`'s range, else empty. A long long, so
+// that a caller holding a wider number (a Python int) is told its own value.
+template <class Params>
+std::string rangeProblem(const IntParam<Params>& p, long long v, Spelling spelling) {
+    if (v >= p.min && v <= p.max) return {};
+    return std::string(paramName(p, spelling)) + ": " + std::to_string(v) + " is outside " +
+           intRangeText(p);
+}
+
 // The first field of `params` outside its range, as "NAME: V is outside [MIN, MAX]"; empty
 // when all are within.
 template <class Params, size_t N>
 std::string checkRanges(const Params& params, const IntParam<Params> (&table)[N],
                         Spelling spelling = Spelling::Option) {
-    for (const IntParam<Params>& p : table) {
-        const int v = params.*(p.field);
-        if (v < p.min || v > p.max)
-            return std::string(paramName(p, spelling)) + ": " + std::to_string(v) +
-                   " is outside [" + std::to_string(p.min) + ", " + std::to_string(p.max) + "]";
-    }
+    for (const IntParam<Params>& p : table)
+        if (std::string e = rangeProblem(p, params.*(p.field), spelling); !e.empty()) return e;
     return {};
 }
 
-template <class Params, size_t N>
-std::string checkRanges(const Params& params, const FloatParam<Params> (&table)[N],
+// "NX,NY,NZ" of an IntVecParam's value.
+template <class Vec>
+std::string intVecText(const Vec& v) {
+    std::string out;
+    for (int i = 0; i < int(v.length()); ++i)
+        out += (i > 0 ? "," : "") + std::to_string(v[i]);
+    return out;
+}
+
+// "NAME: V has a number outside [MIN, MAX]" when one of `v`'s numbers is, else empty: the
+// check of a value given (all 0 too).
+template <class Params, class Vec>
+std::string rangeProblem(const IntVecParam<Params, Vec>& p, const Vec& v, Spelling spelling) {
+    for (int i = 0; i < int(v.length()); ++i)
+        if (v[i] < p.min || v[i] > p.max)
+            return std::string(paramName(p, spelling)) + ": " + intVecText(v) +
+                   " has a number outside " + intRangeText(p);
+    return {};
+}
+
+// The rows whose field is given (not all 0).
+template <class Params, class Vec, size_t N>
+std::string checkRanges(const Params& params, const IntVecParam<Params, Vec> (&table)[N],
                         Spelling spelling = Spelling::Option) {
-    for (const FloatParam<Params>& p : table) {
+    for (const IntVecParam<Params, Vec>& p : table)
+        if (params.*(p.field) != Vec{})
+            if (std::string e = rangeProblem(p, params.*(p.field), spelling); !e.empty()) return e;
+    return {};
+}
+
+template <class Params, class T, size_t N>
+std::string checkRanges(const Params& params, const FloatParam<Params, T> (&table)[N],
+                        Spelling spelling = Spelling::Option) {
+    for (const FloatParam<Params, T>& p : table) {
         const double v = double(params.*(p.field));
         if (!p.range.contains(v)) {
             char text[32];

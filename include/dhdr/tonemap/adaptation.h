@@ -2,6 +2,7 @@
 // luminance with a lag.
 #pragma once
 
+#include <dhdr/common/param_table.h>
 #include <vector>
 
 namespace dhdr {
@@ -12,6 +13,17 @@ struct AdaptationParams {
     // eye closes 2 % of the gap per 1/30 s.
     double rate = 0.98;
     double speed = 30.0;
+};
+
+// AdaptationParams' frame rate, and the option of dhdr-tonemap and keyword of dhdr.adapt() and
+// dhdr.adapt_luminance() that set it.
+inline constexpr FloatParam<AdaptationParams, double> kAdaptationFloatTable[] = {
+    {"--fps",
+     "fps",
+     &AdaptationParams::fps,
+     {0.0, 1000.0, true},
+     "N",
+     "frames per second of the sequence, dt = 1/fps"},
 };
 
 // The adapted luminance of each frame, starting adapted to the first: a sequential scan over

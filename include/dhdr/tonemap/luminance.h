@@ -2,6 +2,7 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <dhdr/common/param_table.h>
 #include <limits>
 
 namespace dhdr {
@@ -27,6 +28,17 @@ struct LuminanceStatsParams {
     // Leave out pixels whose alpha (channel 3, when there is one) is 0: where a render has no
     // surface there is nothing to meter, and black would drag the log-average down.
     bool skipTransparent = true;
+};
+
+// LuminanceStatsParams' δ, and the option of dhdr-tonemap and keyword of the Python metering
+// calls that set it.
+inline constexpr FloatParam<LuminanceStatsParams, double> kLuminanceFloatTable[] = {
+    {"--delta",
+     "delta",
+     &LuminanceStatsParams::delta,
+     {0.0, 1.0, true},
+     "D",
+     "δ of the log-average"},
 };
 
 struct LuminanceStats {

@@ -1,6 +1,7 @@
 // Metering: the one luminance a tone-map operator maps to its key.
 #pragma once
 
+#include <dhdr/common/param_table.h>
 #include <dhdr/tonemap/luminance.h>
 #include <vector>
 
@@ -19,6 +20,10 @@ struct MeteringParams {
     double lowPercentile = 5.0;
     double highPercentile = 95.0;
 };
+
+// Empty when `params`' percentiles are a window, 0 ≤ low < high ≤ 100; else why not, naming
+// dhdr-tonemap's --percentiles or the Python keyword percentiles.
+std::string percentilesProblem(const MeteringParams& params, Spelling spelling);
 
 // meter() over an image that arrives strip by strip, rows in order, in passes: every row to
 // add(), then endPass(), again while needsAnotherPass() (log-average metering takes one pass;

@@ -1,6 +1,7 @@
 // The tone-map operators of dhdr-tonemap behind one call.
 #pragma once
 
+#include <dhdr/common/param_table.h>
 #include <dhdr/tonemap/curves.h>
 #include <dhdr/tonemap/metering.h>
 #include <string>
@@ -19,10 +20,9 @@ enum class ToneOperator {
     None,          // × 2^exposure only, unclipped: the display's view does the tone mapping
 };
 
-// "reinhard", "reinhard-local", "drago", "hable", "pbr-neutral", "agx", "exposure", "aces",
-// "none".
+// An operator's name among kToneMapChoiceTable's ("reinhard", "pbr-neutral", ...).
 bool parseToneOperator(const std::string& name, ToneOperator& op);
-const char* toneOperatorName(ToneOperator op);
+std::string toneOperatorName(ToneOperator op);
 
 struct ToneMapParams {
     ToneOperator op = ToneOperator::Reinhard;
@@ -38,6 +38,52 @@ struct ToneMapParams {
     double phi = 8.0, epsilon = 0.05; // reinhard-local
     double dragoBias = 0.85;          // drago
     HableParams hable;
+};
+
+// ToneMapParams' operator, and the option of dhdr-tonemap and keyword of dhdr.tone_map() that
+// set it; the names in ToneOperator's order.
+inline constexpr ChoiceParam<ToneMapParams> kToneMapChoiceTable[] = {
+    {"--op", "op", "reinhard|reinhard-local|drago|hable|pbr-neutral|agx|exposure|aces|none",
+     [](const ToneMapParams& p) { return int(p.op); },
+     [](ToneMapParams& p, int i) { p.op = ToneOperator(i); },
+     "the tone-map operator; aces is the ACES 1.0 SDR output transform, as the view; none is "
+     "scene-linear x 2^exposure, unclipped, to the display/view (a config's own view such as "
+     "Filmic or AgX tone-maps)"},
+};
+
+// ToneMapParams' ranges, and the options of dhdr-tonemap and keywords of dhdr.tone_map() that
+// set them.
+inline constexpr FloatParam<ToneMapParams, double> kToneMapFloatTable[] = {
+    {"--key",
+     "key",
+     &ToneMapParams::key,
+     {0.0, 100.0, true},
+     "A",
+     "key α: the metered luminance maps to this"},
+    {"--exposure",
+     "exposure",
+     &ToneMapParams::exposure,
+     {-64.0, 64.0},
+     "STOPS",
+     "extra exposure in stops"},
+    {"--phi",
+     "phi",
+     &ToneMapParams::phi,
+     {0.0, 100.0, true},
+     "PHI",
+     "reinhard-local's sharpening φ"},
+    {"--epsilon",
+     "epsilon",
+     &ToneMapParams::epsilon,
+     {0.0, 1.0, true},
+     "EPS",
+     "reinhard-local's activity threshold ε"},
+    {"--drago-bias",
+     "drago_bias",
+     &ToneMapParams::dragoBias,
+     {0.0, 1.0, true},
+     "B",
+     "drago's bias: lower brightens the dark tones"},
 };
 
 // Tone-maps the RGB of `src` into display-linear RGB in `dst` (float; alpha and further

@@ -18,15 +18,10 @@ namespace {
 
 // The parameters' ranges and the grid's, and a scene to place probes in.
 bool checkBakeInputs(const Scene& scene, const ProbeBakeParams& params, std::string& error) {
-    const glm::ivec3 counts = params.counts;
-    const bool byCounts = counts.x > 0 || counts.y > 0 || counts.z > 0;
-    if (error = checkRanges(params, kProbeBakeParamTable); !error.empty()) return false;
-    if ((byCounts && (glm::any(glm::lessThan(counts, glm::ivec3(1))) ||
-                      glm::any(glm::greaterThan(counts, glm::ivec3(256))))) ||
-        (!byCounts && !(params.spacing >= 0.0))) {
-        error = "probe grid out of range (counts 1-256, spacing > 0)";
-        return false;
-    }
+    error = checkRanges(params, kProbeBakeParamTable);
+    if (error.empty()) error = checkRanges(params, kProbeBakeFloatTable);
+    if (error.empty()) error = checkRanges(params, kProbeGridTable);
+    if (!error.empty()) return false;
     if (scene.meshes.empty()) {
         error = "the scene has no geometry to place probes in";
         return false;

@@ -79,7 +79,7 @@ bool readGrid(const ProbeAttributes& at, ProbeVolume& v, std::string& error) {
         v.counts[a] = c[a];
         v.origin[a] = o[a];
         v.spacing[a] = s[a];
-        if (c[a] < 1 || c[a] > 256 || !(s[a] > 0.0f) || !std::isfinite(s[a]) ||
+        if (c[a] < 1 || c[a] > kMaxProbesPerAxis || !(s[a] > 0.0f) || !std::isfinite(s[a]) ||
             !std::isfinite(o[a])) {
             error = "probe grid out of range";
             return false;

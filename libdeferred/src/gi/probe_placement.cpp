@@ -75,7 +75,7 @@ double probeSpacingFor(const glm::dvec3& extent, int maxProbes) {
     double spacing =
         std::max(std::cbrt(std::max(extent.x, longest * 1e-3) * std::max(extent.y, longest * 1e-3) *
                            std::max(extent.z, longest * 1e-3) / maxProbes),
-                 longest / 256.0);
+                 longest / kMaxProbesPerAxis);
     while (count(spacing) > maxProbes)
         spacing *= 1.01;
     return spacing;
@@ -94,14 +94,15 @@ bool layOutProbeGrid(const Scene& scene, const ProbeBakeParams& params, ProbeVol
             v.counts[a] = counts[a];
             v.spacing[a] = spacingAlong(extent[a], counts[a], std::max(extent[a], 1e-3));
         } else {
-            // In double, and refused past 256: a tiny spacing must neither overflow an int
-            // nor be cut to a grid that no longer covers the scene.
+            // In double, and refused past kMaxProbesPerAxis: a tiny spacing must neither overflow
+            // an int nor be cut to a grid that no longer covers the scene.
             const double along = probesAlong(extent[a], spacing);
-            if (!(along <= 256.0) || !(float(spacing) > 0.0f)) {
+            if (!(along <= kMaxProbesPerAxis) || !(float(spacing) > 0.0f)) {
                 error =
                     "a spacing of " + std::to_string(spacing) + " gives " +
                     (along < 1e12 ? std::to_string((long long)along) : std::string("over 10^12")) +
-                    " probes along " + "XYZ"[a] + " (at most 256): use a larger spacing or counts";
+                    " probes along " + "XYZ"[a] + " (at most " + std::to_string(kMaxProbesPerAxis) +
+                    "): use a larger spacing or counts";
                 return false;
             }
             v.counts[a] = int(along);

@@ -28,7 +28,7 @@ struct ProbeBakeParams {
     // that covers the scene's bounds with at most maxProbes probes (probeSpacingFor). Unused
     // with counts.
     double spacing = 0.0;
-    glm::ivec3 counts{0}; // probes along X, Y, Z (each 1–256); 0: from `spacing`
+    glm::ivec3 counts{0}; // probes along X, Y, Z (kProbeGridTable); 0: from `spacing`
     // The counts: their meaning and ranges are kProbeBakeParamTable's (validated by bakeProbes).
     int maxProbes = 512;
     int rays = 256;
@@ -57,6 +57,26 @@ inline constexpr IntParam<ProbeBakeParams> kProbeBakeParamTable[] = {
      "shadow rays per area light at each ray's hit", "shadow_samples"},
 };
 
+// The most probes along an axis.
+inline constexpr int kMaxProbesPerAxis = 256;
+
+// ProbeBakeParams' spacing and grid, and the options of dhdr-probes and keywords of
+// dhdr.bake_probes() that set them.
+inline constexpr FloatParam<ProbeBakeParams, double> kProbeBakeFloatTable[] = {
+    {"--spacing",
+     "spacing",
+     &ProbeBakeParams::spacing,
+     {0.0, 1e6},
+     "M",
+     "distance between probes in scene units, at most (each axis's is the largest that puts the "
+     "outer probes a quarter spacing inside the scene's bounds); 0, the default: from the bounds "
+     "and --max-probes"},
+};
+inline constexpr IntVecParam<ProbeBakeParams, glm::ivec3> kProbeGridTable[] = {
+    {"--grid", "grid", &ProbeBakeParams::counts, 1, kMaxProbesPerAxis, "NX,NY,NZ",
+     "probe counts along X, Y, Z instead of --spacing"},
+};
+
 // The grid's outer layers stand this many spacings inside the scene's bounds, where a room's
 // walls are: near enough that a wall's irradiance is read close to it (and extrapolated a
 // quarter spacing), far enough (over minDistance) that a probe in a corner is not moved.
@@ -66,7 +86,7 @@ inline constexpr double kProbeInset = 0.25;
 
 // The smallest spacing (within 1 %) at which a grid over a box of `extent` holds at most
 // `maxProbes` probes (max(1, ⌈extent / spacing + 1 − 2 kProbeInset⌉) along each axis, at most
-// 256), so that a scene gets the same number of probes at any scale.
+// kMaxProbesPerAxis), so that a scene gets the same number of probes at any scale.
 double probeSpacingFor(const glm::dvec3& extent, int maxProbes);
 
 // Bounces until the light the bounces to come would still add to the sum of every probe's

@@ -2,6 +2,7 @@
 // specification's Appendix C says (docs/animation.md).
 #pragma once
 
+#include <dhdr/common/param_table.h>
 #include <string>
 #include <vector>
 
@@ -47,5 +48,37 @@ struct Animation {
 // matches, or naming the problem of one that cannot be played.
 bool selectAnimations(const std::vector<Animation>& animations, const std::string& selection,
                       std::vector<int>& chosen, std::string& error);
+
+// The moment of the animation a render shows (docs/animation.md): frame N shows time N / fps,
+// frame 0 time 0; a time given instead of a frame shows that time.
+struct MomentChoice {
+    double fps = 24.0;
+    double time = 0.0; // seconds
+    int frame = 0;
+};
+
+// MomentChoice's ranges, and the options of dhdr-gbuffer and dhdr-probes and keywords of
+// dhdr.render_gbuffer() and Scene.posed() that set them.
+inline constexpr FloatParam<MomentChoice, double> kMomentFloatTable[] = {
+    {"--fps",
+     "fps",
+     &MomentChoice::fps,
+     {0.0, 1e6, true},
+     "F",
+     "frames a second: frame N shows the animation at time N / F"},
+    {"--time",
+     "time",
+     &MomentChoice::time,
+     {-1e9, 1e9},
+     "SECONDS",
+     "the scene's animation at this time, in seconds, into the one output (default: the "
+     "frame's time)"},
+};
+inline constexpr IntParam<MomentChoice> kMomentIntTable[] = {
+    {"--frame", &MomentChoice::frame, -99999999, 999999999, "N",
+     "frame N of the scene's animation (time N / fps), into the one output (-o without a frame "
+     "pattern; default: the frames of --frames, else 0)",
+     "frame"},
+};
 
 } // namespace dhdr

@@ -2,6 +2,7 @@
 // one place for the tool and the Python module's render_gbuffer.
 #pragma once
 
+#include <dhdr/common/param_table.h>
 #include <dhdr/deferred/scene/camera.h>
 #include <optional>
 #include <string>
@@ -16,6 +17,18 @@ struct CameraChoice {
     std::optional<Camera> lookat; // instead of the scene's cameras
     double fovDegrees = 0.0;      // > 0: the vertical field of view of a perspective camera
     bool frameAll = false;        // moved back until the scene's bounds fit the image
+};
+
+// CameraChoice's field of view, and the option of dhdr-gbuffer and keyword of
+// dhdr.render_gbuffer() that set it.
+inline constexpr FloatParam<CameraChoice, double> kCameraFloatTable[] = {
+    {"--fov",
+     "fov",
+     &CameraChoice::fovDegrees,
+     {0.0, 180.0, false, true},
+     "DEG",
+     "vertical field of view in degrees; 0, the default: the scene camera's (39.6 with "
+     "--lookat)"},
 };
 
 // The camera of `scene` (read from `path`, which messages name) for an image of `aspect`
