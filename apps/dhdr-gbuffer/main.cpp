@@ -14,6 +14,7 @@
 #include <dhdr/deferred/gbuffer/gbuffer_stamp.h>
 #include <dhdr/deferred/geometry/posed_scene.h>
 #include <dhdr/deferred/render/gbuffer_render.h>
+#include <dhdr/deferred/scene/animation.h>
 #include <dhdr/deferred/scene/scene.h>
 #include <dhdr/deferred/scene/scene_camera.h>
 #include <dhdr/deferred/scene/scene_info.h>
@@ -117,12 +118,15 @@ int parseLookat(const std::string& lookat, std::optional<Camera>& camera) {
 // animated, posed at each frame's time; each frame traced and written flat or deep.
 class GBufferFrames {
 public:
+    // `stillFrames`: how many frames render one scene file (the run's, unless the scene's
+    // path is a frame pattern), all alike when the scene does not move.
     GBufferFrames(const app::Tool& tool, const Options& o, const GBufferParams& params,
-                  std::optional<Camera> lookat)
+                  std::optional<Camera> lookat, size_t stillFrames)
         : m_tool(tool), m_o(o), m_params(params), m_lookat(std::move(lookat)),
           m_lightsOutput(o.lightsOut), m_depth(o.deep   ? GBufferDepth::Deep
                                                : o.flat ? GBufferDepth::Flat
-                                                        : GBufferDepth::Auto) {}
+                                                        : GBufferDepth::Auto),
+          m_stillFrames(stillFrames) {}
 
     bool frame(int frame, const std::string& scenePath, const std::string& outPath);
 
@@ -147,6 +151,7 @@ private:
     const std::optional<Camera> m_lookat;
     const app::FramePattern m_lightsOutput;
     const GBufferDepth m_depth;
+    const size_t m_stillFrames;
     PosedScene m_loaded;
     std::string m_loadedPath;
     bool m_loadFailed = false; // a failure is reported once
@@ -170,8 +175,11 @@ bool GBufferFrames::load(const std::string& scenePath) {
         return false;
     }
     if (!m_loaded.animated() && m_o.timing.given)
-        m_tool.warn(scenePath + ": the scene has no animation; --frame, --time and --fps "
-                                "change nothing");
+        m_tool.warn(scenePath + ": " + kNoAnimationPlayed +
+                    "; --frame, --time and --fps change nothing");
+    if (!m_loaded.animated() && m_stillFrames > 1)
+        m_tool.warn(scenePath + ": " + kNoAnimationPlayed + "; --frames writes the same G-buffer " +
+                    std::to_string(m_stillFrames) + " times");
     if (m_o.groundPlane) {
         const double y =
             m_o.groundY ? *m_o.groundY : (scene.meshes.empty() ? 0.0 : scene.boundsMin().y);
@@ -435,7 +443,8 @@ int run(int argc, char** argv) {
     if (const int status = parseImage(o, params); status >= 0) return status;
     std::optional<Camera> lookat;
     if (const int status = parseLookat(o.lookat, lookat); status >= 0) return status;
-    GBufferFrames frames(tool, o, params, std::move(lookat));
+    const size_t stillFrames = plan.inputs[0].isSequence() ? 1 : plan.frames.size();
+    GBufferFrames frames(tool, o, params, std::move(lookat), stillFrames);
     return app::runFrames(tool, plan, [&](int frame, const auto& in, const std::string& outPath) {
         return frames.frame(frame, in[0], outPath);
     });

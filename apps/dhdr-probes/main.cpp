@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <dhdr/deferred/geometry/posed_scene.h>
 #include <dhdr/deferred/gi/probes.h>
+#include <dhdr/deferred/scene/animation.h>
 #include <dhdr/deferred/scene/lights.h>
 #include <dhdr/deferred/scene/scene.h>
 
@@ -135,8 +136,13 @@ int run(int argc, char** argv) {
             return false;
         }
         if (!loaded.animated() && timing.given)
-            tool.warn(path + ": the scene has no animation; --frame, --time and --fps change "
-                             "nothing");
+            tool.warn(path + ": " + kNoAnimationPlayed +
+                      "; --frame, --time and --fps change nothing");
+        // Frames of one scene file under the same lights bake the same probes.
+        if (!loaded.animated() && !framedLights && !plan.inputs[0].isSequence() &&
+            plan.frames.size() > 1)
+            tool.warn(path + ": " + kNoAnimationPlayed + "; --frames writes the same probes " +
+                      std::to_string(plan.frames.size()) + " times");
         loadFailed = false;
         return true;
     };

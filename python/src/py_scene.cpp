@@ -61,6 +61,39 @@ py::list cameras(const SceneHandle& h) {
     return out;
 }
 
+// Scene.materials: the materials in use (materialsInUse), as --info lists them.
+py::list materials(const SceneHandle& h) {
+    const Scene& scene = *h.scene;
+    py::list out;
+    for (const int i : materialsInUse(scene)) {
+        const Material& m = scene.materials[size_t(i)];
+        py::dict textures;
+        for (const MaterialTexture& t : materialTextures(m)) {
+            const TextureTransform& x = t.ref->transform;
+            textures[t.key] = py::dict("name"_a = scene.textures[size_t(t.ref->texture)].name,
+                                       "offset"_a = py::make_tuple(x.offset.x, x.offset.y),
+                                       "rotation"_a = x.rotation,
+                                       "scale"_a = py::make_tuple(x.scale.x, x.scale.y));
+        }
+        py::list extensions, notRead;
+        if (const auto e = scene.materialExtensions.find(i); e != scene.materialExtensions.end())
+            for (const MaterialExtension& x : e->second) {
+                extensions.append(x.name);
+                if (!x.rendered) notRead.append(x.name);
+            }
+        py::dict d("name"_a = m.name,
+                   "base_color"_a = py::make_tuple(m.baseColor.r, m.baseColor.g, m.baseColor.b),
+                   "alpha"_a = m.alpha, "alpha_mode"_a = alphaModeName(m.alphaMode),
+                   "alpha_cutoff"_a = m.alphaCutoff, "metallic"_a = m.metallic,
+                   "roughness"_a = m.roughness,
+                   "emission"_a = py::make_tuple(m.emission.r, m.emission.g, m.emission.b),
+                   "normal_scale"_a = m.normalScale, "textures"_a = textures,
+                   "extensions"_a = extensions, "extensions_not_read"_a = notRead);
+        out.append(d);
+    }
+    return out;
+}
+
 py::list animations(const SceneHandle& h) {
     py::list out;
     if (!h.scene->rig) return out;
@@ -110,7 +143,7 @@ Moment momentOf(const SceneHandle& h, const py::object& animation, std::optional
         throw py::value_error(h.path + ": " + error);
     }
     if (m.playing.empty() && (frame || time))
-        warn(h.path + ": the scene has no animation; --frame, --time and --fps change nothing");
+        warn(h.path + ": " + kNoAnimationPlayed + "; --frame, --time and --fps change nothing");
     // Frame N shows time N / fps, frame 0 time 0 (docs/animation.md), the default.
     m.time = time ? *time : double(frame ? *frame : 0) / fps;
     return m;
@@ -302,13 +335,14 @@ lowest point) or a height adds dhdr-gbuffer --ground-plane's shadow catcher.)")
             },
             "The scene's punctual lights as lights-file dicts (dhdr-gbuffer --lights-out).")
         .def_property_readonly("objects", [](const SceneHandle& h) { return h.scene->objectNames; })
-        .def_property_readonly("materials",
-                               [](const SceneHandle& h) {
-                                   std::vector<std::string> names;
-                                   for (const Material& mat : h.scene->materials)
-                                       names.push_back(mat.name);
-                                   return names;
-                               })
+        .def_property_readonly(
+            "materials", &materials,
+            "The materials the scene's meshes use (not Assimp's unused default), as dhdr-gbuffer "
+            "--info lists them: name, base_color, alpha, alpha_mode ('opaque', 'mask', "
+            "'blend'), alpha_cutoff, metallic, roughness, emission (linear radiance), "
+            "normal_scale, textures (by slot: base_color, emissive, normal; each its name and "
+            "KHR_texture_transform offset, rotation, scale), extensions (the glTF extensions the "
+            "material names) and extensions_not_read (those dhdr does not render).")
         .def_property_readonly("bounds",
                                [](const SceneHandle& h) {
                                    const glm::dvec3 lo = h.scene->boundsMin(),

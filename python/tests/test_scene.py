@@ -26,6 +26,21 @@ def test_scene_information_is_the_tools(cornell):
         dhdr.Scene(str(TESTDATA / "nothing.gltf"))
 
 
+def test_materials_are_those_in_use_as_dicts(cornell):
+    """--info's materials: Assimp's default one, which no mesh uses, is not among them."""
+    by_name = {m["name"]: m for m in cornell.materials}
+    assert sorted(by_name) == ["green", "light", "red", "white"]
+    white, light = by_name["white"], by_name["light"]
+    assert white["base_color"] == pytest.approx((0.725, 0.71, 0.68))
+    assert (white["metallic"], white["alpha_mode"]) == (0.0, "opaque")
+    assert white["roughness"] == pytest.approx(0.9)
+    assert white["textures"] == {} and white["extensions"] == []
+    # The ceiling panel's KHR_materials_emissive_strength is read: in its emission, not unread.
+    assert light["extensions"] == ["KHR_materials_emissive_strength"]
+    assert light["extensions_not_read"] == []
+    assert max(light["emission"]) > 1.0
+
+
 @pytest.mark.parametrize("args, kwargs", [
     ([], {}),
     (["--lookat", "0.3,0.3,-0.9,0.28,0.27,0.28", "--fov", "50"],

@@ -330,10 +330,90 @@ std::string gltfEmptySceneReason(const nlohmann::json& doc) {
     return {};
 }
 
+namespace {
+
+// glTF 1.0 files give their version as "1.0" or as the number 1.
+bool isGltf1(const nlohmann::json& doc) {
+    if (!doc.is_object() || !doc.contains("asset") || !doc["asset"].is_object() ||
+        !doc["asset"].contains("version"))
+        return false;
+    const nlohmann::json& v = doc["asset"]["version"];
+    return (v.is_number() && v.get<double>() < 2.0) ||
+           (v.is_string() && v.get<std::string>().rfind('1', 0) == 0);
+}
+
+} // namespace
+
+bool gltfExtensionRendered(const nlohmann::json& doc, const std::string& name) {
+    // Assimp 5.2 decodes Draco meshes (Debian's is built with libdraco); dhdr reads the others
+    // itself or through Assimp (which reads the clearcoat, sheen, transmission, volume and
+    // specular-glossiness extensions too, but dhdr renders none of them yet).
+    static const char* const kGltf2[] = {
+        "KHR_draco_mesh_compression", "KHR_lights_punctual", "KHR_materials_emissive_strength",
+        "KHR_texture_transform",      "KHR_materials_ior",   "KHR_materials_specular",
+        "KHR_materials_unlit"};
+    // Assimp's glTF 1.0 importer reads the binary container and the common materials' colours.
+    static const char* const kGltf1[] = {"KHR_binary_glTF", "KHR_materials_common"};
+    auto among = [&](const auto& list) {
+        return std::find(std::begin(list), std::end(list), name) != std::end(list);
+    };
+    return isGltf1(doc) ? among(kGltf1) : among(kGltf2);
+}
+
+std::map<std::string, std::vector<std::string>> gltfMaterialExtensions(const nlohmann::json& doc) {
+    std::map<std::string, std::vector<std::string>> out;
+    if (doc.is_discarded() || !doc.contains("materials") || !doc["materials"].is_array())
+        return out;
+    for (const auto& m : doc["materials"]) {
+        if (!m.is_object() || !m.contains("name") || !m["name"].is_string() ||
+            m["name"].get<std::string>().empty() || !m.contains("extensions") ||
+            !m["extensions"].is_object())
+            continue;
+        std::vector<std::string> names;
+        for (const auto& e : m["extensions"].items())
+            names.push_back(e.key());
+        out[m["name"].get<std::string>()] = names;
+    }
+    return out;
+}
+
+std::string gltfDracoIndexProblem(const nlohmann::json& doc) {
+    if (doc.is_discarded() || !doc.contains("meshes") || !doc["meshes"].is_array() ||
+        !doc.contains("accessors") || !doc["accessors"].is_array())
+        return {};
+    const nlohmann::json& accessors = doc["accessors"];
+    for (size_t i = 0; i < doc["meshes"].size(); ++i) {
+        const nlohmann::json& mesh = doc["meshes"][i];
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array())
+            continue;
+        for (const auto& p : mesh["primitives"]) {
+            if (!p.is_object() || !p.contains("extensions") || !p["extensions"].is_object() ||
+                !p["extensions"].contains("KHR_draco_mesh_compression") || !p.contains("indices") ||
+                !p["indices"].is_number_unsigned())
+                continue;
+            const size_t a = p["indices"].get<size_t>();
+            // An accessor with its own data (an uncompressed fallback) is read from it.
+            if (a >= accessors.size() || !accessors[a].is_object() ||
+                accessors[a].contains("bufferView") ||
+                accessors[a].value("componentType", nlohmann::json()) != 5125)
+                continue;
+            const bool named = mesh.contains("name") && mesh["name"].is_string();
+            return "mesh " +
+                   (named ? "'" + mesh["name"].get<std::string>() + "'" : std::to_string(i)) +
+                   " is Draco-compressed with 32-bit indices, which Assimp 5.2 loses (it reads "
+                   "8- and 16-bit ones)";
+        }
+    }
+    return {};
+}
+
+size_t gltfUnplayedAnimations(const nlohmann::json& doc) {
+    if (doc.is_discarded() || !isGltf1(doc) || !doc.contains("animations")) return 0;
+    const nlohmann::json& a = doc["animations"];
+    return a.is_object() || a.is_array() ? a.size() : 0;
+}
+
 std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
-    static const char* const kRead[] = {"KHR_lights_punctual",    "KHR_materials_emissive_strength",
-                                        "KHR_texture_transform",  "KHR_materials_ior",
-                                        "KHR_materials_specular", "KHR_materials_unlit"};
     std::vector<std::string> out;
     if (doc.is_discarded() || !doc.is_object()) return out;
     if (doc.contains("extensionsUsed") && doc["extensionsUsed"].is_array()) {
@@ -341,8 +421,7 @@ std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
         for (const auto& e : doc["extensionsUsed"]) {
             if (!e.is_string()) continue;
             const std::string name = e.get<std::string>();
-            if (std::find(std::begin(kRead), std::end(kRead), name) == std::end(kRead))
-                ignored += (ignored.empty() ? "" : ", ") + name;
+            if (!gltfExtensionRendered(doc, name)) ignored += (ignored.empty() ? "" : ", ") + name;
         }
         if (!ignored.empty()) out.push_back("glTF extensions not read: " + ignored);
     }

@@ -49,10 +49,26 @@ std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann:
 // Whether a primitive of the file has a COLOR_0 accessor of type VEC3 (RGB, no alpha).
 bool gltfHasRgbVertexColors(const nlohmann::json& doc);
 
-// What the file uses that dhdr leaves out, one line each: extensions it does not read
-// (from extensionsUsed), skins and morph targets (the rest pose is rendered), texture
-// references to a UV set past the second.
+// What the file uses that dhdr leaves out, one line each: extensions whose effect does not
+// reach the render (from extensionsUsed), skins and morph targets (the rest pose is rendered),
+// texture references to a UV set past the second.
 std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc);
+
+// Whether what the extension `name` says reaches the render of the glTF file `doc`, read
+// by Assimp 5.2 or by dhdr from the JSON (the lists differ between glTF 1.0 and 2.0).
+bool gltfExtensionRendered(const nlohmann::json& doc, const std::string& name);
+
+// The extensions each material names (the keys of its "extensions", sorted), by material name;
+// materials without a name or extensions are left out.
+std::map<std::string, std::vector<std::string>> gltfMaterialExtensions(const nlohmann::json& doc);
+
+// Why Assimp 5.2 cannot read a Draco-compressed primitive of the file: it drops the indices it
+// decodes when they are 32-bit ("Invalid accessor without data"); empty when none is such.
+std::string gltfDracoIndexProblem(const nlohmann::json& doc);
+
+// The animations of a glTF 1.0 file, which Assimp 5.2 drops and dhdr does not play; 0 for
+// glTF 2.0 files, whose animations dhdr reads itself.
+size_t gltfUnplayedAnimations(const nlohmann::json& doc);
 
 // Why a glTF file Assimp loads without a message holds nothing to render ("its scene has no
 // nodes"); empty when the file does not say.

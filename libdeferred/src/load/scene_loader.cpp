@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstring>
 #include <dhdr/deferred/scene/scene.h>
+#include <dhdr/deferred/scene/scene_info.h>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -134,6 +135,7 @@ public:
 
     bool build(std::string& error) {
         detail::readMaterials(m_ai, m_doc, m_gltf, m_textures, m_scene);
+        if (m_gltf) readMaterialExtensions();
         if (!m_rig.error().empty()) {
             error = m_rig.error();
             return false;
@@ -169,6 +171,19 @@ private:
             if (!visit(*node, world)) return;
             for (unsigned i = node->mNumChildren; i-- > 0;)
                 stack.emplace_back(node->mChildren[i], world);
+        }
+    }
+
+    // The extensions each glTF material names, matched by name as readMaterials matches what
+    // else Assimp leaves out (the names are still the file's: nameUnnamed comes later).
+    void readMaterialExtensions() {
+        const auto byName = detail::gltfMaterialExtensions(m_doc);
+        for (size_t i = 0; i < m_scene.materials.size(); ++i) {
+            const auto it = byName.find(m_scene.materials[i].name);
+            if (it == byName.end()) continue;
+            for (const std::string& name : it->second)
+                m_scene.materialExtensions[int(i)].push_back(
+                    {name, detail::gltfExtensionRendered(m_doc, name)});
         }
     }
 
@@ -259,7 +274,57 @@ std::string importError(const std::string& path, const nlohmann::json& doc, cons
             if (!camera.problem.empty())
                 return path + ": camera '" + node + "' cannot be rendered from: " + camera.problem +
                        " (Assimp refuses the file: " + reason + ")";
+    if (const std::string draco = isGltf(path) ? detail::gltfDracoIndexProblem(doc) : "";
+        !draco.empty())
+        return path + ": cannot load the scene: " + draco + " (Assimp: " + reason + ")";
     return path + ": cannot load the scene: " + reason;
+}
+
+// Assimp reads the animations of Collada, FBX and other formats and drops glTF 1.0's; dhdr
+// plays glTF 2.0's only, and says so rather than render a still frame without a word.
+void warnUnplayedAnimations(const aiScene& ai, const std::string& path, const nlohmann::json& doc,
+                            Scene& scene) {
+    const size_t n = isGltf(path) ? detail::gltfUnplayedAnimations(doc) : ai.mNumAnimations;
+    if (n == 0) return;
+    scene.warnings.push_back(
+        "the file's " + std::to_string(n) + (n == 1 ? " animation is" : " animations are") +
+        " not played: dhdr plays glTF 2.0 animations only, and renders this scene still, as its "
+        "nodes stand in the file");
+}
+
+// A material in use that hides every surface it covers is named: without it, its objects
+// vanish and the tools say only that no surface is in view.
+void warnInvisibleMaterials(Scene& scene) {
+    for (const int i : materialsInUse(scene)) {
+        const Material& m = scene.materials[size_t(i)];
+        std::string why;
+        char numbers[96];
+        if (m.alphaMode == AlphaMode::Blend && !(m.alpha > 0.0f)) {
+            why = "has opacity 0";
+        } else if (m.alphaMode == AlphaMode::Mask && !(m.alpha >= m.alphaCutoff)) {
+            // Texture alpha only lowers the factor's: every point is below the cutoff.
+            std::snprintf(numbers, sizeof numbers, "%g is below its alphaCutoff %g", m.alpha,
+                          m.alphaCutoff);
+            why = std::string("is cut out everywhere: its alpha ") + numbers;
+        } else {
+            continue;
+        }
+        std::vector<std::string> objects;
+        for (const Mesh& mesh : scene.meshes) {
+            const std::string& name = scene.objectNames[size_t(mesh.object)];
+            if (mesh.material == i &&
+                std::find(objects.begin(), objects.end(), name) == objects.end())
+                objects.push_back(name);
+        }
+        std::string named;
+        for (size_t k = 0; k < objects.size() && k < 3; ++k)
+            named += (k ? ", " : "") + objects[k];
+        if (objects.size() > 3) named += " and " + std::to_string(objects.size() - 3) + " more";
+        scene.warnings.push_back("material '" + m.name + "' " + why +
+                                 ": the surfaces that use it are invisible (" + named +
+                                 "); if it is meant to be seen, set its opacity or alpha in the "
+                                 "file");
+    }
 }
 
 } // namespace
@@ -294,6 +359,8 @@ bool loadScene(const std::string& path, Scene& scene, std::string& error,
     if (isGltf(path))
         for (const std::string& w : detail::gltfIgnoredFeatures(doc))
             scene.warnings.push_back(w);
+    warnUnplayedAnimations(*ai, path, doc, scene);
+    warnInvisibleMaterials(scene);
     if (scene.meshes.empty()) {
         error = path + ": the scene has no triangles";
         return false;

@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <dhdr/deferred/scene/scene_info.h>
 #include <dhdr/deferred/scene/scene_rig.h>
+#include <filesystem>
 #include <glm/gtc/constants.hpp>
 
 namespace dhdr {
@@ -14,7 +15,73 @@ std::string format(const char* fmt, double a, double b = 0, double c = 0, double
     return text;
 }
 
+// A material's lines of --info: its factors, then its textures and extensions when it has any.
+std::string describeMaterial(const Scene& scene, int index) {
+    const Material& m = scene.materials[size_t(index)];
+    std::string out = "    " + (m.name.empty() ? std::string("(unnamed)") : m.name) +
+                      format(": base colour (%.3g, %.3g, %.3g), metallic %.3g, roughness %.3g",
+                             m.baseColor.r, m.baseColor.g, m.baseColor.b, m.metallic, m.roughness);
+    if (m.alphaMode != AlphaMode::Opaque)
+        out += format(", alpha %.3g (", m.alpha) + alphaModeName(m.alphaMode) +
+               (m.alphaMode == AlphaMode::Mask ? format(", cutoff %.3g)", m.alphaCutoff) : ")");
+    if (m.emission != glm::vec3(0.0f))
+        out += format(", emission (%.3g, %.3g, %.3g)", m.emission.r, m.emission.g, m.emission.b);
+    out += "\n";
+    std::string textures;
+    for (const MaterialTexture& t : materialTextures(m)) {
+        const std::string& name = scene.textures[size_t(t.ref->texture)].name;
+        textures += std::string(textures.empty() ? "" : ", ") + t.slot + " " +
+                    std::filesystem::path(name).filename().string();
+    }
+    if (!textures.empty()) out += "      textures: " + textures + "\n";
+    const auto ext = scene.materialExtensions.find(index);
+    if (ext != scene.materialExtensions.end()) {
+        std::string names;
+        for (const MaterialExtension& e : ext->second)
+            names += (names.empty() ? "" : ", ") + e.name + (e.rendered ? "" : " (not read)");
+        out += "      extensions: " + names + "\n";
+    }
+    return out;
+}
+
 } // namespace
+
+const char* alphaModeName(AlphaMode mode) {
+    switch (mode) {
+    case AlphaMode::Opaque:
+        return "opaque";
+    case AlphaMode::Mask:
+        return "mask";
+    case AlphaMode::Blend:
+        return "blend";
+    }
+    return "";
+}
+
+std::vector<int> materialsInUse(const Scene& scene) {
+    std::vector<bool> used(scene.materials.size(), false);
+    for (const Mesh& m : scene.meshes)
+        if (m.material >= 0 && size_t(m.material) < used.size()) used[size_t(m.material)] = true;
+    if (scene.hasGroundPlane && scene.groundMaterial >= 0)
+        used[size_t(scene.groundMaterial)] = true;
+    std::vector<int> out;
+    for (size_t i = 0; i < used.size(); ++i)
+        if (used[i]) out.push_back(int(i));
+    return out;
+}
+
+std::vector<MaterialTexture> materialTextures(const Material& m) {
+    const MaterialTexture all[] = {
+        {"base colour", "base_color", &m.baseColorTexture},
+        {"emissive", "emissive", &m.emissiveTexture},
+        {"normal", "normal", &m.normalTexture},
+        {"metallic-roughness", "metallic_roughness", &m.metallicRoughnessTexture},
+        {"occlusion", "occlusion", &m.occlusionTexture}};
+    std::vector<MaterialTexture> out;
+    for (const MaterialTexture& t : all)
+        if (t.ref->texture >= 0) out.push_back(t);
+    return out;
+}
 
 std::string describeScene(const Scene& scene, const std::string& path) {
     size_t triangles = 0;
@@ -42,17 +109,10 @@ std::string describeScene(const Scene& scene, const std::string& path) {
                lightTypeName(l.type) +
                format(", intensity %g, at (%g, %g, %g)\n", l.intensity, l.position.x, l.position.y,
                       l.position.z);
-    out += "  materials   " + std::to_string(scene.materials.size()) + "\n";
-    for (const Material& m : scene.materials) {
-        std::string textures;
-        if (m.baseColorTexture.texture >= 0) textures += " base-colour";
-        if (m.emissiveTexture.texture >= 0) textures += " emissive";
-        if (m.normalTexture.texture >= 0) textures += " normal";
-        out += "    " + (m.name.empty() ? std::string("(unnamed)") : m.name) +
-               format(": base colour (%.3g, %.3g, %.3g), metallic %.3g, roughness %.3g",
-                      m.baseColor.r, m.baseColor.g, m.baseColor.b, m.metallic, m.roughness) +
-               (textures.empty() ? "" : ", textures:" + textures) + "\n";
-    }
+    const std::vector<int> used = materialsInUse(scene);
+    out += "  materials   " + std::to_string(used.size()) + "\n";
+    for (const int i : used)
+        out += describeMaterial(scene, i);
     if (scene.rig) {
         // What --animation chooses among, with the times --frames and --fps reach.
         out += "  animations  " + std::to_string(scene.rig->animations.size()) + "\n";

@@ -43,6 +43,11 @@ struct Animation {
     double duration() const { return end - start; }
 };
 
+// What the tools and the Python module say when options of time (--frame, --time, --fps,
+// --frames) meet a scene that does not move: also true of a file whose animations dhdr cannot
+// play (Collada, FBX, glTF 1.0), which the loader names in a warning of its own.
+inline constexpr const char* kNoAnimationPlayed = "the scene has no animation that dhdr plays";
+
 // The animations `selection` names among `animations`: "" (the first, as glTF viewers play),
 // "all", a name, or an index. False with `error` listing the file's animations when none
 // matches, or naming the problem of one that cannot be played.

@@ -6,6 +6,7 @@
 #include <dhdr/deferred/scene/camera.h>
 #include <dhdr/deferred/scene/lights.h>
 #include <glm/glm.hpp>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -147,9 +148,18 @@ struct SceneCamera {
     std::string problem;
 };
 
+// An extension a glTF material names, and whether what it says reaches the render.
+struct MaterialExtension {
+    std::string name;
+    bool rendered = false;
+};
+
 struct Scene {
     std::vector<Mesh> meshes;
     std::vector<Material> materials;
+    // The glTF extensions each material names, by index into materials (--info, the Python
+    // module's Scene.materials); materials that name none are absent.
+    std::map<int, std::vector<MaterialExtension>> materialExtensions;
     std::vector<Texture> textures;
     std::vector<std::string> objectNames;
     std::vector<SceneCamera> cameras;
