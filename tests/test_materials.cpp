@@ -2,6 +2,7 @@
 // filters, the second UV set, metallic-roughness, occlusion and vertex colours, straight
 // alpha, normal maps seen from behind their slope. Each through the tools, on files written
 // here, against values computed from the files' own numbers.
+#include "animation_writer.h"
 #include "scene_writer.h"
 #include "tool_test.h"
 
@@ -41,30 +42,12 @@ protected:
         ASSERT_TRUE(img.write(path(name)));
     }
 
-    // A float accessor of `count` `type` elements ("VEC2", "VEC3", "VEC4") in a buffer of its
-    // own; returns its index.
-    static size_t addAccessor(nlohmann::json& doc, const std::vector<float>& values,
-                              const char* type, size_t count) {
-        std::vector<std::uint8_t> bytes(values.size() * 4);
-        std::memcpy(bytes.data(), values.data(), bytes.size());
-        doc["buffers"].push_back(
-            {{"byteLength", bytes.size()},
-             {"uri", "data:application/octet-stream;base64," + base64(bytes)}});
-        doc["bufferViews"].push_back(
-            {{"buffer", doc["buffers"].size() - 1}, {"byteLength", bytes.size()}});
-        doc["accessors"].push_back({{"bufferView", doc["bufferViews"].size() - 1},
-                                    {"componentType", 5126},
-                                    {"count", count},
-                                    {"type", type}});
-        return doc["accessors"].size() - 1;
-    }
-
     // The 2 × 2 square at z = 0 with TEXCOORD_0 running from u0 to u1 along +X (v from 0 at
     // the top to 1 at the bottom), seen from the front.
     static nlohmann::json square(float u0 = 0.0f, float u1 = 1.0f) {
         nlohmann::json doc = gltfWithMesh(squareMesh(1.0f));
         // Vertices (−1,−1), (1,−1), (1,1), (−1,1).
-        const size_t uv = addAccessor(doc, {u0, 1, u1, 1, u1, 0, u0, 0}, "VEC2", 4);
+        const size_t uv = addFloatAccessor(doc, {u0, 1, u1, 1, u1, 0, u0, 0}, "VEC2", 4);
         doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = uv;
         doc["nodes"] = {{{"name", "square"}, {"mesh", 0}}};
         doc["scenes"] = {{{"nodes", {0}}}};
@@ -134,7 +117,7 @@ TEST_F(Materials, SecondUvSetIsSampled) {
     writePng("halves.png", {{255, 0, 0, 255}, {0, 0, 255, 255}});
     for (const bool override : {false, true}) {
         nlohmann::json doc = square(0.3f, 0.3f); // TEXCOORD_0: one point of the red half
-        const size_t uv1 = addAccessor(doc, {0, 1, 1, 1, 1, 0, 0, 0}, "VEC2", 4);
+        const size_t uv1 = addFloatAccessor(doc, {0, 1, 1, 1, 1, 0, 0, 0}, "VEC2", 4);
         doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_1"] = uv1;
         doc["images"] = {{{"uri", "halves.png"}}};
         doc["samplers"] = {{{"magFilter", kNearest}}};
@@ -224,7 +207,7 @@ TEST_F(Materials, VertexColoursMultiplyBaseColourAndAlpha) {
             for (const float c : {0.5f, 0.25f, 1.0f, 0.2f})
                 if (rgba || c != 0.2f) colors.push_back(c);
         doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] =
-            addAccessor(doc, colors, rgba ? "VEC4" : "VEC3", 4);
+            addFloatAccessor(doc, colors, rgba ? "VEC4" : "VEC3", 4);
         doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {0.8, 0.8, 0.8, 1.0};
         doc["materials"][0]["alphaMode"] = "MASK";
         const ImageBuf g = gbuffer(rgba ? "colors4" : "colors3", doc);
