@@ -42,15 +42,30 @@ def write_lights(path, n, light_range, seed):
         json.dump({"lights": lights}, f)
 
 
+TIME = "/usr/bin/time"  # Debian's `time`
+
+
 def run(cmd):
+    """Runs `cmd`: its wall time (s), peak memory (MiB) and stderr. A child started by this
+    process would report this process's peak memory when larger (Linux keeps the high-water
+    mark across fork and exec), so where GNU time is installed it starts the tool and reports
+    the tool's own peak."""
+    timed = os.path.exists(TIME)
+    full = [TIME, "-f", "dhdr-bench-peak-kib %M"] + cmd if timed else cmd
     start = time.perf_counter()
-    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(full, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    err = proc.stderr.read().decode()
     _, status, usage = os.wait4(proc.pid, 0)
     wall = time.perf_counter() - start
-    err = proc.stderr.read().decode()
+    peak = usage.ru_maxrss
+    if timed:
+        lines = err.rstrip("\n").split("\n")
+        if lines and lines[-1].startswith("dhdr-bench-peak-kib "):
+            peak = int(lines[-1].split()[1])
+            err = "\n".join(lines[:-1]) + ("\n" if len(lines) > 1 else "")
     if os.waitstatus_to_exitcode(status) != 0:
         sys.exit("bench: %s failed:\n%s" % (" ".join(cmd), err))
-    return wall, usage.ru_maxrss / 1024.0, err
+    return wall, peak / 1024.0, err
 
 
 def per_pixel(err):

@@ -37,7 +37,7 @@ struct Options {
     std::string size = "1920x1080", cameraName, lookat, lightsOut;
     bool frameAll = false, info = false, groundPlane = false, deep = false, flat = false;
     bool strict = false;
-    GBufferParams limits; // --max-layers (kGBufferParamTable)
+    GBufferParams limits; // --max-layers, --texture-filter (kGBufferParamTable, ...ChoiceTable)
     CameraChoice camera;  // --fov (kCameraFloatTable)
     std::optional<double> groundY;
     app::FrameTiming timing;
@@ -57,6 +57,7 @@ void declareOptions(app::CommandLine& cl, Options& o) {
     cl.flag("--flat", o.flat,
             "never write a deep EXR: each pixel's first surface, transparent or not");
     app::addParamOptions(cl, o.limits, kGBufferParamTable);
+    app::addParamOptions(cl, o.limits, kGBufferChoiceTable);
     cl.flagWithNumber("--ground-plane", o.groundPlane, o.groundY, "Y",
                       "add an infinite horizontal plane at height Y (default: the scene's lowest "
                       "point) that dhdr-light treats as a shadow catcher for compositing "
@@ -85,10 +86,12 @@ int usage(const std::string& message) {
     return app::kExitUsage;
 }
 
-// --size and --max-layers into `params`. Returns -1 to go on, else the exit status.
+// --size, --max-layers and --texture-filter into `params`. Returns -1 to go on, else the exit
+// status.
 int parseImage(const Options& o, GBufferParams& params) {
     if (o.deep && o.flat) return usage("--deep and --flat exclude each other");
     params.maxLayers = o.limits.maxLayers;
+    params.textureFilter = o.limits.textureFilter;
     if (!app::parseSize(o.size, params.width, params.height))
         return usage("--size '" + o.size + "' is not WxH");
     if (const std::string e = pixelLimitError(params.width, params.height); !e.empty())

@@ -187,6 +187,7 @@ class Scene:
 def render_gbuffer(scene: Scene, *, camera: str = "", lookat: Optional[Sequence[float]] = None,
                    fov: float = 0.0, size: Tuple[int, int] = (1920, 1080),
                    frame_all: bool = False, deep: Union[bool, str] = False, max_layers: int = 8,
+                   texture_filter: str = "anisotropic",
                    time: Optional[float] = None, frame: Optional[int] = None, fps: float = 24.0,
                    animation: Optional[Union[str, int]] = None,
                    nthreads: int = 0) -> Union[Image, DeepGBuffer]: ...

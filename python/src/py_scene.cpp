@@ -166,12 +166,16 @@ SceneHandle posed(const SceneHandle& h, const py::object& time, const py::object
     return out;
 }
 
-// render_gbuffer's size and max_layers, checked as dhdr-gbuffer checks --size and
-// --max-layers.
-GBufferParams gbufferParams(std::pair<int, int> size, int maxLayers) {
+// render_gbuffer's size, max_layers and texture_filter, checked as dhdr-gbuffer checks
+// --size, --max-layers and --texture-filter.
+GBufferParams gbufferParams(std::pair<int, int> size, int maxLayers,
+                            const std::string& textureFilter) {
     GBufferParams params;
     params.maxLayers = maxLayers;
     checkParams(params, kGBufferParamTable);
+    std::string error;
+    if (!setChoice(kGBufferChoiceTable[0], params, textureFilter, Spelling::Keyword, error))
+        throw py::value_error(error);
     params.width = size.first;
     params.height = size.second;
     if (params.width <= 0 || params.height <= 0)
@@ -254,10 +258,10 @@ void trace(const SceneHandle& h, const Scene& scene, std::shared_ptr<const RayCa
 
 py::object render(const SceneHandle& h, const std::string& camera, const py::object& lookat,
                   double fov, std::pair<int, int> size, bool frameAll, const py::object& deepGiven,
-                  int maxLayers, const py::object& time, const py::object& frame, double fps,
-                  const py::object& animation, int nthreads) {
+                  int maxLayers, const std::string& textureFilter, const py::object& time,
+                  const py::object& frame, double fps, const py::object& animation, int nthreads) {
     const GBufferDepth depth = depthOf(deepGiven);
-    GBufferParams params = gbufferParams(size, maxLayers);
+    GBufferParams params = gbufferParams(size, maxLayers, textureFilter);
     const Moment moment =
         momentOf(h, animation,
                  frame.is_none() ? std::nullopt : std::optional<long long>(frame.cast<long long>()),
@@ -373,8 +377,11 @@ animations. light(scene=...) then traces shadows from the posed geometry.)")
     m.def("render_gbuffer", &render, "scene"_a, py::kw_only(), "camera"_a = "",
           "lookat"_a = py::none(), "fov"_a = CameraChoice{}.fovDegrees,
           "size"_a = std::pair<int, int>{1920, 1080}, "frame_all"_a = false, "deep"_a = false,
-          "max_layers"_a = GBufferParams{}.maxLayers, "time"_a = py::none(), "frame"_a = py::none(),
-          "fps"_a = MomentChoice{}.fps, "animation"_a = py::none(), "nthreads"_a = 0,
+          "max_layers"_a = GBufferParams{}.maxLayers,
+          "texture_filter"_a =
+              choiceName(kGBufferChoiceTable[0].names, kGBufferChoiceTable[0].get(GBufferParams{})),
+          "time"_a = py::none(), "frame"_a = py::none(), "fps"_a = MomentChoice{}.fps,
+          "animation"_a = py::none(), "nthreads"_a = 0,
           R"(A flat G-buffer of the scene (dhdr-gbuffer): one primary ray per pixel, the channels of
 docs/gbuffer.md as float32 by name, the header (camera matrices, name tables, Cryptomatte
 manifests) in attributes. camera: a scene camera by name (default the first); lookat:
@@ -383,6 +390,7 @@ the camera back until the scene fits. write_gbuffer() writes it in the contract'
 deep=True (--deep): a DeepGBuffer, per pixel every surface up to the first opaque one, at
 most max_layers (--max-layers) samples a pixel; deep='auto' (the tool's default): a
 DeepGBuffer when a partly transparent surface is in view, else the flat Image.
+texture_filter (--texture-filter): 'anisotropic' (default), 'trilinear' or 'bilinear'.
 A scene with animations is posed as dhdr-gbuffer --frame/--time poses it: at time seconds,
 or frame / fps (frame 0, time 0, by default); animation: the one that plays, by name or
 index, or 'all' (default the file's first, --animation). Its G-buffer has the motion layer

@@ -70,6 +70,11 @@ def test_camera_errors_are_the_tools(cornell, tmp_path):
         dhdr.render_gbuffer(cornell, deep=True, max_layers=0)
     with pytest.raises(ValueError, match="6 or 9 numbers"):
         dhdr.render_gbuffer(cornell, lookat=(0, 0, 1))
+    with pytest.raises(ValueError, match="texture_filter must be bilinear, trilinear or "
+                                         "anisotropic, got 'ewa'"):
+        dhdr.render_gbuffer(cornell, size=(8, 8), texture_filter="ewa")
+    for choice in ("bilinear", "trilinear", "anisotropic"):
+        dhdr.render_gbuffer(cornell, size=(8, 8), texture_filter=choice)
     for fov in (180, -1):
         range_error_is_the_tools(lambda: dhdr.render_gbuffer(cornell, size=(8, 8), fov=fov),
                                  "dhdr-gbuffer", "--fov", fov, CORNELL, "-o", tmp_path / "x.exr")

@@ -59,7 +59,7 @@ glm::dvec3 mappedNormal(const Mesh& mesh, const glm::uvec3& tri, double w0, doub
 // The material's factors at the hit times its textures (on their UV sets) and the vertex
 // colour, into `s`.
 void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1, double w2,
-                   const Ray& ray, SurfaceSample& s) {
+                   const Ray& ray, const UvFootprint* footprint, SurfaceSample& s) {
     const Material& m = *s.material;
     const glm::vec4 color = vertexColor(mesh, triangle, w1, w2);
     s.albedo = m.baseColor * glm::vec3(color);
@@ -69,7 +69,8 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
     s.dielectricF0 = m.dielectricF0();
     s.dielectricF90 = m.dielectricF90();
     if (mesh.uvs.empty()) return;
-    const MeshUvs uvs = meshUvs(mesh, triangle, w1, w2);
+    MeshUvs uvs = meshUvs(mesh, triangle, w1, w2);
+    uvs.footprint = footprint;
     auto sample = [&](const TextureRef& ref) { return sampleTexture(scene, ref, uvs); };
     if (m.baseColorTexture.texture >= 0) s.albedo *= glm::vec3(sample(m.baseColorTexture));
     if (m.emissiveTexture.texture >= 0) s.emission *= glm::vec3(sample(m.emissiveTexture));
@@ -98,11 +99,12 @@ void applyUnlit(SurfaceSample& s) {
 
 } // namespace
 
-SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit) {
+SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit,
+                        const UvFootprint* footprint) {
     SurfaceSample s = surfaceGeometryAt(scene, ray, hit);
     if (hit.mesh == kGroundPlaneHit) return s;
     const Mesh& mesh = scene.meshes[size_t(hit.mesh)];
-    applyMaterial(scene, mesh, hit.triangle, hit.u, hit.v, ray, s);
+    applyMaterial(scene, mesh, hit.triangle, hit.u, hit.v, ray, footprint, s);
     if (s.material->unlit) applyUnlit(s);
     return s;
 }

@@ -123,6 +123,7 @@ bool loadTexture(Texture& texture, const std::string& name, const void* data, si
         texture.colorTable = srgb ? tables.srgb : tables.linear;
         texture.alphaTable = tables.linear;
     }
+    buildMipmaps(texture);
     return true;
 }
 

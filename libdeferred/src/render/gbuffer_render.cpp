@@ -9,6 +9,7 @@
 #include <dhdr/deferred/gbuffer/gbuffer.h>
 #include <dhdr/deferred/geometry/ray_caster.h>
 #include <dhdr/deferred/geometry/surface.h>
+#include <dhdr/deferred/geometry/uv_footprint.h>
 #include <dhdr/deferred/render/gbuffer_render.h>
 #include <dhdr/deferred/scene/scene.h>
 #include <limits>
@@ -71,11 +72,28 @@ int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int
     return n;
 }
 
-// The contract's channels of a hit, where `layout` places them (a flat or a deep sample).
+// A pixel's primary ray and the rays through its neighbours across and down, which give its
+// footprint in the textures.
+struct PixelRays {
+    Ray centre, across, down;
+};
+
+PixelRays pixelRays(const Camera& camera, int x, int y, int width, int height) {
+    return {camera.primaryRay(x, y, width, height), camera.primaryRay(x + 1, y, width, height),
+            camera.primaryRay(x, y + 1, width, height)};
+}
+
+// The contract's channels of a hit, where `layout` places them (a flat or a deep sample); its
+// textures filtered over the pixel's footprint as `filter` says.
 void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuffer::Layout& layout,
-                const CryptoIds& crypto, const Ray& ray, const RayHit& hit, float alpha,
-                float* out) {
-    const SurfaceSample s = surfaceAt(scene, ray, hit);
+                const CryptoIds& crypto, const PixelRays& rays, TextureFilter filter,
+                const RayHit& hit, float alpha, float* out) {
+    const Ray& ray = rays.centre;
+    UvFootprint footprint;
+    if (filter != TextureFilter::Bilinear)
+        footprint = uvFootprint(scene, hit, rays.centre, rays.across, rays.down, filter);
+    const SurfaceSample s =
+        surfaceAt(scene, ray, hit, filter != TextureFilter::Bilinear ? &footprint : nullptr);
     const bool ground = hit.mesh == kGroundPlaneHit;
     const int object = ground ? scene.groundObject : scene.meshes[size_t(hit.mesh)].object;
     const int material = ground ? scene.groundMaterial : scene.meshes[size_t(hit.mesh)].material;
@@ -230,7 +248,8 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
         for (int y = r.ybegin; y < r.yend; ++y) {
             for (int x = r.xbegin; x < r.xend; ++x) {
                 float* px = static_cast<float*>(dst.pixeladdr(x, y));
-                const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
+                const PixelRays rays = pixelRays(m_camera, x, y, m_params.width, m_params.height);
+                const Ray& ray = rays.centre;
                 Layer front;
                 if (traceLayers(m_scene, *m_caster, ray, 1, &front, true) == 0) {
                     std::fill(px, px + nch, 0.0f);
@@ -238,7 +257,8 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
                     if (motion) motion->at(ray, RayHit{}, px + nch - 4);
                     continue;
                 }
-                fillSample(m_scene, worldToCamera, layout, *m_crypto, ray, front.hit, 1.0f, px);
+                fillSample(m_scene, worldToCamera, layout, *m_crypto, rays, m_params.textureFilter,
+                           front.hit, 1.0f, px);
                 if (motion) motion->at(ray, front.hit, px + nch - 4);
             }
             const int done = ++rowsDone;
@@ -289,15 +309,16 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
             std::vector<std::uint32_t>& rowCounts = counts[size_t(y - roi.ybegin)];
             std::vector<float>& rowValues = values[size_t(y - roi.ybegin)];
             for (int x = r.xbegin; x < r.xend; ++x) {
-                const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
+                const PixelRays rays = pixelRays(m_camera, x, y, m_params.width, m_params.height);
+                const Ray& ray = rays.centre;
                 const int n =
                     traceLayers(m_scene, *m_caster, ray, m_params.maxLayers, layers.data());
                 rowCounts.push_back(std::uint32_t(n));
                 for (int k = 0; k < n; ++k) {
                     rowValues.resize(rowValues.size() + nch);
-                    fillSample(m_scene, worldToCamera, layout, *m_crypto, ray,
-                               layers[size_t(k)].hit, layers[size_t(k)].alpha,
-                               &rowValues[rowValues.size() - nch]);
+                    fillSample(m_scene, worldToCamera, layout, *m_crypto, rays,
+                               m_params.textureFilter, layers[size_t(k)].hit,
+                               layers[size_t(k)].alpha, &rowValues[rowValues.size() - nch]);
                     if (motion)
                         motion->at(ray, layers[size_t(k)].hit, &rowValues[rowValues.size() - 4]);
                     local += layers[size_t(k)].alpha < 1.0f;

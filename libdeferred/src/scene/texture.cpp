@@ -8,9 +8,13 @@ glm::vec2 TextureTransform::apply(glm::vec2 uv) const {
     // KHR_texture_transform: translation · rotation · scale, with the rotation's sign as
     // Khronos' TextureTransformTest model checks it (its arrow must point at the green
     // marker, docs/scenes.md): u' = cos r·u + sin r·v, v' = −sin r·u + cos r·v.
-    const glm::vec2 s = uv * scale;
+    return applyLinear(uv) + offset;
+}
+
+glm::vec2 TextureTransform::applyLinear(glm::vec2 d) const {
+    const glm::vec2 s = d * scale;
     const float c = std::cos(rotation), n = std::sin(rotation);
-    return glm::vec2(c * s.x + n * s.y, -n * s.x + c * s.y) + offset;
+    return glm::vec2(c * s.x + n * s.y, -n * s.x + c * s.y);
 }
 
 namespace {
@@ -50,12 +54,13 @@ int wrapIndex(int i, int size, TextureWrap wrap) {
 
 } // namespace
 
-glm::vec4 Texture::sample(glm::vec2 uv, const TextureSampler& sampler) const {
-    if (width <= 0 || height <= 0) return glm::vec4(1.0f);
+glm::vec4 Texture::bilinear(const TextureLevel& level, glm::vec2 uv,
+                            const TextureSampler& sampler) const {
+    const int width = level.width, height = level.height;
     auto texel = [&](int xi, int yi) {
         xi = wrapIndex(xi, width, sampler.wrapS);
         yi = wrapIndex(yi, height, sampler.wrapT);
-        return this->texel(size_t(yi) * size_t(width) + size_t(xi));
+        return this->texel(level, size_t(yi) * size_t(width) + size_t(xi));
     };
     const float u = reduce(uv.x, sampler.wrapS) * float(width);
     const float v = reduce(uv.y, sampler.wrapT) * float(height);
@@ -65,6 +70,54 @@ glm::vec4 Texture::sample(glm::vec2 uv, const TextureSampler& sampler) const {
     const float tx = x - float(x0), ty = y - float(y0);
     return glm::mix(glm::mix(texel(x0, y0), texel(x0 + 1, y0), tx),
                     glm::mix(texel(x0, y0 + 1), texel(x0 + 1, y0 + 1), tx), ty);
+}
+
+glm::vec4 Texture::sample(glm::vec2 uv, const TextureSampler& sampler) const {
+    if (width <= 0 || height <= 0) return glm::vec4(1.0f);
+    return bilinear(*this, uv, sampler);
+}
+
+// Level ⌊lod⌋ and the next blended by lod's fraction; minified, so always bilinear within a
+// level (glTF's magFilter applies to magnification only).
+glm::vec4 Texture::trilinear(glm::vec2 uv, float lod, const TextureSampler& sampler) const {
+    // Beyond a clamped edge the texture is its edge texels drawn out; a coarser level's edge
+    // texels average the edge with what lies inside it, so the full-size edge is read there.
+    auto beyond = [](float t, TextureWrap wrap) {
+        return wrap == TextureWrap::ClampToEdge && !(t >= 0.0f && t <= 1.0f);
+    };
+    if (!(lod > 0.0f) || beyond(uv.x, sampler.wrapS) || beyond(uv.y, sampler.wrapT))
+        return bilinear(*this, uv, sampler);
+    TextureSampler linear = sampler;
+    linear.nearest = false;
+    lod = std::min(lod, float(levels() - 1));
+    const int k = int(lod);
+    const float f = lod - float(k);
+    const glm::vec4 lo = bilinear(level(k), uv, linear);
+    if (f == 0.0f) return lo;
+    return glm::mix(lo, bilinear(level(k + 1), uv, linear), f);
+}
+
+glm::vec4 Texture::sample(glm::vec2 uv, glm::vec2 dx, glm::vec2 dy, const TextureSampler& sampler,
+                          TextureFilter filter) const {
+    if (width <= 0 || height <= 0) return glm::vec4(1.0f);
+    if (filter == TextureFilter::Bilinear || mips.empty()) return bilinear(*this, uv, sampler);
+    // The footprint's sides in level-0 texels.
+    const glm::vec2 size{float(width), float(height)};
+    const float a = glm::length(dx * size), b = glm::length(dy * size);
+    const float major = std::max(a, b), minor = std::min(a, b);
+    if (!(major > 1.0f)) return bilinear(*this, uv, sampler); // magnified (or no footprint)
+    if (filter == TextureFilter::Trilinear) return trilinear(uv, std::log2(major), sampler);
+    // Anisotropic: n lookups spread evenly along the longer side, each as wide as the shorter
+    // side or the spacing between them, whichever is wider. 8 at most: 16 came no nearer to
+    // the pixels' averages on a receding checker (RMS 0.0224 against 0.0229).
+    constexpr int kMostProbes = 8;
+    const int n = int(std::min(std::ceil(major / std::max(minor, 1e-30f)), float(kMostProbes)));
+    const float lod = std::log2(std::max(minor, major / float(n)));
+    const glm::vec2 axis = a >= b ? dx : dy;
+    glm::vec4 sum(0.0f);
+    for (int i = 0; i < n; ++i)
+        sum += trilinear(uv + axis * ((float(i) + 0.5f) / float(n) - 0.5f), lod, sampler);
+    return sum / float(n);
 }
 
 MeshUvs meshUvs(const Mesh& mesh, int triangle, double w1, double w2) {
@@ -80,8 +133,13 @@ MeshUvs meshUvs(const Mesh& mesh, int triangle, double w1, double w2) {
 }
 
 glm::vec4 sampleTexture(const Scene& scene, const TextureRef& ref, const MeshUvs& uvs) {
-    const glm::vec2 uv = uvs.set[ref.texCoord == 1 ? 1 : 0];
-    return scene.textures[size_t(ref.texture)].sample(ref.transform.apply(uv), ref.sampler);
+    const int set = ref.texCoord == 1 ? 1 : 0;
+    const Texture& texture = scene.textures[size_t(ref.texture)];
+    const glm::vec2 uv = ref.transform.apply(uvs.set[set]);
+    if (!uvs.footprint) return texture.sample(uv, ref.sampler);
+    const UvFootprint& f = *uvs.footprint;
+    return texture.sample(uv, ref.transform.applyLinear(f.dx[set]),
+                          ref.transform.applyLinear(f.dy[set]), ref.sampler, f.filter);
 }
 
 glm::vec4 vertexColor(const Mesh& mesh, int triangle, double w1, double w2) {

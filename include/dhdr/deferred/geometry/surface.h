@@ -43,7 +43,10 @@ struct SurfaceSample {
     }
 };
 
-SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit);
+// With `footprint` (uvFootprint()), texture lookups are filtered over it; without, each is
+// one bilinear lookup (as secondary rays read textures).
+SurfaceSample surfaceAt(const Scene& scene, const Ray& ray, const RayHit& hit,
+                        const UvFootprint* footprint = nullptr);
 // The same without the material's textures and vertex colours: position, its error bound,
 // the normals (before any normal map) and `material`, for what needs only where the surface
 // is (the next ray's origin, which side was hit).

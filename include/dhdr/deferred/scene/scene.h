@@ -122,10 +122,20 @@ struct Scene {
     glm::dvec3 boundsMax() const;
 };
 
+// A pixel's footprint on a surface's UV sets: per set, the change of uv from the pixel to its
+// neighbour across (dx) and down (dy), and how lookups filter over it (uvDifferentials()).
+struct UvFootprint {
+    glm::vec2 dx[2] = {glm::vec2(0.0f), glm::vec2(0.0f)};
+    glm::vec2 dy[2] = {glm::vec2(0.0f), glm::vec2(0.0f)};
+    TextureFilter filter = TextureFilter::Trilinear;
+};
+
 // A triangle's UV sets at barycentrics (w1, w2): set[0] from Mesh::uvs, set[1] from
-// Mesh::uvs1 (set[0] where the mesh has no second set); zero where it has none.
+// Mesh::uvs1 (set[0] where the mesh has no second set); zero where it has none. With a
+// footprint, lookups are filtered over it; without, each is one bilinear lookup.
 struct MeshUvs {
     glm::vec2 set[2] = {glm::vec2(0.0f), glm::vec2(0.0f)};
+    const UvFootprint* footprint = nullptr;
 };
 MeshUvs meshUvs(const Mesh& mesh, int triangle, double w1, double w2);
 
