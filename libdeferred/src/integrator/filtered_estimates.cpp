@@ -36,8 +36,8 @@ std::vector<float*> FilteredEstimates::planes() {
                 all.push_back(sums.data());
                 all.push_back(sums.data() + n);
             }
-        for (std::vector<float>* single : {&layer.ao, &layer.bounce, &layer.specular[0],
-                                           &layer.specular[1], &layer.specular[2]})
+        for (std::vector<float>* single :
+             {&layer.ao, &layer.bounce, &layer.specular[0], &layer.specular[1], &layer.specular[2]})
             if (!single->empty()) all.push_back(single->data());
     }
     return all;
@@ -89,7 +89,8 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                                      const LightingParams& params, const Visibility* shadowRays,
                                      const Visibility* aoRays, const TracedEstimates& traced,
                                      int nthreads, EstimateCarry* carry)
-    : m_held(held), m_slot(lights.size(), -1), m_sampleLayers(std::in_place, view, layout.coverage) {
+    : m_held(held), m_slot(lights.size(), -1),
+      m_sampleLayers(std::in_place, view, layout.coverage) {
     // What the previous strip left, taken below if it fits; nothing is left for the next
     // unless this strip estimates.
     std::unique_ptr<EstimateCarry::Rows> previous = carry ? std::move(carry->rows) : nullptr;
@@ -206,8 +207,7 @@ void FilteredEstimates::estimateRows(Pass& pass, int nthreads) {
 
 // Sample k of pixel (x, y), with the seeds of its shading (shade_sample.cpp: sample k's
 // streams; a flat pixel's are sample 0's).
-void FilteredEstimates::estimateSample(Pass& pass, int x, int y, int k, bool carried,
-                                       Rays& rays) {
+void FilteredEstimates::estimateSample(Pass& pass, int x, int y, int k, bool carried, Rays& rays) {
     const LightingParams& params = pass.params;
     const TracedEstimates& traced = pass.traced;
     const size_t n = m_held.npixels(), p = index(x, y);

@@ -37,9 +37,7 @@ public:
     }
 
 private:
-    bool opaque(int x, int y, int k) const {
-        return m_view.channels(x, y, k)[m_coverage] >= 1.0f;
-    }
+    bool opaque(int x, int y, int k) const { return m_view.channels(x, y, k)[m_coverage] >= 1.0f; }
 
     const GBufferView& m_view;
     int m_coverage;
