@@ -4,6 +4,7 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <dhdr/deferred/core/cpu_features.h>
+#include <dhdr/deferred/environment/environment.h>
 #include <dhdr/deferred/environment/ibl.h>
 #include <dhdr/deferred/geometry/ray_caster.h>
 #include <dhdr/deferred/integrator/lighting.h>
@@ -36,6 +37,25 @@ inline Light uniformSky() {
     light.type = LightType::Environment;
     light.ibl = ibl;
     return light;
+}
+
+// A dim uniform sky of `sky` nits and a sun of 2×2 texels around `sun` holding about as much
+// of the light, on a 128×64 image.
+inline std::shared_ptr<const Ibl> skyWithSun(const glm::vec3& sun, float sky) {
+    EnvironmentImage env;
+    env.width = 128;
+    env.height = 64;
+    env.rgb.assign(size_t(128) * 64 * 3, sky);
+    const glm::vec2 uv = equirectUV(sun);
+    const int sx = int(uv.x * 128), sy = int(uv.y * 64);
+    for (int y = sy - 1; y <= sy; ++y)
+        for (int x = sx - 1; x <= sx; ++x)
+            for (int c = 0; c < 3; ++c)
+                env.rgb[3 * (size_t(y) * 128 + size_t(x)) + size_t(c)] = 400.0f * sky;
+    auto ibl = std::make_shared<Ibl>();
+    std::string error;
+    EXPECT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
+    return ibl;
 }
 
 // A quad a b c d (counter-clockwise seen from where its normal points) as one flat mesh.

@@ -1169,25 +1169,6 @@ TEST(ShadowCatcher, BounceLightCullsOnlyRaysThatMiss) {
 
 namespace {
 
-// A dim uniform sky of `sky` nits and a sun of 2×2 texels around `sun` holding about as much
-// of the light, on a 128×64 image.
-std::shared_ptr<const Ibl> skyWithSun(const glm::vec3& sun, float sky) {
-    EnvironmentImage env;
-    env.width = 128;
-    env.height = 64;
-    env.rgb.assign(size_t(128) * 64 * 3, sky);
-    const glm::vec2 uv = equirectUV(sun);
-    const int sx = int(uv.x * 128), sy = int(uv.y * 64);
-    for (int y = sy - 1; y <= sy; ++y)
-        for (int x = sx - 1; x <= sx; ++x)
-            for (int c = 0; c < 3; ++c)
-                env.rgb[3 * (size_t(y) * 128 + size_t(x)) + size_t(c)] = 400.0f * sky;
-    auto ibl = std::make_shared<Ibl>();
-    std::string error;
-    EXPECT_TRUE(bakeIbl(env, IblBakeParams{}, *ibl, error)) << error;
-    return ibl;
-}
-
 // Brute force: Σ Y(L) cos θ Ω V / Σ Y(L) cos θ Ω over the texels of the environment's
 // sampling table, each texel's centre traced, in double.
 double bruteForceVisibility(const Light& light, const SurfacePoint& at, const glm::vec3& N,

@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <dhdr/deferred/denoise/denoise_inputs.h>
 #include <dhdr/deferred/gbuffer/deep_gbuffer.h>
 #include <dhdr/io/sanitize.h>
 #include <dhdr/io/strip_pipeline.h>
 #include <optional>
+#include <utility>
 
 namespace dhdr::app {
 
@@ -31,10 +33,10 @@ bool writeLitFrame(const WholeFrameRun& run, OIIO::ImageSpec spec, const OIIO::I
            file.commit();
 }
 
-// The lit samples of a band as deep RGBA rows: premultiplied, with the G-buffer's depths, in
-// its order.
+// The lit samples of rows [ybegin, yend) of a band as deep RGBA rows: premultiplied, with the
+// G-buffer's depths, in its order.
 OIIO::DeepData litSamples(const DeepGBuffer& gbuf, const std::vector<float>& sampleRGBA,
-                          const std::vector<OIIO::TypeDesc>& formats) {
+                          const std::vector<OIIO::TypeDesc>& formats, int ybegin, int yend) {
     const OIIO::ImageSpec& gspec = gbuf.spec;
     DeepGBuffer lit;
     lit.spec = gspec;
@@ -49,8 +51,48 @@ OIIO::DeepData litSamples(const DeepGBuffer& gbuf, const std::vector<float>& sam
         lit.values[6 * k + 5] = gbuf.values[k * size_t(gspec.nchannels) + 2];
     }
     OIIO::DeepData data;
-    toDeepData(lit, gspec.y, gspec.y + gspec.height, data, formats);
+    toDeepData(lit, ybegin, yend, data, formats);
     return data;
+}
+
+// The rows of the frame the denoiser reads around a band's (lighting_params.h): none when
+// nothing is traced to filter.
+int denoiseHalo(const WholeFrameRun& run) {
+    const LightingParams& p = run.params;
+    const bool traced = p.environmentSamples > 0 || p.aoSamples > 0 || p.catcherBounceSamples > 0 ||
+                        p.specularSamples > 0;
+    return p.denoise && !p.pathTrace && run.inputs.scene && traced ? kDenoiseReach : 0;
+}
+
+// Rows `rows` of the frame and `halo` rows above and below them (within the frame) into
+// `band`; the non-finite values replaced are counted in `rows` only (the halo rows are
+// another band's, and counted there).
+bool readBand(DeepGBufferReader& reader, OIIO::ROI rows, int halo, DeepGBuffer& band,
+              std::string& error, long long* replaced) {
+    const OIIO::ImageSpec& frame = reader.spec();
+    const int y0 = std::max(frame.y, rows.ybegin - halo),
+              y1 = std::min(frame.y + frame.height, rows.yend + halo);
+    if (y0 == rows.ybegin && y1 == rows.yend)
+        return reader.read(rows.ybegin, rows.yend, band, error, replaced);
+    DeepGBuffer part;
+    band = DeepGBuffer();
+    for (const auto& [begin, end] : {std::pair{y0, rows.ybegin}, std::pair{rows.ybegin, rows.yend},
+                                     std::pair{rows.yend, y1}}) {
+        if (begin == end) continue;
+        if (!reader.read(begin, end, part, error, begin == rows.ybegin ? replaced : nullptr))
+            return false;
+        if (band.first.empty()) {
+            band = std::move(part);
+            continue;
+        }
+        const std::uint32_t offset = band.first.back();
+        band.first.pop_back();
+        for (const std::uint32_t f : part.first)
+            band.first.push_back(offset + f);
+        band.values.insert(band.values.end(), part.values.begin(), part.values.end());
+        band.spec.height += part.spec.height;
+    }
+    return true;
 }
 
 } // namespace
@@ -84,8 +126,9 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
     }
     if (!run.prepareFrame(path, frame)) return false;
     // A band of whole rows of tiles at a time, about 256K pixels (a deep band's tables of
-    // samples and pointers cost ~400 bytes a pixel): memory follows a band's samples, and each
-    // pixel's result is the frame's (tiles are laid over the frame).
+    // samples and pointers cost ~400 bytes a pixel), read with the denoiser's halo: memory
+    // follows a band's samples, and each pixel's result is the frame's (tiles are laid over the
+    // frame; the estimates the halo shares with the previous band are carried, not traced again).
     LightingParams params = run.params;
     params.frame = OIIO::get_roi(frame);
     const int tile = params.tileSize;
@@ -97,6 +140,10 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
     const std::vector<OIIO::TypeDesc> deepFormats = {run.outputType,        run.outputType,
                                                      run.outputType,        run.outputType,
                                                      OIIO::TypeDesc::FLOAT, OIIO::TypeDesc::FLOAT};
+    const int halo = denoiseHalo(run);
+    LightingInputs inputs = run.inputs;
+    EstimateCarry carry;
+    inputs.carry = &carry;
     DeepGBuffer band;
     OIIO::ImageBuf hdr;
     LightingStats stats;
@@ -113,18 +160,19 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
     StripStages stages;
     stages.read = [&](OIIO::ROI r, int, std::string& e) {
         const auto t = std::chrono::steady_clock::now();
-        if (!reader.read(r.ybegin, r.yend, band, e, &replaced)) {
+        if (!readBand(reader, r, halo, band, e, &replaced)) {
             e = path + ": " + e;
             return false;
         }
-        samples += band.totalSamples();
+        samples +=
+            band.first[band.pixel(frame.x, r.yend)] - band.first[band.pixel(frame.x, r.ybegin)];
         readMs += msSince(t);
         return true;
     };
     stages.process = [&](OIIO::ROI r, int, std::string& e) {
         const auto t = std::chrono::steady_clock::now();
         LightingStats bandStats;
-        if (!shadeGBuffer(hdr, band, run.inputs, params, {}, tool.threads(), &bandStats,
+        if (!shadeGBuffer(hdr, band, inputs, params, r, tool.threads(), &bandStats,
                           deepOut.empty() ? nullptr : &sampleRGBA)) {
             e = path + ": " + hdr.geterror();
             return false;
@@ -154,8 +202,9 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
             e = file.file().geterror();
             return false;
         }
-        if (!deepOut.empty() && !deepFile->file().writeDeepRows(
-                                    r.ybegin, r.yend, litSamples(band, sampleRGBA, deepFormats))) {
+        if (!deepOut.empty() &&
+            !deepFile->file().writeDeepRows(
+                r.ybegin, r.yend, litSamples(band, sampleRGBA, deepFormats, r.ybegin, r.yend))) {
             e = deepFile->file().geterror();
             return false;
         }

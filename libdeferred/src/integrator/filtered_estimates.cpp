@@ -21,6 +21,7 @@ namespace dhdr {
 struct EstimateCarry::Rows {
     OIIO::ROI rows;                         // the frame's columns and rows they hold
     std::vector<std::vector<float>> planes; // FilteredEstimates::planes(), those rows of each
+    size_t perLayer = 0;                    // planes a layer (layers: planes.size() / perLayer)
 };
 
 EstimateCarry::EstimateCarry() = default;
@@ -29,16 +30,28 @@ EstimateCarry::~EstimateCarry() = default;
 std::vector<float*> FilteredEstimates::planes() {
     const size_t n = m_held.npixels();
     std::vector<float*> all;
-    for (auto* pairs : {&m_diffuse, &m_specularRatio})
-        for (std::vector<float>& sums : *pairs) {
-            all.push_back(sums.data());
-            all.push_back(sums.data() + n);
-        }
-    for (std::vector<float>* single :
-         {&m_ao, &m_bounce, &m_specular[0], &m_specular[1], &m_specular[2]})
-        if (!single->empty()) all.push_back(single->data());
+    for (Planes& layer : m_layers) {
+        for (auto* pairs : {&layer.diffuse, &layer.specularRatio})
+            for (std::vector<float>& sums : *pairs) {
+                all.push_back(sums.data());
+                all.push_back(sums.data() + n);
+            }
+        for (std::vector<float>* single :
+             {&layer.ao, &layer.bounce, &layer.specular[0], &layer.specular[1], &layer.specular[2]})
+            if (!single->empty()) all.push_back(single->data());
+    }
     return all;
 }
+
+struct FilteredEstimates::Guide {
+    DenoiseGuide guide;
+    // The glossy lobe of each pixel: its mirror direction and angular width (2α, the reflected
+    // lobe being about twice the microfacets'; at least 0.02), for the specular sums.
+    std::vector<glm::vec3> mirror;
+    std::vector<float> lobeWidth;
+    // Where the bounce and the specular estimates exist: the filter skips the other pixels.
+    std::vector<unsigned char> catcherPixels, specularPixels;
+};
 
 // What one call estimates and filters with: its inputs, which estimates it makes, the guide
 // of the filter and what else guides each estimate.
@@ -58,13 +71,7 @@ struct FilteredEstimates::Pass {
     const TracedEstimates& traced;
     std::vector<std::uint32_t> filtered; // the environment lights estimated, in order
     bool ao = false, bouncing = false, specular = false;
-    DenoiseGuide guide;
-    // The glossy lobe of each pixel: its mirror direction and angular width (2α, the reflected
-    // lobe being about twice the microfacets'; at least 0.02), for the specular sums.
-    std::vector<glm::vec3> mirror;
-    std::vector<float> lobeWidth;
-    // Where the bounce and the specular estimates exist: the filter skips the other pixels.
-    std::vector<unsigned char> catcherPixels, specularPixels;
+    std::vector<Guide> guides; // per layer
     // The rows the previous strip estimated too (the same frame's columns and estimates).
     int carriedBegin = 0, carriedEnd = 0;
 
@@ -82,11 +89,12 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
                                      const LightingParams& params, const Visibility* shadowRays,
                                      const Visibility* aoRays, const TracedEstimates& traced,
                                      int nthreads, EstimateCarry* carry)
-    : m_held(held), m_slot(lights.size(), -1) {
+    : m_held(held), m_slot(lights.size(), -1),
+      m_sampleLayers(std::in_place, view, layout.coverage) {
     // What the previous strip left, taken below if it fits; nothing is left for the next
     // unless this strip estimates.
     std::unique_ptr<EstimateCarry::Rows> previous = carry ? std::move(carry->rows) : nullptr;
-    if (!params.denoise || view.deep()) return;
+    if (!params.denoise) return;
     Pass pass(view, layout, lights, params, shadowRays, aoRays, traced);
     choose(pass, infinite);
     if (!pass.any()) return;
@@ -116,43 +124,53 @@ void FilteredEstimates::choose(Pass& pass, const std::vector<std::uint32_t>& inf
     pass.specular = pass.traced.specular && params.specularSamples > 0;
 }
 
-// The guide, the lobes and the planes of raw estimates, every pixel of m_held's; the filter
-// runs on the rows of `read` (undefined: all).
+// The guides, the lobes and the planes of raw estimates of every layer some pixel of m_held
+// reaches, every pixel of m_held's; the filter runs on the rows of `read` (undefined: all).
 void FilteredEstimates::allocate(Pass& pass, OIIO::ROI read) {
     const OIIO::ROI& held = m_held;
     const size_t n = held.npixels();
-    DenoiseGuide& guide = pass.guide;
-    guide.width = held.width();
-    guide.height = held.height();
-    guide.position.assign(n, glm::vec3(0.0f));
-    guide.normal.assign(n, glm::vec3(0.0f));
-    guide.object.assign(n, 0.0f);
-    guide.surface.assign(n, 0);
-    if (read.defined()) {
-        guide.firstRow = std::clamp(read.ybegin, held.ybegin, held.yend) - held.ybegin;
-        guide.endRow = std::clamp(read.yend, held.ybegin + guide.firstRow, held.yend) - held.ybegin;
+    const int layers = m_sampleLayers->count(held.xbegin, held.xend, held.ybegin, held.yend);
+    pass.guides.resize(size_t(layers));
+    m_layers.resize(size_t(layers));
+    for (int l = 0; l < layers; ++l) {
+        Guide& g = pass.guides[size_t(l)];
+        DenoiseGuide& guide = g.guide;
+        guide.width = held.width();
+        guide.height = held.height();
+        guide.position.assign(n, glm::vec3(0.0f));
+        guide.normal.assign(n, glm::vec3(0.0f));
+        guide.object.assign(n, 0.0f);
+        guide.surface.assign(n, 0);
+        if (read.defined()) {
+            guide.firstRow = std::clamp(read.ybegin, held.ybegin, held.yend) - held.ybegin;
+            guide.endRow =
+                std::clamp(read.yend, held.ybegin + guide.firstRow, held.yend) - held.ybegin;
+        }
+        g.mirror.assign(n, glm::vec3(0.0f, 0.0f, 1.0f));
+        g.lobeWidth.assign(n, 1.0f);
+        g.catcherPixels.assign(pass.bouncing ? n : 0, 0);
+        g.specularPixels.assign(pass.specular ? n : 0, 0);
+        Planes& planes = m_layers[size_t(l)];
+        planes.diffuse.assign(pass.filtered.size(), std::vector<float>(2 * n, 0.0f));
+        planes.specularRatio.assign(pass.filtered.size(), std::vector<float>(2 * n, 0.0f));
+        if (pass.specular)
+            for (std::vector<float>& c : planes.specular)
+                c.assign(n, 0.0f);
+        if (pass.ao) planes.ao.assign(n, 1.0f);
+        if (pass.bouncing) planes.bounce.assign(n, 0.0f);
     }
-    pass.mirror.assign(n, glm::vec3(0.0f, 0.0f, 1.0f));
-    pass.lobeWidth.assign(n, 1.0f);
-    m_diffuse.assign(pass.filtered.size(), std::vector<float>(2 * n, 0.0f));
-    m_specularRatio.assign(pass.filtered.size(), std::vector<float>(2 * n, 0.0f));
-    if (pass.specular)
-        for (std::vector<float>& c : m_specular)
-            c.assign(n, 0.0f);
-    if (pass.ao) m_ao.assign(n, 1.0f);
-    if (pass.bouncing) m_bounce.assign(n, 0.0f);
-    pass.catcherPixels.assign(pass.bouncing ? n : 0, 0);
-    pass.specularPixels.assign(pass.specular ? n : 0, 0);
 }
 
 // The rows the previous strip estimated too, copied from what it left (when it is of the same
-// frame's columns and estimates): they are not traced again.
+// frame's columns and estimates): they are not traced again. A layer the previous strip did not
+// have has no sample in those rows (they were the previous strip's too).
 void FilteredEstimates::takeCarried(Pass& pass, const EstimateCarry::Rows* previous,
                                     const std::vector<float*>& raw) {
     const OIIO::ROI& held = m_held;
     pass.carriedBegin = pass.carriedEnd = held.ybegin;
+    const size_t perLayer = raw.size() / m_layers.size();
     if (!previous || previous->rows.xbegin != held.xbegin || previous->rows.xend != held.xend ||
-        previous->planes.size() != raw.size())
+        previous->perLayer != perLayer)
         return;
     const size_t width = size_t(held.width());
     pass.carriedBegin = std::max(held.ybegin, previous->rows.ybegin);
@@ -160,19 +178,22 @@ void FilteredEstimates::takeCarried(Pass& pass, const EstimateCarry::Rows* previ
     const size_t from = size_t(pass.carriedBegin - previous->rows.ybegin) * width,
                  to = size_t(pass.carriedBegin - held.ybegin) * width,
                  count = size_t(pass.carriedEnd - pass.carriedBegin) * width;
-    for (size_t k = 0; k < raw.size(); ++k)
+    for (size_t k = 0; k < std::min(raw.size(), previous->planes.size()); ++k)
         std::copy_n(previous->planes[k].data() + from, count, raw[k] + to);
 }
 
-// Every covered pixel's guide and lobe, and its estimates unless carried.
+// Every covered pixel's samples' guides and lobes, and their estimates unless carried.
 void FilteredEstimates::estimateRows(Pass& pass, int nthreads) {
     std::atomic<long long> shadowCount{0}, aoCount{0}, bounceCount{0}, specularCount{0};
     parallelRows(m_held.ybegin, m_held.yend, nthreads, [&](int64_t yy) {
         const int y = int(yy);
         const bool carried = y >= pass.carriedBegin && y < pass.carriedEnd;
         Rays rays;
-        for (int x = m_held.xbegin; x < m_held.xend; ++x)
-            if (pass.view.samples(x, y) != 0) estimatePixel(pass, x, y, carried, rays);
+        for (int x = m_held.xbegin; x < m_held.xend; ++x) {
+            const int samples = pass.view.samples(x, y);
+            for (int k = 0; k < samples; ++k)
+                estimateSample(pass, x, y, k, carried, rays);
+        }
         shadowCount += rays.shadow;
         aoCount += rays.ao;
         bounceCount += rays.bounce;
@@ -184,25 +205,29 @@ void FilteredEstimates::estimateRows(Pass& pass, int nthreads) {
     specularRayCount = specularCount;
 }
 
-void FilteredEstimates::estimatePixel(Pass& pass, int x, int y, bool carried, Rays& rays) {
+// Sample k of pixel (x, y), with the seeds of its shading (shade_sample.cpp: sample k's
+// streams; a flat pixel's are sample 0's).
+void FilteredEstimates::estimateSample(Pass& pass, int x, int y, int k, bool carried, Rays& rays) {
     const LightingParams& params = pass.params;
     const TracedEstimates& traced = pass.traced;
     const size_t n = m_held.npixels(), p = index(x, y);
-    const ShadingPoint sp = pass.view.at(x, y);
-    DenoiseGuide& guide = pass.guide;
+    const int layer = m_sampleLayers->layer(x, y, k);
+    Guide& g = pass.guides[size_t(layer)];
+    Planes& planes = m_layers[size_t(layer)];
+    const ShadingPoint sp = pass.view.at(x, y, k);
+    DenoiseGuide& guide = g.guide;
     guide.surface[p] = 1;
     guide.position[p] = sp.P;
     guide.normal[p] = sp.N;
     guide.object[p] =
-        pass.layout.objectId >= 0 ? pass.view.channels(x, y)[pass.layout.objectId] : 0.0f;
-    // The seeds of a flat pixel's shading (shade_sample.cpp, deep sample 0).
+        pass.layout.objectId >= 0 ? pass.view.channels(x, y, k)[pass.layout.objectId] : 0.0f;
     const LitPoint point{sp.surface, sp.P, sp.N, sp.V, sp.origin};
     const bool traceSpecular = pass.specular && SpecularIndirect::traced(point, traced.probes);
     const SpecularLobe lobe{sp.V, sp.surface.alpha(), traceSpecular ? 0.0f : kOccluderAlbedo};
-    pass.mirror[p] = glm::reflect(-sp.V, sp.N);
-    pass.lobeWidth[p] = std::max(2.0f * lobe.alpha, 0.02f);
-    if (pass.bouncing) pass.catcherPixels[p] = guide.object[p] == traced.catcher;
-    if (pass.specular) pass.specularPixels[p] = traceSpecular;
+    g.mirror[p] = glm::reflect(-sp.V, sp.N);
+    g.lobeWidth[p] = std::max(2.0f * lobe.alpha, 0.02f);
+    if (pass.bouncing) g.catcherPixels[p] = guide.object[p] == traced.catcher;
+    if (pass.specular) g.specularPixels[p] = traceSpecular;
     if (carried) return;
     // With probes, a rough lobe's point takes nothing from environments (their diffuse and its
     // specular light come through the probes): no rays.
@@ -210,27 +235,27 @@ void FilteredEstimates::estimatePixel(Pass& pass, int x, int y, bool carried, Ra
     for (size_t j = 0; j < pass.filtered.size() && lit; ++j) {
         const EnvironmentVisibilitySums v = environmentVisibilitySums(
             pass.lights[pass.filtered[j]], sp.origin, sp.N, &lobe,
-            sampleSeed(x, y, pass.filtered[j], streamOf(SampleStream::Shadow)),
+            sampleSeed(x, y, pass.filtered[j], streamOf(SampleStream::Shadow, k)),
             params.environmentSamples, *pass.shadowRays, &rays.shadow);
-        m_diffuse[j][p] = float(v.diffuse.seen);
-        m_diffuse[j][n + p] = float(v.diffuse.total);
-        m_specularRatio[j][p] = float(v.specular.seen);
-        m_specularRatio[j][n + p] = float(v.specular.total);
+        planes.diffuse[j][p] = float(v.diffuse.seen);
+        planes.diffuse[j][n + p] = float(v.diffuse.total);
+        planes.specularRatio[j][p] = float(v.specular.seen);
+        planes.specularRatio[j][n + p] = float(v.specular.total);
     }
     if (pass.ao)
-        m_ao[p] = rayTracedOcclusion(sp.origin, sp.N,
-                                     sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion)),
-                                     params.aoSamples, params.aoDistance, *pass.aoRays, &rays.ao);
+        planes.ao[p] = rayTracedOcclusion(
+            sp.origin, sp.N, sampleSeed(x, y, -1, streamOf(SampleStream::AmbientOcclusion, k)),
+            params.aoSamples, params.aoDistance, *pass.aoRays, &rays.ao);
     if (pass.bouncing && guide.object[p] == traced.catcher)
-        m_bounce[p] =
+        planes.bounce[p] =
             luminance(diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
-                      traced.bounce->irradianceAt(sp.origin, sp.N, x, y, 0,
+                      traced.bounce->irradianceAt(sp.origin, sp.N, x, y, k,
                                                   params.catcherBounceSamples, &rays.bounce));
     if (traceSpecular) {
         const glm::vec3 L =
-            traced.specular->radiance(point, x, y, 0, params.specularSamples, &rays.specular);
+            traced.specular->radiance(point, x, y, k, params.specularSamples, &rays.specular);
         for (int c = 0; c < 3; ++c)
-            m_specular[c][p] = L[c];
+            planes.specular[c][p] = L[c];
     }
 }
 
@@ -243,29 +268,38 @@ void FilteredEstimates::leaveCarry(EstimateCarry& carry, const std::vector<float
     EstimateCarry::Rows& next = *carry.rows;
     next.rows = held;
     next.rows.ybegin = std::max(held.ybegin, held.yend - 2 * kDenoiseReach);
+    next.perLayer = raw.size() / m_layers.size();
     const size_t from = size_t(next.rows.ybegin - held.ybegin) * width;
     for (const float* plane : raw)
         next.planes.emplace_back(plane + from, plane + n);
 }
 
-// Each pair of sums, and AO, keeps its own edges (its own variance guidance); the guide's
-// weights are shared.
+// Layer by layer; each pair of sums, and AO, keeps its own edges (its own variance guidance);
+// the guide's weights are shared.
 void FilteredEstimates::filter(Pass& pass, int nthreads) {
-    std::vector<DenoiseEstimate> estimates;
-    for (std::vector<float>& sums : m_diffuse)
-        estimates.push_back({&sums, 2});
-    for (std::vector<float>& sums : m_specularRatio)
-        estimates.push_back({&sums, 2, &pass.mirror, &pass.lobeWidth});
-    if (pass.ao) estimates.push_back({&m_ao, 1});
-    if (pass.bouncing) estimates.push_back({&m_bounce, 1, nullptr, nullptr, &pass.catcherPixels});
-    // The reflected scene, per channel, guided like the specular ratios by the lobe.
-    if (pass.specular)
-        for (std::vector<float>& c : m_specular)
-            estimates.push_back({&c, 1, &pass.mirror, &pass.lobeWidth, &pass.specularPixels});
-    atrousFilter(estimates, pass.guide, nthreads);
+    for (size_t l = 0; l < m_layers.size(); ++l) {
+        Planes& planes = m_layers[l];
+        Guide& g = pass.guides[l];
+        std::vector<DenoiseEstimate> estimates;
+        for (std::vector<float>& sums : planes.diffuse)
+            estimates.push_back({&sums, 2});
+        for (std::vector<float>& sums : planes.specularRatio)
+            estimates.push_back({&sums, 2, &g.mirror, &g.lobeWidth});
+        if (pass.ao) estimates.push_back({&planes.ao, 1});
+        if (pass.bouncing)
+            estimates.push_back({&planes.bounce, 1, nullptr, nullptr, &g.catcherPixels});
+        // The reflected scene, per channel, guided like the specular ratios by the lobe.
+        if (pass.specular)
+            for (std::vector<float>& c : planes.specular)
+                estimates.push_back({&c, 1, &g.mirror, &g.lobeWidth, &g.specularPixels});
+        atrousFilter(estimates, g.guide, nthreads);
+        g = Guide(); // freed as soon as its layer is filtered
+    }
 }
 
-EnvironmentVisibility FilteredEstimates::visibility(std::uint32_t light, int x, int y) const {
+EnvironmentVisibility FilteredEstimates::visibility(std::uint32_t light, int x, int y,
+                                                    int k) const {
+    const Planes& planes = layerOf(x, y, k);
     const size_t p = index(x, y), slot = size_t(m_slot[light]);
     // The specular ratio counts occluders' light and may pass 1 (shadows.h).
     auto ratio = [&](const std::vector<float>& sums, float most) {
@@ -273,11 +307,11 @@ EnvironmentVisibility FilteredEstimates::visibility(std::uint32_t light, int x, 
         const float seen = sums[p], total = sums[n + p];
         return total > 0.0f ? std::clamp(seen / total, 0.0f, most) : 1.0f;
     };
-    return {ratio(m_diffuse[slot], 1.0f), ratio(m_specularRatio[slot], INFINITY)};
+    return {ratio(planes.diffuse[slot], 1.0f), ratio(planes.specularRatio[slot], INFINITY)};
 }
 
-float FilteredEstimates::ambientOcclusion(int x, int y) const {
-    return std::clamp(m_ao[index(x, y)], 0.0f, 1.0f);
+float FilteredEstimates::ambientOcclusion(int x, int y, int k) const {
+    return std::clamp(layerOf(x, y, k).ao[index(x, y)], 0.0f, 1.0f);
 }
 
 } // namespace dhdr

@@ -33,7 +33,7 @@ struct ShadeEstimators {
     std::optional<SpecularIndirect> specular;
     // The reference, which replaces all of the above at every sample.
     std::optional<PathTracer> tracer;
-    // Denoised estimates (flat G-buffers): computed for every pixel the source holds (a
+    // Denoised estimates: computed for every sample the source holds (a
     // strip's halo rows included) and filtered before the shading reads them. Always built.
     std::optional<FilteredEstimates> filtered;
 };

@@ -91,11 +91,11 @@ glm::vec4 SampleShader::pathTraced(const ShadingPoint& sp, const At& at, float* 
     return premultiplied(sp, Lo);
 }
 
-// AO: the image given, the denoised estimate (sample 0 of a flat pixel) or traced here.
+// AO: the image given, the denoised estimate or traced here.
 float SampleShader::ambientOcclusion(const ShadingPoint& sp, const At& at) const {
     if (m_setup.aoImage)
         return std::clamp(m_setup.aoImage->getchannel(at.x, at.y, 0, 0), 0.0f, 1.0f);
-    if (m_filtered.filtersAO() && at.k == 0) return m_filtered.ambientOcclusion(at.x, at.y);
+    if (m_filtered.filtersAO()) return m_filtered.ambientOcclusion(at.x, at.y, at.k);
     if (m_setup.rayTracedAO)
         return rayTracedOcclusion(
             sp.origin, sp.N,
@@ -153,13 +153,13 @@ void SampleShader::directLight(const ShadingPoint& sp, const LitPoint& point, co
     }
 }
 
-// Light i, shadowed into `lit` and unshadowed into `open`; sample 0 of a flat pixel reads the
-// denoised environment estimates.
+// Light i, shadowed into `lit` and unshadowed into `open`; with the denoiser, an environment's
+// visibility is its filtered estimate.
 void SampleShader::addLight(std::uint32_t i, const LitPoint& point, const SeedKey& key,
                             const At& at, DirectTerms& lit, DirectTerms& open) const {
     EnvironmentVisibility v;
-    const bool given = m_filtered.filters(i) && at.k == 0;
-    if (given) v = m_filtered.visibility(i, at.x, at.y);
+    const bool given = m_filtered.filters(i);
+    if (given) v = m_filtered.visibility(i, at.x, at.y, at.k);
     m_estimators.direct.add(i, point, key, lit, &open, given ? &v : nullptr, &at.stats.shadowRays);
 }
 
@@ -191,8 +191,8 @@ glm::vec3 SampleShader::probeIndirect(const ShadingPoint& sp, const LitPoint& po
 glm::vec3 SampleShader::specularIndirect(const LitPoint& point, const At& at) const {
     if (!point.tracedSpecular) return glm::vec3(0.0f);
     const glm::vec3 L =
-        m_filtered.filtersSpecular() && at.k == 0
-            ? m_filtered.specularIndirect(at.x, at.y)
+        m_filtered.filtersSpecular()
+            ? m_filtered.specularIndirect(at.x, at.y, at.k)
             : m_estimators.specular->radiance(point, at.x, at.y, at.k, m_params.specularSamples,
                                               &at.stats.specularRays);
     return point.occlusion != 1.0f ? L * point.occlusion : L;
@@ -218,7 +218,7 @@ glm::vec4 SampleShader::shadowCatcher(const ShadingPoint& sp, const glm::vec3& s
 
 // The luminance of the catcher's diffuse reflection of the bounce irradiance.
 float SampleShader::catcherBounce(const ShadingPoint& sp, const At& at) const {
-    if (m_filtered.filtersBounce() && at.k == 0) return m_filtered.catcherBounce(at.x, at.y);
+    if (m_filtered.filtersBounce()) return m_filtered.catcherBounce(at.x, at.y, at.k);
     if (!m_estimators.bounce) return 0.0f;
     return luminance(diffuseAlbedo(sp.surface, std::max(glm::dot(sp.N, sp.V), 0.0f)) / kPi *
                      m_estimators.bounce->irradianceAt(sp.origin, sp.N, at.x, at.y, at.k,

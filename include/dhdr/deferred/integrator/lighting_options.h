@@ -65,8 +65,8 @@ inline constexpr ChoiceParam<LightingOptions> kLightingChoiceTable[] = {
      [](LightingOptions& o, int i) { o.params.denoise = i == 0; },
      "filter the environments' shadow rays (--env-samples) and --ao rt over "
      "neighbouring pixels of the same surface, guided by the G-buffer's normals, "
-     "positions and object ids (edge-avoiding a-trous, 32 pixels' reach; flat "
-     "G-buffers); off: each pixel's unbiased estimate"},
+     "positions and object ids (edge-avoiding a-trous, 32 pixels' reach; deep "
+     "G-buffers layer by layer); off: each pixel's unbiased estimate"},
     {"--gi", "gi", "direct|path", [](const LightingOptions& o) { return int(o.params.pathTrace); },
      [](LightingOptions& o, int i) { o.params.pathTrace = i == 1; },
      "direct: deferred shading (indirect light from --probes when given); path: the "

@@ -66,7 +66,8 @@ struct LightingParams {
     // The diffuse layer of every surface: glTF's Lambert, or Blender's Burley (brdf.h).
     DiffuseModel diffuse = DiffuseModel::Lambert;
     // Filter the environments' shadow-ray estimates and ray-traced AO over neighbouring pixels
-    // of the same surface before use (denoise.h; flat G-buffers): clean at a few samples, and
+    // of the same surface before use (denoise.h; a deep G-buffer's samples layer by layer,
+    // sample_layers.h): clean at a few samples, and
     // blurred across kDenoiseReach pixels at most. A strip of a frame then needs
     // kDenoiseReach rows of G-buffer above and below the rows shaded (roi) for the result to
     // be the whole frame's. false: the unbiased per-pixel estimates.
