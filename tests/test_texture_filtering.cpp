@@ -103,8 +103,8 @@ TEST(TextureFiltering, MipLevelsAreBoxAveragesKeepingTheMean) {
             const glm::dvec4 m = levelMean(t, t.level(k));
             // Each level's rounding adds at most half a step to its mean.
             for (int c = 0; c < 4; ++c)
-                EXPECT_NEAR(m[c], mean[c], k * halfStep) << size.x << "x" << size.y << " level "
-                                                         << k << " channel " << c;
+                EXPECT_NEAR(m[c], mean[c], k * halfStep)
+                    << size.x << "x" << size.y << " level " << k << " channel " << c;
         }
         EXPECT_EQ(t.level(t.levels() - 1).width * t.level(t.levels() - 1).height, 1);
     }
@@ -177,8 +177,7 @@ TEST(TextureFiltering, FootprintOnAPlaneFacingTheCameraIsItsClosedForm) {
     edge.mesh = 0;
     edge.triangle = 0;
     edge.u = edge.v = 0.25f;
-    const UvFootprint f =
-        uvFootprint(scene, edge, along, along, along, TextureFilter::Trilinear);
+    const UvFootprint f = uvFootprint(scene, edge, along, along, along, TextureFilter::Trilinear);
     EXPECT_GE(f.dx[0].x, 1e7f);
     EXPECT_GE(f.dy[0].y, 1e7f);
 }
@@ -227,10 +226,10 @@ TEST(TextureFiltering, ARecedingCheckerApproachesThePixelAverage) {
     // aliases (its error is the checker's contrast at a distance); trilinear takes the error
     // below a third of that, anisotropic below trilinear's, and both keep the floor's mean.
     const Scene scene = checkeredFloor();
-    const Camera camera =
-        Camera::lookAt({0, 1, 19}, {0, 0.6, 0}, {0, 1, 0}, glm::radians(40.0));
+    const Camera camera = Camera::lookAt({0, 1, 19}, {0, 0.6, 0}, {0, 1, 0}, glm::radians(40.0));
     constexpr int kW = 96, kH = 64, kS = 16;
-    const std::vector<float> fine = albedo(scene, camera, kW * kS, kH * kS, TextureFilter::Bilinear);
+    const std::vector<float> fine =
+        albedo(scene, camera, kW * kS, kH * kS, TextureFilter::Bilinear);
     std::vector<double> reference(size_t(kW * kH), -1.0);
     for (int y = 0; y < kH; ++y)
         for (int x = 0; x < kW; ++x) {
@@ -271,4 +270,60 @@ TEST(TextureFiltering, ARecedingCheckerApproachesThePixelAverage) {
     EXPECT_LT(anisotropic, trilinear);
     EXPECT_LT(std::abs(biasTrilinear), 0.01);
     EXPECT_LT(std::abs(biasAnisotropic), 0.01);
+}
+
+TEST(TextureFiltering, ANormalMapsSpreadWidensTheRoughness) {
+    // A normal map of columns tilted ±30° about v in turn: seen close up each pixel has its own
+    // normal and the material's roughness, bit for bit; seen from afar a pixel covers 8 texels,
+    // its filtered vector is cos 30° long, and the GGX lobe widens by the spread of a von
+    // Mises-Fisher lobe of that mean length: α'² = α² + 2/κ, κ = (3r − r³)/(1 − r²), r = cos 30°.
+    const double tilt = glm::radians(30.0);
+    Texture map;
+    map.name = "ridges";
+    map.width = map.height = 64;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const float sx = float((x % 2 ? 1.0 : -1.0) * std::sin(tilt));
+            map.rgba.insert(map.rgba.end(),
+                            {0.5f + 0.5f * sx, 0.5f, 0.5f + 0.5f * float(std::cos(tilt)), 1.0f});
+        }
+    buildMipmaps(map);
+    map.normalLength = meanNormalLength(map);
+    EXPECT_NEAR(map.normalLength, 1.0, 1e-6);
+    Scene scene;
+    scene.textures.push_back(map);
+    Material m;
+    m.name = "ridged";
+    m.roughness = 0.3f;
+    m.normalTexture.texture = 0;
+    scene.materials.push_back(m);
+    scene.objectNames.push_back("quad");
+    addQuad(scene, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0});
+    Mesh& quad = scene.meshes[0];
+    quad.uvs = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    quad.tangents.assign(4, glm::vec3(1, 0, 0));
+    quad.bitangents.assign(4, glm::vec3(0, -1, 0));
+    auto roughnessAt = [&](double distance, int size, TextureFilter filter) {
+        // The quad fills size / ratio pixels: 2 units at `distance` under a 40° field.
+        GBufferParams params;
+        params.width = params.height = size;
+        params.textureFilter = filter;
+        ImageBuf g;
+        const Camera camera =
+            Camera::lookAt({0, 0, distance}, {0, 0, 0}, {0, 1, 0}, glm::radians(40.0));
+        EXPECT_TRUE(renderGBuffer(g, scene, camera, params, 2)) << g.geterror();
+        return px(g, size / 2, size / 2)[g.spec().channelindex("roughness")];
+    };
+    // Close up: 64 texels over ~180 pixels, magnified.
+    for (const TextureFilter f : {TextureFilter::Trilinear, TextureFilter::Anisotropic})
+        EXPECT_EQ(roughnessAt(3.0, 256, f), 0.3f);
+    // Far: 2 units over 8 pixels, 8 texels a pixel.
+    const double r = std::cos(tilt);
+    const double kappa = (3.0 * r - r * r * r) / (1.0 - r * r);
+    const double alpha = 0.3 * 0.3;
+    const double expected = std::pow(alpha * alpha + 2.0 / kappa, 0.25);
+    const double distance = 2.0 / (8.0 / 64.0 * 2.0 * std::tan(glm::radians(20.0)));
+    for (const TextureFilter f : {TextureFilter::Trilinear, TextureFilter::Anisotropic})
+        EXPECT_NEAR(roughnessAt(distance, 64, f), expected, 1e-4);
+    EXPECT_EQ(roughnessAt(distance, 64, TextureFilter::Bilinear), 0.3f);
 }

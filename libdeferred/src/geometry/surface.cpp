@@ -56,6 +56,22 @@ glm::dvec3 mappedNormal(const Mesh& mesh, const glm::uvec3& tri, double w0, doub
     return n;
 }
 
+// The roughness of a surface whose normal map was filtered over the pixel's footprint to
+// `texel`: the normals the footprint covers spread, and the filtered vector 2·texel − 1 is
+// shorter than a texel's (`unit`) by as much. Taken as a von Mises-Fisher lobe of concentration
+// κ = (3r − r³)/(1 − r²) for the relative length r (Han et al. 2007, "Frequency Domain Normal
+// Map Filtering", eq. 6), whose slope variance 1/κ per axis widens the GGX lobe: α'² = α² + 2/κ
+// (Toksvig's idea; α = roughness²).
+float filteredNormalRoughness(float roughness, const glm::vec4& texel, float unit) {
+    const double r =
+        std::min(glm::length(glm::dvec3(glm::vec3(texel)) * 2.0 - 1.0) / double(unit), 1.0);
+    if (!(r < 1.0 - 1e-6)) return roughness;
+    const double kappa = (3.0 * r - r * r * r) / (1.0 - r * r);
+    const double alpha = double(roughness) * double(roughness);
+    const double widened = std::min(alpha * alpha + 2.0 / kappa, 1.0);
+    return float(std::sqrt(std::sqrt(widened)));
+}
+
 // The material's factors at the hit times its textures (on their UV sets) and the vertex
 // colour, into `s`.
 void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1, double w2,
@@ -83,8 +99,12 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
         s.occlusion = 1.0f + m.occlusionStrength * (sample(m.occlusionTexture).r - 1.0f);
     if (m.normalTexture.texture >= 0 && !mesh.tangents.empty()) {
         const glm::uvec3 tri = mesh.triangles[size_t(triangle)];
-        s.normal = mappedNormal(mesh, tri, 1.0 - w1 - w2, w1, w2, sample(m.normalTexture),
-                                double(m.normalScale), s, ray.direction);
+        const glm::vec4 texel = sample(m.normalTexture);
+        s.normal = mappedNormal(mesh, tri, 1.0 - w1 - w2, w1, w2, texel, double(m.normalScale), s,
+                                ray.direction);
+        if (textureMinified(scene, m.normalTexture, uvs))
+            s.roughness = filteredNormalRoughness(
+                s.roughness, texel, scene.textures[size_t(m.normalTexture.texture)].normalLength);
     }
 }
 

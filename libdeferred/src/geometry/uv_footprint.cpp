@@ -1,11 +1,11 @@
 #include <cmath>
-#include <glm/geometric.hpp>
 #include <dhdr/deferred/geometry/uv_footprint.h>
+#include <glm/geometric.hpp>
 
 namespace dhdr {
 
-UvFootprint uvFootprint(const Scene& scene, const RayHit& hit, const Ray& centre,
-                        const Ray& across, const Ray& down, TextureFilter filter) {
+UvFootprint uvFootprint(const Scene& scene, const RayHit& hit, const Ray& centre, const Ray& across,
+                        const Ray& down, TextureFilter filter) {
     UvFootprint f;
     f.filter = filter;
     if (hit.mesh == kGroundPlaneHit) return f;
@@ -13,7 +13,7 @@ UvFootprint uvFootprint(const Scene& scene, const RayHit& hit, const Ray& centre
     if (mesh.uvs.empty()) return f;
     const glm::uvec3 tri = mesh.triangles[size_t(hit.triangle)];
     const glm::dvec3 p0(mesh.positions[tri[0]]), e1 = glm::dvec3(mesh.positions[tri[1]]) - p0,
-        e2 = glm::dvec3(mesh.positions[tri[2]]) - p0;
+                                                 e2 = glm::dvec3(mesh.positions[tri[2]]) - p0;
     const glm::dvec3 n = glm::cross(e1, e2);
     const double d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
     const double det = d11 * d22 - d12 * d12;

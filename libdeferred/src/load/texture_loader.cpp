@@ -124,6 +124,7 @@ bool loadTexture(Texture& texture, const std::string& name, const void* data, si
         texture.alphaTable = tables.linear;
     }
     buildMipmaps(texture);
+    if (!srgb) texture.normalLength = meanNormalLength(texture);
     return true;
 }
 

@@ -97,15 +97,21 @@ glm::vec4 Texture::trilinear(glm::vec2 uv, float lod, const TextureSampler& samp
     return glm::mix(lo, bilinear(level(k + 1), uv, linear), f);
 }
 
+bool Texture::minified(glm::vec2 dx, glm::vec2 dy, TextureFilter filter) const {
+    if (width <= 0 || height <= 0 || filter == TextureFilter::Bilinear || mips.empty())
+        return false;
+    const glm::vec2 size{float(width), float(height)};
+    return std::max(glm::length(dx * size), glm::length(dy * size)) > 1.0f; // NaN: false
+}
+
 glm::vec4 Texture::sample(glm::vec2 uv, glm::vec2 dx, glm::vec2 dy, const TextureSampler& sampler,
                           TextureFilter filter) const {
     if (width <= 0 || height <= 0) return glm::vec4(1.0f);
-    if (filter == TextureFilter::Bilinear || mips.empty()) return bilinear(*this, uv, sampler);
+    if (!minified(dx, dy, filter)) return bilinear(*this, uv, sampler);
     // The footprint's sides in level-0 texels.
     const glm::vec2 size{float(width), float(height)};
     const float a = glm::length(dx * size), b = glm::length(dy * size);
     const float major = std::max(a, b), minor = std::min(a, b);
-    if (!(major > 1.0f)) return bilinear(*this, uv, sampler); // magnified (or no footprint)
     if (filter == TextureFilter::Trilinear) return trilinear(uv, std::log2(major), sampler);
     // Anisotropic: n lookups spread evenly along the longer side, each as wide as the shorter
     // side or the spacing between them, whichever is wider. 8 at most: 16 came no nearer to
@@ -120,6 +126,14 @@ glm::vec4 Texture::sample(glm::vec2 uv, glm::vec2 dx, glm::vec2 dy, const Textur
     return sum / float(n);
 }
 
+float meanNormalLength(const Texture& texture) {
+    double sum = 0.0;
+    const size_t n = size_t(texture.width) * size_t(texture.height);
+    for (size_t i = 0; i < n; ++i)
+        sum += glm::length(glm::dvec3(glm::vec3(texture.texel(i))) * 2.0 - 1.0);
+    return n ? float(sum / double(n)) : 1.0f;
+}
+
 MeshUvs meshUvs(const Mesh& mesh, int triangle, double w1, double w2) {
     const glm::uvec3 t = mesh.triangles[size_t(triangle)];
     const float b1 = float(w1), b2 = float(w2), b0 = float(1.0 - w1 - w2);
@@ -130,6 +144,14 @@ MeshUvs meshUvs(const Mesh& mesh, int triangle, double w1, double w2) {
     if (!mesh.uvs.empty()) out.set[0] = at(mesh.uvs);
     out.set[1] = mesh.uvs1.empty() ? out.set[0] : at(mesh.uvs1);
     return out;
+}
+
+bool textureMinified(const Scene& scene, const TextureRef& ref, const MeshUvs& uvs) {
+    if (!uvs.footprint) return false;
+    const int set = ref.texCoord == 1 ? 1 : 0;
+    const UvFootprint& f = *uvs.footprint;
+    return scene.textures[size_t(ref.texture)].minified(
+        ref.transform.applyLinear(f.dx[set]), ref.transform.applyLinear(f.dy[set]), f.filter);
 }
 
 glm::vec4 sampleTexture(const Scene& scene, const TextureRef& ref, const MeshUvs& uvs) {

@@ -15,7 +15,7 @@ namespace dhdr {
 // squares). A neighbour's ray that runs parallel to the plane or meets it behind its origin
 // (a surface seen edge-on) makes the footprint as wide as the texture 10⁸ times over, i.e.
 // its smallest mip level. On the ground plane, which has no UVs, the footprint is zero.
-UvFootprint uvFootprint(const Scene& scene, const RayHit& hit, const Ray& centre,
-                        const Ray& across, const Ray& down, TextureFilter filter);
+UvFootprint uvFootprint(const Scene& scene, const RayHit& hit, const Ray& centre, const Ray& across,
+                        const Ray& down, TextureFilter filter);
 
 } // namespace dhdr

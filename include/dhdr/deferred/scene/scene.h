@@ -141,6 +141,8 @@ MeshUvs meshUvs(const Mesh& mesh, int triangle, double w1, double w2);
 
 // `ref`'s texture (ref.texture ≥ 0) at the UVs of its set, transformed and wrapped as it says.
 glm::vec4 sampleTexture(const Scene& scene, const TextureRef& ref, const MeshUvs& uvs);
+// Whether that lookup reads `ref`'s mip levels (Texture::minified).
+bool textureMinified(const Scene& scene, const TextureRef& ref, const MeshUvs& uvs);
 
 // The mesh's vertex colour at barycentrics (w1, w2) of a triangle; 1 without vertex colours.
 glm::vec4 vertexColor(const Mesh& mesh, int triangle, double w1, double w2);

@@ -41,6 +41,9 @@ struct Texture : TextureLevel {
     // Each code's linear value: the colour channels' and alpha's tables (256 or 65536 each).
     std::shared_ptr<const std::vector<float>> colorTable, alphaTable;
     std::vector<TextureLevel> mips; // levels 1, 2, …: each half the one before (buildMipmaps)
+    // As a normal map: the mean length of its texels' vectors 2·RGB − 1 at level 0, which
+    // quantisation keeps from 1 (meanNormalLength); a filtered texel's is measured against it.
+    float normalLength = 1.0f;
 
     int levels() const { return 1 + int(mips.size()); }
     const TextureLevel& level(int k) const { return k == 0 ? *this : mips[size_t(k - 1)]; }
@@ -62,6 +65,8 @@ struct Texture : TextureLevel {
     // (magnification) is the lookup above, exactly; so is everything without mip levels.
     glm::vec4 sample(glm::vec2 uv, glm::vec2 dx, glm::vec2 dy, const TextureSampler& sampler,
                      TextureFilter filter) const;
+    // Whether that lookup reads mip levels: a footprint wider than a texel, and levels to read.
+    bool minified(glm::vec2 dx, glm::vec2 dy, TextureFilter filter) const;
 
 private:
     template <class Code>
@@ -79,6 +84,9 @@ private:
 // weights sum to 1, so every level keeps the image's mean), stored as level 0 is: codes
 // rounded to the nearest code of the same table, or floats.
 void buildMipmaps(Texture& texture, int nthreads = 0);
+
+// The mean length of level 0's vectors 2·RGB − 1 (in double), for Texture::normalLength.
+float meanNormalLength(const Texture& texture);
 
 // KHR_texture_transform of one texture reference: uv' = T(offset) · R(rotation) · S(scale) · uv,
 // in glTF's UV space (origin top-left).
