@@ -86,7 +86,8 @@ void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
               "the layer or EXR part to map (default: the unnamed R,G,B,A, else the one "
               "called Combined, rgba or beauty)");
     cl.flag("--adapt", o.adapt,
-            "eye adaptation over the sequence: adapted += (L - adapted)(1 - 0.98^(30 dt))");
+            "eye adaptation over the sequence: adapted += (L - adapted)(1 - R^(S dt)), dt = "
+            "1/fps (--adapt-rate R, --adapt-speed S)");
     app::addParamOptions(cl, o.adaptation, kAdaptationFloatTable);
     cl.option("--stats-out", o.statsOut, "FILE.json",
               "write each frame's metered and adapted luminance");
@@ -156,14 +157,7 @@ int parseJob(const app::CommandLine& cl, Options& o, FrameJob& job) {
     }
     if (const std::string e = percentilesProblem(params.metering, Spelling::Option); !e.empty())
         return usage(e);
-    if (job.white == "inf")
-        params.white = INFINITY;
-    else if (job.white != "auto") {
-        char* end = nullptr;
-        params.white = std::strtod(job.white.c_str(), &end);
-        if (*end != '\0' || !(params.white > 0.0) || !std::isfinite(params.white))
-            return usage("--white must be a positive number, auto or inf");
-    }
+    if (std::string e; !parseWhite(job.white, params.white, Spelling::Option, e)) return usage(e);
     if (job.bits != 8 && job.bits != 16)
         return usage("--bits: " + std::to_string(job.bits) + " is not 8 or 16");
     if (const std::string ext = app::lowerExtension(cl.output());
@@ -375,7 +369,7 @@ int run(int argc, char** argv) {
     if (o.scan) {
         if (cl.inputs().empty()) return usage("--scan needs the statistics files to combine");
         if (const int status = tool.start(cl.inputs(), o.statsOut); status >= 0) return status;
-        return app::scanStatistics(tool, cl.inputs(), o.adaptation.fps, o.statsOut);
+        return app::scanStatistics(tool, cl.inputs(), o.adaptation, o.statsOut);
     }
     if (cl.inputs().size() != 1) return usage("give one HDR image or frame pattern");
     if (const int status = parseJob(cl, o, job); status >= 0) return status;

@@ -84,8 +84,8 @@ bool readSequenceStats(const std::string& path, SequenceStats& stats, std::strin
     return true;
 }
 
-int scanStatistics(const Tool& tool, const std::vector<std::string>& files, double fps,
-                   const std::string& out) {
+int scanStatistics(const Tool& tool, const std::vector<std::string>& files,
+                   const AdaptationParams& adaptation, const std::string& out) {
     SequenceStats all;
     std::vector<std::string> from; // the file each frame came from
     for (const std::string& path : files) {
@@ -124,12 +124,10 @@ int scanStatistics(const Tool& tool, const std::vector<std::string>& files, doub
     std::vector<double> measured;
     for (const FrameLuminance& f : all.frames)
         measured.push_back(f.logAverage);
-    AdaptationParams ap;
-    ap.fps = fps;
-    const std::vector<double> adapted = adaptLuminance(measured, ap);
+    const std::vector<double> adapted = adaptLuminance(measured, adaptation);
     for (size_t i = 0; i < all.frames.size(); ++i)
         all.frames[i].adapted = adapted[i];
-    all.fps = fps;
+    all.fps = adaptation.fps;
     all.adapt = true;
     tool.info("scanned " + std::to_string(all.frames.size()) + " frames, " +
               std::to_string(all.frames.front().frame) + " to " +

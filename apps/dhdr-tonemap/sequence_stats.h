@@ -3,6 +3,7 @@
 // adaptation scan and mapping can run as separate processes (docs/farm.md).
 #pragma once
 
+#include <dhdr/tonemap/adaptation.h>
 #include <string>
 #include <vector>
 
@@ -34,7 +35,7 @@ class Tool;
 // --scan: the metering of every chunk of a sequence (--meter-only files), combined in frame
 // order, through the adaptation scan, to one statistics file that --adapt-from maps with.
 // Returns the exit status.
-int scanStatistics(const Tool& tool, const std::vector<std::string>& files, double fps,
-                   const std::string& out);
+int scanStatistics(const Tool& tool, const std::vector<std::string>& files,
+                   const AdaptationParams& adaptation, const std::string& out);
 
 } // namespace dhdr::app

@@ -2,6 +2,7 @@
 
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <cmath>
+#include <cstdlib>
 #include <dhdr/tonemap/local_reinhard.h>
 #include <dhdr/tonemap/reinhard.h>
 #include <dhdr/tonemap/tone_map.h>
@@ -23,6 +24,23 @@ bool parseToneOperator(const std::string& name, ToneOperator& op) {
 
 std::string toneOperatorName(ToneOperator op) {
     return choiceName(kToneMapChoiceTable[0].names, int(op));
+}
+
+bool parseWhite(const std::string& text, double& white, Spelling spelling, std::string& error) {
+    if (text == "auto" || text == "inf") {
+        white = text == "auto" ? 0.0 : INFINITY;
+        return true;
+    }
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (!text.empty() && *end == '\0' && v > 0.0 && std::isfinite(v)) {
+        white = v;
+        return true;
+    }
+    error = spelling == Spelling::Option
+                ? "--white must be a positive number, auto or inf"
+                : "white must be a positive number, 'auto' or 'inf', got '" + text + "'";
+    return false;
 }
 
 bool toneMap(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const ToneMapParams& params,

@@ -87,7 +87,8 @@ def meter(src: ImageLike, *, metering: str = "log-average",
           nthreads: int = 0) -> LuminanceStats: ...
 def adapt_luminance(metered: Sequence[float], *, fps: float = 24.0, rate: float = 0.98,
                     speed: float = 30.0) -> List[float]: ...
-def adapt(frames: Sequence[ImageLike], *, fps: float = 24.0, metering: str = "log-average",
+def adapt(frames: Sequence[ImageLike], *, fps: float = 24.0, rate: float = 0.98,
+          speed: float = 30.0, metering: str = "log-average",
           percentiles: Tuple[float, float] = (5.0, 95.0), weights: str = "seed",
           delta: float = 1e-4, skip_transparent: bool = True,
           nthreads: int = 0) -> List[LuminanceStats]: ...

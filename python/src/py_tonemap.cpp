@@ -74,19 +74,13 @@ ToneMapParams toneMapParams(const std::string& op, double key, double exposure,
     p.epsilon = epsilon;
     p.dragoBias = dragoBias;
     checkParams(p, kToneMapFloatTable);
-    // "auto" (the largest), "inf", or a positive number, as --white.
-    if (py::isinstance<py::str>(white)) {
-        const std::string w = white.cast<std::string>();
-        if (w == "inf")
-            p.white = INFINITY;
-        else if (w != "auto")
-            throw py::value_error("white must be a positive number, 'auto' or 'inf', got '" + w +
-                                  "'");
-    } else {
-        p.white = white.cast<double>();
-        if (!(p.white > 0.0))
-            throw py::value_error("white must be a positive number, 'auto' or 'inf'");
-    }
+    // "auto" (the largest), "inf", or a positive number, as --white; a number as Python
+    // spells it (repr: 'inf', 'nan', '1e-05').
+    const std::string w = py::isinstance<py::str>(white)
+                              ? white.cast<std::string>()
+                              : py::repr(py::float_(white)).cast<std::string>();
+    if (std::string error; !parseWhite(w, p.white, Spelling::Keyword, error))
+        throw py::value_error(error);
     p.metering = meteringParams(metering, window, weights, delta, skip);
     return p;
 }
@@ -325,9 +319,9 @@ void bindMetering(py::module_& m) {
         [](const std::vector<double>& metered, double fps, double rate, double speed) {
             AdaptationParams p;
             p.fps = fps;
-            checkParams(p, kAdaptationFloatTable);
             p.rate = rate;
             p.speed = speed;
+            checkParams(p, kAdaptationFloatTable);
             return adaptLuminance(metered, p);
         },
         "metered"_a, py::kw_only(), "fps"_a = AdaptationParams{}.fps,
@@ -337,10 +331,13 @@ void bindMetering(py::module_& m) {
 
     m.def(
         "adapt",
-        [](const std::vector<py::object>& frames, double fps, const std::string& metering,
-           Percentiles window, const std::string& weights, double delta, bool skip, int nthreads) {
+        [](const std::vector<py::object>& frames, double fps, double rate, double speed,
+           const std::string& metering, Percentiles window, const std::string& weights,
+           double delta, bool skip, int nthreads) {
             AdaptationParams ap;
             ap.fps = fps;
+            ap.rate = rate;
+            ap.speed = speed;
             checkParams(ap, kAdaptationFloatTable);
             const MeteringParams p = meteringParams(metering, window, weights, delta, skip);
             std::vector<LuminanceStats> stats;
@@ -357,8 +354,9 @@ void bindMetering(py::module_& m) {
                 stats[i].logAverage = adapted[i];
             return stats;
         },
-        "frames"_a, py::kw_only(), "fps"_a = AdaptationParams{}.fps, DHDR_METERING_ARGS,
-        "nthreads"_a = 0,
+        "frames"_a, py::kw_only(), "fps"_a = AdaptationParams{}.fps,
+        "rate"_a = AdaptationParams{}.rate, "speed"_a = AdaptationParams{}.speed,
+        DHDR_METERING_ARGS, "nthreads"_a = 0,
         R"(Eye adaptation over a list of frames (dhdr-tonemap --adapt): each frame metered, the
 luminances adapted in order; returns one LuminanceStats per frame to give tone_map(stats=...).)");
 }

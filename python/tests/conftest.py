@@ -27,16 +27,17 @@ def tool_error(result):
     return line.split(": error: ", 1)[1]
 
 
-def range_error_is_the_tools(call, tool, option, value, *args):
+def range_error_is_the_tools(call, tool, option, value, *args, keyword=None):
     """`call()` raises the ValueError TOOL --OPTION VALUE ARGS... exits 2 with, the option's
-    name spelled as the keyword: 'phi: 0 is outside (0, 100]'."""
+    name spelled as the keyword (by default the option's, '-' as '_'): 'phi: 0 is outside
+    (0, 100]'."""
     # The value as the message prints it: a whole number in full, a real one as C's %g.
     text = str(value) if isinstance(value, int) else "%g" % value
     bad = run_tool(tool, *args, option, text, check=False)
     assert bad.returncode == 2, bad.stderr
     line = [l for l in bad.stderr.splitlines() if ": usage error: " in l][0]
     expected = line.split(": usage error: ", 1)[1]
-    keyword = option[2:].replace("-", "_")
+    keyword = keyword or option[2:].replace("-", "_")
     assert expected.startswith(option + ": "), expected
     with pytest.raises(ValueError) as e:
         call()

@@ -96,12 +96,37 @@ def test_range_errors_are_the_tools(keyword, value, tmp_path):
                                  option, value, *args)
 
 
+@pytest.mark.parametrize("white", [-1, 0, float("nan"), "bright", "1e999"])
+def test_white_errors_are_the_tools(white, frame_exr, tmp_path):
+    # One rule (libtonemap's parseWhite) in both spellings: the number as Python writes it.
+    bad = run_tool("dhdr-tonemap", frame_exr, "--white", str(white), "-o", tmp_path / "x.png",
+                   check=False)
+    assert bad.returncode == 2
+    assert "usage error: --white must be a positive number, auto or inf" in bad.stderr
+    shown = white if isinstance(white, str) else repr(float(white))
+    with pytest.raises(ValueError) as e:
+        dhdr.tone_map(hdr_frame(), white=white)
+    assert str(e.value) == ("white must be a positive number, 'auto' or 'inf', got '%s'" % shown)
+
+
 def test_adaptation_fps_range_is_the_tools(tmp_path):
     args = ["in.####.exr", "--adapt", "-o", tmp_path / "x.####.png"]
     range_error_is_the_tools(lambda: dhdr.adapt([hdr_frame()], fps=0), "dhdr-tonemap", "--fps",
                              0, *args)
     range_error_is_the_tools(lambda: dhdr.adapt_luminance([0.2, 0.3], fps=1001), "dhdr-tonemap",
                              "--fps", 1001, *args)
+    range_error_is_the_tools(lambda: dhdr.adapt_luminance([0.2, 0.3], rate=1.5), "dhdr-tonemap",
+                             "--adapt-rate", 1.5, *args, keyword="rate")
+    range_error_is_the_tools(lambda: dhdr.adapt([hdr_frame()], speed=0), "dhdr-tonemap",
+                             "--adapt-speed", 0, *args, keyword="speed")
+
+
+def test_adaptation_rate_and_speed_follow_the_seeds_formula():
+    # adapted += (L - adapted)(1 - rate^(speed/fps)): one step from 1 towards 2.
+    out = dhdr.adapt_luminance([1.0, 2.0], fps=10, rate=0.5, speed=20)
+    assert out[0] == 1.0
+    assert abs(out[1] - (1.0 + (1.0 - 0.5 ** 2.0))) < 1e-12
+    assert dhdr.adapt_luminance([1.0, 2.0], rate=1.0) == [1.0, 1.0]
 
 
 @pytest.mark.parametrize("op, extra", [("reinhard-local", ["--phi", "4", "--epsilon", "0.1"]),

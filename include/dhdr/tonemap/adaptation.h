@@ -15,8 +15,8 @@ struct AdaptationParams {
     double speed = 30.0;
 };
 
-// AdaptationParams' frame rate, and the option of dhdr-tonemap and keyword of dhdr.adapt() and
-// dhdr.adapt_luminance() that set it.
+// AdaptationParams' ranges, and the options of dhdr-tonemap and keywords of dhdr.adapt() and
+// dhdr.adapt_luminance() that set them.
 inline constexpr FloatParam<AdaptationParams, double> kAdaptationFloatTable[] = {
     {"--fps",
      "fps",
@@ -24,6 +24,19 @@ inline constexpr FloatParam<AdaptationParams, double> kAdaptationFloatTable[] = 
      {0.0, 1000.0, true},
      "N",
      "frames per second of the sequence, dt = 1/fps"},
+    {"--adapt-rate",
+     "rate",
+     &AdaptationParams::rate,
+     {0.0, 1.0},
+     "R",
+     "the adaptation's base: each frame closes 1 - R^(speed/fps) of the gap to the frame's "
+     "luminance (1: never adapts, 0: at once)"},
+    {"--adapt-speed",
+     "speed",
+     &AdaptationParams::speed,
+     {0.0, 1000.0, true},
+     "S",
+     "the adaptation's speed, per second (the eye closes 1 - R of the gap every 1/S s)"},
 };
 
 // The adapted luminance of each frame, starting adapted to the first: a sequential scan over

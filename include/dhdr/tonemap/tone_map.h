@@ -40,6 +40,11 @@ struct ToneMapParams {
     HableParams hable;
 };
 
+// Reinhard's white point as the tools and the Python module take it (`--white`, `white=`):
+// "auto" (0: the image's largest luminance), "inf" (+∞: no white point) or a positive finite
+// number, into `white`; false with "--white must be …" or "white must be …, got 'text'".
+bool parseWhite(const std::string& text, double& white, Spelling spelling, std::string& error);
+
 // ToneMapParams' operator, and the option of dhdr-tonemap and keyword of dhdr.tone_map() that
 // set it; the names in ToneOperator's order.
 inline constexpr ChoiceParam<ToneMapParams> kToneMapChoiceTable[] = {
