@@ -73,6 +73,11 @@ std::vector<int> FramePattern::existingFrames() const {
     return frames;
 }
 
+std::string frameRangeText() {
+    return "frames in [" + std::to_string(kMinFrame) + ", " + std::to_string(kMaxFrame) +
+           "], at most " + std::to_string(kMaxFrameCount) + " of them";
+}
+
 bool parseFrameRange(const std::string& text, int& first, int& last) {
     auto number = [](const char* from, const char*& to, long long& value) {
         char* end = nullptr;
@@ -136,7 +141,7 @@ int resolveFrames(const Tool& tool, const std::vector<std::string>& paths, Frame
         int a = 0, b = 0;
         if (!parseFrameRange(range, a, b)) {
             std::fprintf(stderr, "%s: usage error: --frames must be A-B, %s\n", tool.name().c_str(),
-                         kFrameRangeText);
+                         frameRangeText().c_str());
             return kExitUsage;
         }
         for (int f = a; f <= b; ++f)

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <dhdr/common/frame_limits.h>
 #include <functional>
 #include <string>
 #include <vector>
@@ -28,11 +29,9 @@ private:
     int m_width = -1; // digits (0: no padding); −1: not a sequence
 };
 
-// Frame numbers and how many one run may take (--frames), so that loops over them never
-// overflow and a typo cannot ask for billions of frames.
-inline constexpr long long kMinFrame = -99999999, kMaxFrame = 999999999, kMaxFrameCount = 1000000;
-inline constexpr const char* kFrameRangeText =
-    "frames in [-99999999, 999999999], at most 1000000 of them";
+// --frames' limits (dhdr/common/frame_limits.h) as its messages state them: "frames in
+// [-99999999, 999999999], at most 1000000 of them".
+std::string frameRangeText();
 
 // The widest frame pattern (#### or %0Nd): frame numbers have at most 9 digits and a sign,
 // and a wider pattern is a typo. dhdr-farm has the same limit (dhdr_farm/frames.py).

@@ -175,7 +175,7 @@ int sequenceNumbers(const app::Tool& tool, const std::string& frames,
     if (!frames.empty()) {
         int first = 0, last = 0;
         if (!app::parseFrameRange(frames, first, last))
-            return usage(std::string("--frames must be A-B, ") + app::kFrameRangeText);
+            return usage("--frames must be A-B, " + app::frameRangeText());
         for (int f = first; f <= last; ++f)
             numbers.push_back(f);
         return -1;

@@ -2,6 +2,7 @@
 // specification's Appendix C says (docs/animation.md).
 #pragma once
 
+#include <dhdr/common/frame_limits.h>
 #include <dhdr/common/param_table.h>
 #include <string>
 #include <vector>
@@ -80,7 +81,7 @@ inline constexpr FloatParam<MomentChoice, double> kMomentFloatTable[] = {
      "frame's time)"},
 };
 inline constexpr IntParam<MomentChoice> kMomentIntTable[] = {
-    {"--frame", &MomentChoice::frame, -99999999, 999999999, "N",
+    {"--frame", &MomentChoice::frame, int(kMinFrame), int(kMaxFrame), "N",
      "frame N of the scene's animation (time N / fps), into the one output (-o without a frame "
      "pattern; default: the frames of --frames, else 0)",
      "frame"},
