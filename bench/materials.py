@@ -47,10 +47,12 @@ def floor():
     return pos, [0, 1, 0] * 4, [0, 0, 8, 0, 8, 8, 0, 8], [0, 2, 1, 0, 3, 2]
 
 
-def scene(textured):
-    """A glTF document: the floor and the sphere, one material, textured or not."""
+def mesh_document(primitives):
+    """A glTF 2.0 document of one mesh in one node whose primitives are `primitives`
+    ((positions, normals, UVs, indices) each, flat lists), all of material 0; the caller adds
+    "materials" (and its images and textures)."""
     blob, views, accessors, prims = b"", [], [], []
-    for pos, nor, uv, idx in (floor(), sphere()):
+    for pos, nor, uv, idx in primitives:
         attrs = {}
         for name, data, kind, fmt in (("POSITION", pos, "VEC3", "f"), ("NORMAL", nor, "VEC3", "f"),
                                       ("TEXCOORD_0", uv, "VEC2", "f"), (None, idx, "SCALAR", "I")):
@@ -67,14 +69,20 @@ def scene(textured):
             if name:
                 attrs[name] = len(accessors) - 1
         prims.append({"attributes": attrs, "indices": len(accessors) - 1, "material": 0})
+    return {"asset": {"version": "2.0"},
+            "buffers": [{"byteLength": len(blob),
+                         "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+            "bufferViews": views, "accessors": accessors,
+            "meshes": [{"primitives": prims}], "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}]}
+
+
+def scene(textured):
+    """A glTF document: the floor and the sphere, one material, textured or not."""
     material = {"name": "five maps" if textured else "plain",
                 "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1], "metallicFactor": 0.5,
                                          "roughnessFactor": 0.5}}
-    doc = {"asset": {"version": "2.0"},
-           "buffers": [{"byteLength": len(blob),
-                        "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
-           "bufferViews": views, "accessors": accessors, "materials": [material],
-           "meshes": [{"primitives": prims}], "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}]}
+    doc = mesh_document((floor(), sphere()))
+    doc["materials"] = [material]
     if textured:
         names = ["base", "mr", "normal", "ao", "emissive"]
         doc["images"] = [{"uri": n + ".png"} for n in names]

@@ -10,13 +10,11 @@ time and peak memory. With --picture, the docs' picture of the four.
         [--rays 16] [--picture docs/images/texture_filtering.png]
 """
 import argparse
-import base64
 import json
 import math
 import os
 import re
 import shutil
-import struct
 import subprocess
 import sys
 import tempfile
@@ -26,6 +24,7 @@ import OpenImageIO as oiio
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from lights import run  # noqa: E402
+from materials import mesh_document  # noqa: E402
 
 FILTERS = ("bilinear", "trilinear", "anisotropic")
 EYE = (0.0, 1.0, 0.0)
@@ -34,35 +33,12 @@ FOV = 40.0
 
 def floor_scene(path):
     """The floor as a glTF file beside `checker.png`."""
-    pos = [-100, 0, -100, 100, 0, -100, 100, 0, 100, -100, 0, 100]
-    nor = [0, 1, 0] * 4
-    uv = [0, 0, 40, 0, 40, 40, 0, 40]
-    idx = [0, 2, 1, 0, 3, 2]
-    blob, views, accessors, attrs = b"", [], [], {}
-    for name, data, kind, fmt in (("POSITION", pos, "VEC3", "f"), ("NORMAL", nor, "VEC3", "f"),
-                                  ("TEXCOORD_0", uv, "VEC2", "f"), (None, idx, "SCALAR", "I")):
-        raw = struct.pack("%d%s" % (len(data), fmt), *data)
-        views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(raw)})
-        blob += raw
-        count = len(data) // {"VEC3": 3, "VEC2": 2, "SCALAR": 1}[kind]
-        acc = {"bufferView": len(views) - 1, "componentType": 5126 if fmt == "f" else 5125,
-               "count": count, "type": kind}
-        if name == "POSITION":
-            acc["min"] = [min(pos[i::3]) for i in range(3)]
-            acc["max"] = [max(pos[i::3]) for i in range(3)]
-        accessors.append(acc)
-        if name:
-            attrs[name] = len(accessors) - 1
-    doc = {"asset": {"version": "2.0"},
-           "buffers": [{"byteLength": len(blob),
-                        "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
-           "bufferViews": views, "accessors": accessors,
-           "images": [{"uri": "checker.png"}], "textures": [{"source": 0}],
-           "materials": [{"name": "checker", "pbrMetallicRoughness": {
-               "baseColorTexture": {"index": 0}, "metallicFactor": 0, "roughnessFactor": 1}}],
-           "meshes": [{"primitives": [{"attributes": attrs, "indices": len(accessors) - 1,
-                                       "material": 0}]}],
-           "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}]}
+    doc = mesh_document([([-100, 0, -100, 100, 0, -100, 100, 0, 100, -100, 0, 100], [0, 1, 0] * 4,
+                          [0, 0, 40, 0, 40, 40, 0, 40], [0, 2, 1, 0, 3, 2])])
+    doc["images"] = [{"uri": "checker.png"}]
+    doc["textures"] = [{"source": 0}]
+    doc["materials"] = [{"name": "checker", "pbrMetallicRoughness": {
+        "baseColorTexture": {"index": 0}, "metallicFactor": 0, "roughnessFactor": 1}}]
     with open(path, "w") as f:
         json.dump(doc, f)
 
