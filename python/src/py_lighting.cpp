@@ -123,9 +123,35 @@ void addLights(const py::handle& given, bool radiometric, std::vector<Light>& li
     lights.insert(lights.end(), more.begin(), more.end());
 }
 
+// Deeper than any lights document goes ({"lights": [{"color": [...]}]} is 4 levels).
+constexpr int kMaxLightsNesting = 32;
+
+// Walks the dicts, lists and tuples of `given` before anything recurses through them (addLights,
+// json.dumps): one that holds itself, or nesting past kMaxLightsNesting, is a ValueError
+// instead of a recursion that ends in a stack overflow.
+void checkNesting(const py::handle& given, std::vector<const PyObject*>& path) {
+    const bool dict = py::isinstance<py::dict>(given);
+    if (!dict && !py::isinstance<py::list>(given) && !py::isinstance<py::tuple>(given)) return;
+    if (std::find(path.begin(), path.end(), given.ptr()) != path.end())
+        throw py::value_error("lights: a list or dict that holds itself");
+    if (int(path.size()) >= kMaxLightsNesting)
+        throw py::value_error("lights: nested more than " + std::to_string(kMaxLightsNesting) +
+                              " lists or dicts deep");
+    path.push_back(given.ptr());
+    if (dict)
+        for (const auto& item : py::reinterpret_borrow<py::dict>(given))
+            checkNesting(item.second, path);
+    else
+        for (const py::handle& item : given)
+            checkNesting(item, path);
+    path.pop_back();
+}
+
 } // namespace
 
 std::vector<Light> lightsOf(const py::handle& given, bool radiometric) {
+    std::vector<const PyObject*> path;
+    checkNesting(given, path);
     std::vector<Light> lights;
     addLights(given, radiometric, lights);
     return lights;
@@ -309,7 +335,10 @@ LightingSetup setupLighting(const OIIO::ImageSpec& gspec, const LightCall& c) {
     if (scene && c.lights.is_none() && s.lights->empty())
         throw py::value_error(scene->path + ": the scene has no lights and no emissive "
                                             "surfaces; give lights=");
-    if (!c.lights.is_none()) addLights(c.lights, c.radiometric, *s.lights);
+    if (!c.lights.is_none()) {
+        const std::vector<Light> given = lightsOf(c.lights, c.radiometric);
+        s.lights->insert(s.lights->end(), given.begin(), given.end());
+    }
     if (options.plateEnvironment && std::none_of(s.lights->begin(), s.lights->end(), isEnvironment))
         throw py::value_error("plate='env': there is no environment light to composite over");
     s.probes = probesOf(c.probes);
