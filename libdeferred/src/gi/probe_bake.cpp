@@ -152,8 +152,9 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     if (!checkBakeInputs(scene, params, error)) return false;
     if (!layOutProbeGrid(scene, params, v, error)) return false;
     auto interrupted = [&] {
-        if (cancelled(params)) error = "interrupted";
-        return cancelled(params);
+        const bool stop = cancelled(params);
+        if (stop) error = "interrupted";
+        return stop;
     };
     placeProbes(scene, caster, params, v, nthreads);
     if (interrupted()) return false;
