@@ -1,9 +1,10 @@
 // Input that should be an error and was a crash, an abort, a leftover file or silent
 // nonsense (issue 8, items 11–17 and the smaller ones): a clear message, a non-zero exit
 // status, no output and no temporary left behind.
-#include "scene_writer.h"
+#include "animation_writer.h"
 #include "tool_test.h"
 
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 #include <chrono>
 #include <csignal>
@@ -287,6 +288,113 @@ TEST_F(BadInput, BrokenGBuffersAreRefused) {
     expectFailure(run("dhdr-light " + path("uint_normals.exr") + " --lights " + kLights + " -o " +
                       path("u.exr")),
                   1, "uint_normals.exr: channel 'N.X' is stored as uint", path("u.exr"));
+}
+
+// Normals that are no direction (issue 48: NaN or −Inf in every component, read as 0, or zero
+// indexed the multiple-scattering table with a NaN cosine, SIGSEGV): lit with the geometric
+// normal Ng, else facing the camera, with a warning that counts them; every output value finite.
+// +Inf is read as 65504 (the one rule for non-finite values): a direction, shaded as it is.
+TEST_F(BadInput, NormalsWithoutADirectionAreRepaired) {
+    ImageBuf clean(path("g.exr"));
+    ASSERT_TRUE(clean.read(0, 0, true, TypeDesc::FLOAT));
+    const int n = clean.spec().channelindex("N.X");
+    const float poison[4] = {NAN, -INFINITY, 0.0f, INFINITY};
+    // Four covered pixels of the middle row (the Cornell box fills the frame).
+    ImageBuf bad;
+    bad.copy(clean);
+    for (int i = 0; i < 4; ++i) {
+        float* p = static_cast<float*>(bad.pixeladdr(10 + 4 * i, 12));
+        ASSERT_GT(p[0], 0.0f) << "pixel " << 10 + 4 * i << " is not covered";
+        p[n] = p[n + 1] = p[n + 2] = poison[i];
+    }
+    ASSERT_TRUE(bad.write(path("bad_normals.exr")));
+    const std::string light = " --lights " + kLights + " --type float -o ";
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + light + path("clean_lit.exr")).status, 0);
+    const Result r = run("dhdr-light " + path("bad_normals.exr") + light + path("bad_lit.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE(r.err.find("bad_normals.exr: replaced 9 non-finite values (3 NaN → 0, 3 +Inf"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("bad_normals.exr: 3 surface samples with a normal of zero length"),
+              std::string::npos)
+        << r.err;
+    const ImageBuf lit = read("bad_lit.exr"), reference = read("clean_lit.exr");
+    EXPECT_TRUE(allFinite(lit));
+    // The box's walls are flat: N is Ng there but for N's rounding to half.
+    for (int i = 0; i < 3; ++i)
+        for (int c = 0; c < 4; ++c) {
+            const float want = reference.getchannel(10 + 4 * i, 12, 0, c);
+            EXPECT_NEAR(lit.getchannel(10 + 4 * i, 12, 0, c), want, 1e-2f * want + 1e-4f)
+                << "pixel " << 10 + 4 * i << ", channel " << c;
+        }
+    // Without Ng the surface faces the camera: lit, finite.
+    std::vector<int> keep;
+    for (int c = 0; c < bad.nchannels(); ++c)
+        if (bad.spec().channelnames[size_t(c)].rfind("Ng.", 0) != 0) keep.push_back(c);
+    const ImageBuf noNg = OIIO::ImageBufAlgo::channels(bad, int(keep.size()), keep);
+    ASSERT_TRUE(noNg.write(path("bad_normals_no_ng.exr")));
+    const Result without =
+        run("dhdr-light " + path("bad_normals_no_ng.exr") + light + path("no_ng_lit.exr"));
+    ASSERT_EQ(without.status, 0) << without.err;
+    EXPECT_NE(without.err.find("3 surface samples with a normal of zero length"), std::string::npos)
+        << without.err;
+    const ImageBuf facing = read("no_ng_lit.exr");
+    EXPECT_TRUE(allFinite(facing));
+    for (int i = 0; i < 4; ++i)
+        EXPECT_GT(facing.getchannel(10 + 4 * i, 12, 0, 0), 0.0f) << "pixel " << 10 + 4 * i;
+}
+
+// Accessor and bufferView offsets that are negative or wrap round (issue 48: a byteOffset of
+// 2^64 − 2^40 with a 2^40 stride pointed 1 TiB before the buffer, SIGSEGV): exit 1 naming the
+// file, the animation, the accessor and the offset, no output; --info says why it is unusable.
+TEST_F(BadInput, AccessorOffsetsThatWrapOrAreNegativeAreErrors) {
+    struct Damage {
+        const char* name;
+        void (*apply)(nlohmann::json& view, nlohmann::json& accessor);
+        const char* problem;
+    };
+    const Damage damages[] = {
+        {"stride_wrap",
+         [](nlohmann::json& v, nlohmann::json& a) {
+             v["byteStride"] = std::uint64_t(1) << 40;
+             a["byteOffset"] = std::uint64_t(0) - (std::uint64_t(1) << 40);
+         },
+         "its byteOffset 18446742974197923840 is past the end of bufferView"},
+        {"offset_wrap",
+         [](nlohmann::json&, nlohmann::json& a) { a["byteOffset"] = std::uint64_t(0) - 8; },
+         "its byteOffset 18446744073709551608 is past the end of bufferView"},
+        {"stride_past",
+         [](nlohmann::json& v, nlohmann::json&) { v["byteStride"] = std::uint64_t(1) << 40; },
+         "its 2 elements run past bufferView"},
+        {"offset_negative", [](nlohmann::json&, nlohmann::json& a) { a["byteOffset"] = -16; },
+         "its byteOffset -16 is not a whole number"},
+        {"view_negative", [](nlohmann::json& v, nlohmann::json&) { v["byteOffset"] = -16; },
+         "'s byteOffset -16 is not a whole number"},
+        {"view_wrap",
+         [](nlohmann::json& v, nlohmann::json&) { v["byteOffset"] = std::uint64_t(0) - 8; },
+         "(byteOffset 18446744073709551608, byteLength 24) runs past buffer"},
+    };
+    for (const Damage& d : damages) {
+        SCOPED_TRACE(d.name);
+        nlohmann::json doc = squareAndCamera();
+        addChannel(doc, 0, 0, "translation", {0.0f, 2.0f}, {-1, 0, 0, 1, 0, 0});
+        const size_t output = doc["animations"][0]["samplers"][0]["output"];
+        nlohmann::json& accessor = doc["accessors"][output];
+        d.apply(doc["bufferViews"][accessor["bufferView"].get<size_t>()], accessor);
+        const std::string file = std::string(d.name) + ".gltf";
+        writeJson(path(file), doc);
+        const std::string out = std::string(d.name) + ".exr";
+        const Result r = run("dhdr-gbuffer " + path(file) + " --size 16x16 -o " + path(out));
+        expectFailure(r, 1,
+                      file + ": animation 'anim0' cannot be played: sampler 0: output accessor " +
+                          std::to_string(output) + ": ",
+                      path(out));
+        EXPECT_NE(r.err.find(d.problem), std::string::npos) << r.err;
+        const Result info = run("dhdr-gbuffer " + path(file) + " --info");
+        EXPECT_EQ(info.status, 0) << info.err;
+        EXPECT_NE(info.out.find("unusable: sampler 0: output accessor"), std::string::npos)
+            << info.out;
+    }
 }
 
 // Smaller: the help lists every light type.

@@ -222,3 +222,34 @@ TEST(Sampling, GgxVisibleNormalsIntegrateTheLobe) {
                 << "roughness " << roughness << ", N·V " << mu;
         }
 }
+
+// Every table lookup takes NaN and ±Inf (issue 48: a G-buffer normal that could not be
+// normalised gave ggxAlbedoTerms a NaN cosine, which indexed its table at INT_MIN): an end of
+// the table, finite.
+TEST(TableLookups, NonFiniteArgumentsReadAnEndOfTheTable) {
+    EnvironmentImage level;
+    level.width = 4;
+    level.height = 2;
+    level.rgb.assign(24, 0.5f);
+    Ibl ibl;
+    ibl.params.dfgSize = 4;
+    ibl.dfg.assign(16, glm::vec2(0.25f, 0.75f));
+    ibl.levels = {level, level};
+    const float odd[] = {NAN, INFINITY, -INFINITY, 1e30f, -1e30f};
+    for (const float v : odd) {
+        SCOPED_TRACE(v);
+        for (const float r : {0.5f, v}) {
+            const glm::vec2 e = ggxAlbedoTerms(v, r);
+            EXPECT_TRUE(std::isfinite(e.x) && std::isfinite(e.y));
+            EXPECT_TRUE(std::isfinite(burleyDiffuseAlbedo(v, r)));
+            EXPECT_TRUE(std::isfinite(ggxAlbedoTerms(0.5f, v).y));
+            EXPECT_EQ(ibl.dfgAt(v, r), glm::vec2(0.25f, 0.75f));
+        }
+        EXPECT_TRUE(std::isfinite(ggxAverageAlbedo(v)));
+        EXPECT_TRUE(std::isfinite(diffuseFresnelTransmission(v)));
+        EXPECT_EQ(ibl.prefiltered(glm::vec3(v, 0.0f, 0.0f), v), glm::vec3(0.5f));
+        EXPECT_EQ(level.bilinear(glm::vec2(v, v)), glm::vec3(0.5f));
+    }
+    // NaN reads the first entry: the grazing view, roughness 0.
+    EXPECT_EQ(ggxAlbedoTerms(NAN, NAN), ggxAlbedoTerms(0.0f, 0.0f));
+}

@@ -160,8 +160,7 @@ bool lightFlatGBuffer(const WholeFrameRun& run, const SsaoParams* ssao, const st
                  writeMs = pipeline.writeMs();
     if (!file.commit()) return false;
     tool.reportNonFinite(path, replaced, false);
-    if (stats.coveredPixels == 0)
-        tool.warn(path + ": no surface in view: A is 0 everywhere (an empty frame)");
+    warnAboutSurfaces(tool, path, stats);
     reportStats(tool, run, stats, shadeMs);
     auto ms = [](double v) { return std::to_string(int(v + 0.5)) + " ms"; };
     tool.info("total " +

@@ -97,6 +97,15 @@ bool readBand(DeepGBufferReader& reader, OIIO::ROI rows, int halo, DeepGBuffer& 
 
 } // namespace
 
+void warnAboutSurfaces(const Tool& tool, const std::string& path, const LightingStats& stats) {
+    if (stats.coveredPixels == 0)
+        tool.warn(path + ": no surface in view: A is 0 everywhere (an empty frame)");
+    if (stats.repairedNormals > 0)
+        tool.warn(path + ": " + std::to_string(stats.repairedNormals) +
+                  " surface samples with a normal of zero length (or NaN or infinite) were shaded "
+                  "with the geometric normal Ng, or facing the camera without one");
+}
+
 OIIO::ImageSpec litFrameSpec(const OIIO::ImageSpec& strip, const OIIO::ImageSpec& gbuffer,
                              const std::string& lightFiles) {
     OIIO::ImageSpec spec = strip;
@@ -220,8 +229,7 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
     NonFiniteCount counted;
     counted.nan = replaced;
     tool.reportNonFinite(path, counted, false);
-    if (stats.coveredPixels == 0)
-        tool.warn(path + ": no surface in view: A is 0 everywhere (an empty frame)");
+    warnAboutSurfaces(tool, path, stats);
     char line[200];
     std::snprintf(line, sizeof line,
                   "deep: %zu samples over %lld covered pixels; %lld shadow rays, %lld AO rays",
@@ -276,6 +284,7 @@ bool lightMappedPasses(const WholeFrameRun& run, const ChannelMap& map,
     outSpec.attribute("dhdr:lights", lightFiles);
     outSpec.attribute("dhdr:channelMap", map.name);
     if (!writeLitFrame(run, outSpec, hdr, out)) return false;
+    warnAboutSurfaces(tool, path, stats);
     tool.info(path + ": read through the channel map " + map.name + "; " +
               std::to_string(stats.coveredPixels) + " covered pixels, " + ms(msSince(start)));
     return true;

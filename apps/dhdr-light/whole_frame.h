@@ -29,6 +29,10 @@ struct WholeFrameRun {
 OIIO::ImageSpec litFrameSpec(const OIIO::ImageSpec& strip, const OIIO::ImageSpec& gbuffer,
                              const std::string& lightFiles);
 
+// What the shading of `path` found of its surfaces: none in view, or normals that were no
+// direction and were replaced.
+void warnAboutSurfaces(const Tool& tool, const std::string& path, const LightingStats& stats);
+
 // A deep G-buffer: every sample lit and composited into `out`; with `deepOut`, the lit samples
 // as a deep RGBA EXR too. `lightFiles` is recorded in the output's header.
 bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int part,

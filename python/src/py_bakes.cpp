@@ -2,6 +2,7 @@
 // (light probes through a scene), each writing the file the tools write, which light() and
 // lights files then read; probes may also stay in memory (dhdr.Probes).
 #include "py_image.h"
+#include "py_interrupt.h"
 #include "py_lights.h"
 #include "py_ops.h"
 #include "py_probes.h"
@@ -141,14 +142,17 @@ py::object bakeProbesTo(const SceneHandle& scene, const py::object& outGiven,
     auto volume = std::make_shared<ProbeVolume>();
     std::string error;
     bool ok = false;
-    {
-        py::gil_scoped_release gil;
+    // Ctrl-C stops the probes not begun and raises KeyboardInterrupt before anything is written
+    // (py_interrupt.h); a file being written when it comes is completed (written atomically).
+    std::atomic<bool> cancel{false};
+    p.cancel = &cancel;
+    runInterruptibly(cancel, [&] {
         if (!bakeProbes(*scene.scene, caster, lights, emissive, p, *volume, error, nthreads)) {
             error = scene.path + ": " + error;
         } else if (out.empty()) {
             asFileHolds(*volume);
             ok = true;
-        } else {
+        } else if (!cancel) {
             ok = writeFileAtomically(
                 out,
                 [&](const std::string& tmp, std::string& why) {
@@ -156,7 +160,7 @@ py::object bakeProbesTo(const SceneHandle& scene, const py::object& outGiven,
                 },
                 error);
         }
-    }
+    });
     if (!ok) raiseError(error);
     if (out.empty()) return py::cast(ProbesHandle{volume, int(lights.size())});
     py::dict info = infoOf(*volume);

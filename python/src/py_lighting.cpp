@@ -74,65 +74,6 @@ bool readGBuffer(const std::string& path, int nthreads, OIIO::ImageBuf& gbuf, De
     return true;
 }
 
-// Lights from a lights file's path, a light as a dict (the file's JSON object), or a list of
-// either, in order. A dict, or a list of dicts only, is read as a lights file holding them
-// would be (environment images relative to the working directory, their suns after them).
-void addLights(const py::handle& given, bool radiometric, std::vector<Light>& lights) {
-    std::vector<Light> more;
-    std::string error;
-    std::vector<std::string> warnings;
-    const bool sequence = py::isinstance<py::list>(given) || py::isinstance<py::tuple>(given);
-    bool dicts = py::isinstance<py::dict>(given);
-    if (sequence) {
-        dicts = py::len(given) > 0;
-        for (const py::handle& item : given)
-            dicts = dicts && py::isinstance<py::dict>(item);
-    }
-    if (py::isinstance<py::str>(given) ||
-        py::isinstance(given, py::module_::import("os").attr("PathLike"))) {
-        const std::string path = py::str(given);
-        bool ok = false;
-        {
-            py::gil_scoped_release gil;
-            ok = readLightsFile(path, more, error, warnings);
-        }
-        if (!ok) throw py::value_error(error);
-    } else if (dicts) {
-        // One light, a file's object ({"lights": [...]}) or a list of lights.
-        const bool document = !sequence && py::cast<py::dict>(given).contains("lights");
-        const py::object doc = document   ? py::reinterpret_borrow<py::object>(given)
-                               : sequence ? py::reinterpret_borrow<py::object>(given)
-                                          : py::object(py::make_tuple(given));
-        const std::string text =
-            py::str(py::module_::import("json").attr("dumps")(document ? doc : py::list(doc)));
-        bool ok = parseLights(text, more, error);
-        if (ok) {
-            py::gil_scoped_release gil;
-            ok = loadEnvironmentImages(more, "", error, warnings);
-        }
-        if (!ok) throw py::value_error("lights: " + error);
-    } else if (sequence) {
-        for (const py::handle& item : given)
-            addLights(item, radiometric, lights);
-        return;
-    } else {
-        throw py::type_error("lights: expected a lights file, a light (dict) or a list of them");
-    }
-    warn(warnings);
-    if (radiometric) toRadiometricUnits(more);
-    lights.insert(lights.end(), more.begin(), more.end());
-}
-
-} // namespace
-
-std::vector<Light> lightsOf(const py::handle& given, bool radiometric) {
-    std::vector<Light> lights;
-    addLights(given, radiometric, lights);
-    return lights;
-}
-
-namespace {
-
 // The scene as dhdr-light --scene lights a G-buffer (its PosedScene): posed at the moment the
 // G-buffer's header records (gbuffer_time.h) with the animations it records, on a copy with its
 // own ray caster; as loaded (caster null: the dhdr.Scene's own) when the G-buffer records no
@@ -309,7 +250,10 @@ LightingSetup setupLighting(const OIIO::ImageSpec& gspec, const LightCall& c) {
     if (scene && c.lights.is_none() && s.lights->empty())
         throw py::value_error(scene->path + ": the scene has no lights and no emissive "
                                             "surfaces; give lights=");
-    if (!c.lights.is_none()) addLights(c.lights, c.radiometric, *s.lights);
+    if (!c.lights.is_none()) {
+        const std::vector<Light> given = lightsOf(c.lights, c.radiometric);
+        s.lights->insert(s.lights->end(), given.begin(), given.end());
+    }
     if (options.plateEnvironment && std::none_of(s.lights->begin(), s.lights->end(), isEnvironment))
         throw py::value_error("plate='env': there is no environment light to composite over");
     s.probes = probesOf(c.probes);

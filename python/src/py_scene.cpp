@@ -1,6 +1,7 @@
 #include "py_scene.h"
 
 #include "py_deep.h"
+#include "py_interrupt.h"
 #include "py_ops.h"
 
 #include <dhdr/deferred/gbuffer/gbuffer.h>
@@ -269,8 +270,10 @@ py::object render(const SceneHandle& h, const std::string& camera, const py::obj
     const CameraChoice choice = cameraChoice(camera, lookat, fov, frameAll);
     const double aspect = double(params.width) / double(params.height);
     Rendered out;
-    {
-        py::gil_scoped_release gil;
+    // Ctrl-C stops the rows not begun and raises KeyboardInterrupt (py_interrupt.h).
+    std::atomic<bool> cancel{false};
+    params.cancel = &cancel;
+    runInterruptibly(cancel, [&] {
         // An animated render poses its own copy of the scene, as dhdr-gbuffer --frame does:
         // the frames before and after first (the motion layer), then this one, and builds its
         // ray caster on it, so that renders of one dhdr.Scene at other times may run at once.
@@ -298,7 +301,7 @@ py::object render(const SceneHandle& h, const std::string& camera, const py::obj
         if (out.ok)
             gbuffer::stampGBuffer(out.deep ? out.layers.g->spec : out.gbuf.specmod(), h.path,
                                   posed.moment(moment.time, fps));
-    }
+    });
     for (const std::string& w : out.warnings)
         warn(w);
     if (!out.cameraError.empty()) throw py::value_error(out.cameraError);

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <dhdr/deferred/core/brdf_integrals.h>
 #include <dhdr/deferred/core/multiple_scattering.h>
+#include <dhdr/deferred/core/table_lookup.h>
 #include <vector>
 
 namespace dhdr {
@@ -41,7 +42,7 @@ const AlbedoTable& table() {
 // Linear interpolation between entries: at texel centres (views) or at both ends (roughness).
 void cell(float v, int n, bool centred, int& i0, int& i1, float& a) {
     const float f =
-        std::clamp(centred ? v * float(n) - 0.5f : v * float(n - 1), 0.0f, float(n - 1));
+        clampForTable(centred ? v * float(n) - 0.5f : v * float(n - 1), 0.0f, float(n - 1));
     i0 = int(f);
     i1 = std::min(i0 + 1, n - 1);
     a = f - float(i0);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <dhdr/deferred/core/brdf.h>
+#include <dhdr/deferred/core/table_lookup.h>
 #include <dhdr/deferred/environment/environment.h>
 #include <dhdr/io/exr_header.h>
 
@@ -21,7 +22,10 @@ glm::vec3 equirectDirection(glm::vec2 uv) {
 }
 
 glm::vec3 EnvironmentImage::bilinear(glm::vec2 uv) const {
-    const float fx = uv.x * float(width) - 0.5f, fy = uv.y * float(height) - 0.5f;
+    // u wraps and v clamps below; only NaN and ±Inf (a direction that is not one) are clamped
+    // here, to the texels either side of the image.
+    const float fx = clampForTable(uv.x * float(width) - 0.5f, -1.0f, float(width)),
+                fy = clampForTable(uv.y * float(height) - 0.5f, -1.0f, float(height));
     const float x0f = std::floor(fx), y0f = std::floor(fy);
     const float ax = fx - x0f, ay = fy - y0f;
     auto wrapX = [&](int x) { return ((x % width) + width) % width; };

@@ -7,6 +7,7 @@
 #include <dhdr/deferred/core/brdf_integrals.h>
 #include <dhdr/deferred/core/multiple_scattering.h>
 #include <dhdr/deferred/core/sampling.h>
+#include <dhdr/deferred/core/table_lookup.h>
 #include <dhdr/deferred/environment/ibl.h>
 
 namespace dhdr {
@@ -79,7 +80,7 @@ glm::vec3 Ibl::irradiance(const glm::vec3& n) const {
 
 glm::vec3 Ibl::prefiltered(const glm::vec3& R, float roughness) const {
     const int last = int(levels.size()) - 1;
-    const float r = std::clamp(roughness, 0.0f, 1.0f);
+    const float r = clampForTable(roughness, 0.0f, 1.0f);
     const int k0 = std::min(int(r * float(last)), last);
     const int k1 = std::min(k0 + 1, last);
     const glm::vec2 uv = equirectUV(R);
@@ -94,8 +95,8 @@ glm::vec3 Ibl::prefiltered(const glm::vec3& R, float roughness) const {
 
 glm::vec2 Ibl::dfgAt(float NdotV, float roughness) const {
     const int n = params.dfgSize;
-    const float fx = std::clamp(NdotV, 0.0f, 1.0f) * float(n) - 0.5f;
-    const float fy = std::clamp(roughness, 0.0f, 1.0f) * float(n) - 0.5f;
+    const float fx = clampForTable(NdotV, 0.0f, 1.0f) * float(n) - 0.5f;
+    const float fy = clampForTable(roughness, 0.0f, 1.0f) * float(n) - 0.5f;
     const int x0 = std::clamp(int(std::floor(fx)), 0, n - 1),
               y0 = std::clamp(int(std::floor(fy)), 0, n - 1);
     const int x1 = std::min(x0 + 1, n - 1), y1 = std::min(y0 + 1, n - 1);

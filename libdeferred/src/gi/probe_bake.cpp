@@ -16,6 +16,10 @@ namespace dhdr {
 
 namespace {
 
+bool cancelled(const ProbeBakeParams& params) {
+    return params.cancel && params.cancel->load(std::memory_order_relaxed);
+}
+
 // The parameters' ranges and the grid's, and a scene to place probes in.
 bool checkBakeInputs(const Scene& scene, const ProbeBakeParams& params, std::string& error) {
     error = checkRanges(params, kProbeBakeParamTable);
@@ -51,7 +55,7 @@ ProbeTraces traceProbeRays(const Scene& scene, const RayCaster& caster,
     t.glossy.resize(static_cast<size_t>(n));
     const ProbeRayTracer tracer(scene, caster, lights, params, emissiveAreLights);
     parallelRows(0, n, nthreads, [&](int64_t p) {
-        if (v.states[size_t(p)] == ProbeState::Off) return;
+        if (v.states[size_t(p)] == ProbeState::Off || cancelled(params)) return;
         for (int i = 0; i < R; ++i)
             t.rays[size_t(p) * size_t(R) + size_t(i)] =
                 tracer.trace(v.positions[size_t(p)], t.directions[size_t(i)], {p, i, R},
@@ -63,9 +67,11 @@ ProbeTraces traceProbeRays(const Scene& scene, const RayCaster& caster,
 // The radiance each ray brings its probe at bounce `bounce`: the fixed light, plus after the
 // first round what its hit reflects of `previous`'s irradiance.
 void shadeProbeRays(const ProbeTraces& t, const ProbeVolume& previous, int bounce,
-                    const RayCaster& caster, std::vector<glm::vec3>& radiance, int nthreads) {
+                    const RayCaster& caster, const ProbeBakeParams& params,
+                    std::vector<glm::vec3>& radiance, int nthreads) {
     const int n = previous.probeCount(), R = int(t.directions.size());
     parallelRows(0, n, nthreads, [&](int64_t p) {
+        if (cancelled(params)) return;
         for (int i = 0; i < R; ++i)
             radiance[size_t(p) * size_t(R) + size_t(i)] =
                 t.rays[size_t(p) * size_t(R) + size_t(i)].radiance(
@@ -118,9 +124,9 @@ void bounceLight(const RayCaster& caster, const ProbeBakeParams& params, const P
     BounceConvergence convergence;
     v.bounces = 0;
     v.diffuse = params.diffuse;
-    for (int bounce = 0; bounce < rounds; ++bounce) {
+    for (int bounce = 0; bounce < rounds && !cancelled(params); ++bounce) {
         const ProbeVolume previous = v; // the last round's irradiance (zero at first)
-        shadeProbeRays(t, previous, bounce, caster, radiance, nthreads);
+        shadeProbeRays(t, previous, bounce, caster, params, radiance, nthreads);
         parallelRows(0, n, nthreads, [&](int64_t p) {
             if (v.states[size_t(p)] == ProbeState::Off) return;
             writeIrradiance(&v.irradiance[size_t(p) * size_t(wi * wi)],
@@ -145,12 +151,19 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
                 std::string& error, int nthreads) {
     if (!checkBakeInputs(scene, params, error)) return false;
     if (!layOutProbeGrid(scene, params, v, error)) return false;
+    auto interrupted = [&] {
+        const bool stop = cancelled(params);
+        if (stop) error = "interrupted";
+        return stop;
+    };
     placeProbes(scene, caster, params, v, nthreads);
+    if (interrupted()) return false;
     const ProbeTraces traces =
         traceProbeRays(scene, caster, lights, emissiveAreLights, params, v, nthreads);
+    if (interrupted()) return false;
     if (params.progress) params.progress(0.5f);
     bounceLight(caster, params, traces, v, nthreads);
-    return true;
+    return !interrupted();
 }
 
 } // namespace dhdr

@@ -64,6 +64,7 @@ SampleShader::SampleShader(const ShadeSource& source, const LightingInputs& inpu
 
 glm::vec4 SampleShader::shade(int x, int y, int k, LightingStats& stats, float* aovs) const {
     const ShadingPoint sp = m_source.view.at(x, y, k);
+    stats.repairedNormals += sp.normalRepaired;
     const At at{x, y, k, stats};
     if (m_estimators.tracer) return pathTraced(sp, at, aovs);
     const float occlusion = ambientOcclusion(sp, at);

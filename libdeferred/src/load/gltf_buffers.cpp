@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <tuple>
 
 namespace dhdr::detail {
 
@@ -199,22 +200,32 @@ bool GltfBuffers::locate(const nlohmann::json& a, size_t count, int components, 
                          std::string& error) {
     span = Span{};
     size_t viewIndex = 0;
-    if (!unsignedField(a, "bufferView", viewIndex)) return true; // all zeros (§3.6.2.3)
+    if (!a.contains("bufferView")) return true; // all zeros (§3.6.2.3)
     const nlohmann::json& views = m_doc.value("bufferViews", nlohmann::json::array());
-    if (!views.is_array() || viewIndex >= views.size() || !views[viewIndex].is_object()) {
-        error = "its bufferView " + std::to_string(viewIndex) + " does not exist";
+    if (!unsignedField(a, "bufferView", viewIndex) || !views.is_array() ||
+        viewIndex >= views.size() || !views[viewIndex].is_object()) {
+        error = "its bufferView " + a["bufferView"].dump() + " does not exist";
         return false;
     }
     const nlohmann::json& view = views[viewIndex];
+    const std::string viewName = "bufferView " + std::to_string(viewIndex);
+    const std::string viewOwns = viewName + "'s";
     size_t bufferIndex = 0, viewOffset = 0, viewLength = 0, accessorOffset = 0, stride = 0;
     if (!unsignedField(view, "buffer", bufferIndex) ||
         !unsignedField(view, "byteLength", viewLength)) {
-        error = "bufferView " + std::to_string(viewIndex) + " has no buffer or byteLength";
+        error = viewName + " has no buffer or byteLength";
         return false;
     }
-    unsignedField(view, "byteOffset", viewOffset);
-    unsignedField(view, "byteStride", stride);
-    unsignedField(a, "byteOffset", accessorOffset);
+    // Absent is 0; present, each must be a whole number of bytes: a negative one would wrap
+    // round to a pointer far outside the buffer.
+    for (const auto& [object, key, out, owner] :
+         {std::tuple{&view, "byteOffset", &viewOffset, viewOwns},
+          std::tuple{&view, "byteStride", &stride, viewOwns},
+          std::tuple{&a, "byteOffset", &accessorOffset, std::string("its")}})
+        if (object->contains(key) && !unsignedField(*object, key, *out)) {
+            error = owner + " " + key + " " + (*object)[key].dump() + " is not a whole number ≥ 0";
+            return false;
+        }
     span.type = a.value("componentType", 0);
     span.size = componentSize(span.type);
     if (span.size == 0) {
@@ -225,13 +236,25 @@ bool GltfBuffers::locate(const nlohmann::json& a, size_t count, int components, 
     if (stride == 0) stride = element;
     const std::vector<std::uint8_t>* bytes = nullptr;
     if (!buffer(bufferIndex, bytes, error)) return false;
-    // The last element's end, in the view and in the buffer, without overflowing.
-    const size_t needed = count == 0 ? 0 : accessorOffset + (count - 1) * stride + element;
-    if (count > 0 &&
-        ((count - 1) > (size_t(1) << 40) / std::max<size_t>(stride, 1) || needed > viewLength ||
-         viewOffset + viewLength > bytes->size() || viewOffset + viewLength < viewOffset)) {
-        error = "its " + std::to_string(count) + " elements run past bufferView " +
-                std::to_string(viewIndex) + " or its buffer";
+    // Every comparison subtracts from a size already known to be larger, so that no offset,
+    // stride or count can wrap round and pass.
+    if (viewOffset > bytes->size() || viewLength > bytes->size() - viewOffset) {
+        error = viewName + " (byteOffset " + std::to_string(viewOffset) + ", byteLength " +
+                std::to_string(viewLength) + ") runs past buffer " + std::to_string(bufferIndex) +
+                "'s " + std::to_string(bytes->size()) + " bytes";
+        return false;
+    }
+    if (accessorOffset > viewLength) {
+        error = "its byteOffset " + std::to_string(accessorOffset) + " is past the end of " +
+                viewName + " (" + std::to_string(viewLength) + " bytes)";
+        return false;
+    }
+    const size_t room = viewLength - accessorOffset;
+    if (count > 0 && (element > room || (count - 1) > (room - element) / stride)) {
+        error = "its " + std::to_string(count) + " elements run past " + viewName + " (" +
+                std::to_string(element) + " bytes each, " + std::to_string(stride) +
+                " apart, from byteOffset " + std::to_string(accessorOffset) + " of " +
+                std::to_string(viewLength) + ")";
         return false;
     }
     span.base = bytes->data() + viewOffset + accessorOffset;

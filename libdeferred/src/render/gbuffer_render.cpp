@@ -245,7 +245,7 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
         motion.emplace(m_scene, *m_params.motion, m_camera, m_params.width, m_params.height);
     std::atomic<int> rowsDone{0};
     parallelImageRows(roi, nthreads, [&](OIIO::ROI r) {
-        for (int y = r.ybegin; y < r.yend; ++y) {
+        for (int y = r.ybegin; y < r.yend && !cancelled(); ++y) {
             for (int x = r.xbegin; x < r.xend; ++x) {
                 float* px = static_cast<float*>(dst.pixeladdr(x, y));
                 const PixelRays rays = pixelRays(m_camera, x, y, m_params.width, m_params.height);
@@ -266,6 +266,10 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
                 m_params.progress(float(done) / float(roi.height()));
         }
     });
+    if (cancelled()) {
+        dst.errorfmt("interrupted");
+        return false;
+    }
     return true;
 }
 
@@ -305,7 +309,7 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
     parallelImageRows(roi, nthreads, [&](OIIO::ROI r) {
         std::vector<Layer> layers(size_t(m_params.maxLayers));
         long long local = 0;
-        for (int y = r.ybegin; y < r.yend; ++y) {
+        for (int y = r.ybegin; y < r.yend && !cancelled(); ++y) {
             std::vector<std::uint32_t>& rowCounts = counts[size_t(y - roi.ybegin)];
             std::vector<float>& rowValues = values[size_t(y - roi.ybegin)];
             for (int x = r.xbegin; x < r.xend; ++x) {
@@ -330,6 +334,7 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
         }
         transparent += local;
     });
+    if (cancelled()) return false;
     dst.first.assign(1, 0);
     dst.values.clear();
     for (size_t row = 0; row < counts.size(); ++row) {

@@ -7,6 +7,8 @@
 #include <dhdr/deferred/core/visibility.h>
 #include <dhdr/deferred/gbuffer/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer/gbuffer.h>
+#include <limits>
+#include <optional>
 
 namespace dhdr {
 
@@ -22,6 +24,8 @@ struct ShadingPoint {
     // The material's occlusion (the occlusion channel; 1 without one): it scales ambient,
     // environment and indirect light, never direct light (glTF 2.0 §3.9.3).
     float occlusion = 1.0f;
+    // N was no direction (zero, NaN, ±Inf) and was replaced (GBufferView::at).
+    bool normalRepaired = false;
     float coverage = 0.0f; // the pixel's A
     float depth = 0.0f;    // Z
 };
@@ -70,17 +74,22 @@ public:
         const float* g = channels(x, y, sample);
         ShadingPoint s;
         s.P = glm::vec3(g[m_layout.position], g[m_layout.position + 1], g[m_layout.position + 2]);
-        s.N = glm::normalize(
-            glm::vec3(g[m_layout.normal], g[m_layout.normal + 1], g[m_layout.normal + 2]));
         s.V = glm::vec3(m_camera.toEye(s.P));
-        s.origin.P = s.P;
-        s.origin.Ng = s.N;
+        std::optional<glm::vec3> Ng;
         if (m_layout.geometricNormal >= 0) {
-            const glm::vec3 Ng(g[m_layout.geometricNormal], g[m_layout.geometricNormal + 1],
-                               g[m_layout.geometricNormal + 2]);
-            const float len = glm::length(Ng);
-            if (len > 0.5f && len < 2.0f) s.origin.Ng = Ng / len;
+            const glm::vec3 n(g[m_layout.geometricNormal], g[m_layout.geometricNormal + 1],
+                              g[m_layout.geometricNormal + 2]);
+            const float len = glm::length(n);
+            if (len > 0.5f && len < 2.0f) Ng = n / len;
         }
+        const std::optional<glm::vec3> N = unitDirection(
+            glm::vec3(g[m_layout.normal], g[m_layout.normal + 1], g[m_layout.normal + 2]));
+        // A normal of zero length (NaN or ±Inf read as 0) or none at all is no direction: the
+        // triangle's, else the one facing the eye (docs/gbuffer.md), counted by the caller.
+        s.normalRepaired = !N;
+        s.N = N ? *N : Ng ? *Ng : s.V;
+        s.origin.P = s.P;
+        s.origin.Ng = Ng ? *Ng : s.N;
         s.origin.error = m_layout.positionError >= 0 ? g[m_layout.positionError] : -1.0f;
         if (!(s.origin.error >= 0.0f && s.origin.error < INFINITY))
             s.origin.error = fallbackPositionError(s.P, glm::vec3(m_camera.position));
@@ -117,6 +126,17 @@ public:
     }
 
 private:
+    // `v` scaled to unit length, when it has a direction: finite, not zero. Components whose
+    // squares would overflow or vanish are divided by the largest first.
+    static std::optional<glm::vec3> unitDirection(glm::vec3 v) {
+        const float m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+        if (!(m > 0.0f && m <= std::numeric_limits<float>::max())) return std::nullopt;
+        const float squared = glm::dot(v, v);
+        if (squared >= std::numeric_limits<float>::min() && squared < INFINITY)
+            return glm::normalize(v);
+        return glm::normalize(v / m);
+    }
+
     // `v` in [0, 1], `fallback` for NaN.
     static float unitOr(float v, float fallback) {
         return std::isnan(v) ? fallback : std::clamp(v, 0.0f, 1.0f);

@@ -6,6 +6,7 @@
 // point weighted so that light does not leak through walls.
 #pragma once
 
+#include <atomic>
 #include <dhdr/common/param_table.h>
 #include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/gbuffer/gbuffer_time.h>
@@ -40,6 +41,9 @@ struct ProbeBakeParams {
     // Called with the share of the work done, in [0, 1], from the calling thread, after the
     // rays and after each bounce.
     std::function<void(float)> progress;
+    // Set from another thread to stop early (dhdr.bake_probes on Ctrl-C): probes not begun are
+    // left out and bakeProbes returns false ("interrupted"), the volume to be thrown away.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 // ProbeBakeParams' counts, and the options of dhdr-probes that set them.

@@ -19,6 +19,9 @@ struct LightingStats {
     long long pathRays = 0;
     // Rays of the specular indirect light, and their hits' shadow rays.
     long long specularRays = 0;
+    // Covered samples whose normal was no direction (zero, NaN, ±Inf) and was replaced
+    // (GBufferView::at): the tools warn.
+    long long repairedNormals = 0;
 
     LightingStats& operator+=(const LightingStats& o) {
         lightEvaluations += o.lightEvaluations;
@@ -30,6 +33,7 @@ struct LightingStats {
         bounceRays += o.bounceRays;
         pathRays += o.pathRays;
         specularRays += o.specularRays;
+        repairedNormals += o.repairedNormals;
         return *this;
     }
 };

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <atomic>
 #include <dhdr/common/param_table.h>
 #include <dhdr/deferred/scene/camera.h>
 #include <dhdr/deferred/scene/frame_motion.h>
@@ -34,6 +35,9 @@ struct GBufferParams {
     // Called now and then from the rendering threads with the fraction of rows done of the
     // region being rendered, in [0, 1].
     std::function<void(float)> progress;
+    // Set from another thread to stop early (dhdr.render_gbuffer on Ctrl-C): rows not begun
+    // are left out and render/renderDeep return false, their output to be thrown away.
+    const std::atomic<bool>* cancel = nullptr;
     // With animation: the scene one frame before and one after, for the motion layer
     // (gbuffer::kMotion, docs/animation.md); null (the default) writes none.
     std::shared_ptr<const FrameMotion> motion;
@@ -96,6 +100,10 @@ public:
                     long long* transparentSamples = nullptr) const;
 
 private:
+    bool cancelled() const {
+        return m_params.cancel && m_params.cancel->load(std::memory_order_relaxed);
+    }
+
     const Scene& m_scene;
     const Camera& m_camera;
     GBufferParams m_params;
