@@ -18,7 +18,7 @@ struct TextureSampler {
 };
 
 // How a lookup is filtered over the pixel's footprint in the texture, where one is known
-// (GBufferParams::textureFilter): today's single bilinear lookup of the full-size image; the
+// (GBufferParams::textureFilter): one bilinear lookup of the full-size image at its centre; the
 // mip level whose texels match the footprint's longer side, blended with the next (trilinear,
 // as GPUs and OpenImageIO's TextureSystem do by default); or up to 8 trilinear lookups along
 // the footprint's longer axis at the level of its shorter one (anisotropic).
