@@ -72,28 +72,36 @@ int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int
     return n;
 }
 
-// A pixel's primary ray and the rays through its neighbours across and down, which give its
-// footprint in the textures.
-struct PixelRays {
-    Ray centre, across, down;
+// Where a sample's primary ray came from: the camera and the pixel, whose neighbours' rays give
+// the footprint of the pixel in the textures.
+struct PixelOf {
+    const Camera& camera;
+    int x, y, width, height;
 };
 
-PixelRays pixelRays(const Camera& camera, int x, int y, int width, int height) {
-    return {camera.primaryRay(x, y, width, height), camera.primaryRay(x + 1, y, width, height),
-            camera.primaryRay(x, y + 1, width, height)};
+bool textured(const Material& m) {
+    for (const TextureRef* t : {&m.baseColorTexture, &m.emissiveTexture,
+                                &m.metallicRoughnessTexture, &m.occlusionTexture, &m.normalTexture})
+        if (t->texture >= 0) return true;
+    return false;
 }
 
 // The contract's channels of a hit, where `layout` places them (a flat or a deep sample); its
 // textures filtered over the pixel's footprint as `filter` says.
 void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuffer::Layout& layout,
-                const CryptoIds& crypto, const PixelRays& rays, TextureFilter filter,
+                const CryptoIds& crypto, const Ray& ray, const PixelOf& pixel, TextureFilter filter,
                 const RayHit& hit, float alpha, float* out) {
-    const Ray& ray = rays.centre;
     UvFootprint footprint;
-    if (filter != TextureFilter::Bilinear)
-        footprint = uvFootprint(scene, hit, rays.centre, rays.across, rays.down, filter);
-    const SurfaceSample s =
-        surfaceAt(scene, ray, hit, filter != TextureFilter::Bilinear ? &footprint : nullptr);
+    const bool filtered =
+        filter != TextureFilter::Bilinear && hit.mesh != kGroundPlaneHit &&
+        textured(scene.materials[size_t(scene.meshes[size_t(hit.mesh)].material)]);
+    if (filtered) {
+        const PixelOf& p = pixel;
+        footprint =
+            uvFootprint(scene, hit, ray, p.camera.primaryRay(p.x + 1, p.y, p.width, p.height),
+                        p.camera.primaryRay(p.x, p.y + 1, p.width, p.height), filter);
+    }
+    const SurfaceSample s = surfaceAt(scene, ray, hit, filtered ? &footprint : nullptr);
     const bool ground = hit.mesh == kGroundPlaneHit;
     const int object = ground ? scene.groundObject : scene.meshes[size_t(hit.mesh)].object;
     const int material = ground ? scene.groundMaterial : scene.meshes[size_t(hit.mesh)].material;
@@ -248,8 +256,8 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
         for (int y = r.ybegin; y < r.yend && !cancelled(); ++y) {
             for (int x = r.xbegin; x < r.xend; ++x) {
                 float* px = static_cast<float*>(dst.pixeladdr(x, y));
-                const PixelRays rays = pixelRays(m_camera, x, y, m_params.width, m_params.height);
-                const Ray& ray = rays.centre;
+                const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
+                const PixelOf pixel{m_camera, x, y, m_params.width, m_params.height};
                 Layer front;
                 if (traceLayers(m_scene, *m_caster, ray, 1, &front, true) == 0) {
                     std::fill(px, px + nch, 0.0f);
@@ -257,8 +265,8 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
                     if (motion) motion->at(ray, RayHit{}, px + nch - 4);
                     continue;
                 }
-                fillSample(m_scene, worldToCamera, layout, *m_crypto, rays, m_params.textureFilter,
-                           front.hit, 1.0f, px);
+                fillSample(m_scene, worldToCamera, layout, *m_crypto, ray, pixel,
+                           m_params.textureFilter, front.hit, 1.0f, px);
                 if (motion) motion->at(ray, front.hit, px + nch - 4);
             }
             const int done = ++rowsDone;
@@ -313,14 +321,14 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
             std::vector<std::uint32_t>& rowCounts = counts[size_t(y - roi.ybegin)];
             std::vector<float>& rowValues = values[size_t(y - roi.ybegin)];
             for (int x = r.xbegin; x < r.xend; ++x) {
-                const PixelRays rays = pixelRays(m_camera, x, y, m_params.width, m_params.height);
-                const Ray& ray = rays.centre;
+                const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
+                const PixelOf pixel{m_camera, x, y, m_params.width, m_params.height};
                 const int n =
                     traceLayers(m_scene, *m_caster, ray, m_params.maxLayers, layers.data());
                 rowCounts.push_back(std::uint32_t(n));
                 for (int k = 0; k < n; ++k) {
                     rowValues.resize(rowValues.size() + nch);
-                    fillSample(m_scene, worldToCamera, layout, *m_crypto, rays,
+                    fillSample(m_scene, worldToCamera, layout, *m_crypto, ray, pixel,
                                m_params.textureFilter, layers[size_t(k)].hit,
                                layers[size_t(k)].alpha, &rowValues[rowValues.size() - nch]);
                     if (motion)
