@@ -14,6 +14,7 @@
 #include <dhdr/io/deep_exr.h>
 #include <dhdr/io/exr_header.h>
 #include <dhdr/io/layers.h>
+#include <dhdr/io/pixel_limit.h>
 #include <dhdr/io/sanitize.h>
 #include <filesystem>
 #include <fstream>
@@ -195,6 +196,33 @@ bool Tool::readColour(const std::string& path, const std::string& layer, bool ke
         return false;
     }
     return true;
+}
+
+int Tool::findPart(const std::string& path,
+                   const std::function<bool(const OIIO::ImageSpec&)>& wanted,
+                   OIIO::ImageSpec& spec) const {
+    if (!std::filesystem::exists(path)) {
+        fail(path + ": no such file");
+        return -1;
+    }
+    std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::open(path);
+    if (!in) {
+        fail(path + ": cannot read: " + OIIO::geterror());
+        return -1;
+    }
+    int part = 0;
+    for (int s = 0; in->seek_subimage(s, 0); ++s)
+        if (wanted(in->spec())) {
+            part = s;
+            break;
+        }
+    in->seek_subimage(part, 0);
+    spec = in->spec();
+    if (const std::string e = pixelLimitError(spec.width, spec.height, spec.depth); !e.empty()) {
+        fail(path + ": " + e);
+        return -1;
+    }
+    return part;
 }
 
 bool hasSurface(const OIIO::ImageBuf& image, OIIO::ROI roi) {

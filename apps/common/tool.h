@@ -68,6 +68,10 @@ public:
     // Opens the colour of `path` (as readColour finds it) for reading strip by strip.
     bool openColour(const std::string& path, const std::string& layer, bool keepOthers,
                     ColourStripReader& reader) const;
+    // The first part of `path` whose spec `wanted` accepts (part 0 when none does), its size
+    // checked against the pixel limits: its index and spec, or -1 after the tool's error.
+    int findPart(const std::string& path, const std::function<bool(const OIIO::ImageSpec&)>& wanted,
+                 OIIO::ImageSpec& spec) const;
     // Warns that `path` has no surface in view (its alpha is 0 everywhere: hasSurface).
     void warnNoSurface(const std::string& path) const;
     // One warning line with the counts of non-finite (and with `zeroNegative` negative)

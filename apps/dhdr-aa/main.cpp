@@ -12,7 +12,6 @@
 #include <dhdr/io/strip_pipeline.h>
 #include <dhdr/io/strip_reader.h>
 #include <dhdr/tonemap/edge_aa.h>
-#include <filesystem>
 #include <memory>
 
 using namespace dhdr;
@@ -54,38 +53,22 @@ const std::vector<std::string> kGeometryChannels = {gbuffer::kDepth, gbuffer::kN
 // holding Z or N.* (a multi-part G-buffer), a deep one's front surfaces. False after the
 // tool's error.
 bool openGeometry(const app::Tool& tool, const std::string& geometryPath, StripReader& gbuffer) {
-    if (!std::filesystem::exists(geometryPath)) {
-        tool.fail(geometryPath + ": no such file");
-        return false;
-    }
-    std::unique_ptr<OIIO::ImageInput> probe = OIIO::ImageInput::open(geometryPath);
-    if (!probe) {
-        tool.fail(geometryPath + ": cannot read: " + OIIO::geterror());
-        return false;
-    }
-    int part = 0;
-    for (int s = 0; probe->seek_subimage(s, 0); ++s) {
-        const OIIO::ImageSpec& spec = probe->spec();
-        if (std::any_of(kGeometryChannels.begin(), kGeometryChannels.end(),
-                        [&](const std::string& n) { return spec.channelindex(n) >= 0; })) {
-            part = s;
-            break;
-        }
-    }
-    probe->seek_subimage(part, 0);
-    if (const std::string e =
-            pixelLimitError(probe->spec().width, probe->spec().height, probe->spec().depth);
-        !e.empty()) {
-        tool.fail(geometryPath + ": " + e);
-        return false;
-    }
-    int chbegin = probe->spec().nchannels, chend = 0;
+    OIIO::ImageSpec spec;
+    const int part = tool.findPart(
+        geometryPath,
+        [](const OIIO::ImageSpec& spec) {
+            return std::any_of(kGeometryChannels.begin(), kGeometryChannels.end(),
+                               [&](const std::string& n) { return spec.channelindex(n) >= 0; });
+        },
+        spec);
+    if (part < 0) return false;
+    int chbegin = spec.nchannels, chend = 0;
     for (const std::string& name : kGeometryChannels)
-        if (const int c = probe->spec().channelindex(name); c >= 0) {
+        if (const int c = spec.channelindex(name); c >= 0) {
             chbegin = std::min(chbegin, c);
             chend = std::max(chend, c + 1);
         }
-    if (chend <= chbegin) chbegin = 0, chend = probe->spec().nchannels;
+    if (chend <= chbegin) chbegin = 0, chend = spec.nchannels;
     std::string error;
     if (!gbuffer.open(geometryPath, part, chbegin, chend, tool.threads(), error, true)) {
         tool.fail(cannotRead(geometryPath, error));

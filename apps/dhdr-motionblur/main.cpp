@@ -9,11 +9,9 @@
 #include <dhdr/io/errors.h>
 #include <dhdr/io/layers.h>
 #include <dhdr/io/motion_channels.h>
-#include <dhdr/io/pixel_limit.h>
 #include <dhdr/io/strip_pipeline.h>
 #include <dhdr/io/strip_reader.h>
 #include <dhdr/tonemap/motion_blur.h>
-#include <filesystem>
 #include <memory>
 
 using namespace dhdr;
@@ -23,27 +21,11 @@ namespace {
 // The part of `path` that holds motion channels (a multi-part file), and its spec.
 bool openGeometry(app::Tool& tool, const std::string& path, StripReader& reader,
                   MotionChannels& channels) {
-    if (!std::filesystem::exists(path)) {
-        tool.fail(path + ": no such file");
-        return false;
-    }
-    std::unique_ptr<OIIO::ImageInput> probe = OIIO::ImageInput::open(path);
-    if (!probe) {
-        tool.fail(path + ": cannot read: " + OIIO::geterror());
-        return false;
-    }
-    int part = 0;
-    for (int s = 0; probe->seek_subimage(s, 0); ++s)
-        if (findMotionChannels(probe->spec()).motion >= 0) {
-            part = s;
-            break;
-        }
-    probe->seek_subimage(part, 0);
-    const OIIO::ImageSpec spec = probe->spec();
-    if (const std::string e = pixelLimitError(spec.width, spec.height, spec.depth); !e.empty()) {
-        tool.fail(path + ": " + e);
-        return false;
-    }
+    OIIO::ImageSpec spec;
+    const int part = tool.findPart(
+        path, [](const OIIO::ImageSpec& spec) { return findMotionChannels(spec).motion >= 0; },
+        spec);
+    if (part < 0) return false;
     channels = findMotionChannels(spec);
     if (channels.motion < 0) {
         tool.fail(path + ": no motion channels (motion.X motion.Y motion.Z motion.W, or "

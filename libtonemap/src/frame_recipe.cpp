@@ -94,18 +94,34 @@ OIIO::ImageSpec displaySpec(const OIIO::ImageSpec& hdr, OIIO::TypeDesc type) {
     return spec;
 }
 
-bool toneMapFrame(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const FrameRecipe& recipe,
-                  OIIO::ROI roi, int nthreads) {
+namespace {
+
+// The recipe's steps after the first: `fill` writes the linear frame into the thread's scratch
+// (every channel of `src`, so that the display transform steps over the pixels as it would
+// over `src` itself), which is then encoded into `dst`.
+template <class Fill>
+bool throughScratch(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const FrameRecipe& recipe,
+                    OIIO::ROI roi, int nthreads, Fill fill) {
     if (!prepareDisplayDst(dst, src, recipe, roi)) return false;
     OIIO::ImageBuf& linear = scratch();
     fitScratch(linear, src.spec(), roi);
     OIIO::ROI all = roi;
     all.chend = src.nchannels();
-    if (!toneMap(linear, src, recipe.toneMap, all, nthreads)) {
+    if (!fill(linear, all)) {
         dst.errorfmt("{}", linear.geterror());
         return false;
     }
     return encodeInPlace(dst, linear, recipe, roi, nthreads);
+}
+
+} // namespace
+
+bool toneMapFrame(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const FrameRecipe& recipe,
+                  OIIO::ROI roi, int nthreads) {
+    return throughScratch(dst, src, recipe, roi, nthreads,
+                          [&](OIIO::ImageBuf& linear, OIIO::ROI all) {
+                              return toneMap(linear, src, recipe.toneMap, all, nthreads);
+                          });
 }
 
 OIIO::ImageBuf toneMapFrame(const OIIO::ImageBuf& src, const FrameRecipe& recipe, OIIO::ROI roi,
@@ -117,18 +133,10 @@ OIIO::ImageBuf toneMapFrame(const OIIO::ImageBuf& src, const FrameRecipe& recipe
 
 bool encodeFrame(OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, const FrameRecipe& recipe,
                  OIIO::ROI roi, int nthreads) {
-    if (!prepareDisplayDst(dst, src, recipe, roi)) return false;
-    // Every channel of `src`, so that the display transform steps over the pixels as it
-    // would over `src` itself.
-    OIIO::ImageBuf& linear = scratch();
-    fitScratch(linear, src.spec(), roi);
-    OIIO::ROI all = roi;
-    all.chend = src.nchannels();
-    if (!OIIO::ImageBufAlgo::copy(linear, src, OIIO::TypeUnknown, all, nthreads)) {
-        dst.errorfmt("{}", linear.geterror());
-        return false;
-    }
-    return encodeInPlace(dst, linear, recipe, roi, nthreads);
+    return throughScratch(
+        dst, src, recipe, roi, nthreads, [&](OIIO::ImageBuf& linear, OIIO::ROI all) {
+            return OIIO::ImageBufAlgo::copy(linear, src, OIIO::TypeUnknown, all, nthreads);
+        });
 }
 
 } // namespace dhdr
