@@ -74,7 +74,20 @@ protected:
     }
 
     std::string m_err;
+
+public:
+    static nlohmann::json squareDoc() { return square(); }
 };
+
+// KHR_materials_clearcoat: a square coated with `coat` over `base` (glTF material JSON).
+nlohmann::json coated(const nlohmann::json& coat, const nlohmann::json& pbr) {
+    nlohmann::json doc = Materials::squareDoc();
+    doc["materials"][0]["pbrMetallicRoughness"] = pbr;
+    doc["materials"][0]["extensions"] = {{"KHR_materials_clearcoat", coat},
+                                         {"KHR_materials_specular", {{"specularFactor", 0.0}}}};
+    doc["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_materials_specular"};
+    return doc;
+}
 
 // Each wrap mode against OpenGL's rule for the texel index i of u on a 4-texel row (NEAREST,
 // so that every pixel is one texel): REPEAT i mod 4, MIRRORED_REPEAT the period-8 mirror,
@@ -282,6 +295,93 @@ TEST_F(Materials, UvSetsPastTheSecondAreNamed) {
     const ImageBuf g = gbuffer("uv7", doc);
     EXPECT_NE(m_err.find("past TEXCOORD_1"), std::string::npos) << m_err;
     EXPECT_EQ(channel(g, 32, 32, "albedo.R"), 1.0f);
+}
+
+// The coat's channels: its factors × textures (R weight, G roughness), and its normal, the
+// interpolated one (no clearcoat normal map); none of them in a G-buffer without a coat.
+TEST_F(Materials, ClearcoatChannelsAreFactorsTimesTextures) {
+    writePng("coat.png", {{128, 64, 255, 255}});
+    nlohmann::json doc = coated({{"clearcoatFactor", 0.8},
+                                 {"clearcoatTexture", {{"index", 0}}},
+                                 {"clearcoatRoughnessFactor", 0.5},
+                                 {"clearcoatRoughnessTexture", {{"index", 0}}}},
+                                {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0.0}});
+    doc["images"] = {{{"uri", "coat.png"}}};
+    doc["textures"] = {{{"source", 0}}};
+    const ImageBuf g = gbuffer("coat_channels", doc);
+    EXPECT_EQ(m_err.find("not read"), std::string::npos) << m_err;
+    EXPECT_NEAR(channel(g, 32, 32, "clearcoat"), 0.8 * 128.0 / 255.0, 1e-3);
+    EXPECT_NEAR(channel(g, 32, 32, "clearcoatRoughness"), 0.5 * 64.0 / 255.0, 1e-3);
+    for (const char* axis : {"X", "Y", "Z"})
+        EXPECT_EQ(channel(g, 32, 32, (std::string("clearcoatN.") + axis).c_str()),
+                  channel(g, 32, 32, (std::string("N.") + axis).c_str()))
+            << axis;
+    const ImageBuf plain = gbuffer("coat_plain", square());
+    EXPECT_LT(plain.spec().channelindex("clearcoat"), 0);
+    EXPECT_LT(plain.spec().channelindex("clearcoatN.X"), 0);
+}
+
+// A coat over a Lambert base (specularFactor 0: no base lobe), lit by a directional light of
+// illuminance π from 45°: KHR_materials_clearcoat's mix(material, clearcoat_brdf, b),
+// b = clearcoat (0.04 + 0.96 (1 − V·Nc)⁵), clearcoat_brdf = D G / (4 |V·Nc| |L·Nc|), computed
+// here in double from the G-buffer's own point and roughness. The same from a deep G-buffer,
+// whose reader once dropped every channel written only when used.
+TEST_F(Materials, ClearcoatLayersItsLobeOverTheBase) {
+    const nlohmann::json doc =
+        coated({{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 0.3}},
+               {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 0.0}});
+    const ImageBuf g = gbuffer("coat_lit", doc);
+    gbuffer("coat_deep", doc, "--deep");
+    std::ofstream(path("coat_sun.json"))
+        << R"({"lights": [{"type": "directional", "direction": [-0.70710678, 0, -0.70710678], "intensity": 3.14159265358979}]})";
+    for (const std::string in : {"coat_lit", "coat_deep"}) {
+        const Result r = run("dhdr-light " + path(in + ".exr") + " --lights " +
+                             path("coat_sun.json") + " -o " + path(in + "_out.exr"));
+        ASSERT_EQ(r.status, 0) << r.err;
+    }
+    const ImageBuf lit = read("coat_lit_out.exr");
+    const ImageBuf deep = read("coat_deep_out.exr"); // dhdr-light's frame of the deep samples
+    for (const int x : {32, 46}) {
+        const glm::dvec3 P(channel(g, x, 32, "P.X"), channel(g, x, 32, "P.Y"),
+                           channel(g, x, 32, "P.Z"));
+        const glm::dvec3 V = glm::normalize(glm::dvec3(0, 0, 3) - P), N(0, 0, 1);
+        const glm::dvec3 L = glm::normalize(glm::dvec3(1, 0, 1));
+        const glm::dvec3 H = glm::normalize(L + V);
+        const double a = std::pow(double(channel(g, x, 32, "clearcoatRoughness")), 2.0);
+        const double a2 = a * a, nh = glm::dot(N, H), nl = glm::dot(N, L), nv = glm::dot(N, V);
+        const double D = a2 / (M_PI * std::pow(nh * nh * (a2 - 1.0) + 1.0, 2.0));
+        const double vis = 0.5 / (nl * std::sqrt(nv * nv * (1.0 - a2) + a2) +
+                                  nv * std::sqrt(nl * nl * (1.0 - a2) + a2));
+        const double b = 0.04 + 0.96 * std::pow(1.0 - nv, 5.0);
+        const double expected = ((1.0 - b) * 0.5 / M_PI + b * D * vis) * M_PI * nl;
+        const float* p = static_cast<const float*>(lit.pixeladdr(x, 32));
+        EXPECT_NEAR(p[0], expected, 2e-3 * expected) << x;
+        EXPECT_NEAR(p[2], expected, 2e-3 * expected) << x;
+        EXPECT_NEAR(static_cast<const float*>(deep.pixeladdr(x, 32))[0], expected, 2e-3 * expected)
+            << x << " deep";
+    }
+}
+
+// Under a uniform ambient light of radiance 1 the coat's lobe reflects all it receives
+// (its multiple scattering kept): Lo = (1 − b) · albedo + b.
+TEST_F(Materials, ClearcoatUnderUniformLightKeepsItsEnergy) {
+    const ImageBuf g = gbuffer(
+        "coat_amb", coated({{"clearcoatFactor", 1.0}, {"clearcoatRoughnessFactor", 0.6}},
+                           {{"baseColorFactor", {0.25, 0.25, 0.25, 1}}, {"metallicFactor", 0.0}}));
+    std::ofstream(path("coat_ambient.json"))
+        << R"({"lights": [{"type": "ambient", "color": [1, 1, 1], "intensity": 1}]})";
+    const Result r = run("dhdr-light " + path("coat_amb.exr") + " --lights " +
+                         path("coat_ambient.json") + " -o " + path("coat_amb_out.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const ImageBuf lit = read("coat_amb_out.exr");
+    for (const int x : {20, 46}) {
+        const glm::dvec3 P(channel(g, x, 32, "P.X"), channel(g, x, 32, "P.Y"),
+                           channel(g, x, 32, "P.Z"));
+        const double nv = glm::normalize(glm::dvec3(0, 0, 3) - P).z;
+        const double b = 0.04 + 0.96 * std::pow(1.0 - nv, 5.0);
+        const double expected = (1.0 - b) * 0.25 + b;
+        EXPECT_NEAR(static_cast<const float*>(lit.pixeladdr(x, 32))[1], expected, 3e-3) << x;
+    }
 }
 
 } // namespace

@@ -207,6 +207,35 @@ TEST(PathTracer, WhiteFurnaceIsOneEverywhere) {
     EXPECT_LT(worst, 0.2);
 }
 
+// The same furnace with every surface clearcoated (KHR_materials_clearcoat, weight 1,
+// roughness 0.1): (1 − b) · 1 + b · 1 is still 1, but only if the coat's lobe, sampled as a
+// third technique, is weighed by the density it was drawn with (the mean within 1 %).
+TEST(PathTracer, WhiteFurnaceUnderAClearcoatIsOne) {
+    Scene scene = emptyScene();
+    scene.materials[0].baseColor = glm::vec3(1.0f);
+    scene.materials[0].metallic = 1.0f;
+    scene.materials[0].roughness = 0.6f;
+    scene.materials[0].clearcoat = 1.0f;
+    scene.materials[0].clearcoatRoughness = 0.1f;
+    addFloor(scene, 2.0f);
+    addBox(scene, {-0.4f, 0.0f, -0.4f}, {0.4f, 0.8f, 0.4f});
+    const Camera camera = Camera::lookAt({0.5, 1.2, 2.5}, {0.0, 0.4, 0.0}, {0, 1, 0}, 0.9);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 32, 24);
+    ASSERT_GE(gbuf.spec().channelindex("clearcoat"), 0);
+    const RayCaster caster(scene);
+    const ImageBuf lit = pathTraced(gbuf, {uniformSky()}, caster, 256, 16);
+    double sum = 0.0;
+    int n = 0;
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 32; ++x)
+            if (covered(gbuf, x, y))
+                for (int c = 0; c < 3; ++c, ++n)
+                    sum += px(lit, x, y)[c];
+    std::printf("coated white furnace: mean %.4f\n", sum / n);
+    EXPECT_GT(n, 3 * 300);
+    EXPECT_NEAR(sum / n, 1.0, 0.01);
+}
+
 // One bounce: a wall at x = d (2 × 4 m, facing −x) lit head-on by a sun travelling +x, which
 // grazes the floor and lights it not at all. A floor point's radiance towards the camera is
 // then ∫_wall f_floor(V, ω) L_wall(−ω) cos θ dω with L_wall(−ω) = f_wall(−ω, −sun) E: a

@@ -72,6 +72,25 @@ float filteredNormalRoughness(float roughness, const glm::vec4& texel, float uni
     return float(std::sqrt(std::sqrt(widened)));
 }
 
+// KHR_materials_clearcoat's textures: the weight (R), roughness (G) and the coat's own normal
+// map, in the base's tangent frame.
+void applyClearcoat(const Scene& scene, const Mesh& mesh, int triangle, double w1, double w2,
+                    const Ray& ray, const MeshUvs& uvs, SurfaceSample& s) {
+    const Material& m = *s.material;
+    if (m.clearcoatTexture.texture >= 0)
+        s.clearcoat *= sampleTexture(scene, m.clearcoatTexture, uvs).r;
+    if (m.clearcoatRoughnessTexture.texture >= 0)
+        s.clearcoatRoughness *= sampleTexture(scene, m.clearcoatRoughnessTexture, uvs).g;
+    if (m.clearcoatNormalTexture.texture >= 0 && !mesh.tangents.empty()) {
+        const glm::uvec3 tri = mesh.triangles[size_t(triangle)];
+        const glm::vec4 texel = sampleTexture(scene, m.clearcoatNormalTexture, uvs);
+        SurfaceSample unmapped = s;
+        unmapped.normal = s.interpolated;
+        s.clearcoatNormal = mappedNormal(mesh, tri, 1.0 - w1 - w2, w1, w2, texel,
+                                         double(m.clearcoatNormalScale), unmapped, ray.direction);
+    }
+}
+
 // The material's factors at the hit times its textures (on their UV sets) and the vertex
 // colour, into `s`.
 void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1, double w2,
@@ -84,6 +103,9 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
     s.metallic = m.metallic;
     s.dielectricF0 = m.dielectricF0();
     s.dielectricF90 = m.dielectricF90();
+    s.clearcoat = m.clearcoat;
+    s.clearcoatRoughness = m.clearcoatRoughness;
+    s.clearcoatNormal = s.interpolated;
     if (mesh.uvs.empty()) return;
     MeshUvs uvs = meshUvs(mesh, triangle, w1, w2);
     uvs.footprint = footprint;
@@ -97,6 +119,7 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
     }
     if (m.occlusionTexture.texture >= 0)
         s.occlusion = 1.0f + m.occlusionStrength * (sample(m.occlusionTexture).r - 1.0f);
+    if (m.clearcoat > 0.0f) applyClearcoat(scene, mesh, triangle, w1, w2, ray, uvs, s);
     if (m.normalTexture.texture >= 0 && !mesh.tangents.empty()) {
         const glm::uvec3 tri = mesh.triangles[size_t(triangle)];
         const glm::vec4 texel = sample(m.normalTexture);

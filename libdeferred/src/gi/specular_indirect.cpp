@@ -26,7 +26,9 @@ glm::vec3 SpecularIndirect::radiance(const LitPoint& p, int x, int y, int k, int
     glm::vec3 t, b;
     orthonormalBasis(p.N, t, b);
     const glm::vec3 Vlocal(glm::dot(p.V, t), glm::dot(p.V, b), NdotV);
-    const float alpha = p.surface.alpha();
+    // The base's lobe, under its coat: the coat reflects environments only (shadeEnvironment).
+    const PbrSurface base = p.surface.uncoated();
+    const float alpha = base.alpha();
     const RotatedHammersley sequence(
         sampleSeed(x, y, -4, streamOf(SampleStream::SpecularIndirect, k)));
     const std::int64_t hits =
@@ -42,13 +44,14 @@ glm::vec3 SpecularIndirect::radiance(const LitPoint& p, int x, int y, int k, int
         const float NdotH = std::max(glm::dot(p.N, H), 0.0f);
         const float pdf = ggxVisibleNormalReflectionPdf(NdotV, NdotH, alpha);
         if (!(pdf > 0.0f)) continue;
-        const glm::vec3 f = specularBrdf(p.surface, p.N, p.V, wi);
+        const glm::vec3 f = specularBrdf(base, p.N, p.V, wi);
         const Ray ray{glm::dvec3(offsetRayOrigin(p.origin, wi)), glm::dvec3(wi)};
         const glm::vec3 L =
             m_hits.trace(ray, SeedKey{hits, i, streamOf(SampleStream::BounceShadow, k)}, rays);
         sum += glm::dvec3(f * (NdotL / pdf) * L);
     }
-    return glm::vec3(sum / double(samples));
+    const glm::vec3 L(sum / double(samples));
+    return p.surface.coated() ? L * (1.0f - p.surface.coatBlend(p.V)) : L;
 }
 
 } // namespace dhdr

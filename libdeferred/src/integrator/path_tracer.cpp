@@ -15,6 +15,7 @@ struct PathTracer::Vertex {
     glm::vec3 P, N, V;
     SurfacePoint origin;
     float specularChance = 0.5f; // the share of BRDF samples drawn from the GGX lobe
+    float coatChance = 0.0f;     // the share drawn first from a clearcoat's lobe
 };
 
 // Counter-based numbers: the i-th of a path is a hash of its seed and i, so that a path's
@@ -60,16 +61,44 @@ float specularChance(const PbrSurface& s, float NdotV) {
     return std::clamp(specular / (specular + diffuse), 0.1f, 0.9f);
 }
 
-// The density of the BRDF sampling below for direction wi: the mixture of the GGX visible-
-// normal reflection and the cosine.
-float bsdfPdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V, const glm::vec3& wi,
-              float specularChance) {
+// A clearcoat's share of BRDF samples: its layer weight towards V, within [0.1, 0.5].
+float coatChance(const PbrSurface& s, const glm::vec3& V) {
+    return s.coated() ? std::clamp(s.coatBlend(V), 0.1f, 0.5f) : 0.0f;
+}
+
+// The density of reflecting V about GGX visible normals of roughness α around N, towards wi.
+float ggxReflectionPdf(const glm::vec3& N, const glm::vec3& V, const glm::vec3& wi, float alpha) {
     const float NdotL = glm::dot(N, wi), NdotV = glm::dot(N, V);
     if (!(NdotL > 0.0f) || !(NdotV > 0.0f)) return 0.0f;
-    const glm::vec3 H = glm::normalize(wi + V);
-    const float NdotH = std::max(glm::dot(N, H), 0.0f);
-    return specularChance * ggxVisibleNormalReflectionPdf(NdotV, NdotH, s.alpha()) +
-           (1.0f - specularChance) * NdotL / kPi;
+    const float NdotH = std::max(glm::dot(N, glm::normalize(wi + V)), 0.0f);
+    return ggxVisibleNormalReflectionPdf(NdotV, NdotH, alpha);
+}
+
+// The density of the BRDF sampling below for direction wi: the mixture of the GGX visible-
+// normal reflection and the cosine, under a clearcoat's lobe (coatChance) where there is one.
+float bsdfPdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V, const glm::vec3& wi,
+              float specularChance, float coat) {
+    const float NdotL = glm::dot(N, wi), NdotV = glm::dot(N, V);
+    float base = 0.0f;
+    if (NdotL > 0.0f && NdotV > 0.0f) {
+        const glm::vec3 H = glm::normalize(wi + V);
+        const float NdotH = std::max(glm::dot(N, H), 0.0f);
+        base = specularChance * ggxVisibleNormalReflectionPdf(NdotV, NdotH, s.alpha()) +
+               (1.0f - specularChance) * NdotL / kPi;
+    }
+    if (!(coat > 0.0f)) return base;
+    return coat * ggxReflectionPdf(s.coat.normal, V, wi, s.coatLobe().alpha()) +
+           (1.0f - coat) * base;
+}
+
+// Reflects V about a GGX visible normal of roughness α around the unit normal N (u in [0, 1)²).
+glm::vec3 sampleGgxReflection(const glm::vec3& N, const glm::vec3& V, float alpha, glm::vec2 u) {
+    glm::vec3 t, b;
+    orthonormalBasis(N, t, b);
+    const glm::vec3 h = sampleGgxVisibleNormal(
+        glm::vec3(glm::dot(V, t), glm::dot(V, b), std::max(glm::dot(N, V), 1e-6f)), alpha, u);
+    const glm::vec3 H = glm::normalize(h.x * t + h.y * b + h.z * N);
+    return 2.0f * glm::dot(V, H) * H - V;
 }
 
 } // namespace
@@ -95,10 +124,10 @@ glm::vec3 PathTracer::sampleLights(const Vertex& v, Random& random, long long& r
         // The environment as the BRDF-sampled rays see it (full resolution), so that both
         // techniques estimate the same integral.
         if (isEnvironment(light)) s.L = environmentRadiance(light, s.wi);
-        const float weight =
-            !s.delta && reachableByRays(light)
-                ? powerHeuristic(s.pdf, bsdfPdf(v.surface, v.N, v.V, s.wi, v.specularChance))
-                : 1.0f;
+        const float weight = !s.delta && reachableByRays(light)
+                                 ? powerHeuristic(s.pdf, bsdfPdf(v.surface, v.N, v.V, s.wi,
+                                                                 v.specularChance, v.coatChance))
+                                 : 1.0f;
         if (!(weight > 0.0f) || s.L == glm::vec3(0.0f)) continue;
         ++rays;
         const float visible = m_caster.transmittance(offsetRayOrigin(v.origin, s.wi), s.wi,
@@ -138,14 +167,19 @@ glm::vec3 PathTracer::path(const LitPoint& first, Random& random, long long& ray
         const float NdotV = glm::dot(v.N, v.V);
         if (!(NdotV > 0.0f)) break;
         v.specularChance = specularChance(v.surface, NdotV);
+        v.coatChance = coatChance(v.surface, v.V);
         L += beta * sampleLights(v, random, rays);
         // The BRDF's own sample: the next vertex, or the lights at infinity on a miss.
         glm::vec3 t, b;
         orthonormalBasis(v.N, t, b);
-        const float lobe = random.next();
+        float lobe = random.next();
         const glm::vec2 u = random.next2();
         glm::vec3 wi;
-        if (lobe < v.specularChance) {
+        const bool coat = lobe < v.coatChance;
+        if (v.coatChance > 0.0f && !coat) lobe = (lobe - v.coatChance) / (1.0f - v.coatChance);
+        if (coat) {
+            wi = sampleGgxReflection(v.surface.coat.normal, v.V, v.surface.coatLobe().alpha(), u);
+        } else if (lobe < v.specularChance) {
             const glm::vec3 h = sampleGgxVisibleNormal(
                 glm::vec3(glm::dot(v.V, t), glm::dot(v.V, b), NdotV), v.surface.alpha(), u);
             const glm::vec3 H = glm::normalize(h.x * t + h.y * b + h.z * v.N);
@@ -156,7 +190,7 @@ glm::vec3 PathTracer::path(const LitPoint& first, Random& random, long long& ray
         }
         const float cosTheta = glm::dot(v.N, wi);
         if (!(cosTheta > 0.0f) || !(glm::dot(v.origin.Ng, wi) > 0.0f)) break;
-        const float pdf = bsdfPdf(v.surface, v.N, v.V, wi, v.specularChance);
+        const float pdf = bsdfPdf(v.surface, v.N, v.V, wi, v.specularChance, v.coatChance);
         if (!(pdf > 0.0f)) break;
         beta *= evaluateBrdf(v.surface, v.N, v.V, wi) * (cosTheta / pdf);
         if (beta == glm::vec3(0.0f)) break;

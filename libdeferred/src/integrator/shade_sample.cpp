@@ -184,6 +184,7 @@ glm::vec3 SampleShader::probeIndirect(const ShadingPoint& sp, const LitPoint& po
                                                point.specularFromProbes, m_inputs.visibility);
         if (m_setup.aoActive) indirect *= occlusion;
         if (sp.occlusion != 1.0f) indirect *= sp.occlusion;
+        if (sp.surface.coated()) indirect *= 1.0f - sp.surface.coatBlend(sp.V);
     }
     return indirect;
 }

@@ -11,6 +11,16 @@ glm::vec3 environmentRadiance(const Light& light, const glm::vec3& d) {
 
 IblShading shadeEnvironment(const Light& light, const PbrSurface& s, const glm::vec3& N,
                             const glm::vec3& V, IblSpecular method, float spread) {
+    if (s.coated()) {
+        // The coat's lobe is specular light (withCoat): it joins the base's specular part.
+        const float b = s.coatBlend(V);
+        IblShading r = shadeEnvironment(light, s.uncoated(), N, V, method, spread);
+        const IblShading c =
+            shadeEnvironment(light, s.coatLobe(), s.coat.normal, V, method, spread);
+        r.diffuse *= 1.0f - b;
+        r.specular = r.specular * (1.0f - b) + (c.diffuse + c.specular) * b;
+        return r;
+    }
     IblShading r = shadeIbl(*light.ibl, s, intoEnvironment(light, N), intoEnvironment(light, V),
                             method, spread);
     const glm::vec3 k = light.color * light.intensity;

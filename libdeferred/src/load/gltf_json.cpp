@@ -257,6 +257,9 @@ GltfTextureInfo textureInfo(const nlohmann::json& info) {
 struct TextureSlots {
     const nlohmann::json *baseColor = nullptr, *metallicRoughness = nullptr, *normal = nullptr,
                          *occlusion = nullptr, *emissive = nullptr;
+    // KHR_materials_clearcoat's.
+    const nlohmann::json *clearcoat = nullptr, *clearcoatRoughness = nullptr,
+                         *clearcoatNormal = nullptr;
 };
 
 TextureSlots textureSlots(const nlohmann::json& m) {
@@ -272,6 +275,14 @@ TextureSlots textureSlots(const nlohmann::json& m) {
     t.normal = at(m, "normalTexture");
     t.occlusion = at(m, "occlusionTexture");
     t.emissive = at(m, "emissiveTexture");
+    if (m.contains("extensions") && m["extensions"].is_object() &&
+        m["extensions"].contains("KHR_materials_clearcoat") &&
+        m["extensions"]["KHR_materials_clearcoat"].is_object()) {
+        const nlohmann::json& c = m["extensions"]["KHR_materials_clearcoat"];
+        t.clearcoat = at(c, "clearcoatTexture");
+        t.clearcoatRoughness = at(c, "clearcoatRoughnessTexture");
+        t.clearcoatNormal = at(c, "clearcoatNormalTexture");
+    }
     return t;
 }
 
@@ -287,9 +298,10 @@ std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann:
         auto info = [](const nlohmann::json* ref) {
             return ref ? textureInfo(*ref) : GltfTextureInfo{};
         };
-        out[m["name"].get<std::string>()] = {info(slots.baseColor), info(slots.emissive),
-                                             info(slots.normal), info(slots.metallicRoughness),
-                                             info(slots.occlusion)};
+        out[m["name"].get<std::string>()] = {
+            info(slots.baseColor),          info(slots.emissive),       info(slots.normal),
+            info(slots.metallicRoughness),  info(slots.occlusion),      info(slots.clearcoat),
+            info(slots.clearcoatRoughness), info(slots.clearcoatNormal)};
     }
     return out;
 }
@@ -346,12 +358,12 @@ bool isGltf1(const nlohmann::json& doc) {
 
 bool gltfExtensionRendered(const nlohmann::json& doc, const std::string& name) {
     // Assimp 5.2 decodes Draco meshes (Debian's is built with libdraco); dhdr reads the others
-    // itself or through Assimp (which reads the clearcoat, sheen, transmission, volume and
+    // itself or through Assimp (which reads the sheen, transmission, volume and
     // specular-glossiness extensions too, but dhdr renders none of them yet).
     static const char* const kGltf2[] = {
-        "KHR_draco_mesh_compression", "KHR_lights_punctual", "KHR_materials_emissive_strength",
-        "KHR_texture_transform",      "KHR_materials_ior",   "KHR_materials_specular",
-        "KHR_materials_unlit"};
+        "KHR_draco_mesh_compression", "KHR_lights_punctual",    "KHR_materials_emissive_strength",
+        "KHR_texture_transform",      "KHR_materials_ior",      "KHR_materials_specular",
+        "KHR_materials_unlit",        "KHR_materials_clearcoat"};
     // Assimp's glTF 1.0 importer reads the binary container and the common materials' colours.
     static const char* const kGltf1[] = {"KHR_binary_glTF", "KHR_materials_common"};
     auto among = [&](const auto& list) {
@@ -448,7 +460,8 @@ std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
         for (const auto& m : doc["materials"]) {
             const TextureSlots t = textureSlots(m);
             for (const nlohmann::json* ref :
-                 {t.baseColor, t.metallicRoughness, t.normal, t.occlusion, t.emissive})
+                 {t.baseColor, t.metallicRoughness, t.normal, t.occlusion, t.emissive, t.clearcoat,
+                  t.clearcoatRoughness, t.clearcoatNormal})
                 if (ref)
                     highestSet =
                         std::max({highestSet, texCoordOf(*ref), textureInfo(*ref).texCoord});

@@ -41,6 +41,7 @@ struct GltfTextureInfo {
 // Those of each texture slot of a material.
 struct GltfMaterialTextures {
     GltfTextureInfo baseColor, emissive, normal, metallicRoughness, occlusion;
+    GltfTextureInfo clearcoat, clearcoatRoughness, clearcoatNormal;
 };
 
 // Per material name, from a .gltf or .glb file; empty for other files.

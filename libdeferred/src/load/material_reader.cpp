@@ -92,11 +92,11 @@ TextureWrap wrapOf(aiTextureMapMode mode) {
 // KHR_texture_transform and its texCoord override from the file (`info`). False when the
 // material has none.
 bool readSlot(const aiMaterial& am, aiTextureType type, const GltfTextureInfo& info, bool srgb,
-              const char* slot, TextureTable& textures, TextureRef& ref) {
+              const char* slot, TextureTable& textures, TextureRef& ref, unsigned index = 0) {
     aiString path;
     unsigned uvIndex = 0;
     aiTextureMapMode modes[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
-    if (am.GetTexture(type, 0, &path, nullptr, &uvIndex, nullptr, nullptr, modes) != AI_SUCCESS)
+    if (am.GetTexture(type, index, &path, nullptr, &uvIndex, nullptr, nullptr, modes) != AI_SUCCESS)
         return false;
     ref.texture = textures.load(path.C_Str(), srgb, slot);
     ref.transform = info.transform;
@@ -108,7 +108,7 @@ bool readSlot(const aiMaterial& am, aiTextureType type, const GltfTextureInfo& i
     int magFilter = 0;
     constexpr int kNearest = 9728; // glTF's (and OpenGL's) NEAREST
     ref.sampler.nearest =
-        am.Get(AI_MATKEY_GLTF_MAPPINGFILTER_MAG(type, 0), magFilter) == AI_SUCCESS &&
+        am.Get(AI_MATKEY_GLTF_MAPPINGFILTER_MAG(type, index), magFilter) == AI_SUCCESS &&
         magFilter == kNearest;
     return true;
 }
@@ -135,6 +135,25 @@ void readTextures(const aiMaterial& am, bool gltf, const GltfMaterialTextures& i
     // The schema's range, [0, 1].
     m.occlusionStrength =
         std::isfinite(m.occlusionStrength) ? std::clamp(m.occlusionStrength, 0.0f, 1.0f) : 1.0f;
+}
+
+// KHR_materials_clearcoat, as Assimp 5.2 reads it: the factors (clamped to the schema's
+// [0, 1]) and the three textures of aiTextureType_CLEARCOAT.
+void readClearcoat(const aiMaterial& am, const GltfMaterialTextures& info, TextureTable& textures,
+                   Material& m) {
+    float factor = 0.0f, roughness = 0.0f;
+    if (am.Get(AI_MATKEY_CLEARCOAT_FACTOR, factor) != AI_SUCCESS || !(factor > 0.0f)) return;
+    am.Get(AI_MATKEY_CLEARCOAT_ROUGHNESS_FACTOR, roughness);
+    m.clearcoat = std::min(factor, 1.0f);
+    m.clearcoatRoughness = std::isfinite(roughness) ? std::clamp(roughness, 0.0f, 1.0f) : 0.0f;
+    readSlot(am, aiTextureType_CLEARCOAT, info.clearcoat, false, "clearcoat", textures,
+             m.clearcoatTexture, 0);
+    readSlot(am, aiTextureType_CLEARCOAT, info.clearcoatRoughness, false, "clearcoat roughness",
+             textures, m.clearcoatRoughnessTexture, 1);
+    if (readSlot(am, aiTextureType_CLEARCOAT, info.clearcoatNormal, false, "clearcoat normal",
+                 textures, m.clearcoatNormalTexture, 2))
+        am.Get(AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_CLEARCOAT, 2), m.clearcoatNormalScale);
+    if (!std::isfinite(m.clearcoatNormalScale)) m.clearcoatNormalScale = 1.0f;
 }
 
 // glTF's dielectric layer: KHR_materials_ior (Assimp 5.2 reports it as AI_MATKEY_REFRACTI),
@@ -179,6 +198,9 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
         const auto t = transforms.find(m.name);
         readTextures(am, gltf, t != transforms.end() ? t->second : GltfMaterialTextures{}, textures,
                      m);
+        if (gltf)
+            readClearcoat(am, t != transforms.end() ? t->second : GltfMaterialTextures{}, textures,
+                          m);
         if (gltf && !readDielectric(am, specular, m))
             specularTextures += (specularTextures.empty() ? "'" : ", '") + m.name + "'";
         scene.materials.push_back(m);

@@ -12,6 +12,7 @@
 #include <dhdr/deferred/geometry/uv_footprint.h>
 #include <dhdr/deferred/render/gbuffer_render.h>
 #include <dhdr/deferred/scene/scene.h>
+#include <dhdr/deferred/scene/scene_info.h>
 #include <limits>
 #include <optional>
 
@@ -80,10 +81,7 @@ struct PixelOf {
 };
 
 bool textured(const Material& m) {
-    for (const TextureRef* t : {&m.baseColorTexture, &m.emissiveTexture,
-                                &m.metallicRoughnessTexture, &m.occlusionTexture, &m.normalTexture})
-        if (t->texture >= 0) return true;
-    return false;
+    return !materialTextures(m).empty();
 }
 
 // The contract's channels of a hit, where `layout` places them (a flat or a deep sample); its
@@ -124,6 +122,12 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
             out[layout.specular + c] = s.dielectricF0[c];
         out[layout.specularWeight] = s.dielectricF90;
     }
+    if (layout.clearcoat >= 0) {
+        out[layout.clearcoat] = s.clearcoat;
+        out[layout.clearcoatRoughness] = s.clearcoatRoughness;
+        for (int c = 0; c < 3; ++c)
+            out[layout.clearcoatNormal + c] = float(s.clearcoatNormal[c]);
+    }
     out[layout.objectId] = float(object + 1);
     out[layout.materialId] = float(material + 1);
     // Cryptomatte: rank 0 is this surface, covering what its alpha covers; rank 1 is empty
@@ -142,6 +146,7 @@ unsigned channelUses(const Scene& scene) {
     for (const Material& m : scene.materials) {
         if (m.occlusionTexture.texture >= 0) uses |= gbuffer::kUsesOcclusion;
         if (m.dielectricSet) uses |= gbuffer::kUsesSpecular;
+        if (m.clearcoat > 0.0f) uses |= gbuffer::kUsesClearcoat;
     }
     return uses;
 }

@@ -26,6 +26,8 @@ std::string describeMaterial(const Scene& scene, int index) {
                (m.alphaMode == AlphaMode::Mask ? format(", cutoff %.3g)", m.alphaCutoff) : ")");
     if (m.emission != glm::vec3(0.0f))
         out += format(", emission (%.3g, %.3g, %.3g)", m.emission.r, m.emission.g, m.emission.b);
+    if (m.clearcoat > 0.0f)
+        out += format(", clearcoat %.3g (roughness %.3g)", m.clearcoat, m.clearcoatRoughness);
     out += "\n";
     std::string textures;
     for (const MaterialTexture& t : materialTextures(m)) {
@@ -76,7 +78,10 @@ std::vector<MaterialTexture> materialTextures(const Material& m) {
         {"emissive", "emissive", &m.emissiveTexture},
         {"normal", "normal", &m.normalTexture},
         {"metallic-roughness", "metallic_roughness", &m.metallicRoughnessTexture},
-        {"occlusion", "occlusion", &m.occlusionTexture}};
+        {"occlusion", "occlusion", &m.occlusionTexture},
+        {"clearcoat", "clearcoat", &m.clearcoatTexture},
+        {"clearcoat roughness", "clearcoat_roughness", &m.clearcoatRoughnessTexture},
+        {"clearcoat normal", "clearcoat_normal", &m.clearcoatNormalTexture}};
     std::vector<MaterialTexture> out;
     for (const MaterialTexture& t : all)
         if (t.ref->texture >= 0) out.push_back(t);

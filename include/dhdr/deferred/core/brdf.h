@@ -52,6 +52,14 @@ enum class DiffuseModel {
     Burley
 };
 
+// KHR_materials_clearcoat's layer: a GGX lobe with its own roughness and normal over the
+// whole material, weighted by clearcoat · its Fresnel (fresnel_coat, IOR 1.5).
+struct Clearcoat {
+    float weight = 0.0f;    // clearcoatFactor × clearcoatTexture's R; 0: no coat
+    float roughness = 0.0f; // clearcoatRoughnessFactor × clearcoatRoughnessTexture's G
+    glm::vec3 normal{0.0f}; // unit, world space, facing the viewer as the shading normal does
+};
+
 // The surface a BRDF is evaluated for, in glTF's parameters.
 struct PbrSurface {
     glm::vec3 baseColor{1.0f};
@@ -63,6 +71,7 @@ struct PbrSurface {
     // KHR_materials_ior and KHR_materials_specular set them (dielectric_f0 and specular_factor).
     glm::vec3 dielectricF0{0.04f};
     float dielectricF90 = 1.0f;
+    Clearcoat coat;
 
     float alpha() const { return std::max(roughness * roughness, kMinAlpha); }
     // Normal-incidence reflectance: the dielectric's, the base colour for metals.
@@ -78,7 +87,43 @@ struct PbrSurface {
         return F0() * (e.y - e.x) + glm::vec3(e.x) * f90();
     }
     glm::vec3 diffuseColor() const { return baseColor * (1.0f - metallic); }
+
+    bool coated() const { return coat.weight > 0.0f; }
+    // fresnel_coat's layer weight towards V (KHR_materials_clearcoat, "Layering"): clearcoat ·
+    // (f0 + (1 − f0)(1 − |V·Nc|)⁵), f0 = ((1 − 1.5)/(1 + 1.5))² = 0.04. The base is weighted
+    // by 1 − this, whatever the light's direction.
+    float coatBlend(const glm::vec3& V) const {
+        if (!coated()) return 0.0f;
+        const float m = std::clamp(1.0f - std::abs(glm::dot(V, coat.normal)), 0.0f, 1.0f);
+        const float m2 = m * m;
+        return coat.weight * (0.04f + 0.96f * (m2 * m2 * m));
+    }
+    // The surface under its coat.
+    PbrSurface uncoated() const {
+        PbrSurface b = *this;
+        b.coat.weight = 0.0f;
+        return b;
+    }
+    // The coat's clearcoat_brdf as a surface of its own: the GGX lobe of α = roughness² with
+    // F = 1 (its Fresnel sits in coatBlend), no diffuse layer, no coat.
+    PbrSurface coatLobe() const {
+        PbrSurface c;
+        c.baseColor = glm::vec3(1.0f);
+        c.roughness = coat.roughness;
+        c.metallic = 1.0f;
+        return c;
+    }
 };
+
+// `shade(surface, N)` (any light's or the environment's reflection, linear in the BRDF) of a
+// coated surface: (1 − b) × the base's + b × the coat lobe's about the coat's normal, b =
+// s.coatBlend(V) (KHR_materials_clearcoat's mix(material, clearcoat_brdf, b)).
+template <class Shade>
+auto withCoat(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V, Shade shade) {
+    if (!s.coated()) return shade(s, N);
+    const float b = s.coatBlend(V);
+    return shade(s.uncoated(), N) * (1.0f - b) + shade(s.coatLobe(), s.coat.normal) * b;
+}
 
 // The multiple-scattering lobe of Kulla & Conty 2017 (multiple_scattering.h).
 glm::vec3 multipleScatteringBrdf(const PbrSurface& s, float NdotV, float NdotL);
@@ -99,45 +144,52 @@ inline glm::vec3 diffuseBrdf(const PbrSurface& s, const glm::vec3& N, const glm:
     return (glm::vec3(1.0f) - F) * s.diffuseColor() * (1.0f / kPi);
 }
 
-// f(l, v) in 1/sr for unit vectors N, V (towards the viewer) and L (towards the light);
-// zero when either is below the surface. The specular lobe includes the light scattered
-// between microfacets more than once (multiple_scattering.h), as Blender's multiscatter GGX
-// does; glTF's reference model leaves it out and loses up to a third of a rough metal's light.
-inline glm::vec3 evaluateBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
-                              const glm::vec3& L) {
-    const float NdotL = glm::dot(N, L);
-    const float NdotV = glm::dot(N, V);
-    if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
-    const glm::vec3 H = glm::normalize(L + V);
-    const float NdotH = std::max(glm::dot(N, H), 0.0f);
-    const float VdotH = std::max(glm::dot(V, H), 0.0f);
-    const float alpha = s.alpha();
-    const glm::vec3 F = s.fresnel(VdotH);
-    const glm::vec3 specular =
-        F * (ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(NdotL, NdotV, alpha)) +
-        multipleScatteringBrdf(s, NdotV, NdotL);
-    return diffuseBrdf(s, N, V, L, F) + specular;
-}
-
-// evaluateBrdf's specular lobe alone, for light that follows the lobe, in 1/sr, zero below
-// the surface: the single-scattering GGX lobe F D V, and with it the multiple scattering.
-inline glm::vec3 singleScatteringBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
-                                      const glm::vec3& L) {
-    const float NdotL = glm::dot(N, L);
-    const float NdotV = glm::dot(N, V);
-    if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
+// The single-scattering GGX lobe F D V of an uncoated surface, in 1/sr, zero below the surface.
+inline glm::vec3 ggxLobe(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
+                         const glm::vec3& L, float NdotL, float NdotV) {
     const glm::vec3 H = glm::normalize(L + V);
     const float NdotH = std::max(glm::dot(N, H), 0.0f);
     const float alpha = s.alpha();
     return s.fresnel(std::max(glm::dot(V, H), 0.0f)) *
            (ggxDistribution(NdotH, alpha) * smithGgxCorrelatedVisibility(NdotL, NdotV, alpha));
 }
+
+// f(l, v) in 1/sr for unit vectors N, V (towards the viewer) and L (towards the light);
+// zero when either is below the surface. The specular lobe includes the light scattered
+// between microfacets more than once (multiple_scattering.h), as Blender's multiscatter GGX
+// does; glTF's reference model leaves it out and loses up to a third of a rough metal's light.
+// A clearcoat is layered over it (withCoat).
+inline glm::vec3 evaluateBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
+                              const glm::vec3& L) {
+    return withCoat(s, N, V, [&](const PbrSurface& l, const glm::vec3& n) {
+        const float NdotL = glm::dot(n, L);
+        const float NdotV = glm::dot(n, V);
+        if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
+        const glm::vec3 F = l.fresnel(std::max(glm::dot(V, glm::normalize(L + V)), 0.0f));
+        return diffuseBrdf(l, n, V, L, F) +
+               (ggxLobe(l, n, V, L, NdotL, NdotV) + multipleScatteringBrdf(l, NdotV, NdotL));
+    });
+}
+
+// evaluateBrdf's specular lobe alone, for light that follows the lobe, in 1/sr, zero below
+// the surface: the single-scattering GGX lobe F D V (of the base and its coat).
+inline glm::vec3 singleScatteringBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
+                                      const glm::vec3& L) {
+    return withCoat(s, N, V, [&](const PbrSurface& l, const glm::vec3& n) {
+        const float NdotL = glm::dot(n, L);
+        const float NdotV = glm::dot(n, V);
+        if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
+        return ggxLobe(l, n, V, L, NdotL, NdotV);
+    });
+}
 inline glm::vec3 specularBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
                               const glm::vec3& L) {
-    const float NdotL = glm::dot(N, L);
-    const float NdotV = glm::dot(N, V);
-    if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
-    return singleScatteringBrdf(s, N, V, L) + multipleScatteringBrdf(s, NdotV, NdotL);
+    return withCoat(s, N, V, [&](const PbrSurface& l, const glm::vec3& n) {
+        const float NdotL = glm::dot(n, L);
+        const float NdotV = glm::dot(n, V);
+        if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
+        return ggxLobe(l, n, V, L, NdotL, NdotV) + multipleScatteringBrdf(l, NdotV, NdotL);
+    });
 }
 
 } // namespace dhdr

@@ -15,7 +15,8 @@ namespace dhdr {
 
 struct DeepGBuffer {
     // Size, data window and header attributes (camera, name tables) of the frame, with
-    // deepChannelNames() as its channels; not itself deep.
+    // deepChannelNames() as its channels, with the WhenUsed ones of the file it was read from;
+    // not itself deep.
     OIIO::ImageSpec spec;
     // Index of each pixel's first sample, pixel by pixel in scanline order, and one past
     // the last at the end: width × height + 1 entries.

@@ -28,6 +28,9 @@ inline constexpr const char* kMetallic = "metallic";
 inline constexpr const char* kOcclusion = "occlusion";
 inline constexpr const char* kSpecular[3] = {"specular.R", "specular.G", "specular.B"};
 inline constexpr const char* kSpecularWeight = "specularWeight";
+inline constexpr const char* kClearcoat = "clearcoat";
+inline constexpr const char* kClearcoatRoughness = "clearcoatRoughness";
+inline constexpr const char* kClearcoatNormal[3] = {"clearcoatN.X", "clearcoatN.Y", "clearcoatN.Z"};
 inline constexpr const char* kEmission[3] = {"emission.R", "emission.G", "emission.B"};
 inline constexpr const char* kObjectId = "id.object";
 inline constexpr const char* kMaterialId = "id.material";
@@ -53,6 +56,7 @@ struct Layout {
     int coverage = -1, depth = -1, depthBack = -1, position = -1, normal = -1, albedo = -1;
     int geometricNormal = -1, positionError = -1;
     int roughness = -1, metallic = -1, occlusion = -1, specular = -1, specularWeight = -1;
+    int clearcoat = -1, clearcoatRoughness = -1, clearcoatNormal = -1;
     int emission = -1, objectId = -1, materialId = -1;
     int cryptoObject = -1, cryptoMaterial = -1;
 };
@@ -79,7 +83,8 @@ enum class Need {
 enum ChannelUse : unsigned {
     kUsesOcclusion = 1u, // an occlusion texture
     kUsesSpecular = 2u,  // KHR_materials_ior, _specular or _unlit
-    kAllUses = 3u
+    kUsesClearcoat = 4u, // KHR_materials_clearcoat
+    kAllUses = 7u
 };
 
 // One entry of the contract: a scalar, a 3-vector or a Cryptomatte layer, in the order
@@ -183,6 +188,28 @@ inline constexpr ContractChannel kContract[] = {
      &Layout::specularWeight,
      "the dielectric layer's reflectance at grazing incidence: specularFactor; 1 without it",
      kUsesSpecular},
+    {{kClearcoat},
+     1,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::clearcoat,
+     "KHR_materials_clearcoat's layer weight: clearcoatFactor × clearcoatTexture's R; 0: no coat",
+     kUsesClearcoat},
+    {{kClearcoatRoughness},
+     1,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::clearcoatRoughness,
+     "the coat's roughness: clearcoatRoughnessFactor × clearcoatRoughnessTexture's G",
+     kUsesClearcoat},
+    {{kClearcoatNormal[0], kClearcoatNormal[1], kClearcoatNormal[2]},
+     3,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::clearcoatNormal,
+     "world-space normal of the coat, unit length, facing the camera: clearcoatNormalTexture's, "
+     "else the interpolated normal (the base's normal map does not bend the coat)",
+     kUsesClearcoat},
     {{kEmission[0], kEmission[1], kEmission[2]},
      3,
      FileType::Half,

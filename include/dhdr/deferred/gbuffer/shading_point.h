@@ -106,6 +106,9 @@ public:
         if (m_layout.emission >= 0)
             s.emission =
                 glm::vec3(g[m_layout.emission], g[m_layout.emission + 1], g[m_layout.emission + 2]);
+        if (m_layout.clearcoat >= 0 && m_layout.clearcoatRoughness >= 0 &&
+            m_layout.clearcoatNormal >= 0)
+            readCoat(g, s);
         if (m_layout.occlusion >= 0) {
             const float o = g[m_layout.occlusion];
             s.occlusion = std::isnan(o) ? 1.0f : std::clamp(o, 0.0f, 1.0f);
@@ -126,6 +129,18 @@ public:
     }
 
 private:
+    // KHR_materials_clearcoat's channels; the coat sits over the emission too (its
+    // "Emission" section: emission × (1 − clearcoat · clearcoat_fresnel)).
+    void readCoat(const float* g, ShadingPoint& s) const {
+        const float weight = unitOr(g[m_layout.clearcoat], 0.0f);
+        const std::optional<glm::vec3> Nc =
+            unitDirection(glm::vec3(g[m_layout.clearcoatNormal], g[m_layout.clearcoatNormal + 1],
+                                    g[m_layout.clearcoatNormal + 2]));
+        if (!(weight > 0.0f)) return;
+        s.surface.coat = {weight, unitOr(g[m_layout.clearcoatRoughness], 0.0f), Nc ? *Nc : s.N};
+        s.emission *= 1.0f - s.surface.coatBlend(s.V);
+    }
+
     // `v` scaled to unit length, when it has a direction: finite, not zero. Components whose
     // squares would overflow or vanish are divided by the largest first.
     static std::optional<glm::vec3> unitDirection(glm::vec3 v) {

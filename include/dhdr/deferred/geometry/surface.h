@@ -28,6 +28,10 @@ struct SurfaceSample {
     // for an unlit material, whose base colour is then its emission.
     glm::vec3 dielectricF0{0.04f};
     float dielectricF90 = 1.0f;
+    // KHR_materials_clearcoat: the coat's weight and roughness (factors × textures), and its
+    // normal (its own normal map's, else `interpolated`); weight 0 without a coat.
+    float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
+    glm::dvec3 clearcoatNormal{0.0};
     const Material* material;
 
     // The BSDF's parameters there, with the diffuse layer `diffuse`.
@@ -39,6 +43,7 @@ struct SurfaceSample {
         p.dielectricF0 = dielectricF0;
         p.dielectricF90 = dielectricF90;
         p.diffuse = diffuse;
+        p.coat = {clearcoat, clearcoatRoughness, glm::vec3(clearcoatNormal)};
         return p;
     }
 };

@@ -52,6 +52,12 @@ struct Material {
     bool dielectricSet = false;
     // KHR_materials_unlit: the base colour is what the surface shows, lit by nothing.
     bool unlit = false;
+    // KHR_materials_clearcoat: the coat's weight (0: none) and roughness, each × its texture
+    // (R and G, linear), and the coat's own normal map (none: the coat follows the interpolated
+    // normal, not the base's normal map).
+    float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
+    TextureRef clearcoatTexture, clearcoatRoughnessTexture, clearcoatNormalTexture;
+    float clearcoatNormalScale = 1.0f;
 
     // KHR_materials_specular's dielectric_f0: min(((ior − 1) / (ior + 1))² · specularColor, 1)
     // · specularFactor; 4 % when the file sets none of them.
