@@ -362,6 +362,32 @@ TEST_F(Materials, ClearcoatLayersItsLobeOverTheBase) {
     }
 }
 
+// Hostile clearcoat fields: factors past the schema's [0, 1] are clamped, a string is no
+// coat, and an extension that is no object or names a texture that does not exist is an
+// error naming the file (exit 1, no output), never a crash.
+TEST_F(Materials, HostileClearcoatFieldsAreClampedOrRefused) {
+    const nlohmann::json white = {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0.0}};
+    const ImageBuf big = gbuffer(
+        "coat_big", coated({{"clearcoatFactor", 1e30}, {"clearcoatRoughnessFactor", 7}}, white));
+    EXPECT_EQ(channel(big, 32, 32, "clearcoat"), 1.0f);
+    EXPECT_EQ(channel(big, 32, 32, "clearcoatRoughness"), 1.0f);
+    const ImageBuf negative = gbuffer(
+        "coat_neg", coated({{"clearcoatFactor", -1}, {"clearcoatRoughnessFactor", -5}}, white));
+    EXPECT_LT(negative.spec().channelindex("clearcoat"), 0);
+    const ImageBuf text = gbuffer("coat_str", coated({{"clearcoatFactor", "abc"}}, white));
+    EXPECT_LT(text.spec().channelindex("clearcoat"), 0);
+    for (const auto& [name, coat] : std::vector<std::pair<std::string, nlohmann::json>>{
+             {"coat_notobj", 5},
+             {"coat_badtex", {{"clearcoatFactor", 1}, {"clearcoatTexture", {{"index", 99}}}}}}) {
+        writeJson(path(name + ".gltf"), coated(coat, white));
+        const Result r = run("dhdr-gbuffer " + path(name + ".gltf") + " -o " + path(name + ".exr") +
+                             " --lookat 0,0,3,0,0,0 --size 16x16");
+        EXPECT_EQ(r.status, 1) << name << r.err;
+        EXPECT_NE(r.err.find(name + ".gltf"), std::string::npos) << r.err;
+        EXPECT_FALSE(std::filesystem::exists(path(name + ".exr"))) << name;
+    }
+}
+
 // Under a uniform ambient light of radiance 1 the coat's lobe reflects all it receives
 // (its multiple scattering kept): Lo = (1 − b) · albedo + b.
 TEST_F(Materials, ClearcoatUnderUniformLightKeepsItsEnergy) {
