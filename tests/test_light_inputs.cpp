@@ -191,3 +191,82 @@ TEST_F(LightInputs, ProbeGridsOutOfRangeAreErrors) {
     EXPECT_NE(r.err.find("not finite"), std::string::npos) << r.err;
     EXPECT_FALSE(fs::exists(path("out.exr")));
 }
+
+// A probe file whose bias is NaN moved every shading point to NaN: indirect light 0 everywhere,
+// exit 0. It is refused, naming the file and the attribute.
+TEST_F(LightInputs, ProbeBiasesThatAreNotNumbersAreRefused) {
+    ASSERT_EQ(
+        run("dhdr-probes " + kCornell + " --grid 2,2,2 --rays 16 -o " + path("pb.exr")).status, 0);
+    rewrite("pb.exr", "nanbias.probes.exr",
+            [](Parts& specs, Pixels&) { specs[0].attribute("dhdr:probeNormalBias", NAN); });
+    const Result r =
+        run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " + kLights +
+            " --probes " + path("nanbias.probes.exr") + " -o " + path("out.exr"));
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("nanbias.probes.exr"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("dhdr:probeNormalBias"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+}
+
+// A 2x1 environment is twice as wide as it is high: its refusal says the real reason, a minimum
+// size, not a shape it has.
+TEST_F(LightInputs, AOneRowEnvironmentIsRefusedForItsSize) {
+    OIIO::ImageBuf img(OIIO::ImageSpec(2, 1, 3, OIIO::TypeDesc::FLOAT));
+    OIIO::ImageBufAlgo::fill(img, {1.0f, 1.0f, 1.0f});
+    ASSERT_TRUE(img.write(path("tiny.exr")));
+    write("tiny.json", R"({"lights": [{"type": "environment", "image": "tiny.exr"}]})");
+    expectLightFails("tiny.json", "at least 4x2");
+    const Result r = run("dhdr-light " + path("g.exr") + " --lights " + path("tiny.json") + " -o " +
+                         path("out.exr"));
+    EXPECT_EQ(r.err.find("twice as wide"), std::string::npos) << r.err;
+}
+
+// -v says a raw environment is baked on reading, and not of a file dhdr-ibl baked.
+TEST_F(LightInputs, OnlyARawEnvironmentIsSaidToBeBakedOnReading) {
+    environment("raw.exr", {"R", "G", "B"}, {0.3f, 0.4f, 0.5f});
+    ASSERT_EQ(run("dhdr-ibl " + path("raw.exr") + " --base-width 32 --samples 16 -o " +
+                  path("raw.ibl.exr"))
+                  .status,
+              0);
+    write("raw.json", R"({"lights": [{"type": "environment", "image": "raw.exr"}]})");
+    write("baked.json", R"({"lights": [{"type": "environment", "image": "raw.ibl.exr"}]})");
+    const std::string raw = "a raw image is baked on reading";
+    Result r = run("dhdr-light " + path("g.exr") + " --lights " + path("raw.json") + " -v -o " +
+                   path("raw.out.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_NE((r.out + r.err).find(raw), std::string::npos) << r.out << r.err;
+    r = run("dhdr-light " + path("g.exr") + " --lights " + path("baked.json") + " -v -o " +
+            path("baked.out.exr"));
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ((r.out + r.err).find(raw), std::string::npos) << r.out << r.err;
+    EXPECT_NE((r.out + r.err).find("baked by dhdr-ibl"), std::string::npos) << r.out << r.err;
+}
+
+// The G-buffer's header goes into the lit frame: a NaN dhdr:animationTime is refused (with or
+// without --scene), not written on. A scene SHA-1 that tells nothing is a warning.
+TEST_F(LightInputs, AMalformedGBufferRecordIsRefusedOrWarnedAbout) {
+    rewrite("g.exr", "nantime.exr", [](Parts& specs, Pixels&) {
+        const double nan = NAN;
+        specs[0].attribute("dhdr:animationTime", OIIO::TypeDesc::DOUBLE, &nan);
+    });
+    Result r = run("dhdr-light " + path("nantime.exr") + " --lights " + kLights + " -o " +
+                   path("out.exr"));
+    EXPECT_EQ(r.status, 1) << r.err;
+    EXPECT_NE(r.err.find("nantime.exr"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("dhdr:animationTime"), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(path("out.exr")));
+    // OpenImageIO drops an empty string on writing: a value that is no SHA-1, and the SHA-1 of
+    // no bytes (what an empty or unreadable scene file gives), tell nothing either.
+    const std::pair<const char*, const char*> records[] = {
+        {"none", "is not a SHA-1"},
+        {"DA39A3EE5E6B4B0D3255BFEF95601890AFD80709", "the SHA-1 of no bytes"}};
+    for (const auto& [sha, says] : records) {
+        rewrite("g.exr", "nosha.exr",
+                [sha = sha](Parts& specs, Pixels&) { specs[0].attribute("dhdr:sceneSHA1", sha); });
+        r = run("dhdr-light " + path("nosha.exr") + " --scene " + kCornell + " --lights " +
+                kLights + " -o " + path("out.exr"));
+        EXPECT_EQ(r.status, 0) << r.err;
+        EXPECT_NE(r.err.find(says), std::string::npos) << sha << ": " << r.err;
+        fs::remove(path("out.exr"));
+    }
+}

@@ -68,12 +68,17 @@ void CommandLine::namesFile(const std::string& name, FileRole role,
 
 namespace {
 
+// strtod reads hexadecimal too ("0x18" is 24): the tools' numbers are decimal, as documented.
+bool isHexadecimal(const std::string& v) {
+    return v.find_first_of("xX") != std::string::npos;
+}
+
 // `v` as a finite number in `d`; false with the message otherwise.
 bool parseFinite(const std::string& v, double& d, std::string& err) {
     char* end = nullptr;
     d = std::strtod(v.c_str(), &end);
-    if (v.empty() || *end != '\0' || !std::isfinite(d)) {
-        err = "'" + v + "' is not a finite number";
+    if (v.empty() || *end != '\0' || !std::isfinite(d) || isHexadecimal(v)) {
+        err = "'" + v + "' is not a finite decimal number";
         return false;
     }
     return true;
@@ -187,8 +192,7 @@ void CommandLine::printHelp() const {
         row(o.name + (o.metavar.empty() ? "" : " " + o.metavar), o.help);
     row("--compression NAME", "output compression, e.g. zip, zips, piz, none for EXR; zip:1 "
                               "for a faster zip (default: the format's)");
-    row("--frames A-B", "frames of a pattern (in.####.exr, in.%04d.exr) in the input and "
-                        "output (default: every frame whose input exists)");
+    row("--frames A-B", m_framesHelp);
     row("--threads N", "worker threads (0: one per core; default " +
                            std::to_string(kDefaultThreads) + ") [0, " +
                            std::to_string(kMaxThreads) + "]");
@@ -324,7 +328,8 @@ int CommandLine::parse(int argc, char** argv) {
                 std::string v = hasValue ? value : (i + 1 < argc ? argv[i + 1] : "");
                 char* end = nullptr;
                 const double d = std::strtod(v.c_str(), &end);
-                const bool isNumber = !v.empty() && *end == '\0' && std::isfinite(d);
+                const bool isNumber =
+                    !v.empty() && *end == '\0' && std::isfinite(d) && !isHexadecimal(v);
                 if (hasValue && !isNumber) return usageError(arg + ": '" + v + "' is not a number");
                 if (isNumber)
                     if (const std::string e = checkAsFloat(v, d, found->numberRange); !e.empty())
@@ -378,7 +383,7 @@ bool parseNumbers(const std::string& text, std::vector<double>& values, size_t c
     while (std::getline(in, item, ',')) {
         char* end = nullptr;
         const double d = std::strtod(item.c_str(), &end);
-        if (item.empty() || *end != '\0' || !std::isfinite(d)) return false;
+        if (item.empty() || *end != '\0' || !std::isfinite(d) || isHexadecimal(item)) return false;
         values.push_back(d);
     }
     return count == 0 ? !values.empty() : values.size() == count;

@@ -66,6 +66,8 @@ public:
                    std::function<std::string(const std::string&)> path = {});
     // Text printed after the options in --help (examples, notes).
     void epilog(const std::string& text) { m_epilog = text; }
+    // What --help says --frames does, for a tool whose frames are not a pattern in its input.
+    void framesHelp(const std::string& text) { m_framesHelp = text; }
 
     // Parses argv. Returns -1 to go on, or the exit status to leave with (0 after --help or
     // --version, 2 after a usage error, which is printed).
@@ -103,6 +105,8 @@ private:
     int usageError(const std::string& message) const;
 
     std::string m_tool, m_synopsis, m_description, m_epilog;
+    std::string m_framesHelp = "frames of a pattern (in.####.exr, in.%04d.exr) in the input and "
+                               "output (default: every frame whose input exists)";
     std::vector<Option> m_options;
     std::vector<std::string> m_inputs;
     std::vector<std::string> m_given; // the declared options parsed

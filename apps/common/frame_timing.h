@@ -8,6 +8,7 @@
 #include <dhdr/deferred/scene/animation.h>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace dhdr::app {
 
@@ -26,6 +27,10 @@ struct FrameTiming {
         if (time) return *time;
         return double(frame ? *frame : planned) / moment.fps;
     }
+    // The times of the frames either side, for the motion layer: (N ± 1) / fps, computed as
+    // frames (not t ± 1 / fps, which lands a hair off a key on a frame); t ± 1 / fps for --time.
+    double timeBefore(int planned) const { return neighbour(planned, -1.0); }
+    double timeAfter(int planned) const { return neighbour(planned, 1.0); }
 
     // Declares the four options, with one help text for every tool that takes them.
     void declare(CommandLine& cl);
@@ -35,6 +40,17 @@ struct FrameTiming {
     // pattern in -o, no --frames). Returns -1 to go on, else the exit status (2) after
     // printing why not.
     int check(const Tool& tool);
+
+    // After planning: every time the run poses the scene at (each frame's and the frames' either
+    // side) lies in --time's range, so that a tiny --fps (1e-45) is refused rather than posing
+    // at 1e45 s. Returns -1 to go on, else the exit status (2) after printing why not.
+    int checkTimes(const Tool& tool, const std::vector<int>& frames) const;
+
+private:
+    double neighbour(int planned, double step) const {
+        if (time) return *time + step / moment.fps;
+        return (double(frame ? *frame : planned) + step) / moment.fps;
+    }
 };
 
 } // namespace dhdr::app

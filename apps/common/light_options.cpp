@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <dhdr/deferred/environment/ibl.h>
 #include <dhdr/deferred/lights/emissive_lights.h>
 #include <dhdr/deferred/scene/scene.h>
 
@@ -72,13 +73,17 @@ bool addLightsFiles(const Tool& tool, const std::vector<std::string>& files, con
         }
         for (const std::string& warning : warnings)
             tool.warn(warning);
-        if (std::any_of(more.begin(), more.end(),
-                        [](const Light& l) { return l.type == LightType::Environment; }))
+        const auto environment = [](const Light& l) { return l.type == LightType::Environment; };
+        const bool raw = std::any_of(more.begin(), more.end(), [&](const Light& l) {
+            return environment(l) && l.ibl && l.ibl->bakedOnLoading;
+        });
+        if (std::any_of(more.begin(), more.end(), environment))
             tool.info(file + ": read with its environment images in " +
                       std::to_string(int(std::chrono::duration<double, std::milli>(
                                              std::chrono::steady_clock::now() - t)
                                              .count())) +
-                      " ms (a raw image is baked on reading; dhdr-ibl bakes it once)");
+                      (raw ? " ms (a raw image is baked on reading; dhdr-ibl bakes it once)"
+                           : " ms (baked by dhdr-ibl)"));
         if (o.radiometric) toRadiometricUnits(more);
         lights.insert(lights.end(), more.begin(), more.end());
     }

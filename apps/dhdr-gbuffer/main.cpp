@@ -75,6 +75,8 @@ void declareOptions(app::CommandLine& cl, Options& o) {
         "--info", o.info,
         "print what the scene holds (bounds, cameras, lights, materials, animations, what is left "
         "out) and exit; needs no -o");
+    cl.framesHelp("render frames A to B of the scene's animation (frame N at time N / fps), "
+                  "frame N into the output's frame pattern (-o out.####.exr)");
     cl.epilog(
         "Example:\n  dhdr-gbuffer testdata/cornell_box.gltf --size 1280x720 -o frame.gbuf.exr");
     cl.namesFile("--lights-out", app::FileRole::Output);
@@ -135,8 +137,9 @@ public:
 
 private:
     bool load(const std::string& scenePath);
-    bool cameraOf(const Scene& scene, const std::string& scenePath, Camera& camera) const;
-    bool poseAndFrame(const std::string& scenePath, double time, Camera& camera,
+    bool cameraOf(const Scene& scene, const std::string& scenePath, Camera& camera,
+                  std::string& error, bool announce) const;
+    bool poseAndFrame(const std::string& scenePath, int frame, Camera& camera,
                       std::shared_ptr<FrameMotion>& motion);
     bool findTransparent(const GBufferRenderer& renderer, const std::string& scenePath,
                          std::vector<std::pair<DeepGBuffer, long long>>& kept, bool& found) const;
@@ -159,7 +162,7 @@ private:
     std::string m_loadedPath;
     bool m_loadFailed = false; // a failure is reported once
     bool m_toldMoves = false;  // the loaded scene's motionSummary, once
-    bool m_announce = true;    // what the camera choice says is said once a frame
+    std::optional<std::pair<glm::dvec3, glm::dvec3>> m_frameBounds; // --frame-all's, animated
 };
 
 bool GBufferFrames::load(const std::string& scenePath) {
@@ -189,42 +192,56 @@ bool GBufferFrames::load(const std::string& scenePath) {
         addGroundPlane(scene, float(y));
         m_tool.info("ground plane (shadow catcher) at y = " + std::to_string(y));
     }
+    // --frame-all frames the whole animation once: re-framed at each pose, the camera would
+    // breathe, and its breathing would go into the motion layer.
+    m_frameBounds.reset();
+    if (m_o.frameAll && m_loaded.animated()) m_frameBounds = m_loaded.animationBounds();
     m_loadFailed = false;
     return true;
 }
 
 // The camera of a frame (chooseCamera: --lookat's, else the scene's, posed, with --fov and
-// --frame-all).
-bool GBufferFrames::cameraOf(const Scene& scene, const std::string& scenePath,
-                             Camera& camera) const {
+// --frame-all). False with `error`; what the choice says is said when `announce`.
+bool GBufferFrames::cameraOf(const Scene& scene, const std::string& scenePath, Camera& camera,
+                             std::string& error, bool announce) const {
     CameraChoice choice;
     choice.name = m_o.cameraName;
     choice.lookat = m_lookat;
     choice.fovDegrees = m_o.camera.fovDegrees;
     choice.frameAll = m_o.frameAll;
+    choice.bounds = m_frameBounds;
     std::vector<std::string> notes, warnings;
-    std::string error;
     const bool chosen =
         chooseCamera(scene, scenePath, choice, double(m_params.width) / double(m_params.height),
                      camera, error, notes, warnings);
-    if (m_announce) m_tool.say(warnings, notes);
-    if (!chosen) m_tool.fail(error);
+    if (announce) m_tool.say(warnings, notes);
     return chosen;
 }
 
-// Poses the scene at the frame's time (the frames either side first, for the motion layer)
-// and chooses its camera.
-bool GBufferFrames::poseAndFrame(const std::string& scenePath, double time, Camera& camera,
+// Poses the scene at frame `frame`'s time (the frames either side first, for the motion layer)
+// and chooses its camera. A frame either side without a camera leaves its half of the motion
+// layer 0, with a warning, as a point behind the camera does.
+bool GBufferFrames::poseAndFrame(const std::string& scenePath, int frame, Camera& camera,
                                  std::shared_ptr<FrameMotion>& motion) {
-    std::string error;
-    m_announce = false;
-    auto around = [&](const Scene& s, Camera& c) { return cameraOf(s, scenePath, c); };
-    if (!m_loaded.pose(time, 1.0 / m_o.timing.moment.fps, around, motion, error)) {
-        if (!error.empty()) m_tool.fail(scenePath + ": " + error);
+    std::string error, sideError[2];
+    int side = 0;
+    auto around = [&](const Scene& s, Camera& c) {
+        return cameraOf(s, scenePath, c, sideError[side++], false);
+    };
+    const app::FrameTiming& timing = m_o.timing;
+    const double time = timing.timeOf(frame);
+    if (!m_loaded.pose(timing.timeBefore(frame), time, timing.timeAfter(frame), around, motion,
+                       error)) {
+        m_tool.fail(scenePath + ": " + error);
         return false;
     }
-    m_announce = true;
-    if (!cameraOf(m_loaded.scene(), scenePath, camera)) return false;
+    if (!cameraOf(m_loaded.scene(), scenePath, camera, error, true))
+        return m_tool.fail(error), false;
+    const char* sideName[2] = {"previous", "next"};
+    for (int k = 0; k < 2; ++k)
+        if (!sideError[k].empty())
+            m_tool.warn(sideError[k] + " (at the " + sideName[k] +
+                        " frame: that half of the motion layer is 0)");
     if (m_loaded.animated())
         m_tool.info("time " + std::to_string(time) + " s; motion layer written");
     if (const std::string moves = m_loaded.motionSummary(); !moves.empty() && !m_toldMoves) {
@@ -240,7 +257,7 @@ bool GBufferFrames::frame(int frame, const std::string& scenePath, const std::st
     const double time = m_o.timing.timeOf(frame);
     Camera camera;
     std::shared_ptr<FrameMotion> motion;
-    if (!poseAndFrame(scenePath, time, camera, motion)) return false;
+    if (!poseAndFrame(scenePath, frame, camera, motion)) return false;
     const Scene& scene = m_loaded.scene();
 
     const auto t1 = std::chrono::steady_clock::now();
@@ -416,7 +433,8 @@ bool GBufferFrames::writeLightsOut(int frame, const Scene& scene,
     if (scene.lights.empty())
         m_tool.warn(scenePath + ": the scene has no lights; writing an empty list");
     if (!m_tool.writeText(formatLights(scene.lights), lightsPath)) return false;
-    m_tool.info(std::to_string(scene.lights.size()) + " lights written to " + lightsPath);
+    const size_t n = scene.lights.size();
+    m_tool.info(std::to_string(n) + (n == 1 ? " light" : " lights") + " written to " + lightsPath);
     return true;
 }
 
@@ -442,6 +460,12 @@ int run(int argc, char** argv) {
     if (const int status = o.timing.check(tool); status >= 0) return status;
     app::FramePlan plan;
     if (const int status = app::planFrames(tool, cl.inputs(), plan); status >= 0) return status;
+    if (const int status = o.timing.checkTimes(tool, plan.frames); status >= 0) return status;
+    // One frame has one lights file: a pattern would write frame 0's name whatever --frame is.
+    if (!plan.output.isSequence() && app::FramePattern(o.lightsOut).isSequence())
+        return usage("--lights-out " + o.lightsOut +
+                     ": a frame pattern in --lights-out needs one in the output too "
+                     "(-o out.####.exr with --frames A-B)");
     GBufferParams params;
     if (const int status = parseImage(o, params); status >= 0) return status;
     std::optional<Camera> lookat;

@@ -8,6 +8,7 @@
 #include "whole_frame.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <dhdr/deferred/gbuffer/gbuffer.h>
@@ -24,6 +25,31 @@
 using namespace dhdr;
 
 namespace {
+
+// Whether the G-buffer `path` (header `gspec`) records `sha` (--scene's SHA-1) as its scene's:
+// a warning when it records another, or one that tells nothing (no SHA-1, or that of no bytes).
+void checkFingerprint(const app::Tool& tool, const std::string& path, const OIIO::ImageSpec& gspec,
+                      const std::string& scenePath, const std::string& sha) {
+    // SHA-1 of zero bytes: what a scene file that was empty or could not be read would record.
+    static const std::string kNoBytes = "da39a3ee5e6b4b0d3255bfef95601890afd80709";
+    const std::string recorded = gspec.get_string_attribute(gbuffer::kSceneFingerprint);
+    std::string lower = recorded;
+    std::transform(lower.begin(), lower.end(), lower.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string cannotTell =
+        ": cannot tell whether it was rendered from " + scenePath + "; trusting --scene";
+    if (!gspec.find_attribute(gbuffer::kSceneFingerprint))
+        tool.info(path + ": the G-buffer does not record its scene; trusting --scene");
+    else if (lower.size() != 40 || lower.find_first_not_of("0123456789abcdef") != std::string::npos)
+        tool.warn(path + ": its " + gbuffer::kSceneFingerprint + " '" + recorded +
+                  "' is not a SHA-1 (40 hex digits)" + cannotTell);
+    else if (lower == kNoBytes)
+        tool.warn(path + ": its " + gbuffer::kSceneFingerprint +
+                  " is the SHA-1 of no bytes (an empty or unreadable scene file)" + cannotTell);
+    else if (recorded != sha)
+        tool.warn(path + ": rendered from another scene file than " + scenePath +
+                  " (its SHA-1 differs): shadows may not match the pixels");
+}
 
 // What the command line asks for.
 struct Settings {
@@ -286,14 +312,7 @@ bool LightRun::readForeignCamera() {
 // The scene at the moment the G-buffer shows, and the lights it gives there.
 bool LightRun::poseFor(const std::string& path, const OIIO::ImageSpec& gspec) {
     bool moved = false;
-    if (!m_s.scenePath.empty()) {
-        const std::string recorded = gspec.get_string_attribute(gbuffer::kSceneFingerprint);
-        if (recorded.empty())
-            m_tool.info(path + ": the G-buffer does not record its scene; trusting --scene");
-        else if (recorded != m_sceneSHA)
-            m_tool.warn(path + ": rendered from another scene file than " + m_s.scenePath +
-                        " (its SHA-1 differs): shadows may not match the pixels");
-    }
+    if (!m_s.scenePath.empty()) checkFingerprint(m_tool, path, gspec, m_s.scenePath, m_sceneSHA);
     if (m_probes.given() && !m_probes.checkMoment(m_tool, path, gspec)) return false;
     if (!m_s.scenePath.empty()) {
         PoseReport report;
@@ -316,6 +335,10 @@ bool LightRun::poseFor(const std::string& path, const OIIO::ImageSpec& gspec) {
 // size placed on its pixels, a word when --scene is another file, and the scene posed.
 bool LightRun::prepareFrame(const std::string& path, const OIIO::ImageSpec& gspec) {
     std::string error;
+    // The header is copied into the output: a malformed moment (NaN) is refused here, with or
+    // without --scene, rather than written on.
+    if (std::optional<gbuffer::Moment> moment; !gbuffer::readMoment(gspec, moment, error))
+        return failed(path + ": " + error);
     if (gbuffer::CameraInfo camera; !gbuffer::readCamera(gspec, camera, error)) {
         m_tool.fail(
             path + ": " + error +

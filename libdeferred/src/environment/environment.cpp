@@ -93,9 +93,11 @@ bool colourChannels(const OIIO::ImageSpec& spec, int rgb[3]) {
 
 // Why an image of `spec`'s size cannot be an environment, or "".
 std::string shapeProblem(const OIIO::ImageSpec& spec) {
-    if (spec.width != 2 * spec.height || spec.height < 2)
-        return "an equirectangular environment is twice as wide as it is high; this one is " +
-               std::to_string(spec.width) + "x" + std::to_string(spec.height);
+    const std::string size = std::to_string(spec.width) + "x" + std::to_string(spec.height);
+    if (spec.width != 2 * spec.height)
+        return "an equirectangular environment is twice as wide as it is high; this one is " + size;
+    // 2x1 is 2:1: what refuses it is a minimum size, and the message says so.
+    if (spec.height < 2) return "an environment is at least 4x2 texels; this one is " + size;
     if (double(spec.width) * double(spec.height) > double(kMaxEnvironmentTexels))
         return std::to_string(spec.width) + "x" + std::to_string(spec.height) +
                " is larger than an environment may be (16384x8192)";

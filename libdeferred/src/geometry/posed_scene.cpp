@@ -1,3 +1,5 @@
+#include <algorithm>
+#include <cmath>
 #include <dhdr/deferred/geometry/posed_scene.h>
 #include <dhdr/deferred/scene/animation.h>
 #include <dhdr/deferred/scene/scene_rig.h>
@@ -155,16 +157,22 @@ void PosedScene::play(std::vector<int> indices) {
 bool PosedScene::pose(double t, double dt,
                       const std::function<bool(const Scene&, Camera&)>& cameraOf,
                       std::shared_ptr<FrameMotion>& motion, std::string& error) {
+    return pose(t - dt, t, t + dt, cameraOf, motion, error);
+}
+
+bool PosedScene::pose(double before, double t, double after,
+                      const std::function<bool(const Scene&, Camera&)>& cameraOf,
+                      std::shared_ptr<FrameMotion>& motion, std::string& error) {
     motion.reset();
     if (animated()) {
         // The frames around this one first, then this one, which the frame is rendered in.
         auto frame = std::make_shared<FrameMotion>();
-        m_poser->pose(t - dt);
-        if (!cameraOf(m_scene, frame->previousCamera)) return false;
+        m_poser->pose(before);
+        frame->hasPrevious = cameraOf(m_scene, frame->previousCamera);
         for (const Mesh& m : m_scene.meshes)
             frame->previous.push_back(m.positions);
-        m_poser->pose(t + dt);
-        if (!cameraOf(m_scene, frame->nextCamera)) return false;
+        m_poser->pose(after);
+        frame->hasNext = cameraOf(m_scene, frame->nextCamera);
         for (const Mesh& m : m_scene.meshes)
             frame->next.push_back(m.positions);
         motion = frame;
@@ -185,6 +193,37 @@ bool PosedScene::pose(double t, std::string& error) {
         return false;
     }
     return true;
+}
+
+std::pair<glm::dvec3, glm::dvec3> PosedScene::animationBounds() {
+    const std::pair<glm::dvec3, glm::dvec3> rest(m_scene.boundsMin(), m_scene.boundsMax());
+    if (!animated()) return rest;
+    // The poses at every key (between keys a pose lies close to its keys' for LINEAR motion)
+    // and half-way between them (slerp and CUBICSPLINE's overshoot), at most kMaxBoundsPoses
+    // taken evenly: the same box whatever frames a run renders.
+    constexpr size_t kMaxBoundsPoses = 1024;
+    std::vector<double> keys;
+    for (const int a : m_playing)
+        for (const AnimationSampler& s : m_scene.rig->animations[size_t(a)].samplers)
+            keys.insert(keys.end(), s.times.begin(), s.times.end());
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+    std::vector<double> times;
+    for (size_t k = 0; k < keys.size(); ++k) {
+        times.push_back(keys[k]);
+        if (k + 1 < keys.size()) times.push_back(0.5 * (keys[k] + keys[k + 1]));
+    }
+    const size_t poses = std::min(times.size(), kMaxBoundsPoses);
+    if (poses == 0) return rest;
+    // The rest pose is left out: a frame never shows it where every mover holds its keys.
+    std::pair<glm::dvec3, glm::dvec3> box(glm::dvec3(INFINITY), glm::dvec3(-INFINITY));
+    for (size_t i = 0; i < poses; ++i) {
+        const size_t at = poses == 1 ? 0 : i * (times.size() - 1) / (poses - 1);
+        m_poser->pose(times[at]);
+        box.first = glm::min(box.first, m_scene.boundsMin());
+        box.second = glm::max(box.second, m_scene.boundsMax());
+    }
+    return box;
 }
 
 std::optional<gbuffer::Moment> PosedScene::moment(double t, double fps) const {

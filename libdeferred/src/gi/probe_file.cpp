@@ -118,6 +118,14 @@ bool readBakeRecord(const OIIO::ImageSpec& irr, ProbeVolume& v, std::string& err
     if (!gbuffer::readMoment(irr, v.moment, error)) return false;
     v.normalBias = irr.get_float_attribute("dhdr:probeNormalBias", v.normalBias);
     v.viewBias = irr.get_float_attribute("dhdr:probeViewBias", v.viewBias);
+    // A NaN bias moves every shading point to NaN: indirect light 0 everywhere, silently.
+    for (const auto& [name, bias] : {std::pair{"dhdr:probeNormalBias", v.normalBias},
+                                     std::pair{"dhdr:probeViewBias", v.viewBias}})
+        if (!(bias >= 0.0f && bias <= 1.0f)) {
+            error = std::string(name) + " " + std::to_string(bias) +
+                    " is not a bias in [0, 1] spacings";
+            return false;
+        }
     return true;
 }
 

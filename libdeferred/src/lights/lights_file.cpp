@@ -452,6 +452,7 @@ bool loadEnvironmentImages(std::vector<Light>& lights, const std::string& folder
                         ": bake it again with dhdr-ibl --sun-threshold, or drop \"sun\"";
                 return false;
             }
+            loaded->bakedOnLoading = bakedHere;
             if (replaced > 0)
                 warnings.push_back(light.image + ": " + std::to_string(replaced) +
                                    " NaN or infinite texel values replaced by 0");

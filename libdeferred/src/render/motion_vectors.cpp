@@ -56,8 +56,9 @@ void MotionVectors::at(const Ray& ray, const RayHit& hit, float out[4]) const {
     }
     glm::dvec2 rPrev, rNow, rNext;
     const bool seen = raster(m_now, now, m_width, m_height, rNow);
-    const bool back = seen && raster(m_previous, before, m_width, m_height, rPrev);
-    const bool ahead = seen && raster(m_next, after, m_width, m_height, rNext);
+    const bool back =
+        seen && m_motion.hasPrevious && raster(m_previous, before, m_width, m_height, rPrev);
+    const bool ahead = seen && m_motion.hasNext && raster(m_next, after, m_width, m_height, rNext);
     const glm::dvec2 xy = back ? rPrev - rNow : glm::dvec2(0.0);
     const glm::dvec2 zw = ahead ? rNow - rNext : glm::dvec2(0.0);
     const double fmax = 3.0e38; // a float's range: never Inf

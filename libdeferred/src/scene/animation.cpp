@@ -59,6 +59,12 @@ void slerp(const double* a, const double* bIn, double u, double* out) {
 void AnimationSampler::evaluate(double t, double* out) const {
     const size_t keys = times.size();
     if (keys == 0 || components <= 0) return;
+    // Key times are floats: float(N / 24) often exceeds the double N / 24, and a frame's time
+    // that rounds to a key is that key's, so that a STEP jumps on the frame its key names.
+    if (const float tf = float(t); std::isfinite(tf)) {
+        const auto key = std::lower_bound(times.begin(), times.end(), tf);
+        if (key != times.end() && *key == tf) t = double(tf);
+    }
     // Holds outside the keys; NaN holds the first.
     if (!(t > double(times.front())) || keys == 1) return copyKey(*this, 0, out);
     if (t >= double(times.back())) return copyKey(*this, keys - 1, out);
@@ -116,13 +122,14 @@ bool selectAnimations(const std::vector<Animation>& animations, const std::strin
         for (size_t i = 0; i < animations.size(); ++i)
             chosen.push_back(int(i));
     } else {
-        for (size_t i = 0; i < animations.size(); ++i)
+        // A whole number is an index, as the option's INDEX promises, even where another
+        // animation is named "0"; a name is matched when no animation has that index.
+        const bool digits =
+            selection.size() < 10 && selection.find_first_not_of("0123456789") == std::string::npos;
+        if (digits && std::stoul(selection) < animations.size())
+            chosen = {int(std::stoul(selection))};
+        for (size_t i = 0; i < animations.size() && chosen.empty(); ++i)
             if (animations[i].name == selection) chosen = {int(i)};
-        char* end = nullptr;
-        const long index = std::strtol(selection.c_str(), &end, 10);
-        if (chosen.empty() && *end == '\0' && end != selection.c_str() && index >= 0 &&
-            size_t(index) < animations.size())
-            chosen = {int(index)};
         if (chosen.empty()) {
             std::string names;
             for (size_t i = 0; i < animations.size(); ++i)

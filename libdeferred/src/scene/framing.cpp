@@ -6,7 +6,10 @@
 namespace dhdr {
 
 Camera frameScene(const Scene& scene, const Camera& like, double aspect) {
-    const glm::dvec3 lo = scene.boundsMin(), hi = scene.boundsMax();
+    return frameBounds(scene.boundsMin(), scene.boundsMax(), like, aspect);
+}
+
+Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, const Camera& like, double aspect) {
     const glm::dvec3 centre = 0.5 * (lo + hi);
     // The bounding sphere of the box: it stays in view from every direction.
     const double radius = std::max(0.5 * glm::length(hi - lo), 1e-6);

@@ -46,9 +46,10 @@ bool chooseCamera(const Scene& scene, const std::string& path, const CameraChoic
             camera.yfov = glm::radians(choice.fovDegrees);
     }
     if (choice.frameAll) {
-        camera = frameScene(scene, camera, aspect);
+        const glm::dvec3 lo = choice.bounds ? choice.bounds->first : scene.boundsMin(),
+                         hi = choice.bounds ? choice.bounds->second : scene.boundsMax();
+        camera = frameBounds(lo, hi, camera, aspect);
         if (const std::string why = camera.problem(); !why.empty()) {
-            const glm::dvec3 lo = scene.boundsMin(), hi = scene.boundsMax();
             char bounds[160];
             std::snprintf(bounds, sizeof bounds, "(%g, %g, %g) to (%g, %g, %g)", lo.x, lo.y, lo.z,
                           hi.x, hi.y, hi.z);

@@ -113,6 +113,8 @@ struct Ibl {
     // The sun split off before the bake (not found() when there was none): the SH, the levels
     // and the sampler hold the sky without it.
     EnvironmentSun sun;
+    // Baked from a raw image when it was loaded (readLightsFile), not read from dhdr-ibl's file.
+    bool bakedOnLoading = false;
 
     glm::vec3 irradiance(const glm::vec3& n) const;
     // Prefiltered radiance along R at a roughness, between the two nearest levels by lobe

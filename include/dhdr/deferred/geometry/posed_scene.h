@@ -14,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 OIIO_NAMESPACE_BEGIN
@@ -85,10 +86,21 @@ public:
     // first time). False with `error` when Embree fails.
     bool pose(double t, std::string& error);
 
-    // The same, and when animated `motion` receives the scene at t − dt and t + dt, the camera
-    // of each given by `cameraOf` (false: it failed, `error` left empty).
+    // The same, and when animated `motion` receives the scene at `before` and `after` (the
+    // frames either side: (N ± 1) / fps, computed as frames so that a key's frame is on its
+    // key), the camera of each given by `cameraOf`. Where that gives none (false), that half
+    // of the motion layer is 0 (FrameMotion::hasPrevious, hasNext).
+    bool pose(double before, double t, double after,
+              const std::function<bool(const Scene&, Camera&)>& cameraOf,
+              std::shared_ptr<FrameMotion>& motion, std::string& error);
+    // The frames either side at t ± dt (a time, not a frame, is given).
     bool pose(double t, double dt, const std::function<bool(const Scene&, Camera&)>& cameraOf,
               std::shared_ptr<FrameMotion>& motion, std::string& error);
+
+    // The box holding the scene at every key time of the playing animations and half-way
+    // between keys (at most 1024 poses, taken evenly; the rest pose's when still): what
+    // --frame-all frames once for every frame. Leaves the scene posed at one of those times.
+    std::pair<glm::dvec3, glm::dvec3> animationBounds();
 
     // The moment a G-buffer (or a probe file) rendered at time `t` at `fps` records: none when
     // the scene stands still.

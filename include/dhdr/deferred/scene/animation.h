@@ -22,7 +22,8 @@ struct AnimationSampler {
     bool rotation = false; // values are quaternions: slerp (shortest arc), normalised results
 
     // The value at time `t` into `out` (`components` numbers): before the first key the first
-    // value, after the last the last (Appendix C: "clamped to the nearest end").
+    // value, after the last the last (Appendix C: "clamped to the nearest end"). A time that
+    // rounds to a key's float is that key's time (a STEP holds from its key's frame on).
     void evaluate(double t, double* out) const;
 };
 
@@ -50,8 +51,9 @@ struct Animation {
 inline constexpr const char* kNoAnimationPlayed = "the scene has no animation that dhdr plays";
 
 // The animations `selection` names among `animations`: "" (the first, as glTF viewers play),
-// "all", a name, or an index. False with `error` listing the file's animations when none
-// matches, or naming the problem of one that cannot be played.
+// "all", an index (a whole number, before a name of the same digits), or a name. False with
+// `error` listing the file's animations when none matches, or naming the problem of one that
+// cannot be played.
 bool selectAnimations(const std::vector<Animation>& animations, const std::string& selection,
                       std::vector<int>& chosen, std::string& error);
 

@@ -13,6 +13,8 @@ namespace dhdr {
 struct FrameMotion {
     std::vector<std::vector<glm::vec3>> previous, next;
     Camera previousCamera, nextCamera;
+    // False where that frame has no camera to render from: that half of the layer is 0.
+    bool hasPrevious = true, hasNext = true;
 };
 
 } // namespace dhdr

@@ -177,6 +177,8 @@ void addGroundPlane(Scene& scene, float y);
 // their view axis, orthographic ones also widen their image plane. Check the result with
 // Camera::problem(): bounds too large for a float camera give one that cannot be used.
 Camera frameScene(const Scene& scene, const Camera& like, double aspect);
+// The same for the box from `lo` to `hi` (an animation's whole span, framed once for its frames).
+Camera frameBounds(const glm::dvec3& lo, const glm::dvec3& hi, const Camera& like, double aspect);
 
 // How loadScene treats what it could repair.
 struct SceneOptions {

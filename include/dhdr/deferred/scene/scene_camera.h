@@ -6,6 +6,7 @@
 #include <dhdr/deferred/scene/camera.h>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace dhdr {
@@ -17,6 +18,9 @@ struct CameraChoice {
     std::optional<Camera> lookat; // instead of the scene's cameras
     double fovDegrees = 0.0;      // > 0: the vertical field of view of a perspective camera
     bool frameAll = false;        // moved back until the scene's bounds fit the image
+    // With frameAll: the box to fit instead of the posed scene's (PosedScene::animationBounds),
+    // so that an animation's frames share one framing rather than breathing with the pose.
+    std::optional<std::pair<glm::dvec3, glm::dvec3>> bounds;
 };
 
 // CameraChoice's field of view, and the option of dhdr-gbuffer and keyword of
