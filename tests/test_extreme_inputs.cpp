@@ -123,4 +123,33 @@ TEST_F(ExtremeInputs, ScanListIsReadOrRefused) {
     EXPECT_FALSE(fs::exists(path("a.json")));
 }
 
+// `dhdr-light --gi path --spp 65536` at 1080p showed no progress for 20 s: the line moved once a
+// strip. It now counts pixels as they are shaded; on a terminal (script(1) gives it one) a
+// frame of one strip shows the percentages between 0 and 100, and its pixels are those of a
+// run in a pipe.
+TEST_F(ExtremeInputs, ProgressMovesWithinAStrip) {
+    ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 64x48 -o " + path("p.exr")).status, 0);
+    const std::string light = kTools + "/dhdr-light " + path("p.exr") + " --scene " + kCornell +
+                              " --lights " + kTestdata +
+                              "/cornell_box.lights.json --gi path --spp 16 -o ";
+    const std::string tty = path("tty.txt");
+    ASSERT_EQ(std::system(("timeout 120 script -qec '" + light + path("tty.exr") + "' /dev/null >" +
+                           tty + " </dev/null")
+                              .c_str()),
+              0);
+    const std::string shown = slurp(tty);
+    for (const char* step : {"  1% (", " 50% (", " 99% (", "of 3072 pixels)", "done"})
+        EXPECT_NE(shown.find(step), std::string::npos) << step << " in: " << shown;
+    ASSERT_EQ(std::system((light + path("pipe.exr") + " 2>" + path("pipe.err") + " | cat").c_str()),
+              0);
+    EXPECT_EQ(slurp(dir / "pipe.err"), "");
+    ImageBuf a(path("tty.exr")), b(path("pipe.exr"));
+    ASSERT_TRUE(a.read() && b.read());
+    const OIIO::ImageSpec& s = a.spec();
+    std::vector<float> pa(s.image_pixels() * size_t(s.nchannels)), pb(pa.size());
+    ASSERT_TRUE(a.get_pixels(a.roi(), OIIO::TypeDesc::FLOAT, pa.data()) &&
+                b.get_pixels(b.roi(), OIIO::TypeDesc::FLOAT, pb.data()));
+    EXPECT_EQ(pa, pb);
+}
+
 } // namespace

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cfloat>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstddef>
@@ -291,6 +292,24 @@ void Progress::update(float fraction, const std::string& detail) {
     if (percent == m_percent.exchange(percent)) return;
     std::lock_guard<std::mutex> lock(m_mutex);
     std::fprintf(stderr, "\r%s: %3d%% %s", m_label.c_str(), percent, detail.c_str());
+    std::fflush(stderr);
+}
+
+void Progress::update(float fraction, long long done, long long total, const char* items) {
+    if (!m_enabled) return;
+    const int percent = int(fraction * 100.0f);
+    const long long now = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                              std::chrono::steady_clock::now().time_since_epoch())
+                              .count();
+    const bool newPercent = percent != m_percent.exchange(percent);
+    long long printed = m_printedAt.load();
+    if (!newPercent &&
+        (now - printed < 500000000LL || !m_printedAt.compare_exchange_strong(printed, now)))
+        return;
+    m_printedAt.store(now);
+    std::lock_guard<std::mutex> lock(m_mutex);
+    std::fprintf(stderr, "\r%s: %3d%% (%lld of %lld %s)  ", m_label.c_str(), percent, done, total,
+                 items);
     std::fflush(stderr);
 }
 

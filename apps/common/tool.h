@@ -132,6 +132,10 @@ public:
     ~Progress();
     // Thread-safe; prints only when the whole percentage changes. `detail` follows it.
     void update(float fraction, const std::string& detail = {});
+    // update() with `done` of `total` items (pixels) after the percentage: printed when the
+    // percentage changes and otherwise at most every half second, so that the line moves
+    // when a percent is minutes of work.
+    void update(float fraction, long long done, long long total, const char* items);
     // update() for a StripPipeline, its fraction mapped onto [from, to].
     std::function<void(float)> over(float from = 0.0f, float to = 1.0f) {
         return [this, from, to](float f) { update(from + (to - from) * f); };
@@ -141,6 +145,7 @@ private:
     std::string m_label;
     bool m_enabled = false;
     std::atomic<int> m_percent{-1};
+    std::atomic<long long> m_printedAt{0}; // steady clock, ns
     std::mutex m_mutex;
 };
 
