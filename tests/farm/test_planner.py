@@ -291,6 +291,20 @@ class Plans(unittest.TestCase):
         self.assertEqual(plan.job("bloom").command(plan.job("bloom").tasks[0])[1],
                          "out/hdr.####.exr")
 
+    def test_each_adapting_stage_names_its_own_statistics(self):
+        doc = fx.pipeline("out")
+        second = dict(doc["stages"][3], name="tonemap2", output="out/frame2.####.png")
+        doc["stages"].append(second)
+        plan = make_plan(parse(doc, self.path), 1, 4, 4, bin_dir="/b")
+        for key in ("tonemap", "tonemap2"):
+            meter, scan = plan.job(key + "-meter"), plan.job(key + "-scan")
+            self.assertTrue(meter.command(meter.tasks[0])[-1].endswith(
+                "%s.meter.1-4.json" % key), meter.command(meter.tasks[0]))
+            self.assertTrue(scan.command(scan.tasks[0])[3].endswith("%s.meters.txt" % key))
+            mapping = plan.job(key)
+            self.assertTrue(mapping.command(mapping.tasks[0])[-1].endswith(
+                "%s.adapted.json" % key))
+
     def test_complete_chunks_are_skipped_and_remade_inputs_redo_what_follows(self):
         for f in range(1, 13):
             self.touch("out/gbuf.%04d.exr" % f)

@@ -174,13 +174,14 @@ def make_plan(pipeline, first, last, chunk, state=None, bin_dir=None):
         # frame order, map each chunk with the scanned values.
         stats = os.path.join(state, "stats")
         meter_name = stage.name + ".meter.%d-%d.json"
-        meter_file = lambda a, b: stats + os.sep + meter_name % (a, b)
+        meter_file = lambda a, b, name=meter_name: stats + os.sep + name % (a, b)
         adapted = os.path.join(stats, "%s.adapted.json" % stage.name)
         # The metering files, one a line: thousands of chunks' names exceed what a command
         # line holds (ARG_MAX).
         meter_list = os.path.join(stats, "%s.meters.txt" % stage.name)
 
-        def meter_command(task, stage=stage, exe=exe):
+        # Each command binds its stage's names: the loop rebinds them for the next stage.
+        def meter_command(task, stage=stage, exe=exe, meter_file=meter_file):
             return tool_command(exe, stage.inputs, [
                 "--frames", task.frames, "--meter-only", "--stats-out",
                 meter_file(task.first, task.last)] + stage.options)
@@ -192,7 +193,7 @@ def make_plan(pipeline, first, last, chunk, state=None, bin_dir=None):
         if upstream:
             cascade(meter, upstream)
 
-        def scan_command(task, stage=stage, exe=exe, meter_list=meter_list):
+        def scan_command(task, stage=stage, exe=exe, meter_list=meter_list, adapted=adapted):
             return [exe, "--scan", "--scan-list", meter_list, "--fps", repr(stage.fps),
                     "--stats-out", adapted]
         scan_task = Task(0, first, last, [adapted], exists)
@@ -202,7 +203,7 @@ def make_plan(pipeline, first, last, chunk, state=None, bin_dir=None):
                    {meter_list: "".join(meter_file(a, b) + "\n" for a, b in ranges)})
         cascade(scan, meter)
 
-        def map_command(task, stage=stage, exe=exe):
+        def map_command(task, stage=stage, exe=exe, adapted=adapted):
             return tool_command(exe, stage.inputs, ["-o", stage.output, "--frames", task.frames,
                                                     "--adapt-from", adapted] + stage.options)
         mapping = Job(stage.name, stage, "array",
