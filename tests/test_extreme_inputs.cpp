@@ -123,6 +123,25 @@ TEST_F(ExtremeInputs, ScanListIsReadOrRefused) {
     EXPECT_FALSE(fs::exists(path("a.json")));
 }
 
+// Under a capped address space (ulimit -v), --threads 128 made OpenImageIO's pool throw and
+// keep empty slots: "Resource temporarily unavailable", then SIGSEGV at exit. Fewer threads
+// run, or the error says why; never a signal.
+TEST_F(ExtremeInputs, ThreadsThatCannotStartAreNoCrash) {
+    ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 256x1024 -o " + path("tall.exr")).status,
+              0);
+    const std::string cmd = "ulimit -v 1000000; exec timeout 60 " + kTools + "/dhdr-light " +
+                            path("tall.exr") + " --lights " + kTestdata +
+                            "/cornell_box.lights.json --threads 128 -o " + path("tall.hdr.exr") +
+                            " 2>" + path("threads.err") + " </dev/null";
+    const int raw = std::system(("sh -c '" + cmd + "'").c_str());
+    ASSERT_TRUE(WIFEXITED(raw));
+    const int status = WEXITSTATUS(raw);
+    const std::string err = slurp(dir / "threads.err");
+    EXPECT_TRUE(status == 0 || status == 1) << status << ": " << err;
+    if (status == 1) EXPECT_NE(err.find("ulimit -v"), std::string::npos) << err;
+    EXPECT_EQ(fs::exists(path("tall.hdr.exr")), status == 0);
+}
+
 // `dhdr-light --gi path --spp 65536` at 1080p showed no progress for 20 s: the line moved once a
 // strip. It now counts pixels as they are shaded; on a terminal (script(1) gives it one) a
 // frame of one strip shows the percentages between 0 and 100, and its pixels are those of a

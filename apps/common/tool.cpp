@@ -50,9 +50,38 @@ void Tool::say(const std::vector<std::string>& warnings,
         info(n);
 }
 
+namespace {
+
+// How many threads can run at once, up to `wanted`. OpenImageIO's pool, asked for more than can
+// start, throws and is left with empty slots that crash the process at exit.
+int startableThreads(int wanted) {
+    std::vector<std::thread> probe;
+    try {
+        while (int(probe.size()) < wanted)
+            probe.emplace_back([] {});
+    } catch (const std::system_error&) {
+    }
+    for (std::thread& t : probe)
+        t.join();
+    return int(probe.size());
+}
+
+} // namespace
+
 int Tool::start(const std::vector<std::string>& inputs, const std::string& out) const {
-    const int threads = m_cl.threads() > 0 ? m_cl.threads()
-                                           : int(std::max(1u, std::thread::hardware_concurrency()));
+    int threads = m_cl.threads() > 0 ? m_cl.threads()
+                                     : int(std::max(1u, std::thread::hardware_concurrency()));
+    // OpenImageIO's and OpenEXR's pools take a thread each per --threads, Embree's more.
+    if (const int startable = startableThreads(4 * threads); startable < 4 * threads) {
+        const int fewer = std::max(1, startable / 4);
+        warn("only " + std::to_string(startable) +
+             " threads could start (is the address space "
+             "limited? ulimit -v): running " +
+             std::to_string(fewer) + " rather than " + std::to_string(threads) +
+             "; the results are the same");
+        threads = fewer;
+        m_threads = fewer;
+    }
     OIIO::attribute("threads", threads);
     // OpenEXR's own pool (compression and decompression of line blocks) is separate, and
     // left at its default it does not run in parallel.
@@ -271,6 +300,14 @@ int guardedMain(const char* name, const std::function<int()>& body) {
         return body();
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "%s: error: out of memory\n", name);
+    } catch (const std::system_error& e) {
+        if (e.code() == std::errc::resource_unavailable_try_again)
+            std::fprintf(stderr,
+                         "%s: error: cannot start a thread (%s): is the address space limited "
+                         "(ulimit -v)? give fewer --threads\n",
+                         name, e.what());
+        else
+            std::fprintf(stderr, "%s: error: %s\n", name, oneLine(e.what()).c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "%s: error: %s\n", name, oneLine(e.what()).c_str());
     } catch (...) {

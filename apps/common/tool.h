@@ -28,7 +28,8 @@ public:
     Tool(std::string name, const CommandLine& cl) : m_name(std::move(name)), m_cl(cl) {}
 
     const std::string& name() const { return m_name; }
-    int threads() const { return m_cl.threads(); }
+    // --threads, or after start() the fewer that could start (ulimit -v caps their stacks).
+    int threads() const { return m_threads >= 0 ? m_threads : m_cl.threads(); }
     bool verbose() const { return m_cl.verbosity() >= 2; }
     bool quiet() const { return m_cl.verbosity() == 0; }
 
@@ -87,6 +88,7 @@ public:
 private:
     std::string m_name;
     const CommandLine& m_cl;
+    mutable int m_threads = -1;
 };
 
 // Whether `image` shows a surface over `roi` (default: all of it): some pixel's alpha
