@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cfloat>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstddef>
@@ -50,9 +51,38 @@ void Tool::say(const std::vector<std::string>& warnings,
         info(n);
 }
 
+namespace {
+
+// How many threads can run at once, up to `wanted`. OpenImageIO's pool, asked for more than can
+// start, throws and is left with empty slots that crash the process at exit.
+int startableThreads(int wanted) {
+    std::vector<std::thread> probe;
+    try {
+        while (int(probe.size()) < wanted)
+            probe.emplace_back([] {});
+    } catch (const std::system_error&) {
+    }
+    for (std::thread& t : probe)
+        t.join();
+    return int(probe.size());
+}
+
+} // namespace
+
 int Tool::start(const std::vector<std::string>& inputs, const std::string& out) const {
-    const int threads = m_cl.threads() > 0 ? m_cl.threads()
-                                           : int(std::max(1u, std::thread::hardware_concurrency()));
+    int threads = m_cl.threads() > 0 ? m_cl.threads()
+                                     : int(std::max(1u, std::thread::hardware_concurrency()));
+    // OpenImageIO's and OpenEXR's pools take a thread each per --threads, Embree's more.
+    if (const int startable = startableThreads(4 * threads); startable < 4 * threads) {
+        const int fewer = std::max(1, startable / 4);
+        warn("only " + std::to_string(startable) +
+             " threads could start (is the address space "
+             "limited? ulimit -v): running " +
+             std::to_string(fewer) + " rather than " + std::to_string(threads) +
+             "; the results are the same");
+        threads = fewer;
+        m_threads = fewer;
+    }
     OIIO::attribute("threads", threads);
     // OpenEXR's own pool (compression and decompression of line blocks) is separate, and
     // left at its default it does not run in parallel.
@@ -298,6 +328,14 @@ int guardedMain(const char* name, const std::function<int()>& body) {
         return body();
     } catch (const std::bad_alloc&) {
         std::fprintf(stderr, "%s: error: out of memory\n", name);
+    } catch (const std::system_error& e) {
+        if (e.code() == std::errc::resource_unavailable_try_again)
+            std::fprintf(stderr,
+                         "%s: error: cannot start a thread (%s): is the address space limited "
+                         "(ulimit -v)? give fewer --threads\n",
+                         name, e.what());
+        else
+            std::fprintf(stderr, "%s: error: %s\n", name, oneLine(e.what()).c_str());
     } catch (const std::exception& e) {
         std::fprintf(stderr, "%s: error: %s\n", name, oneLine(e.what()).c_str());
     } catch (...) {
@@ -319,6 +357,24 @@ void Progress::update(float fraction, const std::string& detail) {
     if (percent == m_percent.exchange(percent)) return;
     std::lock_guard<std::mutex> lock(m_mutex);
     std::fprintf(stderr, "\r%s: %3d%% %s", m_label.c_str(), percent, detail.c_str());
+    std::fflush(stderr);
+}
+
+void Progress::update(float fraction, long long done, long long total, const char* items) {
+    if (!m_enabled) return;
+    const int percent = int(fraction * 100.0f);
+    const long long now = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                              std::chrono::steady_clock::now().time_since_epoch())
+                              .count();
+    const bool newPercent = percent != m_percent.exchange(percent);
+    long long printed = m_printedAt.load();
+    if (!newPercent &&
+        (now - printed < 500000000LL || !m_printedAt.compare_exchange_strong(printed, now)))
+        return;
+    m_printedAt.store(now);
+    std::lock_guard<std::mutex> lock(m_mutex);
+    std::fprintf(stderr, "\r%s: %3d%% (%lld of %lld %s)  ", m_label.c_str(), percent, done, total,
+                 items);
     std::fflush(stderr);
 }
 

@@ -28,7 +28,8 @@ public:
     Tool(std::string name, const CommandLine& cl) : m_name(std::move(name)), m_cl(cl) {}
 
     const std::string& name() const { return m_name; }
-    int threads() const { return m_cl.threads(); }
+    // --threads, or after start() the fewer that could start (ulimit -v caps their stacks).
+    int threads() const { return m_threads >= 0 ? m_threads : m_cl.threads(); }
     bool verbose() const { return m_cl.verbosity() >= 2; }
     bool quiet() const { return m_cl.verbosity() == 0; }
 
@@ -91,6 +92,7 @@ public:
 private:
     std::string m_name;
     const CommandLine& m_cl;
+    mutable int m_threads = -1;
 };
 
 // Whether `image` shows a surface over `roi` (default: all of it): some pixel's alpha
@@ -136,6 +138,10 @@ public:
     ~Progress();
     // Thread-safe; prints only when the whole percentage changes. `detail` follows it.
     void update(float fraction, const std::string& detail = {});
+    // update() with `done` of `total` items (pixels) after the percentage: printed when the
+    // percentage changes and otherwise at most every half second, so that the line moves
+    // when a percent is minutes of work.
+    void update(float fraction, long long done, long long total, const char* items);
     // update() for a StripPipeline, its fraction mapped onto [from, to].
     std::function<void(float)> over(float from = 0.0f, float to = 1.0f) {
         return [this, from, to](float f) { update(from + (to - from) * f); };
@@ -145,6 +151,7 @@ private:
     std::string m_label;
     bool m_enabled = false;
     std::atomic<int> m_percent{-1};
+    std::atomic<long long> m_printedAt{0}; // steady clock, ns
     std::mutex m_mutex;
 };
 

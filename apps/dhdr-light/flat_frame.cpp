@@ -141,6 +141,14 @@ bool lightFlatGBuffer(const WholeFrameRun& run, const SsaoParams* ssao, const st
             }
             stripInputs.ambientOcclusion = &ao;
         }
+        // The frame's pixels before this strip's, and the strip's as they are shaded.
+        const long long framePixels = (long long)gspec.width * gspec.height,
+                        before = (long long)(strip.rows.ybegin - gspec.y) * gspec.width;
+        const std::function<void(long long, long long)> shaded = [&](long long done, long long) {
+            progress.update(float(double(before + done) / double(framePixels)), before + done,
+                            framePixels, "pixels");
+        };
+        stripInputs.shaded = &shaded;
         LightingStats rowStats;
         const OIIO::ROI own(gspec.x, gspec.x + gspec.width, strip.rows.ybegin, strip.rows.yend);
         if (!shadeGBuffer(*strip.output, gbuf, stripInputs, strips, own, tool.threads(),

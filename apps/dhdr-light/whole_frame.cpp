@@ -180,9 +180,18 @@ bool lightDeepGBuffer(const WholeFrameRun& run, const std::string& path, int par
     };
     stages.process = [&](OIIO::ROI r, int, std::string& e) {
         const auto t = std::chrono::steady_clock::now();
+        const long long framePixels = (long long)frame.width * frame.height,
+                        before = (long long)(r.ybegin - frame.y) * frame.width;
+        const std::function<void(long long, long long)> shaded = [&](long long done, long long) {
+            progress.update(float(double(before + done) / double(framePixels)), before + done,
+                            framePixels, "pixels");
+        };
+        inputs.shaded = &shaded;
         LightingStats bandStats;
-        if (!shadeGBuffer(hdr, band, inputs, params, r, tool.threads(), &bandStats,
-                          deepOut.empty() ? nullptr : &sampleRGBA)) {
+        const bool lit = shadeGBuffer(hdr, band, inputs, params, r, tool.threads(), &bandStats,
+                                      deepOut.empty() ? nullptr : &sampleRGBA);
+        inputs.shaded = nullptr;
+        if (!lit) {
             e = path + ": " + hdr.geterror();
             return false;
         }

@@ -181,6 +181,11 @@ int run(int argc, char** argv) {
                 return false;
             }
             bakedFor = path;
+            if (const NonFiniteCount& n = volume.replaced; n.total() > 0)
+                tool.warn(outPath + ": " + std::to_string(n.total()) +
+                          " distance moments past float's range (" + std::to_string(n.nan) +
+                          " NaN → 0, " + std::to_string(n.positiveInf + n.negativeInf) +
+                          " ±Inf → ±3.4e38): a scene too large for float");
             // Which moment of the animation these probes hold, recorded as G-buffers record
             // theirs, so that dhdr-light can tell when a G-buffer shows another.
             volume.moment = loaded.moment(time, timing.moment.fps);

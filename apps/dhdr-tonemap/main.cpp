@@ -20,6 +20,7 @@
 #include <dhdr/tonemap/reinhard.h>
 #include <dhdr/tonemap/tone_map.h>
 #include <filesystem>
+#include <fstream>
 #include <mutex>
 
 using namespace dhdr;
@@ -56,6 +57,7 @@ struct Options {
     std::string statsOut, adaptFrom;
     DisplaySettings display;
     bool noDither = false, adapt = false, meterOnly = false, scan = false;
+    std::string scanList; // --scan's files, one a line
 };
 
 void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
@@ -102,6 +104,9 @@ void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
     cl.flag("--scan", o.scan,
             "the inputs are --meter-only statistics files: combine them in frame order, run "
             "the adaptation (--fps) and write --stats-out");
+    cl.option("--scan-list", o.scanList, "FILE",
+              "with --scan: a text file naming statistics files to combine, one a line (more "
+              "than a command line holds: dhdr-farm's scan of thousands of chunks)");
     cl.option("--adapt-from", o.adaptFrom, "FILE.json",
               "map each frame with the adapted luminance a --scan (or --adapt --stats-out) "
               "wrote for it: the same pictures as one --adapt run over the whole sequence");
@@ -116,6 +121,7 @@ void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
               "shot.####.png");
     cl.namesFile("--ocio-config", app::FileRole::Input);
     cl.namesFile("--adapt-from", app::FileRole::Input);
+    cl.namesFile("--scan-list", app::FileRole::Input);
     cl.namesFile("--stats-out", app::FileRole::Output);
 }
 
@@ -127,6 +133,7 @@ int checkModes(const app::CommandLine& cl, const Options& o) {
     if ((o.meterOnly || o.scan) && o.statsOut.empty())
         return usage(std::string(o.meterOnly ? "--meter-only" : "--scan") +
                      " writes its statistics to --stats-out FILE.json");
+    if (!o.scanList.empty() && !o.scan) return usage("--scan-list goes with --scan");
     if ((o.meterOnly || o.scan) && !cl.output().empty())
         return usage(std::string(o.meterOnly ? "--meter-only" : "--scan") +
                      " writes no image; give --stats-out FILE.json instead of -o");
@@ -367,9 +374,19 @@ int run(int argc, char** argv) {
     app::Tool tool("dhdr-tonemap", cl);
     if (const int status = checkModes(cl, o); status >= 0) return status;
     if (o.scan) {
-        if (cl.inputs().empty()) return usage("--scan needs the statistics files to combine");
-        if (const int status = tool.start(cl.inputs(), o.statsOut); status >= 0) return status;
-        return app::scanStatistics(tool, cl.inputs(), o.adaptation, o.statsOut);
+        std::vector<std::string> files = cl.inputs();
+        if (!o.scanList.empty()) {
+            std::ifstream list(o.scanList);
+            if (!list) return tool.fail(o.scanList + ": cannot be read");
+            for (std::string line; std::getline(list, line);) {
+                if (!line.empty() && line.back() == '\r') line.pop_back();
+                if (!line.empty()) files.push_back(line);
+            }
+            if (list.bad()) return tool.fail(o.scanList + ": cannot be read");
+        }
+        if (files.empty()) return usage("--scan needs the statistics files to combine");
+        if (const int status = tool.start(files, o.statsOut); status >= 0) return status;
+        return app::scanStatistics(tool, files, o.adaptation, o.statsOut);
     }
     if (cl.inputs().size() != 1) return usage("give one HDR image or frame pattern");
     if (const int status = parseJob(cl, o, job); status >= 0) return status;

@@ -96,6 +96,33 @@ print("finite" if np.isfinite(out).all() else "not finite")
     assert out.strip() == "finite", err
 
 
+def test_a_wide_sun_over_an_animated_scene_does_not_hang():
+    # Issue 48: light(g, sun of angle 90 or 179 degrees, scene=animated) never returned on two
+    # threads (Embree's coherent packets through instances). A call takes a fraction of a
+    # second; several calls in a child that is killed if it has not finished in 120 s.
+    animated = str(TESTDATA / "cornell_animated.gltf")
+    code = f"""
+import dhdr
+scene = dhdr.Scene({animated!r})
+g = dhdr.render_gbuffer(scene, size=(64, 64), frame=12)
+for angle in (90, 179):
+    sun = [{{"type": "directional", "direction": [0.3, -1, -0.2], "intensity": 3,
+             "angle": angle}}]
+    for _ in range(4):
+        dhdr.light(g, sun, scene=scene, nthreads=2)
+print("lit")
+"""
+    p = child(code)
+    try:
+        out, err = p.communicate(timeout=120)
+    except subprocess.TimeoutExpired:
+        p.kill()
+        p.communicate()
+        pytest.fail("light() with a wide sun over an animated scene did not return in 120 s")
+    assert p.returncode == 0, err
+    assert out.strip() == "lit", err
+
+
 def test_ctrl_c_stops_render_gbuffer(tmp_path):
     # A deep frame of 16000 x 16000 under a 3 GiB address space: the render runs for minutes and
     # would run out of memory before it ends (it raised MemoryError from std::bad_alloc, or the

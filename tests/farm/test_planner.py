@@ -6,6 +6,7 @@ import os
 import sys
 import tempfile
 import unittest
+from unittest import mock
 
 import farm_fixture as fx
 
@@ -15,6 +16,9 @@ from dhdr_farm import slurm  # noqa: E402
 from dhdr_farm.frames import FramePattern, chunks, parse_range  # noqa: E402
 from dhdr_farm.pipeline import PipelineError, parse  # noqa: E402
 from dhdr_farm.plan import check_inputs, make_plan  # noqa: E402
+from dhdr_farm.script import write_script  # noqa: E402
+
+SIZE = fx.SIZE
 
 
 class Frames(unittest.TestCase):
@@ -68,6 +72,20 @@ class Pipelines(unittest.TestCase):
         with self.assertRaises(PipelineError) as e:
             parse(doc, "p.json")
         return str(e.exception)
+
+    def test_outputs_the_tools_refuse_are_refused_before_submitting(self):
+        # Issue 48: an image named with '?' is refused by every tool: every chunk failed.
+        light = {"tool": "dhdr-light", "inputs": ["g.####.exr"], "output": "h.####.exr"}
+        self.assertIn("stages[0]: 'h?.####.exr': the tools cannot write an image whose name "
+                      "holds '?'", self.error({"stages": [dict(light, output="h?.####.exr")]}))
+        for options in (["--deep-out", "d?.####.exr"], ["--deep-out=d?.####.exr"]):
+            self.assertIn("cannot write an image whose name holds '?'",
+                          self.error({"stages": [dict(light, options=options)]}))
+        # A JSON file may hold '?', as the tools allow.
+        gbuffer = {"tool": "dhdr-gbuffer", "inputs": ["s.gltf"], "output": "g.####.exr",
+                   "options": ["--lights-out", "l?.####.json"]}
+        self.assertEqual(parse({"stages": [gbuffer]}, "p.json").stages[0].options[1],
+                         "l?.####.json")
 
     def test_errors_name_the_stage_and_key(self):
         light = {"tool": "dhdr-light", "inputs": ["g.####.exr"], "output": "h.####.exr"}
@@ -212,13 +230,80 @@ class Plans(unittest.TestCase):
             "/opt/dhdr/bin/dhdr-tonemap", "out/bloom.####.exr", "--frames", "9-12",
             "--meter-only", "--stats-out", os.path.join(stats, "tonemap.meter.9-12.json")])
         scan = plan.job("tonemap-scan")
+        meters = os.path.join(stats, "tonemap.meters.txt")
         self.assertEqual(scan.command(scan.tasks[0]), [
-            "/opt/dhdr/bin/dhdr-tonemap", "--scan"] +
-            [os.path.join(stats, "tonemap.meter.%s.json" % r) for r in ("1-4", "5-8", "9-12")] +
-            ["--fps", "24.0", "--stats-out", os.path.join(stats, "tonemap.adapted.json")])
+            "/opt/dhdr/bin/dhdr-tonemap", "--scan", "--scan-list", meters, "--fps", "24.0",
+            "--stats-out", os.path.join(stats, "tonemap.adapted.json")])
+        self.assertEqual(scan.files, {meters: "".join(
+            os.path.join(stats, "tonemap.meter.%s.json\n" % r) for r in ("1-4", "5-8", "9-12"))})
         mapping = plan.job("tonemap")
         self.assertEqual(mapping.command(mapping.tasks[0])[-2:],
                          ["--adapt-from", os.path.join(stats, "tonemap.adapted.json")])
+
+    def test_command_lines_fit_whatever_the_chunks(self):
+        # Issue 48: the scan's command line named every chunk's metering, past ARG_MAX
+        # (2 MiB here) at 30,000 chunks; the names go in a file.
+        plan = self.plan(1, 30000, 1)
+        scan = plan.job("tonemap-scan")
+        self.assertLess(len(" ".join(scan.command(scan.tasks[0]))), 4096)
+        (meters, text), = scan.files.items()
+        self.assertEqual(len(text.splitlines()), 30000)
+        self.assertTrue(text.endswith("tonemap.meter.30000-30000.json\n"))
+        script = os.path.join(self.dir, ".dhdr-farm", "out", "jobs", "tonemap-scan.sh")
+        self.assertEqual(write_script(plan, scan, 0), script)
+        with open(meters) as f:
+            self.assertEqual(f.read(), text)
+        self.assertLess(os.path.getsize(script), 8192)
+
+    def test_a_million_chunks_are_planned_from_one_listing(self):
+        # Issue 48: a stat per output took over a minute; outputs are found by listing their
+        # folder once. Which chunks are done still comes from the files.
+        self.touch("out/gbuf.0002.exr", "out/gbuf.999999.exr", "out/gbuf.0003.exr.tmp",
+                   "out/gbuf.0004.exr/x")
+        with mock.patch("os.path.isfile", side_effect=AssertionError("a stat per output")):
+            plan = self.plan(1, 1000000, 1)
+        gbuffer = plan.job("gbuffer")
+        self.assertEqual(len(gbuffer.tasks), 1000000)
+        self.assertEqual(len(gbuffer.todo), 999998)
+        self.assertEqual([t.todo for t in gbuffer.tasks[:4]], [True, False, True, True])
+        self.assertFalse(gbuffer.tasks[999998].todo)
+        self.assertEqual(gbuffer.tasks[1].outputs, [os.path.join(self.dir, "out/gbuf.0002.exr")])
+        self.assertTrue(all(t.todo for t in plan.job("light").tasks[:3]))
+
+    def test_inputs_that_look_like_options_follow_double_dash(self):
+        doc = fx.pipeline("out")
+        doc["stages"][0]["inputs"] = ["-scene.gltf"]
+        doc["stages"][1]["inputs"] = ["-g.####.exr"]
+        doc["stages"][3]["inputs"] = ["-b.####.exr"]
+        plan = make_plan(parse(doc, self.path), 1, 4, 4, bin_dir="/b")
+        gbuffer, light = plan.job("gbuffer"), plan.job("light")
+        self.assertEqual(gbuffer.command(gbuffer.tasks[0]), [
+            "/b/dhdr-gbuffer", "-o", "out/gbuf.####.exr", "--frames", "1-4", "--size", SIZE,
+            "--", "-scene.gltf"])
+        self.assertEqual(light.command(light.tasks[0])[-2:], ["--", "-g.####.exr"])
+        for key in ("tonemap-meter", "tonemap"):
+            job = plan.job(key)
+            self.assertEqual(job.command(job.tasks[0])[-2:], ["--", "-b.####.exr"], key)
+        # The script's --threads goes before the `--`.
+        with open(write_script(plan, light, 0)) as f:
+            self.assertIn('--threads "$threads" -- \'-g.####.exr\'; }', f.read())
+        # Inputs that do not begin with '-' stay first, as before.
+        self.assertEqual(plan.job("bloom").command(plan.job("bloom").tasks[0])[1],
+                         "out/hdr.####.exr")
+
+    def test_each_adapting_stage_names_its_own_statistics(self):
+        doc = fx.pipeline("out")
+        second = dict(doc["stages"][3], name="tonemap2", output="out/frame2.####.png")
+        doc["stages"].append(second)
+        plan = make_plan(parse(doc, self.path), 1, 4, 4, bin_dir="/b")
+        for key in ("tonemap", "tonemap2"):
+            meter, scan = plan.job(key + "-meter"), plan.job(key + "-scan")
+            self.assertTrue(meter.command(meter.tasks[0])[-1].endswith(
+                "%s.meter.1-4.json" % key), meter.command(meter.tasks[0]))
+            self.assertTrue(scan.command(scan.tasks[0])[3].endswith("%s.meters.txt" % key))
+            mapping = plan.job(key)
+            self.assertTrue(mapping.command(mapping.tasks[0])[-1].endswith(
+                "%s.adapted.json" % key))
 
     def test_complete_chunks_are_skipped_and_remade_inputs_redo_what_follows(self):
         for f in range(1, 13):

@@ -15,6 +15,8 @@ from .plan import check_inputs, default_state, make_plan
 from .script import make_output_folders, paths, write_script
 
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE, EXIT_INCOMPLETE = 0, 1, 2, 3
+# Tasks of a job that `plan` prints at each end without --all-tasks.
+PLAN_TASKS = 5
 
 
 def _tools_folder(given):
@@ -88,6 +90,9 @@ def _parser():
     s.add_argument("--partition", metavar="P")
     s.add_argument("--max-running", "-j", type=int, metavar="K")
     s.add_argument("--cpus", type=int, metavar="C")
+    s.add_argument("--all-tasks", action="store_true",
+                   help="print every task's command line (default: the first and last %d of "
+                        "each job)" % PLAN_TASKS)
     return p
 
 
@@ -197,14 +202,22 @@ def status(args):
 def show_plan(args):
     first, last = parse_range(args.frames)
     plan = _plan(args, first, last, args.chunk or 10)
+    out = []
     for job in plan.jobs:
         deps = ", ".join("%s %s" % (kind, d.key) for d, kind in job.after) or "none"
-        sys.stdout.write("%s: %s, %d of %d tasks to run, after: %s\n" % (
+        out.append("%s: %s, %d of %d tasks to run, after: %s\n" % (
             job.key, job.kind, len(job.todo), len(job.tasks), deps))
-        for t in job.tasks:
-            sys.stdout.write("  task %d frames %s%s: %s\n" % (
-                t.index, t.frames, "" if t.todo else " (done)",
-                " ".join(job.command(t))))
+        # A million chunks would print a million lines a stage: the first and last few.
+        shown = job.tasks if args.all_tasks or len(job.tasks) <= 2 * PLAN_TASKS else \
+            job.tasks[:PLAN_TASKS] + [None] + job.tasks[-PLAN_TASKS:]
+        for t in shown:
+            if t is None:
+                out.append("  ... %d more tasks (--all-tasks lists them)\n" % (
+                    len(job.tasks) - 2 * PLAN_TASKS))
+                continue
+            out.append("  task %d frames %s%s: %s\n" % (
+                t.index, t.frames, "" if t.todo else " (done)", " ".join(job.command(t))))
+    sys.stdout.write("".join(out))
     ids = {}
     for job in plan.submitted:
         ids[job.key] = "<%s>" % job.key

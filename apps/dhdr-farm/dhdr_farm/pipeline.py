@@ -12,6 +12,8 @@ STAGE_KEYS = {"name", "tool", "inputs", "output", "options", "adapt", "fps"}
 TOP_KEYS = {"$schema", "name", "stages"}
 # Options the farm sets itself: in a stage's options they would contradict the plan.
 RESERVED = {"-o", "--output", "--frames", "--threads"}
+# Options of the tools whose value is a file they write.
+OUTPUT_OPTIONS = {"--lights-out", "--deep-out", "--stats-out"}
 TONEMAP_RESERVED = {"--adapt", "--meter-only", "--scan", "--adapt-from", "--stats-out", "--fps"}
 
 
@@ -129,6 +131,16 @@ def parse(doc, path="pipeline.json"):
             if FramePattern(text).width > MAX_WIDTH:
                 bad("%r: the frame pattern is wider than %d digits (frame numbers have at "
                     "most 9)" % (text, MAX_WIDTH))
+        # The tools refuse to write an image whose name holds '?' (OpenImageIO reads what
+        # follows it as options): every chunk would fail at run time.
+        written = [output] + [o for j, o in enumerate(options)
+                              if j > 0 and options[j - 1] in OUTPUT_OPTIONS] + \
+            [o.split("=", 1)[1] for o in options if o.split("=", 1)[0] in OUTPUT_OPTIONS and
+             "=" in o]
+        for text in written:
+            if "?" in text and not text.lower().endswith(".json"):
+                bad("%r: the tools cannot write an image whose name holds '?' (OpenImageIO "
+                    "takes what follows it for options); choose a name without '?'" % text)
         reserved = RESERVED | (TONEMAP_RESERVED if tool == "dhdr-tonemap" else set())
         for o in options:
             if o.split("=", 1)[0] in reserved:

@@ -23,6 +23,8 @@ def write_script(plan, job, retries):
     state = plan.state
     for sub in ("jobs", "logs", "tasks", "stats"):
         os.makedirs(os.path.join(state, sub), exist_ok=True)
+    for path, text in job.files.items():
+        _write_atomically(path, text)
     lines = [
         "#!/bin/bash",
         "# dhdr-farm: pipeline %s, job %s (written by dhdr-farm submit; it is rewritten at "
@@ -34,10 +36,13 @@ def write_script(plan, job, retries):
         'case "$task" in',
     ]
     for t in job.tasks:
-        argv = job.command(t) + ["--threads", "@THREADS@"]
-        quoted = " ".join('"$threads"' if a == "@THREADS@" else shlex.quote(a) for a in argv)
+        argv = job.command(t)
+        # --threads goes before a `--`, after which every argument is an input.
+        at = argv.index("--") if "--" in argv else len(argv)
+        quoted = " ".join([shlex.quote(a) for a in argv[:at]] + ['--threads "$threads"'] +
+                          [shlex.quote(a) for a in argv[at:]])
         lines.append("  %d) frames=%s; command=%s; run() { %s; } ;;" % (
-            t.index, t.frames, shlex.quote(" ".join(map(shlex.quote, argv[:-2]))), quoted))
+            t.index, t.frames, shlex.quote(" ".join(map(shlex.quote, argv))), quoted))
     lines += [
         '  *) echo "dhdr-farm: job %s has no task $task" >&2; exit 2 ;;' % job.key,
         "esac",
@@ -47,7 +52,7 @@ def write_script(plan, job, retries):
         'rm -f "$status"',
         'echo "dhdr-farm: %s task $task, frames $frames, on $(hostname) at $(date -u +%%FT%%TZ)"'
         % job.key,
-        'echo "dhdr-farm: $command --threads $threads"',
+        'echo "dhdr-farm: $command (with --threads $threads)"',
         "rc=1",
         "for attempt in $(seq 0 %d); do" % retries,
         '  if [ "$attempt" -gt 0 ]; then echo "dhdr-farm: exit status $rc; attempt '
@@ -63,12 +68,17 @@ def write_script(plan, job, retries):
         'exit "$rc"',
     ]
     path = os.path.join(state, "jobs", job.key + ".sh")
+    _write_atomically(path, "\n".join(lines) + "\n", 0o755)
+    return path
+
+
+def _write_atomically(path, text, mode=None):
     tmp = path + ".tmp%d" % os.getpid()
     with open(tmp, "w", encoding="utf-8") as f:
-        f.write("\n".join(lines) + "\n")
-    os.chmod(tmp, 0o755)
+        f.write(text)
+    if mode is not None:
+        os.chmod(tmp, mode)
     os.replace(tmp, path)
-    return path
 
 
 def make_output_folders(plan):

@@ -16,7 +16,11 @@ struct RayCaster::Impl {
     RTCScene scene = nullptr;
     const Scene* source = nullptr;
     bool transparent = false; // some mesh's material masks or blends
-    size_t meshes = 0;        // the scene's; top-scene geometry IDs from here are stand-ins
+    // Some mesh is an instance. Embree 3.13's coherent packet traversal then never returns
+    // for some wide cones of rays traced from two threads (a sun of angle 90° over an
+    // animated scene, issue 48): such packets are traced as incoherent ones.
+    bool instances = false;
+    size_t meshes = 0; // the scene's; top-scene geometry IDs from here are stand-ins
     // Per mesh, its world-space vertex buffer, for updateMeshes: its geometry's, or for an
     // instanced mesh its stand-in's.
     std::vector<float*> vertices;
@@ -246,6 +250,7 @@ RayCaster::RayCaster(const Scene& scene, const std::vector<int>& moving)
         rtcReleaseGeometry(geom);
         rtcCommitScene(own);
         m_impl->instanced[i] = own;
+        m_impl->instances = true;
         RTCGeometry placed = rtcNewGeometry(m_impl->device, RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(placed, own);
         rtcAttachGeometryByID(m_impl->scene, placed, unsigned(i));
@@ -482,7 +487,8 @@ void RayCaster::occludedPacket(const ShadowRay* rays, size_t n, float* transmitt
     if (any) {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+        context.flags = m_impl->instances ? RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT
+                                          : RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
         Packet<W>::occluded(valid, m_impl->scene, &context, &packet);
     }
     for (size_t i = 0; i < n; ++i) {

@@ -11,6 +11,7 @@
 #include <dhdr/deferred/geometry/ray_caster.h>
 #include <dhdr/deferred/gi/probes.h>
 #include <dhdr/deferred/scene/scene.h>
+#include <limits>
 
 namespace dhdr {
 
@@ -144,6 +145,28 @@ void bounceLight(const RayCaster& caster, const ProbeBakeParams& params, const P
     }
 }
 
+// The irradiance values that are not finite; the distance moments' NaN → 0 and ±Inf →
+// ±FLT_MAX, counted into `v.replaced` (a scene past float's range: squared distances overflow).
+long long finiteMaps(ProbeVolume& v) {
+    long long irradiance = 0;
+    for (const glm::vec3& e : v.irradiance)
+        irradiance += !std::isfinite(e.r + e.g + e.b);
+    NonFiniteCount& n = v.replaced;
+    n = NonFiniteCount();
+    for (glm::vec2& d : v.distance)
+        for (int c = 0; c < 2; ++c) {
+            float& x = d[c];
+            if (std::isnan(x)) {
+                ++n.nan;
+                x = 0.0f;
+            } else if (std::isinf(x)) {
+                ++(x > 0.0f ? n.positiveInf : n.negativeInf);
+                x = std::copysign(std::numeric_limits<float>::max(), x);
+            }
+        }
+    return irradiance;
+}
+
 } // namespace
 
 bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<Light>& lights,
@@ -163,7 +186,14 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
     if (interrupted()) return false;
     if (params.progress) params.progress(0.5f);
     bounceLight(caster, params, traces, v, nthreads);
-    return !interrupted();
+    if (interrupted()) return false;
+    if (const long long bad = finiteMaps(v); bad > 0) {
+        // Black or float's largest would both misstate such light: refused.
+        error = "the light reaching the probes is past float's range (" + std::to_string(bad) +
+                " irradiance values not finite): lights of intensity near 3.4e38, or their sum";
+        return false;
+    }
+    return true;
 }
 
 } // namespace dhdr

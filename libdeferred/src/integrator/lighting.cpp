@@ -7,6 +7,7 @@
 
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
+#include <atomic>
 #include <dhdr/common/parallel.h>
 #include <dhdr/deferred/gbuffer/deep_gbuffer.h>
 #include <dhdr/deferred/integrator/lighting.h>
@@ -126,11 +127,16 @@ bool shadeSource(OIIO::ImageBuf& dst, const ShadeSource& source, const LightingI
     const PixelStages stages{source.view, plan, shader, background, sampleRGBA};
     LightingStats total;
     std::mutex totalMutex;
+    // Pixels done, for inputs.shaded: a band may take minutes (path tracing at 65536 spp).
+    std::atomic<long long> done{0};
+    const long long pixels = (long long)roi.width() * (long long)roi.height();
     parallelImageRows(roi, nthreads, [&](OIIO::ROI r) {
         LightingStats local;
         for (int y = r.ybegin; y < r.yend; ++y)
-            for (int x = r.xbegin; x < r.xend; ++x)
+            for (int x = r.xbegin; x < r.xend; ++x) {
                 shadePixel(stages, static_cast<float*>(dst.pixeladdr(x, y)), x, y, local);
+                if (inputs.shaded) (*inputs.shaded)(++done, pixels);
+            }
         const std::lock_guard<std::mutex> lock(totalMutex);
         total += local;
     });

@@ -11,6 +11,7 @@
 #include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/gbuffer/gbuffer_time.h>
 #include <dhdr/deferred/scene/lights.h>
+#include <dhdr/io/sanitize.h>
 #include <functional>
 #include <optional>
 #include <string>
@@ -131,6 +132,9 @@ struct ProbeVolume {
     // the lights' radiance ((16 + 2)² texels), and the distance moments ((14 + 2)² texels).
     std::vector<glm::vec3> irradiance;
     std::vector<glm::vec2> distance;
+    // Distance moments the bake computed as NaN or ±Inf (a scene past float's range) and
+    // stored as 0 or ±FLT_MAX, as the tools write any such value (docs/gi.md).
+    NonFiniteCount replaced;
 
     int probeCount() const { return counts.x * counts.y * counts.z; }
     int index(glm::ivec3 g) const { return (g.z * counts.y + g.y) * counts.x + g.x; }
@@ -222,7 +226,7 @@ glm::vec3 sphericalFibonacci(int i, int n);
 // direct light here), plus its emission when no light stands for it (`emissiveAreLights`
 // false), plus the previous round's probe irradiance × diffuseAlbedo / π; a miss sees
 // the environment lights' radiance. The result does not depend on `nthreads`. False with
-// `error` on bad parameters or an empty scene.
+// `error` on bad parameters, an empty scene, or irradiance past float's range.
 bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<Light>& lights,
                 bool emissiveAreLights, const ProbeBakeParams& params, ProbeVolume& volume,
                 std::string& error, int nthreads = 0);

@@ -5,6 +5,7 @@
 #include <dhdr/deferred/core/visibility.h>
 #include <dhdr/deferred/integrator/estimate_carry.h>
 #include <dhdr/deferred/scene/lights.h>
+#include <functional>
 #include <vector>
 
 namespace dhdr {
@@ -34,6 +35,10 @@ struct LightingInputs {
     // Optional, for strips of one frame shaded in order: the previous strip's estimates in the
     // rows both hold (read), this strip's for the next (written). Null: every row is traced.
     EstimateCarry* carry = nullptr;
+    // Optional: called as each pixel of the roi is shaded, from whichever thread shaded it,
+    // with how many are done and of how many (a progress line for long work; it must be
+    // thread-safe, and no pixel depends on it).
+    const std::function<void(long long done, long long total)>* shaded = nullptr;
 };
 
 } // namespace dhdr
