@@ -1,12 +1,14 @@
 // The lighting stage (libdeferred): light() and light_samples() on flat and deep G-buffers with
 // dhdr-light's options, lights from files or Python objects (the readers: py_gbuffer_input.cpp).
 #include "py_deep.h"
+#include "py_interrupt.h"
 #include "py_lights.h"
 #include "py_ops.h"
 #include "py_probes.h"
 #include "py_scene.h"
 
 #include <algorithm>
+#include <cmath>
 #include <dhdr/deferred/direct/ambient_occlusion.h>
 #include <dhdr/deferred/gbuffer/gbuffer.h>
 #include <dhdr/deferred/gbuffer/gbuffer_time.h>
@@ -162,11 +164,16 @@ void readBackdrops(const LightCall& c, LightingOptions& o, ImageView& plateImage
             throw py::value_error("background must be (R, G, B[, A]) or 'env'");
         o.environmentBackground = true;
     } else if (!c.background.is_none()) {
-        const std::vector<float> v = c.background.cast<std::vector<float>>();
+        const std::vector<double> v = c.background.cast<std::vector<double>>();
         if (v.size() != 3 && v.size() != 4)
             throw py::value_error("background needs 3 or 4 numbers");
+        // As dhdr-light's --background: NaN, ±Inf and what a float cannot hold are refused.
+        for (const double x : v)
+            if (!std::isfinite(float(x)))
+                throw py::value_error("background: " + py::repr(py::float_(x)).cast<std::string>() +
+                                      " is not a finite number a float holds");
         for (size_t i = 0; i < 4; ++i)
-            o.params.background[i] = i < v.size() ? v[i] : 1.0f;
+            o.params.background[i] = i < v.size() ? float(v[i]) : 1.0f;
     }
     if (py::isinstance<py::str>(c.plate)) {
         if (c.plate.cast<std::string>() != "env")
@@ -235,9 +242,10 @@ bool placePlate(const LightingSetup& s, const OIIO::ImageSpec& gs, OIIO::ImageBu
     return true;
 }
 
-ImageOp lightOp(const Image& src, const LightCall& call) {
+LongOp lightOp(const Image& src, const LightCall& call) {
     auto s = std::make_shared<const LightingSetup>(setupLighting(src.spec(), call));
-    return [s](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n) {
+    return {[s](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n,
+                const std::atomic<bool>& cancel) {
         LightingInputs inputs{*s->lights, s->caster};
         inputs.scene = s->caster;
         OIIO::ImageBuf occlusion;
@@ -250,27 +258,31 @@ ImageOp lightOp(const Image& src, const LightCall& call) {
         }
         if (s->useProbes) inputs.probes = s->probes.get();
         if (!placePlate(*s, gbuf.spec(), dst, inputs)) return false;
-        return shadeGBuffer(dst, gbuf, inputs, s->p, roi, n);
-    };
+        LightingParams p = s->p;
+        p.cancel = &cancel;
+        return shadeGBuffer(dst, gbuf, inputs, p, roi, n);
+    }};
 }
 
 // dhdr-light on a deep G-buffer: every sample lit and composited front to back into flat RGBA,
 // the tile lists laid over the whole frame (what the tool's bands share).
-ImageOp deepLightOp(const DeepHandle& src, const LightCall& call) {
+LongOp deepLightOp(const DeepHandle& src, const LightCall& call) {
     if (const std::string problem = deepGBufferProblem(call.options(), Spelling::Keyword);
         !problem.empty())
         throw py::value_error(problem);
     auto s = std::make_shared<const LightingSetup>(setupLighting(src.g->spec, call));
     const std::shared_ptr<const DeepGBuffer> g = src.g;
-    return [s, g](OIIO::ImageBuf& dst, const OIIO::ImageBuf&, OIIO::ROI roi, int n) {
+    return {[s, g](OIIO::ImageBuf& dst, const OIIO::ImageBuf&, OIIO::ROI roi, int n,
+                   const std::atomic<bool>& cancel) {
         LightingInputs inputs{*s->lights, s->caster};
         inputs.scene = s->caster;
         if (s->useProbes) inputs.probes = s->probes.get();
         if (!placePlate(*s, g->spec, dst, inputs)) return false;
         LightingParams p = s->p;
         p.frame = OIIO::get_roi(g->spec);
+        p.cancel = &cancel;
         return shadeGBuffer(dst, *g, inputs, p, roi, n);
-    };
+    }};
 }
 
 // dhdr-light --deep-out: each sample of a deep G-buffer lit, premultiplied, with its Z and
@@ -283,13 +295,14 @@ DeepHandle lightSamples(const DeepHandle& src, const LightCall& call, int nthrea
     const std::shared_ptr<const DeepGBuffer> g = src.g;
     DeepHandle out;
     std::string error;
-    {
-        py::gil_scoped_release gil;
+    std::atomic<bool> cancel{false};
+    runInterruptibly(cancel, [&] {
         LightingInputs inputs{*s.lights, s.caster};
         inputs.scene = s.caster;
         if (s.useProbes) inputs.probes = s.probes.get();
         LightingParams p = s.p;
         p.frame = OIIO::get_roi(g->spec);
+        p.cancel = &cancel;
         OIIO::ImageBuf flat;
         std::vector<float> rgba;
         if (!placePlate(s, g->spec, flat, inputs) ||
@@ -312,7 +325,7 @@ DeepHandle lightSamples(const DeepHandle& src, const LightCall& call, int nthrea
                 lit.values[6 * k + 5] = g->values[k * nch + 2]; // ZBack
             }
         }
-    }
+    });
     if (!error.empty()) raiseError(error);
     return out;
 }
@@ -321,8 +334,8 @@ DeepHandle lightSamples(const DeepHandle& src, const LightCall& call, int nthrea
 // gathered into a LightCall.
 template <class... Keyword>
 struct LightForms {
-    static ImageOp flat(const Image& src, Keyword... k) { return lightOp(src, LightCall{k...}); }
-    static ImageOp deep(const DeepHandle& src, Keyword... k) {
+    static LongOp flat(const Image& src, Keyword... k) { return lightOp(src, LightCall{k...}); }
+    static LongOp deep(const DeepHandle& src, Keyword... k) {
         return deepLightOp(src, LightCall{k...});
     }
     static DeepHandle samples(const DeepHandle& src, Keyword... k, int nthreads) {
@@ -340,7 +353,7 @@ using LightSignature =
 // placeholder src that the operation does not read.
 template <class... Args, class... Extra>
 void defDeepOp(py::module_& m, const char* name, const char* doc,
-               ImageOp (*prepare)(const DeepHandle&, Args...), const Extra&... extra) {
+               LongOp (*prepare)(const DeepHandle&, Args...), const Extra&... extra) {
     auto placeholder = [] {
         return Image(py::array_t<float>(std::vector<py::ssize_t>{1, 1, 1}), {}, "src");
     };
@@ -348,7 +361,7 @@ void defDeepOp(py::module_& m, const char* name, const char* doc,
         name,
         [prepare, placeholder](const DeepHandle& src, Args... args, const py::object& roi,
                                int nthreads) {
-            const ImageOp op = prepare(src, args...);
+            const LongOp op = prepare(src, args...);
             return runNew(placeholder(), toRoi(roi), nthreads, op);
         },
         py::arg("src"), extra..., py::arg("roi") = py::none(), py::arg("nthreads") = 0, doc);
@@ -356,7 +369,7 @@ void defDeepOp(py::module_& m, const char* name, const char* doc,
         name,
         [prepare, placeholder](Image& dst, const DeepHandle& src, Args... args,
                                const py::object& roi, int nthreads) {
-            const ImageOp op = prepare(src, args...);
+            const LongOp op = prepare(src, args...);
             return runInto(dst, placeholder(), toRoi(roi), nthreads, op);
         },
         py::arg("dst"), py::arg("src"), extra..., py::arg("roi") = py::none(),

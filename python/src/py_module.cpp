@@ -4,6 +4,7 @@
 namespace dhdr::python {
 void bindImageIO(py::module_& m);
 void bindTonemap(py::module_& m);
+void bindQuantize(py::module_& m);
 void bindGeometryOps(py::module_& m);
 void bindGBufferInput(py::module_& m);
 void bindLighting(py::module_& m);
@@ -20,6 +21,7 @@ PYBIND11_MODULE(_dhdr, m) {
     dhdr::python::bindImage(m);
     dhdr::python::bindImageIO(m);
     dhdr::python::bindTonemap(m);
+    dhdr::python::bindQuantize(m);
     dhdr::python::bindGeometryOps(m);
     dhdr::python::bindDeep(m);
     dhdr::python::bindScene(m);
