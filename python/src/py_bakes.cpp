@@ -34,6 +34,7 @@ py::dict bakeIblFile(const py::object& environment, const std::string& out, int 
     p.sunThreshold = sunThreshold;
     checkParams(p, kIblBakeParamTable);
     checkParams(p, kIblBakeFloatTable);
+    checkImageName(out, "out");
     // A file as dhdr-ibl reads it, or an image in memory (its R, G, B by name).
     const bool file = py::isinstance<py::str>(environment);
     const std::string name = file ? environment.cast<std::string>() : "environment";
@@ -45,19 +46,22 @@ py::dict bakeIblFile(const py::object& environment, const std::string& out, int 
     std::string error;
     long long replaced = 0;
     bool ok = false;
-    {
-        py::gil_scoped_release gil;
+    // Ctrl-C stops the bake at its next row and raises KeyboardInterrupt; nothing is written
+    // unless the bake completed (py_interrupt.h).
+    std::atomic<bool> cancel{false};
+    p.cancel = &cancel;
+    runInterruptibly(cancel, [&] {
         const bool read =
             file ? readEnvironmentImage(name, env, error, &replaced)
                  : environmentFromPixels(pixels.buf.spec(), pixels.data, env, error, &replaced);
         if (!read || !bakeIbl(env, p, ibl, error, nthreads))
             error = name + ": " + error;
-        else
+        else if (!cancel)
             ok = writeFileAtomically(
                 out,
                 [&](const std::string& tmp, std::string& why) { return writeIbl(tmp, ibl, why); },
                 error);
-    }
+    });
     if (!ok) raiseError(error);
     if (replaced > 0)
         warn(name + ": " + std::to_string(replaced) +
@@ -138,6 +142,7 @@ py::object bakeProbesTo(const SceneHandle& scene, const py::object& outGiven,
         lights.insert(lights.end(), more.begin(), more.end());
     }
     const std::string out = outGiven.is_none() ? "" : std::string(py::str(outGiven));
+    checkImageName(out, "out");
     const RayCaster& caster = scene.caster();
     auto volume = std::make_shared<ProbeVolume>();
     std::string error;
@@ -224,6 +229,7 @@ takes it as it takes the file, with the same bits; write(path) writes that file.
         .def(
             "write",
             [](const ProbesHandle& h, const std::string& path) {
+                checkImageName(path, "path");
                 const std::shared_ptr<const ProbeVolume> v = h.volume;
                 std::string error;
                 bool ok = false;

@@ -170,6 +170,7 @@ contract's by default; attributes: the header, e.g. worldToCamera and worldToNDC
     m.def(
         "write_gbuffer",
         [](const std::string& path, const DeepHandle& d) {
+            checkImageName(path, "path");
             const std::vector<OIIO::TypeDesc> formats = deepFileFormats(d.g->spec);
             const std::shared_ptr<const DeepGBuffer> g = d.g;
             std::string error;

@@ -2,6 +2,11 @@
 
 #include <OpenImageIO/imagebufalgo.h>
 #include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <dhdr/io/motion_channels.h>
+#include <dhdr/io/sanitize.h>
+#include <limits>
 #include <pybind11/stl.h>
 #include <stdexcept>
 
@@ -39,8 +44,24 @@ py::array_t<float> floatPixels(const py::handle& object, const char* what) {
     if (a.size() == 0)
         throw py::value_error(std::string(what) + ": the array has no pixels (shape " +
                               shapeText(a) + ")");
-    auto f = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
-    if (!f) throw py::error_already_set();
+    // A conversion that fails (a broadcast view of more bytes than memory holds) raises
+    // numpy's error, named after the argument; ensure() would clear it.
+    py::array_t<float, py::array::c_style | py::array::forcecast> f;
+    try {
+        f = py::array_t<float, py::array::c_style | py::array::forcecast>(a);
+    } catch (py::error_already_set& e) {
+        const std::string text = std::string(what) + ": cannot make the array of shape " +
+                                 shapeText(a) + " C-contiguous float32: " + e.what();
+        if (e.matches(PyExc_MemoryError)) {
+            PyErr_SetString(PyExc_MemoryError, text.c_str());
+            throw py::error_already_set();
+        }
+        throw py::value_error(text);
+    }
+    for (py::ssize_t i = 0; i < f.ndim(); ++i)
+        if (f.shape(i) > std::numeric_limits<int>::max())
+            throw py::value_error(std::string(what) + ": shape " + shapeText(a) +
+                                  " is larger than an image can be");
     if (f.ndim() == 2) return f.reshape({f.shape(0), f.shape(1), py::ssize_t(1)});
     return f;
 }
@@ -172,7 +193,63 @@ const Image& asImage(const py::handle& object, const char* what, Image& storage)
             throw py::value_error(std::string(what) + ": the image is empty (it has no pixels)");
         return image;
     }
+    // An OpenImageIO.ImageBuf, as dhdr.from_imagebuf converts it (names and origin kept).
+    const py::handle type = py::type::handle_of(object);
+    if (py::str(type.attr("__name__")).cast<std::string>() == "ImageBuf" &&
+        py::str(type.attr("__module__")).cast<std::string>() == "OpenImageIO") {
+        storage = py::module_::import("dhdr").attr("from_imagebuf")(object).cast<Image>();
+        return storage;
+    }
     storage = Image(py::reinterpret_borrow<py::object>(object), {}, what);
+    return storage;
+}
+
+namespace {
+
+// Whether any of `n` floats is NaN or ±Inf (all exponent bits set); a loop the compiler
+// vectorizes, so that finite images, the usual case, cost one read.
+bool anyNonFinite(const float* p, size_t n) {
+    unsigned bad = 0;
+    for (size_t i = 0; i < n; ++i) {
+        uint32_t u;
+        std::memcpy(&u, p + i, sizeof u);
+        bad |= unsigned((u & 0x7f800000u) == 0x7f800000u);
+    }
+    return bad != 0;
+}
+
+} // namespace
+
+const Image& finiteImage(const Image& image, const char* what, Image& storage) {
+    const py::array_t<float>& pixels = image.pixels();
+    bool bad = false;
+    {
+        py::gil_scoped_release gil;
+        bad = anyNonFinite(pixels.data(), size_t(pixels.size()));
+    }
+    if (!bad) return image;
+    // The depth's +Inf means no surface (the G-buffer contract): it stays.
+    const int depth = findMotionChannels(image.spec()).depth;
+    Image copy = image;
+    copy.setPixels(image.pixels().attr("copy")());
+    ImageView v = view(copy);
+    NonFiniteCount n;
+    {
+        py::gil_scoped_release gil;
+        for (int c = 0; c < v.buf.nchannels(); ++c) {
+            if (c == depth || v.buf.spec().channelnames[size_t(c)] == "ZBack") continue;
+            OIIO::ROI r = v.buf.roi();
+            r.chbegin = c;
+            r.chend = c + 1;
+            n += replaceNonFinite(v.buf, r, 1);
+        }
+    }
+    storage = std::move(copy);
+    if (n.total() > 0)
+        warn(std::string(what) + ": " + std::to_string(n.nan) + " NaN, " +
+             std::to_string(n.positiveInf) + " +Inf and " + std::to_string(n.negativeInf) +
+             " -Inf values read as 0, " + std::to_string(int(kInfinityReplacement)) +
+             " and 0, as the tools read them");
     return storage;
 }
 
@@ -243,6 +320,14 @@ void setAttribute(OIIO::ImageSpec& spec, const std::string& name, const py::hand
 
 void warn(const std::string& message) {
     if (PyErr_WarnEx(PyExc_RuntimeWarning, message.c_str(), 1) < 0) throw py::error_already_set();
+}
+
+void checkImageName(const std::string& path, const char* what) {
+    if (path.find('?') != std::string::npos)
+        throw py::value_error(std::string(what) + ": " + path +
+                              ": an image whose name holds '?' cannot be read back (OpenImageIO "
+                              "takes what follows '?' for options: file.exr?key=value); choose a "
+                              "name without '?'");
 }
 
 void raiseError(const std::string& message) {

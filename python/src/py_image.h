@@ -57,6 +57,11 @@ ImageView view(const Image& image);
 // conversion was needed.
 const Image& asImage(const py::handle& object, const char* what, Image& storage);
 
+// `image`, or when it holds NaN or ±Inf outside its depth (Z, ZBack) a copy in `storage` where
+// they are replaced as the tools replace them on reading (NaN and -Inf by 0, +Inf by 65504),
+// with a RuntimeWarning counting them: what a call that must not return NaN or Inf reads.
+const Image& finiteImage(const Image& image, const char* what, Image& storage);
+
 // roi=None (everything), a tuple (xbegin, xend, ybegin, yend[, chbegin, chend]), or any object
 // with those attributes (OpenImageIO.ROI).
 OIIO::ROI toRoi(const py::handle& roi);
@@ -67,6 +72,10 @@ void setAttribute(OIIO::ImageSpec& spec, const std::string& name, const py::hand
 
 // A RuntimeWarning (what a tool prints as a warning); raises when warnings are errors (-W error).
 void warn(const std::string& message);
+
+// ValueError, as the tools' usage error, when an image to write is named with a '?' (OpenImageIO
+// would read what follows it as options: the file could never be read back).
+void checkImageName(const std::string& path, const char* what);
 
 // The library's message of a failed call as a Python exception.
 [[noreturn]] void raiseError(const std::string& message);

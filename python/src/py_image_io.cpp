@@ -90,6 +90,7 @@ follow. Errors are the tools' messages ("PATH: no such file", a list of the laye
         "write",
         [](const std::string& path, const py::object& image, const std::string& type,
            const std::string& compression) {
+            checkImageName(path, "path");
             // Integers (quantize's arrays) as they are: PNG, TIFF.
             if (py::isinstance<py::array_t<uint8_t>>(image) ||
                 py::isinstance<py::array_t<uint16_t>>(image)) {

@@ -1,17 +1,16 @@
-// The lighting stage (libdeferred): G-buffers read as dhdr-light reads them (its own, or
-// another renderer's passes through a channel map), lights from files or Python objects, and
-// light() on a flat G-buffer with dhdr-light's options.
+// The lighting stage (libdeferred): light() and light_samples() on flat and deep G-buffers with
+// dhdr-light's options, lights from files or Python objects (the readers: py_gbuffer_input.cpp).
 #include "py_deep.h"
+#include "py_interrupt.h"
 #include "py_lights.h"
 #include "py_ops.h"
 #include "py_probes.h"
 #include "py_scene.h"
 
-#include <OpenImageIO/imageio.h>
 #include <algorithm>
+#include <cmath>
 #include <dhdr/deferred/direct/ambient_occlusion.h>
 #include <dhdr/deferred/gbuffer/gbuffer.h>
-#include <dhdr/deferred/gbuffer/gbuffer_import.h>
 #include <dhdr/deferred/gbuffer/gbuffer_time.h>
 #include <dhdr/deferred/geometry/posed_scene.h>
 #include <dhdr/deferred/gi/probes.h>
@@ -19,10 +18,6 @@
 #include <dhdr/deferred/integrator/lighting_options.h>
 #include <dhdr/deferred/lights/emissive_lights.h>
 #include <dhdr/deferred/scene/lights.h>
-#include <dhdr/io/errors.h>
-#include <dhdr/io/pixel_limit.h>
-#include <dhdr/io/sanitize.h>
-#include <dhdr/io/strip_reader.h>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -35,44 +30,6 @@ namespace dhdr::python {
 namespace {
 
 using namespace pybind11::literals;
-
-void warn(const std::vector<std::string>& warnings) {
-    for (const std::string& w : warnings)
-        python::warn(w);
-}
-
-// A dhdr G-buffer whole, as dhdr-light reads it: a flat one strip by strip, its part found by
-// the contract, every channel as float, NaN and ±Inf replaced except in Z (whose background is
-// +Inf by contract); a deep one into `deep` (deep.h). Called without the GIL; false with the
-// tool's message.
-bool readGBuffer(const std::string& path, int nthreads, OIIO::ImageBuf& gbuf, DeepHandle& deep,
-                 bool& isDeep, std::string& error) {
-    int part = 0;
-    if (!gbuffer::probeGBufferFile(path, part, isDeep, error)) return false;
-    if (isDeep) return readDeep(path, part, *deep.g, error);
-    StripReader reader;
-    if (!reader.open(path, part, 0, 1 << 20, nthreads, error)) {
-        error = cannotRead(path, error);
-        return false;
-    }
-    const OIIO::ImageSpec& spec = reader.spec();
-    gbuffer::Layout layout;
-    std::string missing;
-    if (!gbuffer::findLayout(spec, layout, missing)) {
-        error = path + ": no channel '" + missing + "' — is this a G-buffer?";
-        return false;
-    }
-    if (!reader.read(spec.y, spec.y + spec.height, gbuf, error)) {
-        error = cannotRead(path, error);
-        return false;
-    }
-    OIIO::ROI before = gbuf.roi(), after = gbuf.roi();
-    before.chend = layout.depth;
-    after.chbegin = layout.depth + 1;
-    replaceNonFinite(gbuf, before, nthreads);
-    if (after.chbegin < after.chend) replaceNonFinite(gbuf, after, nthreads);
-    return true;
-}
 
 // The scene as dhdr-light --scene lights a G-buffer (its PosedScene): posed at the moment the
 // G-buffer's header records (gbuffer_time.h) with the animations it records, on a copy with its
@@ -207,11 +164,16 @@ void readBackdrops(const LightCall& c, LightingOptions& o, ImageView& plateImage
             throw py::value_error("background must be (R, G, B[, A]) or 'env'");
         o.environmentBackground = true;
     } else if (!c.background.is_none()) {
-        const std::vector<float> v = c.background.cast<std::vector<float>>();
+        const std::vector<double> v = c.background.cast<std::vector<double>>();
         if (v.size() != 3 && v.size() != 4)
             throw py::value_error("background needs 3 or 4 numbers");
+        // As dhdr-light's --background: NaN, ±Inf and what a float cannot hold are refused.
+        for (const double x : v)
+            if (!std::isfinite(float(x)))
+                throw py::value_error("background: " + py::repr(py::float_(x)).cast<std::string>() +
+                                      " is not a finite number a float holds");
         for (size_t i = 0; i < 4; ++i)
-            o.params.background[i] = i < v.size() ? v[i] : 1.0f;
+            o.params.background[i] = i < v.size() ? float(v[i]) : 1.0f;
     }
     if (py::isinstance<py::str>(c.plate)) {
         if (c.plate.cast<std::string>() != "env")
@@ -280,9 +242,10 @@ bool placePlate(const LightingSetup& s, const OIIO::ImageSpec& gs, OIIO::ImageBu
     return true;
 }
 
-ImageOp lightOp(const Image& src, const LightCall& call) {
+LongOp lightOp(const Image& src, const LightCall& call) {
     auto s = std::make_shared<const LightingSetup>(setupLighting(src.spec(), call));
-    return [s](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n) {
+    return {[s](OIIO::ImageBuf& dst, const OIIO::ImageBuf& gbuf, OIIO::ROI roi, int n,
+                const std::atomic<bool>& cancel) {
         LightingInputs inputs{*s->lights, s->caster};
         inputs.scene = s->caster;
         OIIO::ImageBuf occlusion;
@@ -295,27 +258,31 @@ ImageOp lightOp(const Image& src, const LightCall& call) {
         }
         if (s->useProbes) inputs.probes = s->probes.get();
         if (!placePlate(*s, gbuf.spec(), dst, inputs)) return false;
-        return shadeGBuffer(dst, gbuf, inputs, s->p, roi, n);
-    };
+        LightingParams p = s->p;
+        p.cancel = &cancel;
+        return shadeGBuffer(dst, gbuf, inputs, p, roi, n);
+    }};
 }
 
 // dhdr-light on a deep G-buffer: every sample lit and composited front to back into flat RGBA,
 // the tile lists laid over the whole frame (what the tool's bands share).
-ImageOp deepLightOp(const DeepHandle& src, const LightCall& call) {
+LongOp deepLightOp(const DeepHandle& src, const LightCall& call) {
     if (const std::string problem = deepGBufferProblem(call.options(), Spelling::Keyword);
         !problem.empty())
         throw py::value_error(problem);
     auto s = std::make_shared<const LightingSetup>(setupLighting(src.g->spec, call));
     const std::shared_ptr<const DeepGBuffer> g = src.g;
-    return [s, g](OIIO::ImageBuf& dst, const OIIO::ImageBuf&, OIIO::ROI roi, int n) {
+    return {[s, g](OIIO::ImageBuf& dst, const OIIO::ImageBuf&, OIIO::ROI roi, int n,
+                   const std::atomic<bool>& cancel) {
         LightingInputs inputs{*s->lights, s->caster};
         inputs.scene = s->caster;
         if (s->useProbes) inputs.probes = s->probes.get();
         if (!placePlate(*s, g->spec, dst, inputs)) return false;
         LightingParams p = s->p;
         p.frame = OIIO::get_roi(g->spec);
+        p.cancel = &cancel;
         return shadeGBuffer(dst, *g, inputs, p, roi, n);
-    };
+    }};
 }
 
 // dhdr-light --deep-out: each sample of a deep G-buffer lit, premultiplied, with its Z and
@@ -328,13 +295,14 @@ DeepHandle lightSamples(const DeepHandle& src, const LightCall& call, int nthrea
     const std::shared_ptr<const DeepGBuffer> g = src.g;
     DeepHandle out;
     std::string error;
-    {
-        py::gil_scoped_release gil;
+    std::atomic<bool> cancel{false};
+    runInterruptibly(cancel, [&] {
         LightingInputs inputs{*s.lights, s.caster};
         inputs.scene = s.caster;
         if (s.useProbes) inputs.probes = s.probes.get();
         LightingParams p = s.p;
         p.frame = OIIO::get_roi(g->spec);
+        p.cancel = &cancel;
         OIIO::ImageBuf flat;
         std::vector<float> rgba;
         if (!placePlate(s, g->spec, flat, inputs) ||
@@ -357,7 +325,7 @@ DeepHandle lightSamples(const DeepHandle& src, const LightCall& call, int nthrea
                 lit.values[6 * k + 5] = g->values[k * nch + 2]; // ZBack
             }
         }
-    }
+    });
     if (!error.empty()) raiseError(error);
     return out;
 }
@@ -366,8 +334,8 @@ DeepHandle lightSamples(const DeepHandle& src, const LightCall& call, int nthrea
 // gathered into a LightCall.
 template <class... Keyword>
 struct LightForms {
-    static ImageOp flat(const Image& src, Keyword... k) { return lightOp(src, LightCall{k...}); }
-    static ImageOp deep(const DeepHandle& src, Keyword... k) {
+    static LongOp flat(const Image& src, Keyword... k) { return lightOp(src, LightCall{k...}); }
+    static LongOp deep(const DeepHandle& src, Keyword... k) {
         return deepLightOp(src, LightCall{k...});
     }
     static DeepHandle samples(const DeepHandle& src, Keyword... k, int nthreads) {
@@ -385,7 +353,7 @@ using LightSignature =
 // placeholder src that the operation does not read.
 template <class... Args, class... Extra>
 void defDeepOp(py::module_& m, const char* name, const char* doc,
-               ImageOp (*prepare)(const DeepHandle&, Args...), const Extra&... extra) {
+               LongOp (*prepare)(const DeepHandle&, Args...), const Extra&... extra) {
     auto placeholder = [] {
         return Image(py::array_t<float>(std::vector<py::ssize_t>{1, 1, 1}), {}, "src");
     };
@@ -393,7 +361,7 @@ void defDeepOp(py::module_& m, const char* name, const char* doc,
         name,
         [prepare, placeholder](const DeepHandle& src, Args... args, const py::object& roi,
                                int nthreads) {
-            const ImageOp op = prepare(src, args...);
+            const LongOp op = prepare(src, args...);
             return runNew(placeholder(), toRoi(roi), nthreads, op);
         },
         py::arg("src"), extra..., py::arg("roi") = py::none(), py::arg("nthreads") = 0, doc);
@@ -401,7 +369,7 @@ void defDeepOp(py::module_& m, const char* name, const char* doc,
         name,
         [prepare, placeholder](Image& dst, const DeepHandle& src, Args... args,
                                const py::object& roi, int nthreads) {
-            const ImageOp op = prepare(src, args...);
+            const LongOp op = prepare(src, args...);
             return runInto(dst, placeholder(), toRoi(roi), nthreads, op);
         },
         py::arg("dst"), py::arg("src"), extra..., py::arg("roi") = py::none(),
@@ -411,92 +379,6 @@ void defDeepOp(py::module_& m, const char* name, const char* doc,
 } // namespace
 
 void bindLighting(py::module_& m) {
-    m.def(
-        "read_gbuffer",
-        [](const std::string& path, int nthreads) {
-            OIIO::ImageBuf gbuf;
-            DeepHandle deep;
-            bool isDeep = false;
-            std::string error;
-            bool ok = false;
-            {
-                py::gil_scoped_release gil;
-                ok = readGBuffer(path, nthreads, gbuf, deep, isDeep, error);
-            }
-            if (!ok) raiseError(error);
-            if (isDeep) return py::cast(std::move(deep));
-            return py::cast(Image::fromBuf(std::move(gbuf)));
-        },
-        "path"_a, py::kw_only(), "nthreads"_a = 0,
-        R"(A flat dhdr G-buffer (dhdr-gbuffer's EXR) as dhdr-light reads it: every channel as float32
-(image["N.X"], image["albedo.R"], ...), NaN and Inf replaced except in Z, the header (camera
-matrices, name tables, Cryptomatte manifests) in image.attributes. A deep G-buffer (dhdr-gbuffer
---deep) comes as a DeepGBuffer, its samples sorted front to back, its non-finite values
-other than Z replaced, as dhdr-light reads it.)");
-
-    m.def(
-        "read_channels",
-        [](const std::string& path, int part) {
-            OIIO::ImageBuf src;
-            std::string error;
-            {
-                py::gil_scoped_release gil;
-                src.reset(path, part, 0);
-                if (!src.init_spec(path, part, 0))
-                    error = cannotRead(path, src.geterror());
-                else if (const std::string e =
-                             pixelLimitError(src.spec().width, src.spec().height, src.spec().depth);
-                         !e.empty())
-                    error = path + ": " + e;
-                else if (!src.read(part, 0, true, OIIO::TypeDesc::FLOAT))
-                    error = cannotRead(path, src.geterror());
-            }
-            if (!error.empty()) raiseError(error);
-            return Image::fromBuf(std::move(src));
-        },
-        "path"_a, py::kw_only(), "part"_a = 0,
-        "Every channel of one part of a file, as float32, as it is (another renderer's passes).");
-
-    m.def(
-        "import_gbuffer",
-        [](const py::object& passes, const std::string& channels) {
-            Image storage;
-            const ImageView src = view(asImage(passes, "passes", storage));
-            ChannelMap map;
-            std::string error;
-            if (channels == "blender")
-                map = blenderChannelMap();
-            else if (!readChannelMap(channels, map, error))
-                throw py::value_error(channels + ": " + error);
-            OIIO::ImageBuf gbuf;
-            std::vector<std::string> warnings;
-            bool ok = false;
-            {
-                py::gil_scoped_release gil;
-                ok = importGBuffer(src.buf, map, gbuf, warnings, error);
-            }
-            if (!ok) throw py::value_error("passes: " + error);
-            warn(warnings);
-            return Image::fromBuf(std::move(gbuf));
-        },
-        "passes"_a, "channels"_a = "blender",
-        R"(Another renderer's passes as a dhdr G-buffer (dhdr-light --channels): 'blender' maps
-Cycles' Depth, Position, Normal (Z up) and the BaseColor, Roughness, Metallic AOVs (DiffCol
-stands in for a missing BaseColor, with a warning); any other value is a channel-map JSON
-file (docs/interop.md). The camera comes from the passes' worldToCamera and worldToNDC
-attributes (set them with set_attribute when the file has none).)");
-
-    m.def(
-        "read_lights",
-        [](const py::object& lights, bool radiometric) {
-            const std::string text = formatLights(lightsOf(lights, radiometric));
-            const py::object doc = py::module_::import("json").attr("loads")(text);
-            return py::object(doc["lights"]);
-        },
-        "lights"_a, py::kw_only(), "radiometric"_a = false,
-        "Lights (a lights file, a dict or a list of them) as the lights file's JSON objects: "
-        "edit them and give them to light().");
-
     std::apply(
         [&m](const auto&... keywords) {
             defDeepOp(

@@ -4,7 +4,9 @@
 namespace dhdr::python {
 void bindImageIO(py::module_& m);
 void bindTonemap(py::module_& m);
+void bindQuantize(py::module_& m);
 void bindGeometryOps(py::module_& m);
+void bindGBufferInput(py::module_& m);
 void bindLighting(py::module_& m);
 void bindDeep(py::module_& m);
 void bindScene(py::module_& m);
@@ -19,9 +21,11 @@ PYBIND11_MODULE(_dhdr, m) {
     dhdr::python::bindImage(m);
     dhdr::python::bindImageIO(m);
     dhdr::python::bindTonemap(m);
+    dhdr::python::bindQuantize(m);
     dhdr::python::bindGeometryOps(m);
     dhdr::python::bindDeep(m);
     dhdr::python::bindScene(m);
+    dhdr::python::bindGBufferInput(m);
     dhdr::python::bindLighting(m);
     dhdr::python::bindBakes(m);
     dhdr::python::bindBench(m);

@@ -5,6 +5,7 @@
 
 #include "py_image.h"
 
+#include <atomic>
 #include <dhdr/common/param_table.h>
 #include <functional>
 
@@ -14,20 +15,32 @@ namespace dhdr::python {
 // nthreads. Runs without the GIL: it must touch no Python object.
 using ImageOp = std::function<bool(OIIO::ImageBuf&, const OIIO::ImageBuf&, OIIO::ROI, int)>;
 
+// A call that may run for seconds (light(gi='path')): it runs on a thread of its own and stops
+// when `cancel` is set, which Ctrl-C does (py_interrupt.h); the call then raises
+// KeyboardInterrupt and writes nothing into dst.
+struct LongOp {
+    std::function<bool(OIIO::ImageBuf&, const OIIO::ImageBuf&, OIIO::ROI, int,
+                       const std::atomic<bool>& cancel)>
+        run;
+};
+
 // The result as a new Image; the library's error as RuntimeError.
 Image runNew(const Image& src, OIIO::ROI roi, int nthreads, const ImageOp& op);
+Image runNew(const Image& src, OIIO::ROI roi, int nthreads, const LongOp& op);
 
 // Into `dst`'s own pixels when it has writable ones (only `roi` written, as in OpenImageIO),
 // else into new pixels. src is copied first when it shares dst's memory. False with
 // dst.geterror() when the library fails.
 bool runInto(Image& dst, const Image& src, OIIO::ROI roi, int nthreads, const ImageOp& op);
+bool runInto(Image& dst, const Image& src, OIIO::ROI roi, int nthreads, const LongOp& op);
 
-// Registers both forms of `name`. `prepare(src, args...)` turns the keyword arguments into the
+// Registers both forms of `name`. src's NaN and ±Inf are read as the tools read them
+// (finiteImage), on a copy. `prepare(src, args...)` turns the keyword arguments into the
 // call (raising ValueError for bad ones) with the GIL held; `extra` are their py::arg's, from
 // py::kw_only() on keyword-only (light's lights come before it: light(gbuffer, lights)).
-template <class... Args, class... Extra>
+template <class Op, class... Args, class... Extra>
 void defImageOp(py::module_& m, const char* name, const char* doc,
-                ImageOp (*prepare)(const Image&, Args...), const Extra&... extra) {
+                Op (*prepare)(const Image&, Args...), const Extra&... extra) {
     // The return form first: op(src, lights) must not be taken for op(dst, src) when an
     // argument after src may be positional (light's lights); op(dst, src, ...) has one
     // positional argument too many for it.
@@ -35,8 +48,9 @@ void defImageOp(py::module_& m, const char* name, const char* doc,
         name,
         [prepare](const py::object& src, Args... args, const py::object& roi, int nthreads) {
             Image storage;
-            const Image& in = asImage(src, "src", storage);
-            const ImageOp op = prepare(in, args...);
+            Image finite;
+            const Image& in = finiteImage(asImage(src, "src", storage), "src", finite);
+            const Op op = prepare(in, args...);
             return runNew(in, toRoi(roi), nthreads, op);
         },
         py::arg("src"), extra..., py::arg("roi") = py::none(), py::arg("nthreads") = 0, doc);
@@ -45,8 +59,9 @@ void defImageOp(py::module_& m, const char* name, const char* doc,
         [prepare](Image& dst, const py::object& src, Args... args, const py::object& roi,
                   int nthreads) {
             Image storage;
-            const Image& in = asImage(src, "src", storage);
-            const ImageOp op = prepare(in, args...);
+            Image finite;
+            const Image& in = finiteImage(asImage(src, "src", storage), "src", finite);
+            const Op op = prepare(in, args...);
             return runInto(dst, in, toRoi(roi), nthreads, op);
         },
         py::arg("dst"), py::arg("src"), extra..., py::arg("roi") = py::none(),

@@ -114,6 +114,23 @@ std::string animationSelection(const py::object& animation) {
     throw py::type_error("animation: expected a name, an index or 'all'");
 }
 
+// frame=: None, or a whole number (a Python int of any size, numpy's too), its range
+// kMomentIntTable's; a float, or a number past a long long, is told by its keyword.
+std::optional<long long> frameOf(const py::object& frame) {
+    if (frame.is_none()) return std::nullopt;
+    if (py::isinstance<py::bool_>(frame) || !py::hasattr(frame, "__index__"))
+        throw py::type_error("frame: expected a whole number, got " +
+                             py::repr(frame).cast<std::string>());
+    const py::int_ whole(frame.attr("__index__")());
+    int overflow = 0;
+    const long long v = PyLong_AsLongLongAndOverflow(whole.ptr(), &overflow);
+    if (overflow != 0)
+        throw py::value_error(std::string(paramName(kMomentIntTable[0], Spelling::Keyword)) + ": " +
+                              py::str(py::handle(whole)).cast<std::string>() + " is outside " +
+                              intRangeText(kMomentIntTable[0]));
+    return v;
+}
+
 // The moment an animated render shows, from render_gbuffer's keywords as dhdr-gbuffer reads
 // --animation, --frame, --time and --fps; `playing` empty: the scene does not move.
 struct Moment {
@@ -156,8 +173,7 @@ Moment momentOf(const SceneHandle& h, const py::object& animation, std::optional
 SceneHandle posed(const SceneHandle& h, const py::object& time, const py::object& frame, double fps,
                   const py::object& animation) {
     const Moment moment =
-        momentOf(h, animation,
-                 frame.is_none() ? std::nullopt : std::optional<long long>(frame.cast<long long>()),
+        momentOf(h, animation, frameOf(frame),
                  time.is_none() ? std::nullopt : std::optional<double>(time.cast<double>()), fps);
     SceneHandle out{h.path, nullptr};
     {
@@ -237,7 +253,8 @@ void trace(const SceneHandle& h, const Scene& scene, std::shared_ptr<const RayCa
     std::vector<std::string> notes;
     Camera cam;
     const double aspect = double(params.width) / double(params.height);
-    if (!chooseCamera(scene, h.path, choice, aspect, cam, out.cameraError, notes, out.warnings))
+    if (!chooseCamera(scene, h.path, choice, aspect, cam, out.cameraError, notes, out.warnings,
+                      Spelling::Keyword))
         return;
     const GBufferRenderer renderer =
         caster ? GBufferRenderer(scene, cam, params, caster) : GBufferRenderer(scene, cam, params);
@@ -264,8 +281,7 @@ py::object render(const SceneHandle& h, const std::string& camera, const py::obj
     const GBufferDepth depth = depthOf(deepGiven);
     GBufferParams params = gbufferParams(size, maxLayers, textureFilter);
     const Moment moment =
-        momentOf(h, animation,
-                 frame.is_none() ? std::nullopt : std::optional<long long>(frame.cast<long long>()),
+        momentOf(h, animation, frameOf(frame),
                  time.is_none() ? std::nullopt : std::optional<double>(time.cast<double>()), fps);
     const CameraChoice choice = cameraChoice(camera, lookat, fov, frameAll);
     const double aspect = double(params.width) / double(params.height);
@@ -285,7 +301,8 @@ py::object render(const SceneHandle& h, const std::string& camera, const py::obj
             // frame itself only, as the tool does.
             auto around = [&](const Scene& s, Camera& c) {
                 std::vector<std::string> notes, warnings;
-                return chooseCamera(s, h.path, choice, aspect, c, out.cameraError, notes, warnings);
+                return chooseCamera(s, h.path, choice, aspect, c, out.cameraError, notes, warnings,
+                                    Spelling::Keyword);
             };
             std::shared_ptr<FrameMotion> motion;
             if (std::string e; !posed.pose(moment.time, 1.0 / fps, around, motion, e)) {
@@ -404,6 +421,7 @@ dhdr:animation in its header. Each animated call poses its own copy of the scene
     m.def(
         "write_gbuffer",
         [](const std::string& path, const Image& gbuffer) {
+            checkImageName(path, "path");
             const ImageView v = view(gbuffer);
             // The contract's channels (with or without occlusion), then the motion layer of an
             // animated frame.

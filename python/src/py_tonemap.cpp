@@ -11,7 +11,6 @@
 #include <dhdr/tonemap/display_transform.h>
 #include <dhdr/tonemap/frame_recipe.h>
 #include <dhdr/tonemap/metering.h>
-#include <dhdr/tonemap/quantize.h>
 #include <dhdr/tonemap/tone_map.h>
 #include <memory>
 #include <optional>
@@ -23,6 +22,16 @@ namespace {
 
 using namespace pybind11::literals;
 using Percentiles = std::pair<double, double>;
+
+// `src`, or a (height, width) array's one channel as grey R = G = B in `grey`: the calls on
+// colour take what the docs promise them.
+const OIIO::ImageBuf& colourOf(const OIIO::ImageBuf& src, OIIO::ImageBuf& grey, int nthreads) {
+    if (src.nchannels() != 1) return src;
+    const int order[] = {0, 0, 0};
+    const std::string names[] = {"R", "G", "B"};
+    OIIO::ImageBufAlgo::channels(grey, src, 3, order, {}, names, false, nthreads);
+    return grey;
+}
 
 LuminanceStatsParams luminanceParams(const std::string& weights, double delta, bool skip) {
     LuminanceStatsParams p;
@@ -97,7 +106,8 @@ ImageOp toneMapOp(const Image&, const std::string& op, double key, double exposu
     return [p, given](OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int n) {
         ToneMapParams q = p;
         q.stats = given.get();
-        return toneMap(dst, src, q, roi, n);
+        OIIO::ImageBuf grey;
+        return toneMap(dst, colourOf(src, grey, n), q, roi, n);
     };
 }
 
@@ -123,7 +133,8 @@ ImageOp bloomOp(const Image&, float threshold, float key, float sigma, float str
                 const std::string& weights, double delta, bool skip) {
     const BloomParams p = bloomParams(threshold, key, sigma, strength, weights, delta, skip);
     return [p](OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int n) {
-        return bloom(dst, src, p, roi, n);
+        OIIO::ImageBuf grey;
+        return bloom(dst, colourOf(src, grey, n), p, roi, n);
     };
 }
 
@@ -142,7 +153,9 @@ displayTransform(const std::string& config, const std::string& colorspace,
 
 // In place on a copy of src (dst's own pixels in the dst form): OCIO works on float in memory.
 ImageOp colourOp(std::shared_ptr<DisplayTransform> t, bool toDisplay) {
-    return [t, toDisplay](OIIO::ImageBuf& dst, const OIIO::ImageBuf& src, OIIO::ROI roi, int n) {
+    return [t, toDisplay](OIIO::ImageBuf& dst, const OIIO::ImageBuf& given, OIIO::ROI roi, int n) {
+        OIIO::ImageBuf grey;
+        const OIIO::ImageBuf& src = colourOf(given, grey, n);
         const bool copied = dst.initialized()
                                 ? OIIO::ImageBufAlgo::copy(dst, src, OIIO::TypeUnknown, roi, n)
                                 : dst.copy(src, OIIO::TypeDesc::FLOAT);
@@ -164,45 +177,22 @@ ImageOp toSceneLinearOp(const Image&, const std::string& config, const std::stri
     return colourOp(displayTransform(config, colorspace, display, view, look), false);
 }
 
-LuminanceStats meterImage(const Image& image, const MeteringParams& p, OIIO::ROI roi,
-                          int nthreads) {
+LuminanceStats meterImage(const Image& given, const MeteringParams& p, OIIO::ROI roi, int nthreads,
+                          const char* what) {
+    Image finite;
+    const Image& image = finiteImage(given, what, finite);
     const ImageView v = view(image);
     LuminanceStats stats;
     bool ok = false;
     {
         py::gil_scoped_release gil;
-        ok = meter(stats, v.buf, p, roi, nthreads);
+        OIIO::ImageBuf grey;
+        ok = meter(stats, colourOf(v.buf, grey, nthreads), p, roi, nthreads);
     }
     if (!ok)
         raiseError("cannot meter an image of " + std::to_string(image.spec().nchannels) +
                    " channels (R, G, B needed)");
     return stats;
-}
-
-// Quantized pixels: an integer array of src's size and channels (bits from its dtype).
-bool quantizeInto(py::array& dst, const Image& src, bool dither, OIIO::ROI roi, int nthreads) {
-    const OIIO::TypeDesc type = py::isinstance<py::array_t<uint8_t>>(dst) ? OIIO::TypeDesc::UINT8
-                                : py::isinstance<py::array_t<uint16_t>>(dst)
-                                    ? OIIO::TypeDesc::UINT16
-                                    : OIIO::TypeDesc::UNKNOWN;
-    if (type == OIIO::TypeDesc::UNKNOWN || dst.ndim() != 3 || !dst.writeable() ||
-        !(dst.flags() & py::array::c_style))
-        throw py::type_error("dst: expected a writable C-contiguous uint8 or uint16 array of "
-                             "shape (height, width, channels)");
-    const ImageView in = view(src);
-    OIIO::ImageSpec spec(int(dst.shape(1)), int(dst.shape(0)), int(dst.shape(2)), type);
-    spec.x = in.buf.spec().x;
-    spec.y = in.buf.spec().y;
-    OIIO::ImageBuf out(spec, dst.mutable_data());
-    QuantizeParams p;
-    p.dither = dither;
-    bool ok = false;
-    {
-        py::gil_scoped_release gil;
-        ok = quantize(out, in.buf, p, roi, nthreads);
-    }
-    if (!ok) raiseError(out.geterror());
-    return true;
 }
 
 // dhdr-tonemap's reading of a frame (prepareFrame), on a copy of src.
@@ -308,7 +298,7 @@ void bindMetering(py::module_& m) {
             Image storage;
             const Image& image = asImage(src, "src", storage);
             return meterImage(image, meteringParams(metering, window, weights, delta, skip),
-                              toRoi(roi), nthreads);
+                              toRoi(roi), nthreads, "src");
         },
         "src"_a, py::kw_only(), DHDR_METERING_ARGS, "roi"_a = py::none(), "nthreads"_a = 0,
         "The luminance statistics of src's R, G, B as dhdr-tonemap meters them (its --metering, "
@@ -322,6 +312,11 @@ void bindMetering(py::module_& m) {
             p.rate = rate;
             p.speed = speed;
             checkParams(p, kAdaptationFloatTable);
+            for (size_t i = 0; i < metered.size(); ++i)
+                if (!std::isfinite(metered[i]))
+                    throw py::value_error("metered[" + std::to_string(i) + "]: " +
+                                          py::repr(py::float_(metered[i])).cast<std::string>() +
+                                          " is not a finite luminance");
             return adaptLuminance(metered, p);
         },
         "metered"_a, py::kw_only(), "fps"_a = AdaptationParams{}.fps,
@@ -345,8 +340,8 @@ void bindMetering(py::module_& m) {
             for (size_t i = 0; i < frames.size(); ++i) {
                 Image storage;
                 const std::string what = "frames[" + std::to_string(i) + "]";
-                stats.push_back(
-                    meterImage(asImage(frames[i], what.c_str(), storage), p, {}, nthreads));
+                stats.push_back(meterImage(asImage(frames[i], what.c_str(), storage), p, {},
+                                           nthreads, what.c_str()));
                 measured.push_back(stats.back().logAverage);
             }
             const std::vector<double> adapted = adaptLuminance(measured, ap);
@@ -404,7 +399,7 @@ R, G, B. Other channels are copied.)",
         "The bloom layer alone (3 channels, src's size, before strength).");
 }
 
-// The display: OpenColorIO both ways and quantization.
+// The display: OpenColorIO both ways (quantization: py_quantize.cpp).
 void bindDisplay(py::module_& m) {
     defImageOp(m, "to_display", R"(Encodes display-linear (tone-mapped) RGB for a display through
 OpenColorIO, as dhdr-tonemap does after its operator: look, view and display of config (empty:
@@ -423,34 +418,6 @@ the image's oiio:ColorSpace says so) to scene-linear, as dhdr-tonemap does on re
         },
         py::kw_only(), DHDR_DISPLAY_ARGS,
         "(description, output colour space) of a display transform, as dhdr-tonemap -v says it.");
-
-    m.def(
-        "quantize",
-        [](py::array dst, const py::object& src, bool dither, const py::object& roi, int nthreads) {
-            Image storage;
-            return quantizeInto(dst, asImage(src, "src", storage), dither, toRoi(roi), nthreads);
-        },
-        "dst"_a, "src"_a, py::kw_only(), "dither"_a = true, "roi"_a = py::none(), "nthreads"_a = 0);
-    m.def(
-        "quantize",
-        [](const py::object& src, int bits, bool dither, const py::object& roi, int nthreads) {
-            Image storage;
-            const Image& image = asImage(src, "src", storage);
-            if (bits != 8 && bits != 16)
-                throw py::value_error("bits: " + std::to_string(bits) + " is not 8 or 16");
-            const std::vector<py::ssize_t> shape = {image.spec().height, image.spec().width,
-                                                    image.spec().nchannels};
-            py::array dst = bits == 8 ? py::array(py::array_t<uint8_t>(shape))
-                                      : py::array(py::array_t<uint16_t>(shape));
-            quantizeInto(dst, image, dither, toRoi(roi), nthreads);
-            return dst;
-        },
-        "src"_a, py::kw_only(), "bits"_a = 8, "dither"_a = true, "roi"_a = py::none(),
-        "nthreads"_a = 0,
-        R"(Display values to integers (dhdr-tonemap's PNG/TIFF output): round(clamp(v, 0, 1) x
-(2^bits - 1) + offset), the offset from an 8x8 Bayer matrix on R, G, B when dither (the tool
-dithers 8-bit output unless --no-dither, never 16-bit). Returns a uint8 or uint16 array
-(height, width, channels); the dst form fills such an array.)");
 }
 
 // What the tools do on reading, and dhdr-tonemap's frame recipe.

@@ -162,15 +162,17 @@ bool bakeIbl(const EnvironmentImage& source, const IblBakeParams& p, Ibl& ibl, s
     const PrefilterSource sky = prefilterSource(env, mips);
     ibl.levels.clear();
     ibl.levels.push_back(env);
-    for (int k = 1; k < p.levels; ++k)
+    const auto cancelled = [&p] { return p.cancel && p.cancel->load(std::memory_order_relaxed); };
+    for (int k = 1; k < p.levels && !cancelled(); ++k)
         ibl.levels.push_back(prefilter(sky, iblLevelWidth(p, k), iblLevelRoughness(k, p.levels),
-                                       iblLevelCellSize(p, k), nthreads));
+                                       iblLevelCellSize(p, k), nthreads, p.cancel));
 
     // (c) The DFG table.
     ibl.dfg.assign(size_t(p.dfgSize) * size_t(p.dfgSize), glm::vec2(0.0f));
     OIIO::parallel_for(
         0, p.dfgSize,
         [&](int64_t j) {
+            if (cancelled()) return;
             const float roughness = (float(j) + 0.5f) / float(p.dfgSize);
             const std::vector<glm::vec3> halves = dfgHalfVectors(roughness, p.dfgSamples);
             for (int i = 0; i < p.dfgSize; ++i)
@@ -178,6 +180,10 @@ bool bakeIbl(const EnvironmentImage& source, const IblBakeParams& p, Ibl& ibl, s
                     integrateDFG((float(i) + 0.5f) / float(p.dfgSize), roughness, halves);
         },
         perItem(nthreads));
+    if (cancelled()) {
+        error = "cancelled";
+        return false;
+    }
     return true;
 }
 

@@ -153,9 +153,10 @@ struct Cell {
 // coarsest mip, a texel is split into its four children while it is wider than `cell` × (2α +
 // its distance from R), so the cells are fine at the lobe's peak and coarse in its long tail;
 // each cell is weighted by the lobe at its centre times its solid angle. Sorted, so that rows
-// are summed in a fixed order.
+// are summed in a fixed order. Rows are left empty once `cancel` (may be null) is set.
 std::vector<std::vector<Cell>> quadratureCells(const std::vector<EnvironmentImage>& mips, int W,
-                                               float alpha, double cell, int nthreads) {
+                                               float alpha, double cell, int nthreads,
+                                               const std::atomic<bool>* cancel) {
     const int H = W / 2, nm = int(mips.size());
     const double lambda = 2.0 * alpha, a2 = double(alpha) * alpha;
     // Per mip and texel row: the centre's cos θ and sin θ, the solid angle, and the cosine of
@@ -190,6 +191,7 @@ std::vector<std::vector<Cell>> quadratureCells(const std::vector<EnvironmentImag
     OIIO::parallel_for(
         0, H,
         [&](int64_t y) {
+            if (cancel && cancel->load(std::memory_order_relaxed)) return;
             const double theta = kPiD * (double(y) + 0.5) / H;
             const double phi = 2.0 * kPiD * (0.5 / W - 0.5);
             const glm::dvec3 R(std::sin(theta) * std::cos(phi), std::cos(theta),
@@ -391,7 +393,7 @@ PrefilterSource prefilterSource(const EnvironmentImage& env,
 // most 2α / 3 wide. Every row is summed in a fixed order: the result does not depend on the
 // thread count.
 EnvironmentImage prefilter(const PrefilterSource& source, int width, float roughness, double cell,
-                           int nthreads) {
+                           int nthreads, const std::atomic<bool>* cancel) {
     const std::vector<EnvironmentImage>& mips = *source.mips;
     EnvironmentImage out;
     out.width = width;
@@ -412,11 +414,14 @@ EnvironmentImage prefilter(const PrefilterSource& source, int width, float rough
         pointScale = float(1.0 / ggxMeanCosine(alpha));
     }
 
-    const std::vector<std::vector<Cell>> cells = quadratureCells(mips, W, alpha, cell, nthreads);
+    const std::vector<std::vector<Cell>> cells =
+        quadratureCells(mips, W, alpha, cell, nthreads, cancel);
+    if (cancel && cancel->load(std::memory_order_relaxed)) return out;
     const std::vector<Plane> planes = mipPlanes(mips, cells, W, nthreads);
     OIIO::parallel_for(
         0, H,
         [&](int64_t y) {
+            if (cancel && cancel->load(std::memory_order_relaxed)) return;
             std::vector<float> acc(size_t(W) * 3, 0.0f); // planar
             accumulateRow(cells[size_t(y)], planes, mips, W, acc.data());
             const double theta = kPiD * (double(y) + 0.5) / H;

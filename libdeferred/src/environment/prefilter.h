@@ -2,6 +2,7 @@
 // The GGX-prefiltered levels of an environment (bakeIbl): a deterministic quadrature over the
 // sky's mips, with its brightest texels added exactly as points.
 
+#include <atomic>
 #include <dhdr/deferred/environment/environment.h>
 #include <glm/glm.hpp>
 #include <vector>
@@ -29,8 +30,8 @@ PrefilterSource prefilterSource(const EnvironmentImage& sky,
                                 const std::vector<EnvironmentImage>& skyMips);
 
 // One prefiltered level, `width` × width / 2, for `roughness`; `cell` is iblLevelCellSize.
-// The same bits at any thread count.
+// The same bits at any thread count. Rows are skipped once `cancel` (may be null) is set.
 EnvironmentImage prefilter(const PrefilterSource& source, int width, float roughness, double cell,
-                           int nthreads);
+                           int nthreads, const std::atomic<bool>* cancel = nullptr);
 
 } // namespace dhdr

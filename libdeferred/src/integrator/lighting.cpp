@@ -95,6 +95,10 @@ void shadePixel(const PixelStages& s, float* out, int x, int y, LightingStats& l
     if (s.background.plated()) s.background.overPlate(out, x, y);
 }
 
+bool cancelled(const LightingParams& params) {
+    return params.cancel && params.cancel->load(std::memory_order_relaxed);
+}
+
 // The lighting pass over the pixels of `roi`: the setup, the output plan and the estimators
 // once, then every pixel's stages.
 bool shadeSource(OIIO::ImageBuf& dst, const ShadeSource& source, const LightingInputs& inputs,
@@ -132,14 +136,19 @@ bool shadeSource(OIIO::ImageBuf& dst, const ShadeSource& source, const LightingI
     const long long pixels = (long long)roi.width() * (long long)roi.height();
     parallelImageRows(roi, nthreads, [&](OIIO::ROI r) {
         LightingStats local;
+        // Polled a pixel at a time: a pixel of the path tracer's most paths takes under a second.
         for (int y = r.ybegin; y < r.yend; ++y)
-            for (int x = r.xbegin; x < r.xend; ++x) {
+            for (int x = r.xbegin; x < r.xend && !cancelled(params); ++x) {
                 shadePixel(stages, static_cast<float*>(dst.pixeladdr(x, y)), x, y, local);
                 if (inputs.shaded) (*inputs.shaded)(++done, pixels);
             }
         const std::lock_guard<std::mutex> lock(totalMutex);
         total += local;
     });
+    if (cancelled(params)) {
+        dst.errorfmt("cancelled");
+        return false;
+    }
     if (stats) {
         const FilteredEstimates& filtered = *estimators.filtered;
         *stats = total;

@@ -7,7 +7,9 @@ namespace dhdr {
 
 bool chooseCamera(const Scene& scene, const std::string& path, const CameraChoice& choice,
                   double aspect, Camera& camera, std::string& error,
-                  std::vector<std::string>& notes, std::vector<std::string>& warnings) {
+                  std::vector<std::string>& notes, std::vector<std::string>& warnings,
+                  Spelling spelling) {
+    const bool keyword = spelling == Spelling::Keyword;
     if (choice.lookat) {
         camera = *choice.lookat;
     } else if (!scene.cameras.empty()) {
@@ -36,12 +38,14 @@ bool chooseCamera(const Scene& scene, const std::string& path, const CameraChoic
         camera =
             Camera::lookAt({0.0, 0.34, 0.94}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}, glm::radians(39.6));
     } else {
-        error = path + ": the scene has no camera; give one with --lookat, or --frame-all";
+        error = path + ": the scene has no camera; give one with " +
+                (keyword ? "lookat=, or frame_all=True" : "--lookat, or --frame-all");
         return false;
     }
     if (choice.fovDegrees > 0.0) {
         if (camera.orthographic)
-            warnings.push_back("--fov ignored: the camera is orthographic");
+            warnings.push_back(std::string(keyword ? "fov" : "--fov") +
+                               " ignored: the camera is orthographic");
         else
             camera.yfov = glm::radians(choice.fovDegrees);
     }
@@ -53,7 +57,8 @@ bool chooseCamera(const Scene& scene, const std::string& path, const CameraChoic
             char bounds[160];
             std::snprintf(bounds, sizeof bounds, "(%g, %g, %g) to (%g, %g, %g)", lo.x, lo.y, lo.z,
                           hi.x, hi.y, hi.z);
-            error = path + ": --frame-all cannot frame the scene's bounds, " + bounds +
+            error = path + ": " + (keyword ? "frame_all" : "--frame-all") +
+                    " cannot frame the scene's bounds, " + bounds +
                     ": the camera that would fit them cannot be rendered from: " + why;
             return false;
         }

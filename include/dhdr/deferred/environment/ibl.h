@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <dhdr/common/param_table.h>
@@ -32,6 +33,9 @@ struct IblBakeParams {
     // Luminance above which texels are split off as the environment's sun (sun.h), in the
     // image's units; [0, ∞), 0: never.
     float sunThreshold = kDefaultSunThreshold;
+    // Set by another thread (the Python module's Ctrl-C) to stop the bake at its next row; it
+    // then fails with "cancelled". Null: never.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 // IblBakeParams' ranges, and the options of dhdr-ibl and keywords of dhdr.bake_ibl() that set

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <atomic>
 #include <dhdr/common/param_table.h>
 #include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/environment/ibl.h>
@@ -79,6 +80,9 @@ struct LightingParams {
     // Also write the specular indirect light as specular.R, specular.G, specular.B (after
     // indirect), when it is traced.
     bool writeSpecular = false;
+    // Set by another thread (the Python module's Ctrl-C) to stop the pass at its next row; the
+    // call then fails with "cancelled" and its output is not to be used. Null: never.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 // The ranges of LightingParams' counts, and the options of dhdr-light and keywords of

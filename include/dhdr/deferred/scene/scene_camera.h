@@ -38,9 +38,11 @@ inline constexpr FloatParam<CameraChoice, double> kCameraFloatTable[] = {
 // The camera of `scene` (read from `path`, which messages name) for an image of `aspect`
 // (width / height). False with an error naming the scene when there is none to use (no camera,
 // an unknown name listing the scene's, one that cannot be rendered from). `notes` receives what
-// the tool says with -v, `warnings` what it warns about.
+// the tool says with -v, `warnings` what it warns about; both name the options as `spelling`
+// says (--lookat, or the module's lookat=).
 bool chooseCamera(const Scene& scene, const std::string& path, const CameraChoice& choice,
                   double aspect, Camera& camera, std::string& error,
-                  std::vector<std::string>& notes, std::vector<std::string>& warnings);
+                  std::vector<std::string>& notes, std::vector<std::string>& warnings,
+                  Spelling spelling = Spelling::Option);
 
 } // namespace dhdr
