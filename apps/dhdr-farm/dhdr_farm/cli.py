@@ -17,6 +17,9 @@ from .script import make_output_folders, paths, write_script
 EXIT_OK, EXIT_FAILURE, EXIT_USAGE, EXIT_INCOMPLETE = 0, 1, 2, 3
 # Tasks of a job that `plan` prints at each end without --all-tasks.
 PLAN_TASKS = 5
+# Frames per task, and the local engine's processes, when the command line does not say.
+DEFAULT_CHUNK = 10
+DEFAULT_LOCAL_PROCESSES = 1
 
 
 def _tools_folder(given):
@@ -54,8 +57,8 @@ def _parser():
                        help="frames to run" + ("" if frames_required else
                                                " (default: those of the last submission)"))
         s.add_argument("--chunk", type=int, metavar="N",
-                       help="frames per task, run by one process (default 10%s)" % (
-                           "" if frames_required else ", or the last submission's"))
+                       help="frames per task, run by one process (default %d%s)" % (
+                           DEFAULT_CHUNK, "" if frames_required else ", or the last submission's"))
         s.add_argument("--state", metavar="DIR",
                        help="where job scripts, logs and statistics go (default "
                             ".dhdr-farm/<name> beside the pipeline file; on a cluster it "
@@ -71,9 +74,9 @@ def _parser():
     s.add_argument("--partition", metavar="P", help="Slurm partition (default: the cluster's)")
     s.add_argument("--max-running", "-j", type=int, metavar="K",
                    help="at most K chunks of a stage at once (Slurm: the array's %%K); local "
-                        "engine: at most K processes in all (default 1)")
+                        "engine: at most K processes in all (default " + str(DEFAULT_LOCAL_PROCESSES) + ")")
     s.add_argument("--retries", type=int, default=0, metavar="R",
-                   help="run a failing chunk up to R more times before it fails (default 0)")
+                   help="run a failing chunk up to R more times before it fails (default %(default)s)")
     s.add_argument("--cpus", type=int, metavar="C",
                    help="cores per task: Slurm's --cpus-per-task, and the tools' --threads "
                         "(default: Slurm's 1 per task; locally every core)")
@@ -117,7 +120,7 @@ def _check_numbers(args):
 
 def submit(args):
     first, last = parse_range(args.frames)
-    plan = _plan(args, first, last, args.chunk or 10)
+    plan = _plan(args, first, last, args.chunk or DEFAULT_CHUNK)
     say = (lambda m: None) if args.quiet else (lambda m: sys.stdout.write(m + "\n"))
     missing = check_inputs(plan)
     if missing:
@@ -154,7 +157,7 @@ def submit(args):
                 sys.stderr.write("dhdr-farm: %s chunk %d: failed with exit status %d (log %s)\n"
                                  % (job_key, task, rc, paths(plan.state, job_key, task)["log"]))
         status_mod.write_record(plan.state, record)
-        local.run(plan, scripts, args.max_running or 1, args.cpus or 0, report=progress)
+        local.run(plan, scripts, args.max_running or DEFAULT_LOCAL_PROCESSES, args.cpus or 0, report=progress)
     else:
         ids = slurm.submit(plan, scripts, args.partition, args.max_running, args.cpus)
         record["jobs"] = ids
@@ -182,13 +185,13 @@ def status(args):
     if not (isinstance(record, dict) and isinstance(record.get("frames"), list)
             and len(record["frames"]) == 2
             and all(isinstance(f, int) for f in record["frames"])
-            and isinstance(record.get("chunk", 10), int)):
+            and isinstance(record.get("chunk", DEFAULT_CHUNK), int)):
         record = None
     if record is None and not args.frames:
         return _error("%s: never submitted (no %s); give --frames to check the outputs" % (
             args.pipeline, status_mod.record_path(state)))
     first, last = parse_range(args.frames) if args.frames else record["frames"]
-    chunk = args.chunk or (record["chunk"] if record else 10)
+    chunk = args.chunk or (record["chunk"] if record else DEFAULT_CHUNK)
     bin_dir = _tools_folder(args.bin) if args.bin or not record else record.get("bin")
     plan = make_plan(pipeline, first, last, chunk, state, bin_dir)
     jobs = record["jobs"] if record and record.get("engine") == "slurm" else {}
@@ -201,7 +204,7 @@ def status(args):
 
 def show_plan(args):
     first, last = parse_range(args.frames)
-    plan = _plan(args, first, last, args.chunk or 10)
+    plan = _plan(args, first, last, args.chunk or DEFAULT_CHUNK)
     out = []
     for job in plan.jobs:
         deps = ", ".join("%s %s" % (kind, d.key) for d, kind in job.after) or "none"
