@@ -35,6 +35,7 @@ def test_materials_are_those_in_use_as_dicts(cornell):
     assert (white["metallic"], white["alpha_mode"]) == (0.0, "opaque")
     assert white["roughness"] == pytest.approx(0.9)
     assert white["textures"] == {} and white["extensions"] == []
+    assert (white["clearcoat"], white["clearcoat_roughness"]) == (0.0, 0.0)
     # The ceiling panel's KHR_materials_emissive_strength is read: in its emission, not unread.
     assert light["extensions"] == ["KHR_materials_emissive_strength"]
     assert light["extensions_not_read"] == []
