@@ -163,10 +163,10 @@ reconstruction filter): each pixel gathers taps along the longest motion of its 
 weighted by depth so that what is in front streaks over what is behind. motion (4 channels:
 X, Y = previous - now, Z, W = now - next, pixels, y up, Blender's Vector convention) and depth
 (1) are images of src's size; without them they come from gbuffer= (motion.X..W or
-<layer>.Vector.X..W, and Z or Depth.Z), else from src's own channels. shutter in frames,
-centred (0.5); samples taps (15); max_blur pixels from a pixel to the end of its streak (32);
-depth_softness relative (0.01). R, G, B (A) are blurred, other channels copied; pixels with no
-motion nearby are copied bit for bit.)",
+<layer>.Vector.X..W, and Z or Depth.Z), else from src's own channels. shutter: in frames,
+centred; samples: taps; max_blur: pixels from a pixel to the end of its streak;
+depth_softness: relative (their defaults and ranges: dhdr-motionblur --help). R, G, B (A) are
+blurred, other channels copied; pixels with no motion nearby are copied bit for bit.)",
         &motionBlurOp, py::kw_only(), py::arg("motion") = py::none(), py::arg("depth") = py::none(),
         py::arg("gbuffer") = py::none(), py::arg("shutter") = MotionBlurParams{}.shutter,
         py::arg("samples") = MotionBlurParams{}.samples,
