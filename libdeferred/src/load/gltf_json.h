@@ -15,6 +15,10 @@ namespace dhdr::detail {
 // below; discarded when the file is neither.
 nlohmann::json gltfJson(const std::string& path);
 
+// The JSON chunk of a binary glTF's bytes (12-byte header, then chunk length, chunk type
+// "JSON"); empty for other bytes.
+std::string glbJsonChunk(const std::vector<char>& bytes);
+
 // KHR_materials_emissive_strength per material name, from a .gltf or .glb file. Empty for
 // other files, or when no material uses the extension.
 std::map<std::string, float> gltfEmissiveStrengths(const nlohmann::json& doc);
@@ -109,6 +113,8 @@ std::map<std::string, GltfCamera> gltfCamerasByNode(const nlohmann::json& doc);
 // The names the file gives the elements of its top-level array `array` ("nodes", "meshes"):
 // Assimp 5.2 names an unnamed one after its place ("nodes[3]"), which is no name to show.
 std::set<std::string> gltfNames(const nlohmann::json& doc, const char* array);
+
+// What Assimp 5.2 is handed of a glTF file (gltf_for_assimp.cpp).
 
 // Assimp 5.2 reads a glTF node tree recursively, and its stack overflows on a few thousand
 // levels: nodes nested deeper than this are handed to it flattened.
