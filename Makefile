@@ -1,5 +1,5 @@
 # dhdr: two commands for a fresh Debian 12 machine.
-#   make demo   install what is missing, build (Release), run the pipeline on the Cornell box
+#   make demo   install what is missing, build the tools (Release), run the pipeline on the Cornell box
 #   make test   install what is missing, build, run the test suite (ctest)
 #   make sanitize  the same suite built with AddressSanitizer + UndefinedBehaviorSanitizer
 #   make fuzz      build the libFuzzer targets (clang) and run each for FUZZ_SECONDS (60)
@@ -45,7 +45,10 @@ fuzz:
 golden: build
 	@bash tests/golden/run.sh $(BUILD)/apps --update
 
-demo: build
+# The tools only (not the tests): the first picture comes after the dependencies and the
+# libraries and tools compile, not after the whole suite.
+demo: configure
+	@cmake --build $(BUILD) --target dhdr-tools -j $(JOBS)
 	@bash scripts/demo.sh $(BUILD)/apps out/demo
 
 bench: build

@@ -9,20 +9,10 @@ scene="$here/testdata/cornell_box.gltf"
 mkdir -p "$out"
 
 step() { echo "== $*"; "$@"; }
-# The scene's own lights (KHR_lights_punctual) travel to the lighting stage as a lights file;
-# an ambient fill is added from a second one. --scene gives the lighting stage the scene's
-# triangles: lights cast shadows, the ceiling's glowing panel lights the box (soft shadows),
-# and --ao rt occludes the ambient fill within 10 cm.
-step "$tools/dhdr-gbuffer" "$scene" --size 1024x1024 --lights-out "$out/cornell.lights.json" \
-  -o "$out/cornell.gbuf.exr" -v
-step "$tools/dhdr-light" "$out/cornell.gbuf.exr" --scene "$scene" \
-  --lights "$out/cornell.lights.json" --lights "$here/testdata/cornell_box.fill.lights.json" \
-  --ao rt --ao-distance 0.1 \
-  -o "$out/cornell.hdr.exr" -v
-step "$tools/dhdr-aa" "$out/cornell.hdr.exr" --gbuffer "$out/cornell.gbuf.exr" \
-  -o "$out/cornell.aa.exr" -v
-step "$tools/dhdr-bloom" "$out/cornell.aa.exr" -o "$out/cornell.bloom.exr" -v
-step "$tools/dhdr-tonemap" "$out/cornell.bloom.exr" -o "$out/cornell.png" -v
+# The README's "pipeline, by hand" block, as written: the Cornell box with its own lights,
+# soft shadows from the glowing ceiling panel and indirect light from baked probes.
+step bash "$here/scripts/readme_chain.sh" "$tools" "$out"
+echo "== first picture: $out/cornell.png"
 
 # Image-based lighting and AR compositing: spheres on a shadow-catching ground plane under an
 # HDR sky, composited over it (docs/ibl.md).
@@ -41,9 +31,9 @@ bash "$here/scripts/shot_demo.sh" "$tools" "$out"
 
 echo
 echo "Outputs:"
-for f in cornell.gbuf.exr cornell.lights.json cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png \
+for f in cornell.probes.exr cornell.gbuf.exr cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png \
   sky.exr sky.ibl.exr spheres.gbuf.exr spheres.hdr.exr spheres.png \
-  glass.gbuf.exr glass.hdr.exr glass.deep.exr glass.png cornell.probes.exr gi.png \
+  glass.gbuf.exr glass.hdr.exr glass.deep.exr glass.png gi.png \
   shot_sheet.png shot_blur.png; do
   echo "  $out/$f"
 done
