@@ -10,7 +10,7 @@ mkdir -p "$out"
 
 step() { echo "== $*"; "$@"; }
 # The README's "pipeline, by hand" block, as written: the Cornell box with its own lights,
-# soft shadows from the glowing ceiling panel and indirect light from baked probes.
+# soft shadows from the glowing ceiling panel and indirect light from the probes dhdr-light bakes.
 step bash "$here/scripts/readme_chain.sh" "$tools" "$out"
 echo "== first picture: $out/cornell.png"
 
@@ -31,9 +31,9 @@ bash "$here/scripts/shot_demo.sh" "$tools" "$out"
 
 echo
 echo "Outputs:"
-for f in cornell.probes.exr cornell.gbuf.exr cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png \
+for f in cornell.gbuf.exr cornell.hdr.exr cornell.aa.exr cornell.bloom.exr cornell.png \
   sky.exr sky.ibl.exr spheres.gbuf.exr spheres.hdr.exr spheres.png \
-  glass.gbuf.exr glass.hdr.exr glass.deep.exr glass.png gi.png \
+  glass.gbuf.exr glass.hdr.exr glass.deep.exr glass.png cornell.probes.exr gi.png \
   shot_sheet.png shot_blur.png; do
   echo "  $out/$f"
 done

@@ -13,7 +13,7 @@ step() { echo "== $*"; "$@"; }
 step "$tools/dhdr-probes" "$scene" -o "$out/cornell.probes.exr" -v
 step "$tools/dhdr-gbuffer" "$scene" --size 640x640 -o "$out/gi.gbuf.exr" -v
 for gi in off on; do
-  probes=()
+  probes=(--gi direct)
   [ "$gi" = on ] && probes=(--probes "$out/cornell.probes.exr")
   step "$tools/dhdr-light" "$out/gi.gbuf.exr" --scene "$scene" "${probes[@]}" \
     -o "$out/gi_$gi.hdr.exr" -v

@@ -15,7 +15,7 @@ mkdir -p "$out"
 "$tools/dhdr-probes" "$scene" -o "$out/path.probes.exr" -q
 "$tools/dhdr-gbuffer" "$scene" --size 320x320 -o "$out/path.gbuf.exr" -q
 light=("$tools/dhdr-light" "$out/path.gbuf.exr" --scene "$scene")
-"${light[@]}" --specular-samples 0 -o "$out/path_direct.hdr.exr" -q
+"${light[@]}" --gi direct --specular-samples 0 -o "$out/path_direct.hdr.exr" -q
 "${light[@]}" --specular-samples 0 --probes "$out/path.probes.exr" -o "$out/path_probes.hdr.exr" -q
 "${light[@]}" --probes "$out/path.probes.exr" -o "$out/path_specular.hdr.exr" -q
 "${light[@]}" --gi path --spp "$spp" -o "$out/path_traced.hdr.exr" -v

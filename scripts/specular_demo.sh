@@ -12,9 +12,10 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 scene="$here/testdata/cornell_gold.gltf"
 mkdir -p "$out"
 "$tools/dhdr-gbuffer" "$scene" --size 320x320 -o "$out/gold.gbuf.exr" -q
-"$tools/dhdr-light" "$out/gold.gbuf.exr" --scene "$scene" --specular-samples 0 \
+"$tools/dhdr-light" "$out/gold.gbuf.exr" --scene "$scene" --gi direct --specular-samples 0 \
   -o "$out/gold_direct.hdr.exr" -q
-"$tools/dhdr-light" "$out/gold.gbuf.exr" --scene "$scene" -o "$out/gold_specular.hdr.exr" -v
+"$tools/dhdr-light" "$out/gold.gbuf.exr" --scene "$scene" --gi direct \
+  -o "$out/gold_specular.hdr.exr" -v
 "$tools/dhdr-light" "$out/gold.gbuf.exr" --scene "$scene" --gi path --spp "$spp" \
   -o "$out/gold_path.hdr.exr" -q
 for name in direct specular path; do

@@ -478,8 +478,8 @@ TEST_F(AnimationTools, WhatStaysStillIsLitTheSameInEveryFrame) {
         char in[32], out[32];
         std::snprintf(in, sizeof in, "shot.%04d.gbuf.exr", f);
         std::snprintf(out, sizeof out, "shot.%04d.hdr.exr", f);
-        const Result r = run("dhdr-light " + path(in) + " --scene " + path("shot.gltf") +
-                             " --lights " + path("soft.lights.json") +
+        const Result r = run("dhdr-light --gi direct " + path(in) + " --scene " +
+                             path("shot.gltf") + " --lights " + path("soft.lights.json") +
                              " --ao rt --ao-samples 8 --denoise off --type float -o " + path(out));
         ASSERT_EQ(r.status, 0) << r.err;
     }

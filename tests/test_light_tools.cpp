@@ -67,14 +67,14 @@ TEST_F(LightTools, WithoutSceneNothingIsShadowedAndVerboseSaysSo) {
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("no --scene"), std::string::npos) << r.err;
     // --no-shadows with the scene's emissive lights off is that same unshadowed image.
-    const Result s =
-        run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --scene " + kCornell +
-            " --no-shadows --emissive-lights off -o " + path("noshadows.exr") + " --type float");
+    const Result s = run("dhdr-light --gi direct " + path("g.exr") + " --lights " + kLights +
+                         " --scene " + kCornell + " --no-shadows --emissive-lights off -o " +
+                         path("noshadows.exr") + " --type float");
     ASSERT_EQ(s.status, 0) << s.err;
     EXPECT_TRUE(samePixels(read("plain.exr"), read("noshadows.exr")));
     // Shadows darken some pixels and brighten none.
-    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --scene " + kCornell +
-                  " --emissive-lights off --type float -o " + path("shadowed.exr"))
+    ASSERT_EQ(run("dhdr-light --gi direct " + path("g.exr") + " --lights " + kLights + " --scene " +
+                  kCornell + " --emissive-lights off --type float -o " + path("shadowed.exr"))
                   .status,
               0);
     const ImageBuf plain = read("plain.exr"), shadowed = read("shadowed.exr");
@@ -91,22 +91,22 @@ TEST_F(LightTools, WithoutSceneNothingIsShadowedAndVerboseSaysSo) {
 
 TEST_F(LightTools, TheScenesOwnLightsAndGlowingPanelLightIt) {
     // No --lights: the scene's punctual lights plus its emissive panel.
-    const Result r = run("dhdr-light " + path("g.exr") + " --scene " + kCornell +
+    const Result r = run("dhdr-light --gi direct " + path("g.exr") + " --scene " + kCornell +
                          " -v --type float -o " + path("own.exr"));
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("1 emissive mesh as area lights"), std::string::npos) << r.err;
     // The panel alone (its punctual lights replaced by an empty lights file) still lights the
     // box: a Cornell box with no hand-written lights.
     { std::ofstream(path("none.json")) << "{\"lights\": []}\n"; }
-    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
-                  path("none.json") + " --type float -o " + path("panel.exr"))
+    ASSERT_EQ(run("dhdr-light --gi direct " + path("g.exr") + " --scene " + kCornell +
+                  " --lights " + path("none.json") + " --type float -o " + path("panel.exr"))
                   .status,
               0);
     const OIIO::ImageBufAlgo::PixelStats lit =
         OIIO::ImageBufAlgo::computePixelStats(read("panel.exr"));
     ASSERT_FALSE(lit.avg.empty());
     const Result off =
-        run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
+        run("dhdr-light --gi direct " + path("g.exr") + " --scene " + kCornell + " --lights " +
             path("none.json") + " --emissive-lights off --type float -o " + path("dark.exr"));
     ASSERT_EQ(off.status, 0);
     const OIIO::ImageBufAlgo::PixelStats dark =
@@ -131,15 +131,15 @@ TEST_F(LightTools, ResultsDoNotDependOnTheThreadCount) {
 }
 
 TEST_F(LightTools, WarnsWhenTheSceneIsAnotherFile) {
-    const Result same =
-        run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " -o " + path("same.exr"));
+    const Result same = run("dhdr-light --gi direct " + path("g.exr") + " --scene " + kCornell +
+                            " -o " + path("same.exr"));
     ASSERT_EQ(same.status, 0) << same.err;
     EXPECT_EQ(same.err.find("another scene"), std::string::npos) << same.err;
     // The same scene with one byte more is another file.
     fs::copy_file(kCornell, path("edited.gltf"), fs::copy_options::overwrite_existing);
     std::ofstream(path("edited.gltf"), std::ios::app) << "\n";
-    const Result other = run("dhdr-light " + path("g.exr") + " --scene " + path("edited.gltf") +
-                             " -o " + path("other.exr"));
+    const Result other = run("dhdr-light --gi direct " + path("g.exr") + " --scene " +
+                             path("edited.gltf") + " -o " + path("other.exr"));
     ASSERT_EQ(other.status, 0) << other.err;
     EXPECT_NE(other.err.find("another scene"), std::string::npos) << other.err;
 }
@@ -351,9 +351,9 @@ TEST_F(LightTools, DeepLightingFlattensToTheFlatOutput) {
     // --deep-out file (tidy: sorted, premultiplied), and the pane tints what is behind it.
     // 300 rows: dhdr-light reads, lights and writes the deep G-buffer in three bands.
     ASSERT_EQ(run("dhdr-gbuffer " + kGlass + " --size 80x300 -o " + path("dg.exr")).status, 0);
-    const Result r =
-        run("dhdr-light " + path("dg.exr") + " --scene " + kGlass + " --lights " + kLights +
-            " --type float --deep-out " + path("ddeep.exr") + " -o " + path("dflat.exr") + " -v");
+    const Result r = run("dhdr-light --gi direct " + path("dg.exr") + " --scene " + kGlass +
+                         " --lights " + kLights + " --type float --deep-out " + path("ddeep.exr") +
+                         " -o " + path("dflat.exr") + " -v");
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_NE(r.err.find("deep:"), std::string::npos) << r.err;
     ASSERT_TRUE(isDeep(path("ddeep.exr")));
@@ -517,8 +517,8 @@ TEST_F(LightTools, ProbesAddIndirectLightAndTheirAOV) {
         run("dhdr-probes " + kCornell + " --spacing 0.15 -o " + path("cb.probes.exr") + " -v");
     ASSERT_EQ(bake.status, 0) << bake.err;
     EXPECT_NE(bake.err.find("relocated"), std::string::npos) << bake.err;
-    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --type float -o " +
-                  path("nogi.exr"))
+    ASSERT_EQ(run("dhdr-light --gi direct " + path("g.exr") + " --scene " + kCornell +
+                  " --type float -o " + path("nogi.exr"))
                   .status,
               0);
     const Result lit =
@@ -641,4 +641,57 @@ TEST_F(LightTools, BlenderPassesRelightAsDhdrsOwnGBuffer) {
     EXPECT_NE(noNormal.err.find("nonormal.json"), std::string::npos) << noNormal.err;
     EXPECT_NE(noNormal.err.find("'N.x'"), std::string::npos) << noNormal.err;
     EXPECT_FALSE(fs::exists(path("x.exr")));
+}
+
+// --gi auto (the default) with the scene and no --probes: the probes dhdr-probes bakes at its
+// defaults, baked in the run, lighting the frame to the bit as the file does; none under an
+// environment light; --gi direct is the frame without them.
+TEST_F(LightTools, GiAutoBakesWhatDhdrProbesBakes) {
+    const Result auto_ = run("dhdr-light " + path("g.exr") + " --scene " + kCornell +
+                             " --type float -v -o " + path("gi_auto.exr"));
+    ASSERT_EQ(auto_.status, 0) << auto_.err;
+    EXPECT_NE(auto_.err.find("--gi auto: indirect light from probes baked"), std::string::npos)
+        << auto_.err;
+    EXPECT_NE(auto_.err.find("512 probes baked"), std::string::npos) << auto_.err;
+    ASSERT_EQ(run("dhdr-probes " + kCornell + " -q -o " + path("gi_auto.probes.exr")).status, 0);
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --probes " +
+                  path("gi_auto.probes.exr") + " --type float -o " + path("gi_file.exr"))
+                  .status,
+              0);
+    const ImageBuf baked = read("gi_auto.exr");
+    EXPECT_TRUE(samePixels(baked, read("gi_file.exr")));
+
+    // The probes only add light: every covered pixel at least the direct frame's, and the
+    // surfaces no light reaches directly (the blocks' fronts) lit.
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell +
+                  " --gi direct --type float -o " + path("gi_direct.exr"))
+                  .status,
+              0);
+    const ImageBuf direct = read("gi_direct.exr");
+    double added = 0.0, total = 0.0;
+    for (int y = 0; y < 96; ++y)
+        for (int x = 0; x < 96; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float a = baked.getchannel(x, y, 0, c), d = direct.getchannel(x, y, 0, c);
+                EXPECT_GE(a, d * (1.0f - 1e-5f)) << x << "," << y;
+                added += a - d;
+                total += d;
+            }
+    EXPECT_GT(added, 0.1 * total);
+
+    // Under an environment light no probes are baked, and -v says why.
+    writeSky(path("gi_sky.exr"), 64);
+    std::ofstream(path("gi_sky.json"))
+        << R"({"lights": [{"type": "environment", "image": "gi_sky.exr"}]})";
+    const Result open = run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
+                            path("gi_sky.json") + " --type float -v -o " + path("gi_open.exr"));
+    ASSERT_EQ(open.status, 0) << open.err;
+    EXPECT_NE(open.err.find("no probes baked under an environment light"), std::string::npos)
+        << open.err;
+    EXPECT_EQ(open.err.find("probes baked in"), std::string::npos) << open.err;
+    ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
+                  path("gi_sky.json") + " --gi direct --type float -o " + path("gi_open_d.exr"))
+                  .status,
+              0);
+    EXPECT_TRUE(samePixels(read("gi_open.exr"), read("gi_open_d.exr")));
 }

@@ -3,6 +3,7 @@
 #include "../common/light_options.h"
 #include "../common/param_options.h"
 #include "../common/tool.h"
+#include "baked_probes.h"
 #include "flat_frame.h"
 #include "frame_probes.h"
 #include "whole_frame.h"
@@ -172,6 +173,7 @@ private:
     bool readForeignCamera();
     bool prepareFrame(const std::string& path, const OIIO::ImageSpec& gspec);
     bool poseFor(const std::string& path, const OIIO::ImageSpec& gspec);
+    bool bakeProbesFor(bool moved);
     bool failed(const std::string& message) const {
         m_tool.fail(message);
         return false;
@@ -194,6 +196,8 @@ private:
     app::FramePlan m_plan;
     bool m_framedProbes = false, m_animatedLights = false;
     app::FrameProbes m_probes;
+    app::BakedProbes m_baked; // --gi auto's
+    std::string m_probeNote;  // planProbes' last note, said once
     OIIO::ImageBuf m_plate;
     ChannelMap m_channelMap;
     std::optional<Camera> m_foreignCamera;
@@ -328,7 +332,26 @@ bool LightRun::poseFor(const std::string& path, const OIIO::ImageSpec& gspec) {
         m_lights = m_sceneLights;
         m_lights.insert(m_lights.end(), m_fileLights.begin(), m_fileLights.end());
     }
-    return true;
+    return bakeProbesFor(moved || m_animatedLights);
+}
+
+// --gi auto: probes baked for this frame where they help (planProbes), again when the scene
+// or the lights have moved since the last bake.
+bool LightRun::bakeProbesFor(bool moved) {
+    const LightingContext context{!m_s.lights.files.empty(), !m_s.scenePath.empty(),
+                                  !m_s.probesPath.empty()};
+    const bool catcher = !m_s.scenePath.empty() && m_posed.scene().hasGroundPlane;
+    const ProbePlan plan = planProbes(m_s.lighting, context, m_lights, catcher, Spelling::Option);
+    if (plan.note != m_probeNote && !plan.note.empty()) m_tool.info(plan.note);
+    m_probeNote = plan.note;
+    if (plan.source != ProbeSource::Bake) {
+        if (!m_probes.given()) m_inputs.probes = nullptr;
+        return true;
+    }
+    m_inputs.probes = m_baked.forFrame(m_tool, m_posed, m_lights, m_s.lights.emissive != "off",
+                                       m_params.diffuse, moved);
+    m_params.writeIndirect = m_s.lighting.aovs;
+    return m_inputs.probes != nullptr;
 }
 
 // What every G-buffer needs before shading, flat, deep or mapped: a camera, a plate of its

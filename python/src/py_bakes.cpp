@@ -78,13 +78,6 @@ py::dict bakeIblFile(const py::object& environment, const std::string& out, int 
     return py::dict("width"_a = env.width, "height"_a = env.height, "sun"_a = sun);
 }
 
-// The grid as a dhdr-probes file holds it (its origin and spacing as float), so that probes kept
-// in memory light a frame with the same bits as the file written from them would.
-void asFileHolds(ProbeVolume& v) {
-    v.origin = glm::dvec3(glm::vec3(v.origin));
-    v.spacing = glm::dvec3(glm::vec3(v.spacing));
-}
-
 py::dict infoOf(const ProbeVolume& v) {
     int active = 0, relocated = 0, off = 0;
     for (const ProbeState s : v.states) {
@@ -155,7 +148,7 @@ py::object bakeProbesTo(const SceneHandle& scene, const py::object& outGiven,
         if (!bakeProbes(*scene.scene, caster, lights, emissive, p, *volume, error, nthreads)) {
             error = scene.path + ": " + error;
         } else if (out.empty()) {
-            asFileHolds(*volume);
+            roundAsStored(*volume);
             ok = true;
         } else if (!cancel) {
             ok = writeFileAtomically(

@@ -185,6 +185,27 @@ void readBackdrops(const LightCall& c, LightingOptions& o, ImageView& plateImage
     }
 }
 
+// gi='auto': the probes dhdr-light bakes for a frame (planProbes), with dhdr.bake_probes()'s
+// defaults; Ctrl-C stops the bake and raises KeyboardInterrupt.
+std::shared_ptr<const ProbeVolume> bakeFrameProbes(const Scene& scene, const RayCaster& caster,
+                                                   const std::vector<Light>& lights, bool emissive,
+                                                   DiffuseModel diffuse) {
+    auto volume = std::make_shared<ProbeVolume>();
+    ProbeBakeParams p;
+    p.diffuse = diffuse;
+    std::atomic<bool> cancel{false};
+    p.cancel = &cancel;
+    std::string error;
+    bool ok = false;
+    runInterruptibly(cancel,
+                     [&] { ok = bakeProbes(scene, caster, lights, emissive, p, *volume, error); });
+    if (!ok)
+        throw py::value_error("gi='auto': baking the probes: " + error +
+                              " (gi='direct' leaves them out)");
+    roundAsStored(*volume);
+    return volume;
+}
+
 LightingSetup setupLighting(const OIIO::ImageSpec& gspec, const LightCall& c) {
     // probes: a file's path or a dhdr.Probes; "" and None are none.
     const bool hasProbes = !c.probes.is_none() && !(py::isinstance<py::str>(c.probes) &&
@@ -220,10 +241,15 @@ LightingSetup setupLighting(const OIIO::ImageSpec& gspec, const LightCall& c) {
         throw py::value_error("plate='env': there is no environment light to composite over");
     s.probes = probesOf(c.probes);
     s.useSsao = options.ao == AoMode::ScreenSpace;
-    s.useProbes = bool(s.probes);
     // The scene's rays (shadows, AO, a catcher's bounce light, glossy reflections); the
     // caller's dhdr.Scene keeps them alive for the call.
     s.caster = s.posed.caster ? s.posed.caster.get() : scene ? &scene->caster() : nullptr;
+    const bool catcher = scene && s.posed.scene->hasGroundPlane;
+    if (planProbes(options, context, *s.lights, catcher, Spelling::Keyword).source ==
+        ProbeSource::Bake)
+        s.probes = bakeFrameProbes(*s.posed.scene, *s.caster, *s.lights, c.emissive, s.p.diffuse);
+    s.useProbes = bool(s.probes);
+    if (s.useProbes) s.p.writeIndirect = options.aovs;
     return s;
 }
 
@@ -403,8 +429,10 @@ specular_samples and catcher_bounce trace it. probes: a dhdr-probes file or a dh
 background: (R, G, B[, A]) or 'env'; plate: an image of the frame's size to composite over,
 or 'env'. shadow_samples, tile, env_specular ('auto', 'split-sum', 'quadrature'), denoise,
 diffuse ('lambert', 'burley') and brute_force are dhdr-light's options of those names.
-gi='path' (with scene): the reference path tracer instead, spp paths of at most
-path_bounces bounces a pixel, undenoised.
+gi='auto' (the default), with scene and no probes: light probes baked for the frame as
+dhdr-light bakes them (none under an environment light or over a shadow catcher);
+gi='direct' leaves them out; gi='path' (with scene): the reference path tracer instead, spp
+paths of at most path_bounces bounces a pixel, undenoised.
 Without a scene nothing is shadowed, as dhdr-light without --scene.)",
                        &LightSignature::flat, keywords...);
             m.def(

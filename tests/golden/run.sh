@@ -22,7 +22,9 @@ scene="$here/testdata/cornell_box.gltf"
 if [ "$update" = "--update" ]; then src="$work"; else src="$golden"; fi
 "$tools/dhdr-gbuffer" "$scene" --size 96x72 --lights-out "$work/lights.json" -q \
   -o "$work/gbuffer.exr"
-"$tools/dhdr-light" "$src/gbuffer.exr" --scene "$scene" --lights "$src/lights.json" \
+# --gi direct: the references are the direct light (the probes --gi auto bakes are checked
+# bit for bit against dhdr-probes' file by LightTools.GiAutoBakesWhatDhdrProbesBakes).
+"$tools/dhdr-light" "$src/gbuffer.exr" --scene "$scene" --gi direct --lights "$src/lights.json" \
   --lights "$here/testdata/cornell_box.fill.lights.json" --ao rt --ao-distance 0.1 \
   --type float -q -o "$work/light.exr"
 "$tools/dhdr-aa" "$src/light.exr" --gbuffer "$src/gbuffer.exr" -q -o "$work/aa.exr"

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <dhdr/deferred/gi/probes.h>
 #include <dhdr/io/exr_header.h>
+#include <initializer_list>
 
 namespace dhdr {
 
@@ -284,6 +285,17 @@ bool readProbes(const std::string& path, ProbeVolume& v, std::string& error) {
            irradianceFitsGrid(at, irr, v, error) && readBakeRecord(irr, v, error) &&
            readProbeStates(at, v, error) && readAtlasPixels(*in, irr, v, px, error) &&
            unpackAtlases(px, v, error);
+}
+
+void roundAsStored(ProbeVolume& volume) {
+    // Through a volatile float: GCC 12.2's SLP vectoriser at -O2/-O3 rounds only four of the
+    // six values when they are written as glm::dvec3(glm::vec3(...)) or as a plain loop
+    // (spacing.y and .z come out unrounded; reproduced outside the project).
+    for (glm::dvec3* v : {&volume.origin, &volume.spacing})
+        for (int a = 0; a < 3; ++a) {
+            volatile float stored = float((*v)[a]);
+            (*v)[a] = stored;
+        }
 }
 
 } // namespace dhdr

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <dhdr/deferred/integrator/lighting_options.h>
 
 namespace dhdr {
@@ -91,6 +92,29 @@ bool resolveLighting(const LightingOptions& options, const LightingContext& cont
             return false;
         }
     return true;
+}
+
+ProbePlan planProbes(const LightingOptions& options, const LightingContext& context,
+                     const std::vector<Light>& lights, bool catcher, Spelling spelling) {
+    if (context.probes) return {ProbeSource::Given, {}};
+    if (options.gi != GiMode::Auto || !context.scene) return {};
+    const Words w{spelling};
+    const std::string give = w.spelling == Spelling::Keyword
+                                 ? "bake them with dhdr.bake_probes() and give probes="
+                                 : "bake them with dhdr-probes and give --probes FILE";
+    const bool environment = std::any_of(lights.begin(), lights.end(), isEnvironment);
+    if (environment || catcher)
+        return {ProbeSource::None,
+                w.set("--gi", "gi", "auto") + ": no probes baked " +
+                    (environment ? "under an environment light" : "over a shadow catcher") +
+                    " (in the open they darken the catcher's shadows): the light the objects "
+                    "bounce between themselves is left out; " +
+                    give + " to add it anyway"};
+    return {ProbeSource::Bake,
+            w.set("--gi", "gi", "auto") +
+                ": indirect light from probes baked for this frame (dhdr-probes' defaults; " +
+                w.set("--gi", "gi", "direct") + " leaves it out, " + w.name("--probes", "probes=") +
+                " reuses a bake)"};
 }
 
 std::string deepGBufferProblem(const LightingOptions& options, Spelling spelling) {

@@ -237,4 +237,8 @@ bool bakeProbes(const Scene& scene, const RayCaster& caster, const std::vector<L
 bool writeProbes(const std::string& path, const ProbeVolume& volume, std::string& error);
 bool readProbes(const std::string& path, ProbeVolume& volume, std::string& error);
 
+// The grid's origin and spacing rounded to the floats a probe file stores: a volume baked in
+// memory then lights a frame with the same bits as the file dhdr-probes writes of it.
+void roundAsStored(ProbeVolume& volume);
+
 } // namespace dhdr

@@ -7,12 +7,14 @@
 #include <dhdr/common/param_table.h>
 #include <dhdr/deferred/direct/ambient_occlusion.h>
 #include <dhdr/deferred/integrator/lighting_params.h>
+#include <dhdr/deferred/scene/lights.h>
 #include <string>
+#include <vector>
 
 namespace dhdr {
 
 enum class AoMode { Off, RayTraced, ScreenSpace }; // off | rt | ssao
-enum class GiMode { Direct, Path };                // direct | path
+enum class GiMode { Auto, Direct, Path };          // auto | direct | path
 
 struct LightingOptions {
     // The counts (kLightingParamTable), tile size, brute force, shadows, denoise, diffuse
@@ -23,6 +25,9 @@ struct LightingOptions {
     bool aovs = false;       //!< --aovs: AO, indirect and specular AOVs, Z and N passed through
     bool environmentBackground = false; //!< --background env
     bool plateEnvironment = false;      //!< --plate env
+    //! --gi: auto adds the indirect light of probes baked for the frame (planProbes); path
+    //! sets params.pathTrace.
+    GiMode gi = GiMode::Auto;
 
 private:
     static LightingParams withAoSamples(int n) {
@@ -67,12 +72,17 @@ inline constexpr ChoiceParam<LightingOptions> kLightingChoiceTable[] = {
      "neighbouring pixels of the same surface, guided by the G-buffer's normals, "
      "positions and object ids (edge-avoiding a-trous, 32 pixels' reach; deep "
      "G-buffers layer by layer); off: each pixel's unbiased estimate"},
-    {"--gi", "gi", "direct|path", [](const LightingOptions& o) { return int(o.params.pathTrace); },
-     [](LightingOptions& o, int i) { o.params.pathTrace = i == 1; },
-     "direct: deferred shading (indirect light from --probes when given); path: the "
-     "reference, unbiased path tracing from each pixel's first hit (needs --scene; "
-     "--spp paths a pixel, --path-bounces; no denoiser, probes or AO; slow: use it "
-     "on a small frame or a crop to check a fast render; docs/gi.md)"},
+    {"--gi", "gi", "auto|direct|path", [](const LightingOptions& o) { return int(o.gi); },
+     [](LightingOptions& o, int i) {
+         o.gi = GiMode(i);
+         o.params.pathTrace = o.gi == GiMode::Path;
+     },
+     "auto: deferred shading plus indirect light from light probes, --probes' or, with --scene "
+     "and no environment light or shadow catcher, probes baked for the frame as dhdr-probes "
+     "bakes them by default (a few seconds); direct: deferred shading, indirect light only "
+     "from --probes; path: the reference, unbiased path tracing from each pixel's first hit "
+     "(needs --scene; --spp paths a pixel, --path-bounces; no denoiser, probes or AO; slow: "
+     "use it on a small frame or a crop to check a fast render; docs/gi.md)"},
 };
 
 inline constexpr FlagParam<LightingOptions> kLightingFlagTable[] = {
@@ -96,6 +106,25 @@ inline constexpr FlagParam<LightingOptions> kLightingFlagTable[] = {
 bool resolveLighting(const LightingOptions& options, const LightingContext& context,
                      Spelling spelling, LightingParams& params, SsaoParams& ssao,
                      std::string& error);
+
+// Where a frame's indirect diffuse light comes from (--gi auto).
+enum class ProbeSource {
+    None,  // direct light only (--gi direct or path, no scene, or auto where probes fail)
+    Given, // the probes the caller gave (--probes)
+    Bake   // probes baked for the frame with ProbeBakeParams' defaults, as dhdr-probes does
+};
+struct ProbePlan {
+    ProbeSource source = ProbeSource::None;
+    // Why auto bakes none, or what it bakes, for the caller to say; empty when nothing is.
+    std::string note;
+};
+
+// The probes of a frame lit by `lights` (the scene's and the files'), `catcher` when its
+// scene has a shadow-catching ground plane. --gi auto bakes none under an environment light
+// or over a catcher: probes in the open darken the catcher's shadows and frost the objects'
+// faces (docs/gi.md, "Probes by default").
+ProbePlan planProbes(const LightingOptions& options, const LightingContext& context,
+                     const std::vector<Light>& lights, bool catcher, Spelling spelling);
 
 // What stops `options` on a deep G-buffer (SSAO reads a flat one's neighbours); empty when
 // nothing does.
