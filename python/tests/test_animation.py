@@ -178,14 +178,17 @@ def test_light_poses_the_scene_as_the_tool(animated, tmp_path):
     # dhdr-light --scene poses the scene at the moment the G-buffer records: the moving block's
     # shadow is where frame 20 puts it.
     run_tool("dhdr-gbuffer", ANIMATED, "--size", "48x32", "--frame", "20", "-o", tmp_path / "g.exr")
-    run_tool("dhdr-light", tmp_path / "g.exr", "--scene", ANIMATED, "--type", "float",
-             "-o", tmp_path / "lit.exr")
+    # Direct light: probes baked over the posed scene (its block an instance) and over the scene
+    # standing at that moment differ in their last bits.
+    run_tool("dhdr-light", tmp_path / "g.exr", "--scene", ANIMATED, "--gi", "direct", "--type",
+             "float", "-o", tmp_path / "lit.exr")
     g = dhdr.read_gbuffer(str(tmp_path / "g.exr"))
-    lit = dhdr.light(g, scene=animated)
+    lit = dhdr.light(g, scene=animated, gi="direct")
     same_bits(lit.pixels, read_file(tmp_path / "lit.exr"))
     # The scene standing at that moment lights it alike; its rest pose does not.
-    same_bits(dhdr.light(g, scene=animated.posed(frame=20)).pixels, lit.pixels)
-    assert not np.array_equal(dhdr.light(g, scene=animated.posed(frame=0)).pixels, lit.pixels)
+    same_bits(dhdr.light(g, scene=animated.posed(frame=20), gi="direct").pixels, lit.pixels)
+    assert not np.array_equal(dhdr.light(g, scene=animated.posed(frame=0), gi="direct").pixels,
+                              lit.pixels)
     # A G-buffer that records no moment is lit against the rest pose, with the tool's warning.
     bare = dhdr.Image(g.pixels, g.channels)
     for key in ["worldToCamera", "worldToNDC"]:

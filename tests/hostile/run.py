@@ -199,7 +199,7 @@ class Corpus:
                 {"tool": "dhdr-gbuffer", "inputs": ["scene.gltf"], "output": "g.####.exr",
                  "options": ["--size", "16x12"]},
                 {"tool": "dhdr-light", "inputs": ["g.####.exr"], "output": "l.####.exr",
-                 "options": ["--scene", "scene.gltf"]},
+                 "options": ["--scene", "scene.gltf", "--gi", "direct"]},
                 {"tool": "dhdr-tonemap", "inputs": ["l.####.exr"], "output": "t.####.png",
                  "adapt": True}]}, f)
         self.lights = lights
@@ -223,7 +223,8 @@ class Corpus:
             data, what = mutate_exr(self.read(seed), rng)
             files["bad.exr"] = data
         if family == "gbuffer":
-            cmd = [t("dhdr-light"), "bad.exr", "--scene", self.cornell, "--ao",
+            # --gi direct: the G-buffer's reading is what is tried, not a probe bake per case.
+            cmd = [t("dhdr-light"), "bad.exr", "--scene", self.cornell, "--gi", "direct", "--ao",
                    rng.choice(["off", "rt", "ssao"]), "-o", "out.exr"]
             if rng.random() < 0.5:
                 cmd = [t("dhdr-aa"), os.path.join(self.seed, "lit.exr"), "--gbuffer", "bad.exr",
