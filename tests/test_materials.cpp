@@ -482,3 +482,51 @@ TEST_F(Materials, UnlitShowsItsBaseColourUnderAnyLight) {
 }
 
 } // namespace
+
+// KHR_materials_pbrSpecularGlossiness as its README's BRDF: c_diff = diffuse · (1 − max(specular)),
+// F0 = specular, α = (1 − glossiness)², i.e. metallic 0, roughness 1 − glossiness, F90 1; the
+// metal-rough fallback (red, metallic, its texture) is not the material; the diffuse texture
+// multiplies the diffuse colour; a specularGlossinessTexture is named as not read.
+TEST_F(Materials, SpecularGlossinessBecomesItsMetalRoughEquivalent) {
+    writePng("sg_diffuse.png", {{255, 128, 64, 255}});
+    nlohmann::json doc = square();
+    doc["materials"][0]["pbrMetallicRoughness"] = {{"baseColorFactor", {1, 0, 0, 1}},
+                                                   {"metallicFactor", 1.0},
+                                                   {"baseColorTexture", {{"index", 0}}}};
+    doc["materials"][0]["extensions"] = {{"KHR_materials_pbrSpecularGlossiness",
+                                          {{"diffuseFactor", {0.5, 0.4, 0.3, 1.0}},
+                                           {"specularFactor", {0.2, 0.1, 0.05}},
+                                           {"glossinessFactor", 0.75}}}};
+    doc["extensionsUsed"] = {"KHR_materials_pbrSpecularGlossiness"};
+    doc["images"] = {{{"uri", "sg_diffuse.png"}}};
+    doc["textures"] = {{{"source", 0}}};
+    const ImageBuf g = gbuffer("specgloss", doc);
+    EXPECT_EQ(m_err.find("not read"), std::string::npos) << m_err;
+    const float albedo[3] = {0.5f * 0.8f, 0.4f * 0.8f, 0.3f * 0.8f};
+    const float f0[3] = {0.2f, 0.1f, 0.05f};
+    const char* rgb[3] = {"R", "G", "B"};
+    for (int c = 0; c < 3; ++c) {
+        // half channels: 2⁻¹¹ relative
+        EXPECT_NEAR(channel(g, 32, 32, (std::string("albedo.") + rgb[c]).c_str()), albedo[c], 1e-3);
+        EXPECT_NEAR(channel(g, 32, 32, (std::string("specular.") + rgb[c]).c_str()), f0[c], 1e-3);
+    }
+    EXPECT_EQ(channel(g, 32, 32, "metallic"), 0.0f);
+    EXPECT_EQ(channel(g, 32, 32, "roughness"), 0.25f);
+    EXPECT_EQ(channel(g, 32, 32, "specularWeight"), 1.0f);
+
+    // The diffuse texture (sRGB) multiplies the diffuse colour.
+    doc["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"]["diffuseTexture"] = {
+        {"index", 0}};
+    const ImageBuf t = gbuffer("specgloss_tex", doc);
+    const double texel[3] = {1.0, srgbDecode(128.0 / 255.0), srgbDecode(64.0 / 255.0)};
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(channel(t, 32, 32, (std::string("albedo.") + rgb[c]).c_str()),
+                    albedo[c] * texel[c], 2e-3)
+            << c;
+
+    doc["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"]
+       ["specularGlossinessTexture"] = {{"index", 0}};
+    gbuffer("specgloss_sgtex", doc);
+    EXPECT_NE(m_err.find("specularGlossinessTexture is not read (material"), std::string::npos)
+        << m_err;
+}

@@ -102,6 +102,42 @@ std::map<std::string, GltfSpecular> gltfSpecular(const nlohmann::json& doc) {
     return out;
 }
 
+std::map<std::string, GltfSpecGloss> gltfSpecGloss(const nlohmann::json& doc) {
+    std::map<std::string, GltfSpecGloss> out;
+    if (doc.is_discarded() || !doc.contains("materials") || !doc["materials"].is_array())
+        return out;
+    // A factor of n numbers each in [0, 1], or none when it is not that.
+    auto factor = [](const nlohmann::json& k, const char* key, float* v, size_t n) {
+        if (!k.contains(key)) return;
+        const nlohmann::json& a = k[key];
+        if (n == 1 && isFloat(a)) {
+            v[0] = std::clamp(a.get<float>(), 0.0f, 1.0f);
+            return;
+        }
+        if (!a.is_array() || a.size() != n) return;
+        for (size_t i = 0; i < n; ++i)
+            if (!isFloat(a[i])) return;
+        for (size_t i = 0; i < n; ++i)
+            v[i] = std::clamp(a[i].get<float>(), 0.0f, 1.0f);
+    };
+    for (const auto& m : doc["materials"]) {
+        if (!m.is_object() || !m.contains("name") || !m["name"].is_string()) continue;
+        const auto ext = m.value("extensions", nlohmann::json::object());
+        if (!ext.is_object() || !ext.contains("KHR_materials_pbrSpecularGlossiness") ||
+            !ext["KHR_materials_pbrSpecularGlossiness"].is_object())
+            continue;
+        const nlohmann::json& k = ext["KHR_materials_pbrSpecularGlossiness"];
+        GltfSpecGloss s;
+        factor(k, "diffuseFactor", &s.diffuse[0], 4);
+        factor(k, "specularFactor", &s.specular[0], 3);
+        factor(k, "glossinessFactor", &s.glossiness, 1);
+        s.diffuseTexture = k.contains("diffuseTexture");
+        s.specularGlossinessTexture = k.contains("specularGlossinessTexture");
+        out[m["name"].get<std::string>()] = s;
+    }
+    return out;
+}
+
 bool gltfLightsByNode(const nlohmann::json& doc, std::map<std::string, GltfLight>& out,
                       std::string& error) {
     out.clear();
@@ -353,12 +389,17 @@ bool isGltf1(const nlohmann::json& doc) {
 
 bool gltfExtensionRendered(const nlohmann::json& doc, const std::string& name) {
     // Assimp 5.2 decodes Draco meshes (Debian's is built with libdraco); dhdr reads the others
-    // itself or through Assimp (which reads the sheen, transmission, volume and
-    // specular-glossiness extensions too, but dhdr renders none of them yet).
-    static const char* const kGltf2[] = {
-        "KHR_draco_mesh_compression", "KHR_lights_punctual",    "KHR_materials_emissive_strength",
-        "KHR_texture_transform",      "KHR_materials_ior",      "KHR_materials_specular",
-        "KHR_materials_unlit",        "KHR_materials_clearcoat"};
+    // itself or through Assimp (which reads the sheen, transmission and volume extensions too,
+    // but dhdr renders none of them yet).
+    static const char* const kGltf2[] = {"KHR_draco_mesh_compression",
+                                         "KHR_lights_punctual",
+                                         "KHR_materials_emissive_strength",
+                                         "KHR_texture_transform",
+                                         "KHR_materials_ior",
+                                         "KHR_materials_specular",
+                                         "KHR_materials_unlit",
+                                         "KHR_materials_clearcoat",
+                                         "KHR_materials_pbrSpecularGlossiness"};
     // Assimp's glTF 1.0 importer reads the binary container and the common materials' colours.
     static const char* const kGltf1[] = {"KHR_binary_glTF", "KHR_materials_common"};
     auto among = [&](const auto& list) {

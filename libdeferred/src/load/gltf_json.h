@@ -34,6 +34,18 @@ struct GltfSpecular {
 // Per material name, for the materials that use it; empty for other files.
 std::map<std::string, GltfSpecular> gltfSpecular(const nlohmann::json& doc);
 
+// KHR_materials_pbrSpecularGlossiness of a material: its factors, clamped to the schema's
+// [0, 1] (a value that is no number keeps the default), and which textures it names.
+struct GltfSpecGloss {
+    glm::vec4 diffuse{1.0f};
+    glm::vec3 specular{1.0f};
+    float glossiness = 1.0f;
+    bool diffuseTexture = false, specularGlossinessTexture = false;
+};
+
+// Per material name, for the materials that use it; empty for other files.
+std::map<std::string, GltfSpecGloss> gltfSpecGloss(const nlohmann::json& doc);
+
 // What Assimp 5.2 does not report of a glTF material's texture reference: its
 // KHR_texture_transform, and the UV set that extension's `texCoord` overrides the
 // reference's with (−1: none).

@@ -179,6 +179,36 @@ bool readDielectric(const aiMaterial& am, const std::map<std::string, GltfSpecul
     return !it->second.textures;
 }
 
+// KHR_materials_pbrSpecularGlossiness as the metal-rough model with KHR_materials_specular's
+// dielectric that the extension's own BRDF is (its README, "Specular - Glossiness"):
+// c_diff = diffuse · (1 − max(specular)), F0 = specular, α = (1 − glossiness)²; so metallic 0,
+// roughness 1 − glossiness, F90 1, and the diffuse texture (or none: the metal-rough fallback
+// texture is not the material's) in the base colour's place. False when the material names a
+// specularGlossinessTexture, which is not read.
+bool readSpecGloss(const aiMaterial& am, const std::map<std::string, GltfSpecGloss>& specGloss,
+                   TextureTable& textures, Material& m) {
+    const auto it = specGloss.find(m.name);
+    if (it == specGloss.end()) return true;
+    const GltfSpecGloss& sg = it->second;
+    const float specularMax = std::max({sg.specular.r, sg.specular.g, sg.specular.b});
+    m.baseColor = glm::vec3(sg.diffuse) * (1.0f - specularMax);
+    m.alpha = sg.diffuse.a;
+    m.metallic = 0.0f;
+    m.roughness = 1.0f - sg.glossiness;
+    m.metallicRoughnessTexture = TextureRef{};
+    // F0 = min(((ior − 1) / (ior + 1))² · specularColor, 1) · specularFactor with ior 1.5.
+    m.ior = 1.5f;
+    m.specularFactor = 1.0f;
+    m.specularColor = sg.specular / 0.04f;
+    m.dielectricSet = true;
+    m.baseColorTexture = TextureRef{};
+    // Assimp 5.2 puts the diffuse texture in the DIFFUSE slot (over the fallback's).
+    if (sg.diffuseTexture)
+        readSlot(am, aiTextureType_DIFFUSE, GltfTextureInfo{}, true, "diffuse", textures,
+                 m.baseColorTexture);
+    return !sg.specularGlossinessTexture;
+}
+
 } // namespace
 
 void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, TextureTable& textures,
@@ -187,7 +217,9 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
     const auto transforms =
         gltf ? gltfMaterialTextures(doc) : std::map<std::string, GltfMaterialTextures>{};
     const auto specular = gltf ? gltfSpecular(doc) : std::map<std::string, GltfSpecular>{};
+    const auto specGloss = gltf ? gltfSpecGloss(doc) : std::map<std::string, GltfSpecGloss>{};
     std::string specularTextures; // materials whose specular textures are left out
+    std::string glossTextures;    // … whose specular-glossiness textures are
     for (unsigned i = 0; i < ai.mNumMaterials; ++i) {
         const aiMaterial& am = *ai.mMaterials[i];
         Material m;
@@ -203,8 +235,15 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
                           m);
         if (gltf && !readDielectric(am, specular, m))
             specularTextures += (specularTextures.empty() ? "'" : ", '") + m.name + "'";
+        if (gltf && !readSpecGloss(am, specGloss, textures, m))
+            glossTextures += (glossTextures.empty() ? "'" : ", '") + m.name + "'";
         scene.materials.push_back(m);
     }
+    if (!glossTextures.empty())
+        scene.warnings.push_back(
+            "KHR_materials_pbrSpecularGlossiness's specularGlossinessTexture is not read "
+            "(material " +
+            glossTextures + "): its specular and glossiness factors alone are used");
     if (!specularTextures.empty())
         scene.warnings.push_back("KHR_materials_specular textures are not read (material " +
                                  specularTextures + "): their factors alone are used");
