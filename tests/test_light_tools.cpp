@@ -694,4 +694,16 @@ TEST_F(LightTools, GiAutoBakesWhatDhdrProbesBakes) {
                   .status,
               0);
     EXPECT_TRUE(samePixels(read("gi_open.exr"), read("gi_open_d.exr")));
+
+    // Probes that cannot be baked (their light past float's range) leave the frame its direct
+    // light, with a warning, as --gi direct makes it.
+    std::ofstream(path("gi_huge.json"))
+        << R"({"lights": [{"type": "point", "position": [0.28, 0.5, 0.28], "intensity": 3e38}]})";
+    const std::string huge = "dhdr-light " + path("g.exr") + " --scene " + kCornell + " --lights " +
+                             path("gi_huge.json") + " --type float -o ";
+    const Result h = run(huge + path("gi_huge.exr"));
+    ASSERT_EQ(h.status, 0) << h.err;
+    EXPECT_NE(h.err.find("the probes cannot be baked"), std::string::npos) << h.err;
+    ASSERT_EQ(run(huge + path("gi_huge_d.exr") + " --gi direct").status, 0);
+    EXPECT_TRUE(samePixels(read("gi_huge.exr"), read("gi_huge_d.exr")));
 }

@@ -20,7 +20,9 @@ const ProbeVolume* BakedProbes::forFrame(const Tool& tool, const PosedScene& sce
     std::string error;
     if (!bakeProbes(scene.scene(), *scene.caster(), lights, emissiveAreLights, params, m_volume,
                     error, tool.threads())) {
-        tool.fail("baking the probes of --gi auto: " + error + " (--gi direct leaves them out)");
+        // The frame's direct light does not depend on them: it is still made, without them.
+        tool.warn("--gi auto: the probes cannot be baked (" + error +
+                  "); the frame is lit without indirect light, as with --gi direct");
         return nullptr;
     }
     roundAsStored(m_volume);

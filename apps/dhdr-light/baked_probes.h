@@ -17,7 +17,8 @@ class Tool;
 class BakedProbes {
 public:
     // The probes of `scene` as posed for the frame, lit by `lights`; `moved`: the scene or
-    // the lights are not those of the last bake. Null after the tool's error.
+    // the lights are not those of the last bake. Null, after a warning, when they cannot be
+    // baked (a scene past float's range): the frame is then lit without them.
     const ProbeVolume* forFrame(const Tool& tool, const PosedScene& scene,
                                 const std::vector<Light>& lights, bool emissiveAreLights,
                                 DiffuseModel diffuse, bool moved);

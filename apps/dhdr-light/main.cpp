@@ -350,8 +350,8 @@ bool LightRun::bakeProbesFor(bool moved) {
     }
     m_inputs.probes = m_baked.forFrame(m_tool, m_posed, m_lights, m_s.lights.emissive != "off",
                                        m_params.diffuse, moved);
-    m_params.writeIndirect = m_s.lighting.aovs;
-    return m_inputs.probes != nullptr;
+    m_params.writeIndirect = m_s.lighting.aovs && m_inputs.probes;
+    return true;
 }
 
 // What every G-buffer needs before shading, flat, deep or mapped: a camera, a plate of its

@@ -199,9 +199,12 @@ std::shared_ptr<const ProbeVolume> bakeFrameProbes(const Scene& scene, const Ray
     bool ok = false;
     runInterruptibly(cancel,
                      [&] { ok = bakeProbes(scene, caster, lights, emissive, p, *volume, error); });
-    if (!ok)
-        throw py::value_error("gi='auto': baking the probes: " + error +
-                              " (gi='direct' leaves them out)");
+    // The frame's direct light does not depend on them: it is still made, without them.
+    if (!ok) {
+        python::warn("gi='auto': the probes cannot be baked (" + error +
+                     "); the frame is lit without indirect light, as with gi='direct'");
+        return nullptr;
+    }
     roundAsStored(*volume);
     return volume;
 }
