@@ -203,7 +203,8 @@ Image prepareFrameOf(const py::object& src, const std::string& config,
     const std::shared_ptr<DisplayTransform> t = displayTransform(config, colorspace, "", "", "");
     return runNew(image, {}, nthreads,
                   [t](OIIO::ImageBuf& dst, const OIIO::ImageBuf& s, OIIO::ROI roi, int n) {
-                      return prepareFrame(dst, s, *t, nullptr, roi, n);
+                      OIIO::ImageBuf grey;
+                      return prepareFrame(dst, colourOf(s, grey, n), *t, nullptr, roi, n);
                   });
 }
 
@@ -233,8 +234,10 @@ py::object tonemapFrame(const Image& image, const DisplayTransform& reading,
                   : nbits == 16 ? OIIO::TypeDesc::UINT16
                                 : OIIO::TypeDesc::FLOAT;
     const ImageView in = python::view(image);
+    OIIO::ImageBuf grey;
+    const OIIO::ImageBuf& colour = colourOf(in.buf, grey, nthreads);
     // The frame's own channel names and metadata on the first four channels.
-    OIIO::ImageSpec spec = in.buf.spec();
+    OIIO::ImageSpec spec = colour.spec();
     spec.nchannels = std::min(spec.nchannels, 4);
     spec.channelnames.resize(size_t(spec.nchannels));
     spec.channelformats.clear();
@@ -251,7 +254,7 @@ py::object tonemapFrame(const Image& image, const DisplayTransform& reading,
     bool ok = false;
     {
         py::gil_scoped_release gil;
-        ok = prepareFrame(prepared, in.buf, reading, nullptr, {}, nthreads) &&
+        ok = prepareFrame(prepared, colour, reading, nullptr, {}, nthreads) &&
              toneMapFrame(out, prepared, recipe, {}, nthreads);
     }
     if (!ok) raiseError(out.has_error() ? out.geterror() : prepared.geterror());

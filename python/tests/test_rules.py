@@ -151,7 +151,8 @@ def test_arrays_too_large_to_convert_name_the_argument():
         dhdr.tone_map(wide)
 
 
-@pytest.mark.parametrize("call", ["tone_map", "bloom", "to_display", "meter", "adapt"])
+@pytest.mark.parametrize("call", ["tone_map", "bloom", "to_display", "meter", "adapt",
+                                  "prepare_frame", "tonemap_frame"])
 def test_height_width_arrays_are_grey(call):
     grey = hdr_frame(seed=6, width=40, height=24)[..., 0]
     rgb = np.repeat(grey[..., None], 3, axis=2)
@@ -159,7 +160,9 @@ def test_height_width_arrays_are_grey(call):
            "bloom": lambda a: dhdr.bloom(a).pixels,
            "to_display": lambda a: dhdr.to_display(a).pixels,
            "meter": lambda a: dhdr.meter(a).log_average,
-           "adapt": lambda a: dhdr.adapt([a, a])[1].log_average}[call]
+           "adapt": lambda a: dhdr.adapt([a, a])[1].log_average,
+           "prepare_frame": lambda a: dhdr.prepare_frame(a).pixels,
+           "tonemap_frame": lambda a: dhdr.tonemap_frame(a, bits=8)}[call]
     np.testing.assert_array_equal(run(grey), run(rgb))
 
 
