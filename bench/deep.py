@@ -40,7 +40,8 @@ def main():
         print("dhdr-gbuffer %-4s %.2f s, %.1f MiB file, %.0f MiB peak  [%s]"
               % (kind, wall, os.path.getsize(path) / 2**20, rss, line.split(": ", 1)[1]))
     for name, extra in [("lights file, no --scene", ["--lights", lights]),
-                        ("--scene (shadows, emissive panel)", ["--scene", scene, "--lights", lights])]:
+                        ("--scene (shadows, emissive panel)",
+                         ["--scene", scene, "--gi", "direct", "--lights", lights])]:
         out = os.path.join(work, "out.exr")
         wall_f, rss_f, err_f = run([tool("dhdr-light"), files["flat"], "-o", out, "-v"] + extra)
         covered = int(re.search(r"([0-9]+) covered pixels", err_f).group(1))

@@ -76,7 +76,8 @@ def main():
     print("bake: %.2f s, %.0f MiB  [%s]" % (wall, rss, [l for l in err.splitlines() if "probes (" in l][-1]))
     run([tool("dhdr-gbuffer"), args.scene, "--size", args.size, "-o", f("g.exr"), "-q"])
     base = [tool("dhdr-light"), f("g.exr"), "--scene", args.scene, "--type", "float"]
-    frames = {"direct": ["--specular-samples", "0"], "probes": ["--probes", f("p.exr")],
+    frames = {"direct": ["--gi", "direct", "--specular-samples", "0"],
+              "probes": ["--probes", f("p.exr")],
               "path": ["--gi", "path", "--spp", args.spp]}
     for name, extra in frames.items():
         wall, rss, _ = run(base + extra + ["-o", f(name + ".exr")])

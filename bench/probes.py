@@ -36,7 +36,9 @@ def main():
     probes = ["--probes", os.path.join(work, "p0.1.exr")]
     lights = ["--lights", os.path.join(TESTDATA, "cornell_box.lights.json")]
     for name, extra in [("--lights", lights), ("--lights --probes (0.1 m)", lights + probes),
-                        ("--scene", ["--scene", scene]), ("--scene --probes (0.1 m)", ["--scene", scene] + probes)]:
+                        ("--scene --gi direct", ["--scene", scene, "--gi", "direct"]),
+                        ("--scene (--gi auto: its own bake)", ["--scene", scene]),
+                        ("--scene --probes (0.1 m)", ["--scene", scene] + probes)]:
         wall, rss, err = run([tool("dhdr-light"), gbuf, "-o", os.path.join(work, "o.exr"), "-v"] + extra)
         total = [l for l in err.splitlines() if "total" in l][-1].split(": ", 1)[1]
         print("dhdr-light %s %-26s %.2f s, %.0f MiB  [%s]" % (args.size, name, wall, rss, total))

@@ -51,7 +51,8 @@ def main():
     out = os.path.join(work, "out.exr")
 
     def light(lights, extra, output=out):
-        cmd = [tool("dhdr-light"), gbuf, "-v", "-o", output] + extra
+        # --gi direct: the visibility's cost, without the probes --gi auto bakes with --scene.
+        cmd = [tool("dhdr-light"), gbuf, "--gi", "direct", "-v", "-o", output] + extra
         for f in lights:
             cmd += ["--lights", f]
         return run(cmd)
