@@ -342,9 +342,12 @@ bool GBufferFrames::writeDeep(const GBufferRenderer& renderer, const std::string
     StripPipelineParams streaming;
     streaming.rows = kStrip;
     streaming.progress = progress.over();
-    DeepGBuffer strip;
+    // A strip is written while the next is traced (as flat ones are), each in its slot.
+    streaming.writeBehind = m_tool.threads() != 1;
+    DeepGBuffer strips[2];
     StripStages stages;
-    stages.process = [&](OIIO::ROI rows, int, std::string& e) {
+    stages.process = [&](OIIO::ROI rows, int slot, std::string& e) {
+        DeepGBuffer& strip = strips[slot];
         const size_t k = size_t(rows.ybegin / kStrip);
         long long t = 0;
         if (k < kept.size()) {
@@ -366,9 +369,9 @@ bool GBufferFrames::writeDeep(const GBufferRenderer& renderer, const std::string
         e = file.file().geterror();
         return false;
     };
-    stages.write = [&](OIIO::ROI rows, int, std::string& e) {
+    stages.write = [&](OIIO::ROI rows, int slot, std::string& e) {
         OIIO::DeepData data;
-        toDeepData(strip, rows.ybegin, rows.yend, data, deepFormats);
+        toDeepData(strips[slot], rows.ybegin, rows.yend, data, deepFormats);
         if (file.file().writeDeepRows(rows.ybegin, rows.yend, data)) return true;
         e = file.file().geterror();
         return false;
@@ -394,6 +397,7 @@ bool GBufferFrames::writeFlat(const GBufferRenderer& renderer, const std::string
                               const std::string& outPath, const OIIO::ImageSpec& spec,
                               double& traceMs) const {
     app::AtomicOutput file(m_tool, outPath);
+    file.file().setThroughOpenExr(true);
     if (!file.open(spec, gbuffer::channelFormats(spec.channelnames))) return false;
     long long covered = 0;
     StripPipelineParams streaming;
