@@ -29,7 +29,7 @@ namespace {
 // Rows traced and written at a time.
 constexpr int kStrip = 64;
 // A flat G-buffer's compression unless --compression names one: ZIP at zlib's level 1,
-// lossless like every level, which compresses a 1080p frame in about 0.6 of the CPU time of
+// lossless like every level, which compresses a 1080p frame in about 0.8 of the CPU time of
 // OpenEXR's default level for 3-10 % more bytes (docs/gbuffer.md, bench/gbuffer_write.py).
 constexpr const char* kDefaultCompression = "zip:1";
 // The strips the search for transparent surfaces traced are kept while they fit, so that a
