@@ -8,6 +8,7 @@
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
+#include <cstdlib>
 #include <cstring>
 #include <dhdr/deferred/gbuffer/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer/gbuffer.h>
@@ -293,5 +294,29 @@ TEST(GBufferWrite, AFailedWriteLeavesNoFile) {
     }
     EXPECT_FALSE(fs::exists(dir / "odd.exr"));
     EXPECT_FALSE(leftovers(dir));
+    fs::remove_all(dir);
+}
+
+TEST(GBufferWrite, ToolsDefaultDecodesAsOpenExrsDefaultLevelAndNoCompression) {
+    // dhdr-gbuffer's default (zip at level 1) against the files of OpenEXR's default level and
+    // of no compression, each decoded by the other library.
+    const fs::path dir = scratch();
+    const std::string scene = std::string(DHDR_TESTDATA) + "/shot.gltf";
+    auto run = [&](const std::string& out, const std::string& compression) {
+        std::string cmd = std::string(DHDR_TOOLS_DIR) + "/dhdr-gbuffer '" + scene +
+                          "' --size 150x100 -q -o '" + (dir / out).string() + "'";
+        if (!compression.empty()) cmd += " --compression " + compression;
+        return std::system(cmd.c_str());
+    };
+    ASSERT_EQ(run("default.exr", ""), 0);
+    ASSERT_EQ(run("zip.exr", "zip"), 0);
+    ASSERT_EQ(run("none.exr", "none"), 0);
+    auto in = OIIO::ImageInput::open((dir / "default.exr").string());
+    ASSERT_TRUE(in);
+    EXPECT_EQ(in->spec().get_string_attribute("compression"), "zip");
+    const auto reference = decodeWithOpenExr(dir / "none.exr");
+    EXPECT_TRUE(decodeWithOiio(dir / "default.exr") == reference);
+    EXPECT_TRUE(decodeWithOiio(dir / "zip.exr") == reference);
+    EXPECT_TRUE(decodeWithOpenExr(dir / "default.exr") == decodeWithOiio(dir / "none.exr"));
     fs::remove_all(dir);
 }
