@@ -1,22 +1,14 @@
-#include <Imath/ImathBox.h>
-#include <Imath/ImathMatrix.h>
-#include <Imath/ImathVec.h>
+#include "exr_spec_header.h"
+
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfDeepFrameBuffer.h>
 #include <OpenEXR/ImfDeepScanLineInputPart.h>
 #include <OpenEXR/ImfDeepScanLineOutputFile.h>
-#include <OpenEXR/ImfDoubleAttribute.h>
-#include <OpenEXR/ImfFloatAttribute.h>
 #include <OpenEXR/ImfHeader.h>
-#include <OpenEXR/ImfIntAttribute.h>
-#include <OpenEXR/ImfMatrixAttribute.h>
 #include <OpenEXR/ImfMultiPartInputFile.h>
 #include <OpenEXR/ImfPartType.h>
-#include <OpenEXR/ImfStringAttribute.h>
-#include <OpenEXR/ImfStringVectorAttribute.h>
-#include <OpenEXR/ImfVecAttribute.h>
+#include <OpenEXR/ImfThreading.h>
 #include <cstdint>
-#include <ctime>
 #include <dhdr/io/deep_exr.h>
 #include <dhdr/io/exr_header.h>
 #include <filesystem>
@@ -148,63 +140,24 @@ DeepScanlineWriter::~DeepScanlineWriter() = default;
 bool DeepScanlineWriter::open(const std::string& path, const OIIO::ImageSpec& spec,
                               std::string& error) {
     try {
-        const Imath::Box2i data(Imath::V2i(spec.x, spec.y),
-                                Imath::V2i(spec.x + spec.width - 1, spec.y + spec.height - 1));
-        const Imath::Box2i display(
-            Imath::V2i(spec.full_x, spec.full_y),
-            Imath::V2i(spec.full_x + spec.full_width - 1, spec.full_y + spec.full_height - 1));
-        Imf::Header header(display, data);
+        Imf::Header header = detail::exrHeaderFromSpec(spec);
         header.setType(Imf::DEEPSCANLINE);
         header.compression() = Imf::ZIPS_COMPRESSION;
+        // The spec's zip level ("zips:1"); OpenEXR 3.1 takes no other compression for deep parts.
+        Imf::Compression named;
+        int level = -1;
+        if (detail::exrCompression(spec.get_string_attribute("compression"), named, level) &&
+            named == Imf::ZIPS_COMPRESSION && level > 0)
+            header.zipCompressionLevel() = level;
         for (int c = 0; c < spec.nchannels; ++c)
             header.channels().insert(spec.channelnames[size_t(c)],
                                      Imf::Channel(pixelType(spec.channelformat(c))));
-        // OpenImageIO keeps a file's date in DateTime and writes it as OpenEXR's capDate.
-        std::string date = spec.get_string_attribute("DateTime");
-        if (date.empty()) {
-            const std::time_t now = std::time(nullptr);
-            char text[32];
-            std::strftime(text, sizeof text, "%Y:%m:%d %H:%M:%S", std::localtime(&now));
-            date = text;
-        }
-        header.insert("capDate", Imf::StringAttribute(date));
-        for (const OIIO::ParamValue& p : spec.extra_attribs) {
-            const std::string name = p.name().string();
-            if (name == "DateTime") continue;
-            const OIIO::TypeDesc t = p.type();
-            if (name.rfind("oiio:", 0) == 0 || name.rfind("openexr:", 0) == 0 ||
-                name == "compression")
-                continue;
-            if (t == OIIO::TypeString) {
-                header.insert(name, Imf::StringAttribute(p.get_string()));
-            } else if (t.basetype == OIIO::TypeDesc::STRING) {
-                std::vector<std::string> list;
-                for (size_t i = 0; i < size_t(p.nvalues()) * t.numelements(); ++i)
-                    list.emplace_back(static_cast<const OIIO::ustring*>(p.data())[i].string());
-                header.insert(name, Imf::StringVectorAttribute(list));
-            } else if (t == OIIO::TypeMatrix44) {
-                const float* m = static_cast<const float*>(p.data());
-                header.insert(name, Imf::M44fAttribute(Imath::M44f(
-                                        m[0], m[1], m[2], m[3], m[4], m[5], m[6], m[7], m[8], m[9],
-                                        m[10], m[11], m[12], m[13], m[14], m[15])));
-            } else if (t.basetype == OIIO::TypeDesc::FLOAT && t.basevalues() == 3) {
-                const float* v = static_cast<const float*>(p.data());
-                header.insert(name, Imf::V3fAttribute(Imath::V3f(v[0], v[1], v[2])));
-            } else if (t.basetype == OIIO::TypeDesc::FLOAT && t.basevalues() == 2) {
-                const float* v = static_cast<const float*>(p.data());
-                header.insert(name, Imf::V2fAttribute(Imath::V2f(v[0], v[1])));
-            } else if (t == OIIO::TypeFloat) {
-                header.insert(name, Imf::FloatAttribute(p.get_float()));
-            } else if (t == OIIO::TypeDesc::DOUBLE) {
-                // A G-buffer's time (gbuffer_time.h): every bit of the double kept.
-                header.insert(name, Imf::DoubleAttribute(*static_cast<const double*>(p.data())));
-            } else if (t == OIIO::TypeInt) {
-                header.insert(name, Imf::IntAttribute(p.get_int()));
-            }
-        }
         m_impl = std::make_unique<Impl>();
         m_impl->spec = spec;
-        m_impl->file = std::make_unique<Imf::DeepScanLineOutputFile>(path.c_str(), header);
+        // Line blocks compressed in parallel, as flat files are (flat_exr.cpp).
+        const int threads = detail::exrThreads();
+        if (Imf::globalThreadCount() != threads) Imf::setGlobalThreadCount(threads);
+        m_impl->file = std::make_unique<Imf::DeepScanLineOutputFile>(path.c_str(), header, threads);
         return true;
     } catch (const std::exception& e) {
         error = e.what();

@@ -1,9 +1,13 @@
+#include "exr_spec_header.h"
+#include "flat_exr.h"
 #include "native_pixels.h"
 #include "temporary_files.h"
 
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <dhdr/io/deep_exr.h>
 #include <dhdr/io/errors.h>
 #include <dhdr/io/image_output.h>
@@ -27,6 +31,7 @@ ImageFileOutput::~ImageFileOutput() {
     if (m_committed) return;
     if (m_out) m_out->close();
     m_deep.reset();
+    m_flat.reset();
     std::error_code ec;
     fs::remove(m_temporary, ec);
     detail::unregisterTemporary(m_temporary);
@@ -45,7 +50,7 @@ std::string ImageFileOutput::geterror(bool clear) const {
 
 const OIIO::ImageSpec& ImageFileOutput::spec() const {
     static const OIIO::ImageSpec none;
-    return m_out ? m_out->spec() : m_deep ? m_deepSpec : none;
+    return m_out ? m_out->spec() : (m_deep || m_flat) ? m_ownSpec : none;
 }
 
 bool ImageFileOutput::open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDesc>& formats) {
@@ -73,7 +78,33 @@ bool ImageFileOutput::open(OIIO::ImageSpec spec, const std::vector<OIIO::TypeDes
     }
     const int z = spec.channelindex("Z");
     m_native = native ? std::make_unique<NativeWriter>(spec, z) : nullptr;
+    std::string why;
+    if (native && m_options.throughOpenExr && spec.nchannels > 0 &&
+        detail::exrHeaderKeepsEverything(spec, why)) {
+        std::string ext = fs::path(m_path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+        Imf::Compression known;
+        int level;
+        const std::string compression = spec.get_string_attribute("compression");
+        if (ext == ".exr" &&
+            (compression.empty() || detail::exrCompression(compression, known, level))) {
+            m_out.reset();
+            return openFlatExr(spec);
+        }
+    }
     return openTemporary(spec);
+}
+
+bool ImageFileOutput::openFlatExr(const OIIO::ImageSpec& spec) {
+    detail::registerTemporary(m_temporary);
+    m_flat = std::make_unique<detail::FlatScanlineWriter>();
+    if (std::string error;
+        !m_flat->open(m_temporary, spec, spec.get_string_attribute("compression"), error)) {
+        m_flat.reset();
+        return fail("cannot write: " + oneLine(error));
+    }
+    m_ownSpec = spec;
+    return true;
 }
 
 bool ImageFileOutput::openTemporary(const OIIO::ImageSpec& spec) {
@@ -91,6 +122,7 @@ bool ImageFileOutput::openDeep(OIIO::ImageSpec spec) {
     std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
     if (ext != ".exr") return fail("cannot write deep images in this format (use .exr)");
     if (!m_options.software.empty()) spec.attribute("Software", m_options.software);
+    if (!m_options.compression.empty()) spec.attribute("compression", m_options.compression);
     spec.tile_width = spec.tile_height = spec.tile_depth = 0;
     spec.deep = true;
     detail::registerTemporary(m_temporary);
@@ -99,32 +131,75 @@ bool ImageFileOutput::openDeep(OIIO::ImageSpec spec) {
         m_deep.reset();
         return fail("cannot write: " + oneLine(error));
     }
-    m_deepSpec = spec;
+    m_ownSpec = spec;
     return true;
 }
+
+namespace {
+
+// Whether any sample of `samples` holds NaN or ±Inf, read a pixel at a time through its
+// pointer (DeepData's per-value calls cost a deep G-buffer's write a fifth of its time).
+bool anyNonFinite(const OIIO::DeepData& samples) {
+    const size_t stride = samples.samplesize();
+    std::vector<size_t> offsets; // each channel's bytes into a sample, the same in every pixel
+    std::vector<OIIO::TypeDesc> types;
+    for (int c = 0; c < samples.channels(); ++c)
+        types.push_back(samples.channeltype(c));
+    for (int64_t p = 0; p < samples.pixels(); ++p) {
+        const int n = samples.samples(p);
+        if (n == 0) continue;
+        const auto* pixel = static_cast<const std::byte*>(samples.data_ptr(p, 0, 0));
+        for (int c = int(offsets.size()); c < samples.channels(); ++c)
+            offsets.push_back(
+                size_t(static_cast<const std::byte*>(samples.data_ptr(p, c, 0)) - pixel));
+        for (int c = 0; c < samples.channels(); ++c) {
+            const OIIO::TypeDesc t = types[size_t(c)];
+            const std::byte* at = pixel + offsets[size_t(c)];
+            for (int k = 0; k < n; ++k, at += stride) {
+                if (t == OIIO::TypeDesc::HALF) {
+                    std::uint16_t bits;
+                    std::memcpy(&bits, at, sizeof bits);
+                    if ((bits & 0x7c00u) == 0x7c00u) return true; // exponent all ones
+                } else if (t == OIIO::TypeDesc::FLOAT) {
+                    float v;
+                    std::memcpy(&v, at, sizeof v);
+                    if (!std::isfinite(v)) return true;
+                } else if (t != OIIO::TypeDesc::UINT &&
+                           !std::isfinite(samples.deep_value(p, c, k))) {
+                    return true;
+                }
+            }
+        }
+    }
+    return false;
+}
+
+} // namespace
 
 bool ImageFileOutput::writeDeepRows(int ybegin, int yend, const OIIO::DeepData& samples) {
     // The flat output's rule for every sample: NaN becomes 0, ±Inf (a half channel's overflow
     // included, when the value was stored) the type's largest finite value, counted.
     std::unique_ptr<OIIO::DeepData> fixed;
-    for (int64_t p = 0; p < samples.pixels(); ++p)
-        for (int c = 0; c < samples.channels(); ++c)
-            for (int k = 0; k < samples.samples(p); ++k) {
-                const float v = samples.deep_value(p, c, k);
-                if (std::isfinite(v)) continue;
-                if (!fixed) fixed = std::make_unique<OIIO::DeepData>(samples);
-                const float largest =
-                    samples.channeltype(c) == OIIO::TypeDesc::HALF ? 65504.0f : FLT_MAX;
-                fixed->set_deep_value(p, c, k, std::isnan(v) ? 0.0f : std::copysign(largest, v));
-                ++(std::isnan(v) ? m_nonFinite : m_clamped);
-            }
+    if (anyNonFinite(samples))
+        for (int64_t p = 0; p < samples.pixels(); ++p)
+            for (int c = 0; c < samples.channels(); ++c)
+                for (int k = 0; k < samples.samples(p); ++k) {
+                    const float v = samples.deep_value(p, c, k);
+                    if (std::isfinite(v)) continue;
+                    if (!fixed) fixed = std::make_unique<OIIO::DeepData>(samples);
+                    const float largest =
+                        samples.channeltype(c) == OIIO::TypeDesc::HALF ? 65504.0f : FLT_MAX;
+                    fixed->set_deep_value(p, c, k,
+                                          std::isnan(v) ? 0.0f : std::copysign(largest, v));
+                    ++(std::isnan(v) ? m_nonFinite : m_clamped);
+                }
     if (std::string error; !m_deep->write(ybegin, yend, fixed ? *fixed : samples, error))
         return fail("cannot write: " + oneLine(error));
     return true;
 }
 
 bool ImageFileOutput::writeRows(int ybegin, int yend, const float* pixels) {
-    const OIIO::ImageSpec& spec = m_out->spec();
+    const OIIO::ImageSpec& spec = this->spec();
     const size_t count = size_t(yend - ybegin) * size_t(spec.width);
     bool written = false;
     if (m_native) {
@@ -132,6 +207,11 @@ bool ImageFileOutput::writeRows(int ybegin, int yend, const float* pixels) {
         // float-to-uint scaling of [0, 1] to [0, 2^32 − 1].
         m_buffer.resize(count * m_native->pixelBytes());
         m_native->convert(pixels, count, m_buffer.data(), m_clamped, m_nonFinite);
+        if (m_flat) {
+            std::string error;
+            return m_flat->write(ybegin, yend, m_buffer.data(), error) ||
+                   fail("cannot write: " + oneLine(error));
+        }
         written = m_out->write_scanlines(ybegin, yend, 0, OIIO::TypeUnknown, m_buffer.data());
     } else {
         // Integer formats: OIIO's conversion clamps to their range; NaN only needs replacing.
@@ -147,18 +227,21 @@ bool ImageFileOutput::writeRows(int ybegin, int yend, const float* pixels) {
 }
 
 bool ImageFileOutput::writeRows(const OIIO::ImageBuf& image, OIIO::ROI rows) {
-    const OIIO::ImageSpec& spec = m_out->spec();
+    const OIIO::ImageSpec& spec = this->spec();
     const OIIO::ImageSpec& src = image.spec();
-    const OIIO::TypeDesc type = src.format;
+    // Float for OpenEXR's own writer, which takes only the file's types by way of the native
+    // conversion.
+    const OIIO::TypeDesc type = m_flat ? OIIO::TypeDesc::FLOAT : src.format;
     rows.xbegin = spec.x;
     rows.xend = spec.x + spec.width;
     rows.chbegin = 0;
     rows.chend = spec.nchannels;
     // Straight from the buffer when it holds exactly the file's rows and channels, side by
     // side; else copied out.
-    const bool direct = image.localpixels() && src.x == spec.x && src.width == spec.width &&
-                        src.nchannels == spec.nchannels && src.channelformats.empty() &&
-                        rows.ybegin >= src.y && rows.yend <= src.y + src.height;
+    const bool direct = image.localpixels() && src.format == type && src.x == spec.x &&
+                        src.width == spec.width && src.nchannels == spec.nchannels &&
+                        src.channelformats.empty() && rows.ybegin >= src.y &&
+                        rows.yend <= src.y + src.height;
     const void* pixels = direct ? image.pixeladdr(spec.x, rows.ybegin) : nullptr;
     std::vector<std::byte> copy;
     if (!direct) {
@@ -179,6 +262,10 @@ bool ImageFileOutput::commit() {
         if (std::string error; !m_deep->close(error))
             return fail("cannot write: " + oneLine(error));
         m_deep.reset();
+    } else if (m_flat) {
+        if (std::string error; !m_flat->close(error))
+            return fail("cannot write: " + oneLine(error));
+        m_flat.reset();
     } else if (!m_out) {
         return fail("cannot write: the file was never opened");
     } else if (!m_out->close()) {

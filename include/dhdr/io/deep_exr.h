@@ -33,7 +33,9 @@ public:
     ~DeepScanlineWriter();
     // A deep scanline EXR with `spec`'s windows, channels (channelformats, or format) and
     // attributes (strings, string lists, ints, floats, 2- and 3-vectors, 4×4 matrices),
-    // ZIPS-compressed (OpenEXR 3.1 takes only NONE, RLE and ZIPS for deep parts).
+    // ZIPS-compressed (OpenEXR 3.1 takes only NONE, RLE and ZIPS for deep parts), at the zip
+    // level of the spec's "compression" when it names one ("zips:1"), its line blocks
+    // compressed on OpenEXR's pool (OpenImageIO's "exr_threads").
     bool open(const std::string& path, const OIIO::ImageSpec& spec, std::string& error);
     // Rows [ybegin, yend), in order; `samples` holds their pixels with the spec's channel types.
     bool write(int ybegin, int yend, const OIIO::DeepData& samples, std::string& error);

@@ -14,6 +14,9 @@ namespace dhdr {
 
 class DeepScanlineWriter;
 class NativeWriter;
+namespace detail {
+class FlatScanlineWriter;
+}
 
 struct ImageOutputOptions {
     // The "Software" attribute written in the header ("dhdr-light (dhdr 0.1.0)"); empty keeps
@@ -22,6 +25,11 @@ struct ImageOutputOptions {
     // The file's compression (OpenImageIO's names: "zip", "piz", "dwaa:45" …); empty: the
     // spec's, else the format's default.
     std::string compression;
+    // A flat EXR is written through OpenEXR itself rather than OpenImageIO (fewer copies of
+    // each strip, docs/gbuffer.md) when every channel is half, float or uint and OpenEXR's
+    // header keeps every attribute as OpenImageIO would write it; else through OpenImageIO.
+    // The pixels and header are the same either way.
+    bool throughOpenExr = false;
 };
 
 // An output file written under a temporary name in its folder (".NAME.tmpPID.EXT": same
@@ -48,7 +56,11 @@ public:
     // samples' types); rows are then given as DeepData. Written through OpenEXR itself
     // (deep_exr.h: OpenImageIO 2.4.7 overflows on large deep frames). EXR only.
     bool openDeep(OIIO::ImageSpec spec);
-    bool isOpen() const { return m_out || m_deep; }
+    bool isOpen() const { return m_out || m_deep || m_flat; }
+    // Before open(): ImageOutputOptions::throughOpenExr.
+    void setThroughOpenExr(bool on) { m_options.throughOpenExr = on; }
+    // Whether the open file is written through OpenEXR itself.
+    bool writesThroughOpenExr() const { return bool(m_flat); }
     // The spec the file is written with (after open).
     const OIIO::ImageSpec& spec() const;
 
@@ -76,13 +88,15 @@ public:
 private:
     bool fail(const std::string& message);
     bool openTemporary(const OIIO::ImageSpec& spec);
+    bool openFlatExr(const OIIO::ImageSpec& spec);
 
     std::string m_path, m_temporary;
     ImageOutputOptions m_options;
     std::unique_ptr<OIIO::ImageOutput> m_out;
     std::unique_ptr<DeepScanlineWriter> m_deep;
+    std::unique_ptr<detail::FlatScanlineWriter> m_flat;
     std::unique_ptr<NativeWriter> m_native; // null: OIIO converts (8/16-bit formats)
-    OIIO::ImageSpec m_deepSpec;
+    OIIO::ImageSpec m_ownSpec;              // of m_deep or m_flat
     std::vector<std::byte> m_buffer;
     std::vector<float> m_floats;
     long long m_clamped = 0, m_nonFinite = 0;

@@ -257,16 +257,35 @@ void toDeepData(const DeepGBuffer& g, int ybegin, int yend, OIIO::DeepData& out,
     for (size_t p = 0; p < npix; ++p)
         counts[p] = g.first[firstPixel + p + 1] - g.first[firstPixel + p];
     out.set_all_samples(counts);
-    for (size_t p = 0; p < npix; ++p)
+    // Each pixel's samples are stored together, channel c of sample s at the channel's offset
+    // + s × samplesize(): filled through one pointer a pixel rather than a call a value, in the
+    // conversions set_deep_value makes (half rounded to nearest even, ids as integers).
+    std::vector<size_t> offsets; // each channel's bytes into a sample, the same in every pixel
+    const size_t stride = out.samplesize();
+    for (size_t p = 0; p < npix; ++p) {
+        if (counts[p] == 0) continue;
+        auto* pixel = static_cast<std::byte*>(out.data_ptr(int64_t(p), 0, 0));
+        for (int c = int(offsets.size()); c < nch; ++c)
+            offsets.push_back(
+                size_t(static_cast<std::byte*>(out.data_ptr(int64_t(p), c, 0)) - pixel));
         for (unsigned s = 0; s < counts[p]; ++s) {
             const float* v = &g.values[(size_t(g.first[firstPixel + p]) + s) * size_t(nch)];
+            std::byte* sample = pixel + size_t(s) * stride;
             for (int c = 0; c < nch; ++c) {
-                if (formats[size_t(c)] == OIIO::TypeDesc::UINT)
-                    out.set_deep_value(int64_t(p), c, int(s), std::uint32_t(std::max(v[c], 0.0f)));
-                else
-                    out.set_deep_value(int64_t(p), c, int(s), v[c]);
+                std::byte* at = sample + offsets[size_t(c)];
+                const OIIO::TypeDesc t = formats[size_t(c)];
+                if (t == OIIO::TypeDesc::UINT) {
+                    const auto u = std::uint32_t(std::max(v[c], 0.0f));
+                    std::memcpy(at, &u, sizeof u);
+                } else if (t == OIIO::TypeDesc::HALF) {
+                    const Imath::half h(v[c]);
+                    std::memcpy(at, &h, sizeof h);
+                } else {
+                    std::memcpy(at, &v[c], sizeof(float));
+                }
             }
         }
+    }
 }
 
 } // namespace dhdr
