@@ -88,8 +88,11 @@ bool pngHeader(const OIIO::ImageSpec& spec, std::string& bytes, std::string& err
     return true;
 }
 
-bool pngConvertsAlpha(const OIIO::ImageSpec& spec) {
-    return spec.alpha_channel != -1 && !spec.get_int_attribute("oiio:UnassociatedAlpha", 0);
+int pngAlphaChannel(const OIIO::ImageSpec& spec) {
+    // OpenImageIO 2.4 png_pvt.h, create_write_struct: PNG's colour types decide alpha, not
+    // the spec; and it is divided out unless the spec says it is unassociated.
+    const int alpha = spec.nchannels == 2 ? 1 : spec.nchannels == 4 ? 3 : -1;
+    return spec.get_int_attribute("oiio:UnassociatedAlpha", 0) ? -1 : alpha;
 }
 
 float pngAlphaGamma(const OIIO::ImageSpec& spec) {

@@ -18,8 +18,8 @@ bool pngHeader(const OIIO::ImageSpec& spec, std::string& bytes, std::string& err
 void appendPngChunk(std::string& out, const char type[4], const void* data, size_t size);
 
 // How OpenImageIO's PNG writer turns associated alpha into PNG's unassociated alpha:
-// whether it does for `spec`, and the gamma it does it with.
-bool pngConvertsAlpha(const OIIO::ImageSpec& spec);
+// the channel it divides by for `spec` (-1: none), and the gamma it does it with.
+int pngAlphaChannel(const OIIO::ImageSpec& spec);
 float pngAlphaGamma(const OIIO::ImageSpec& spec);
 
 // Its division for gamma 1 (in integers, as there), `pixels` pixels of `channels` values.

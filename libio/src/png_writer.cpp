@@ -169,7 +169,7 @@ bool PngFileWriter::handles(const OIIO::ImageSpec& spec) {
     return (spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16) &&
            spec.channelformats.empty() && spec.nchannels >= 1 && spec.nchannels <= 4 &&
            spec.width > 0 && spec.height > 0 && spec.depth <= 1 && (filter == 0 || filter == 8) &&
-           (!detail::pngConvertsAlpha(spec) || detail::pngAlphaGamma(spec) == 1.0f);
+           (detail::pngAlphaChannel(spec) < 0 || detail::pngAlphaGamma(spec) == 1.0f);
 }
 
 bool PngFileWriter::open(const OIIO::ImageSpec& spec, const PngWriteOptions& options) {
@@ -190,7 +190,7 @@ bool PngFileWriter::open(const OIIO::ImageSpec& spec, const PngWriteOptions& opt
     s.height = spec.height;
     s.channels = spec.nchannels;
     s.bytesPerValue = int(spec.format.size());
-    s.alpha = detail::pngConvertsAlpha(spec) ? spec.alpha_channel : -1;
+    s.alpha = detail::pngAlphaChannel(spec);
     s.rowBytes = 1 + size_t(s.width) * size_t(s.channels) * size_t(s.bytesPerValue);
     s.groupRows = int(std::max<size_t>(1, kGroupBytes / s.rowBytes));
     const fs::path target(m_path);
