@@ -76,10 +76,11 @@ void writeOiio(const fs::path& path, const OIIO::ImageSpec& spec, const void* pi
 
 // Through PngFileWriter, the rows handed over in uneven strips.
 void writeDhdr(const fs::path& path, const OIIO::ImageSpec& spec, const unsigned char* pixels,
-               int nthreads) {
+               int nthreads, bool whole = false) {
     PngFileWriter png(path.string());
     PngWriteOptions options;
     options.nthreads = nthreads;
+    options.whole = whole;
     ASSERT_TRUE(png.open(spec, options)) << png.geterror();
     const size_t row = spec.scanline_bytes();
     int y = 0, step = 1;
@@ -163,16 +164,20 @@ TEST(PngWriter, GivesOpenImageIOsChunksAndPixels) {
         const OIIO::ImageSpec spec = pngSpec(c.w, c.h, c.channels, c.type);
         const std::vector<unsigned char> pixels = randomPixels(spec, seed++);
         const fs::path ref = scratch() / "oiio.png", one = scratch() / "one.png",
-                       three = scratch() / "three.png";
+                       three = scratch() / "three.png", whole = scratch() / "whole.png";
         writeOiio(ref, spec, pixels.data());
         writeDhdr(one, spec, pixels.data(), 1);
         writeDhdr(three, spec, pixels.data(), 3);
         EXPECT_EQ(slurp(one), slurp(three)) << "the bytes depend on the number of threads";
         EXPECT_EQ(beforeFirstIdat(slurp(one)), beforeFirstIdat(slurp(ref)));
-        EXPECT_EQ(decoded(one, c.type), decoded(ref, c.type));
-        EXPECT_EQ(runPython(kPythonCheck, one), 0);
-        if (fs::exists("/usr/bin/pngcheck"))
-            EXPECT_EQ(std::system(("/usr/bin/pngcheck -q " + one.string()).c_str()), 0);
+        writeDhdr(whole, spec, pixels.data(), 2, true);
+        EXPECT_EQ(beforeFirstIdat(slurp(whole)), beforeFirstIdat(slurp(ref)));
+        for (const fs::path& ours : {one, whole}) {
+            EXPECT_EQ(decoded(ours, c.type), decoded(ref, c.type)) << ours;
+            EXPECT_EQ(runPython(kPythonCheck, ours), 0) << ours;
+            if (fs::exists("/usr/bin/pngcheck"))
+                EXPECT_EQ(std::system(("/usr/bin/pngcheck -q " + ours.string()).c_str()), 0);
+        }
     }
 }
 

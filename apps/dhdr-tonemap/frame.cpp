@@ -249,6 +249,9 @@ bool writePng(const Tool& tool, const std::string& in, const std::string& out, O
     PngFileWriter file(out);
     PngWriteOptions options;
     options.nthreads = nthreads > 0 ? nthreads : int(std::thread::hardware_concurrency());
+    // A frame held whole is deflated whole (libdeflate), a streamed one in groups of rows
+    // (zlib): chosen by size, never by threads, so that the bytes do not depend on them.
+    options.whole = !strips;
     if (!file.open(spec, options)) return tool.fail(file.geterror()), false;
     StripPipeline pipeline(OIIO::get_roi(spec), displayStrips(nthreads, false));
     if (strips) pipeline.addInput(strips->input(true));

@@ -9,6 +9,7 @@
 #include <dhdr/io/png_writer.h>
 #include <filesystem>
 #include <future>
+#include <libdeflate.h>
 #include <unistd.h>
 #include <vector>
 #include <zlib.h>
@@ -23,6 +24,10 @@ namespace {
 // its first 32 KiB (primed, but fewer matches) not to matter, and a 16K frame holds a few.
 constexpr size_t kGroupBytes = size_t(1) << 20;
 constexpr size_t kWindow = 32768;
+// zlib's level for groups of rows and libdeflate's for whole images: the fastest of each,
+// as small as libpng's level 6 on dithered frames (bench/README.md, batch).
+constexpr int kZlibLevel = 1;
+constexpr int kLibdeflateLevel = 1;
 // A chunk's length is at most 2^31 − 1; IDAT data is cut well below that.
 constexpr size_t kMaxIdat = size_t(1) << 30;
 
@@ -88,6 +93,7 @@ struct PngFileWriter::Impl {
         Deflated d = pending.front().get();
         pending.pop_front();
         if (!d.ok) return false;
+        if (d.length == 0) return putIdat(d.bytes); // a whole zlib stream (deflateWhole)
         adler = adler32_combine(adler, d.adler, z_off_t(d.length));
         std::string data;
         if (!headerWritten) data = zlibHeader();
@@ -100,13 +106,9 @@ struct PngFileWriter::Impl {
         return putIdat(data);
     }
     std::string zlibHeader() const {
-        // CMF: deflate, 32 KiB window; FLG: the level's FLEVEL and the check bits.
-        const int flevel = options.level <= 1   ? 0
-                           : options.level <= 5 ? 1
-                           : options.level == 6 ? 2
-                                                : 3;
-        int flg = flevel << 6;
-        flg += 31 - (0x78 * 256 + flg) % 31;
+        // CMF: deflate, 32 KiB window; FLG: FLEVEL 0 ("fastest", kZlibLevel), check bits.
+        int flg = 0;
+        flg += (31 - (0x78 * 256 + flg) % 31) % 31;
         return {char(0x78), char(flg)};
     }
     // Hands the rows gathered to a thread (or deflates them here), keeping at most
@@ -118,17 +120,32 @@ struct PngFileWriter::Impl {
         previousTail.assign(group.end() - std::ptrdiff_t(keep), group.end());
         if (options.nthreads <= 1) {
             std::promise<Deflated> done;
-            done.set_value(
-                deflateGroup(std::move(group), std::move(dictionary), options.level, last));
+            done.set_value(deflateGroup(std::move(group), std::move(dictionary), kZlibLevel, last));
             pending.push_back(done.get_future());
         } else {
             pending.push_back(std::async(std::launch::async, deflateGroup, std::move(group),
-                                         std::move(dictionary), options.level, last));
+                                         std::move(dictionary), kZlibLevel, last));
         }
         group.clear();
         while (!pending.empty() && (last || pending.size() >= size_t(options.nthreads)))
             if (!writeOldest()) return false;
         return true;
+    }
+    // The whole image as one zlib stream, by libdeflate: twice as fast as zlib's level 1
+    // and as small, but it can only end a stream, not flush one (bench/README.md, batch).
+    bool deflateWhole() {
+        libdeflate_compressor* c = libdeflate_alloc_compressor(kLibdeflateLevel);
+        if (!c) return false;
+        Deflated d;
+        d.bytes.resize(libdeflate_zlib_compress_bound(c, group.size()));
+        const size_t n =
+            libdeflate_zlib_compress(c, group.data(), group.size(), d.bytes.data(), d.bytes.size());
+        libdeflate_free_compressor(c);
+        d.bytes.resize(n);
+        std::promise<Deflated> done;
+        done.set_value(std::move(d));
+        pending.push_back(done.get_future());
+        return n > 0 && writeOldest();
     }
     void addRow(const unsigned char* row) {
         const size_t at = group.size();
@@ -185,7 +202,6 @@ bool PngFileWriter::open(const OIIO::ImageSpec& spec, const PngWriteOptions& opt
     m_impl = std::make_unique<Impl>();
     Impl& s = *m_impl;
     s.options = options;
-    s.options.level = std::clamp(options.level, 1, 9);
     s.width = spec.width;
     s.height = spec.height;
     s.channels = spec.nchannels;
@@ -193,6 +209,7 @@ bool PngFileWriter::open(const OIIO::ImageSpec& spec, const PngWriteOptions& opt
     s.alpha = detail::pngAlphaChannel(spec);
     s.rowBytes = 1 + size_t(s.width) * size_t(s.channels) * size_t(s.bytesPerValue);
     s.groupRows = int(std::max<size_t>(1, kGroupBytes / s.rowBytes));
+    if (s.options.whole) s.group.reserve(s.rowBytes * size_t(s.height));
     const fs::path target(m_path);
     detail::removeStaleTemporaries(target);
     s.temporary = detail::temporaryFor(target, getpid()).string();
@@ -215,7 +232,9 @@ bool PngFileWriter::writeRows(int ybegin, int yend, const void* pixels) {
     for (int y = ybegin; y < yend; ++y, row += s.rowBytes - 1) {
         s.addRow(row);
         ++s.nextRow;
-        if ((s.nextRow % s.groupRows == 0 || s.nextRow == s.height) && !s.flushGroup()) {
+        const bool flush = s.options.whole ? s.nextRow == s.height
+                                           : s.nextRow % s.groupRows == 0 || s.nextRow == s.height;
+        if (flush && !(s.options.whole ? s.deflateWhole() : s.flushGroup())) {
             m_error = m_path + ": cannot write: " + std::strerror(errno);
             return false;
         }

@@ -1,9 +1,10 @@
 // An 8- or 16-bit PNG written strip by strip, its deflate work spread over threads: each
 // group of rows is deflated on its own (pigz's way: a raw stream ended by a sync flush,
 // primed with the previous group's last 32 KiB) and the pieces are joined into the one zlib
-// stream PNG requires. The chunks before the pixels are the ones OpenImageIO's PNG writer
-// gives the same spec, and so are the decoded pixels; the file's bytes do not depend on the
-// number of threads. Written under a temporary name and renamed into place by commit().
+// stream PNG requires; or the whole image deflated at once by libdeflate (whole). The chunks before
+// the pixels are the ones OpenImageIO's PNG writer gives the same spec, and so are the decoded
+// pixels; the file's bytes do not depend on the number of threads. Written under a temporary name
+// and renamed into place by commit().
 #pragma once
 
 #include <OpenImageIO/oiioversion.h>
@@ -17,9 +18,12 @@ OIIO_NAMESPACE_END
 namespace dhdr {
 
 struct PngWriteOptions {
-    int level = 3;    // zlib's compression level, [1, 9]: 3 is as small as libpng's 6 on
-                      // dithered frames at twice its speed (bench/README.md, batch)
-    int nthreads = 1; // threads deflating at once, [1, ∞); the bytes are the same for any
+    // Threads deflating groups of rows at once, [1, ∞); the bytes are the same for any.
+    int nthreads = 1;
+    // The whole image deflated in one call at the end (libdeflate, one thread), its rows
+    // held until then: faster than groups for a frame held whole anyway, and the way for
+    // frames that each have one thread (a sequence). The bytes differ from groups'.
+    bool whole = false;
 };
 
 class PngFileWriter {
