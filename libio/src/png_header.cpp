@@ -32,7 +32,8 @@ void deassociate(T* data, size_t pixels, int channels, int alpha) {
     // OpenImageIO 2.4 pngoutput.cpp, deassociateAlpha with gamma 1.
     const unsigned int max = std::numeric_limits<T>::max();
     for (size_t x = 0; x < pixels; ++x, data += channels) {
-        if (!data[alpha]) continue;
+        // Opaque pixels divide to themselves: skipped, as most are.
+        if (!data[alpha] || data[alpha] == max) continue;
         for (int c = 0; c < channels; ++c)
             if (c != alpha) data[c] = T(std::min(max, unsigned(data[c]) * max / data[alpha]));
     }

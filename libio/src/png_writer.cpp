@@ -34,10 +34,13 @@ constexpr size_t kMaxIdat = size_t(1) << 30;
 // One group of rows deflated: a raw deflate stream that a sync flush leaves byte-aligned
 // (the last group's ends the stream), primed with `dictionary`, and its Adler-32.
 struct Deflated {
-    std::string bytes;
+    std::unique_ptr<unsigned char[]> bytes; // not zeroed first: frames are tens of MB
+    size_t size = 0;
     uLong adler = 1;
     size_t length = 0;
     bool ok = true;
+    bool zlib = false; // a whole zlib stream (PngWriteOptions::whole)
+    void allocate(size_t n) { bytes.reset(new unsigned char[n]); }
 };
 
 Deflated deflateGroup(std::vector<unsigned char> raw, std::vector<unsigned char> dictionary,
@@ -51,14 +54,15 @@ Deflated deflateGroup(std::vector<unsigned char> raw, std::vector<unsigned char>
         return d;
     }
     if (!dictionary.empty()) deflateSetDictionary(&z, dictionary.data(), uInt(dictionary.size()));
-    d.bytes.resize(deflateBound(&z, uLong(raw.size())) + 64);
+    const size_t bound = deflateBound(&z, uLong(raw.size())) + 64;
+    d.allocate(bound);
     z.next_in = raw.data();
     z.avail_in = uInt(raw.size());
-    z.next_out = reinterpret_cast<Bytef*>(d.bytes.data());
-    z.avail_out = uInt(d.bytes.size());
+    z.next_out = d.bytes.get();
+    z.avail_out = uInt(bound);
     const int status = deflate(&z, last ? Z_FINISH : Z_SYNC_FLUSH);
     d.ok = last ? status == Z_STREAM_END : status == Z_OK && z.avail_in == 0;
-    d.bytes.resize(z.total_out);
+    d.size = z.total_out;
     deflateEnd(&z);
     return d;
 }
@@ -78,14 +82,29 @@ struct PngFileWriter::Impl {
     bool headerWritten = false;
 
     bool put(const void* data, size_t size) { return std::fwrite(data, 1, size, file) == size; }
-    bool putIdat(const std::string& data) {
-        for (size_t at = 0; at < data.size(); at += kMaxIdat) {
-            std::string chunk;
-            detail::appendPngChunk(chunk, "IDAT", data.data() + at,
-                                   std::min(kMaxIdat, data.size() - at));
-            if (!put(chunk.data(), chunk.size())) return false;
+    // IDAT chunks of `head`, `size` bytes of `body` and `tail`, written as they are.
+    bool putIdat(const std::string& head, const unsigned char* body, size_t size,
+                 const std::string& tail) {
+        if (head.size() + size + tail.size() > kMaxIdat) {
+            // Only a frame deflated whole gets here (past 1 GiB): one piece at a time.
+            for (size_t at = 0; at < size; at += kMaxIdat)
+                if (!putIdat(at == 0 ? head : "", body + at, std::min(kMaxIdat, size - at), ""))
+                    return false;
+            return putIdat(tail, nullptr, 0, "");
         }
-        return true;
+        unsigned char length[4];
+        const uint32_t n = uint32_t(head.size() + size + tail.size());
+        for (int i = 0; i < 4; ++i)
+            length[i] = static_cast<unsigned char>(n >> (24 - 8 * i));
+        uLong crc = crc32_z(0L, reinterpret_cast<const Bytef*>("IDAT"), 4);
+        crc = crc32_z(crc, reinterpret_cast<const Bytef*>(head.data()), head.size());
+        crc = crc32_z(crc, body, size);
+        crc = crc32_z(crc, reinterpret_cast<const Bytef*>(tail.data()), tail.size());
+        unsigned char check[4];
+        for (int i = 0; i < 4; ++i)
+            check[i] = static_cast<unsigned char>(crc >> (24 - 8 * i));
+        return put(length, 4) && put("IDAT", 4) && put(head.data(), head.size()) &&
+               put(body, size) && put(tail.data(), tail.size()) && put(check, 4);
     }
     // Writes the oldest group deflated: the zlib header before the first, the Adler-32 of
     // every row after the last.
@@ -93,17 +112,15 @@ struct PngFileWriter::Impl {
         Deflated d = pending.front().get();
         pending.pop_front();
         if (!d.ok) return false;
-        if (d.length == 0) return putIdat(d.bytes); // a whole zlib stream (deflateWhole)
+        if (d.zlib) return putIdat("", d.bytes.get(), d.size, "");
         adler = adler32_combine(adler, d.adler, z_off_t(d.length));
-        std::string data;
-        if (!headerWritten) data = zlibHeader();
+        const std::string head = headerWritten ? "" : zlibHeader();
         headerWritten = true;
-        data += d.bytes;
-        if (nextRow == height && pending.empty()) {
+        std::string tail;
+        if (nextRow == height && pending.empty())
             for (int shift = 24; shift >= 0; shift -= 8)
-                data += char((adler >> shift) & 0xff);
-        }
-        return putIdat(data);
+                tail += char((adler >> shift) & 0xff);
+        return putIdat(head, d.bytes.get(), d.size, tail);
     }
     std::string zlibHeader() const {
         // CMF: deflate, 32 KiB window; FLG: FLEVEL 0 ("fastest", kZlibLevel), check bits.
@@ -137,11 +154,13 @@ struct PngFileWriter::Impl {
         libdeflate_compressor* c = libdeflate_alloc_compressor(kLibdeflateLevel);
         if (!c) return false;
         Deflated d;
-        d.bytes.resize(libdeflate_zlib_compress_bound(c, group.size()));
+        d.zlib = true;
+        const size_t bound = libdeflate_zlib_compress_bound(c, group.size());
+        d.allocate(bound);
         const size_t n =
-            libdeflate_zlib_compress(c, group.data(), group.size(), d.bytes.data(), d.bytes.size());
+            libdeflate_zlib_compress(c, group.data(), group.size(), d.bytes.get(), bound);
         libdeflate_free_compressor(c);
-        d.bytes.resize(n);
+        d.size = n;
         std::promise<Deflated> done;
         done.set_value(std::move(d));
         pending.push_back(done.get_future());
