@@ -64,6 +64,7 @@ OIIO::ImageSpec pngSpec(int w, int h, int channels, OIIO::TypeDesc type) {
     spec.attribute("oiio:ColorSpace", "sRGB");
     spec.attribute("Software", "test_png_writer");
     spec.attribute("dhdr:note", "a tEXt chunk");
+    spec.attribute("png:filter", 8); // libpng's PNG_FILTER_NONE
     return spec;
 }
 
@@ -215,5 +216,9 @@ TEST(PngWriter, LeavesToOpenImageIOWhatItDoesNotWrite) {
     OIIO::ImageSpec gamma(4, 4, 4, OIIO::TypeDesc::UINT8);
     gamma.attribute("oiio:ColorSpace", "Gamma2.2"); // alpha divided out in floats there
     EXPECT_FALSE(PngFileWriter::handles(gamma));
-    EXPECT_TRUE(PngFileWriter::handles(OIIO::ImageSpec(4, 4, 4, OIIO::TypeDesc::UINT16)));
+    // libpng's own choice of filters (undithered output) is libpng's to make.
+    EXPECT_FALSE(PngFileWriter::handles(OIIO::ImageSpec(4, 4, 4, OIIO::TypeDesc::UINT16)));
+    OIIO::ImageSpec unfiltered(4, 4, 4, OIIO::TypeDesc::UINT16);
+    unfiltered.attribute("png:filter", 8);
+    EXPECT_TRUE(PngFileWriter::handles(unfiltered));
 }

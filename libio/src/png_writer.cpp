@@ -201,10 +201,12 @@ PngFileWriter::~PngFileWriter() {
 }
 
 bool PngFileWriter::handles(const OIIO::ImageSpec& spec) {
+    // libpng's PNG_FILTER_NONE (8): rows unfiltered, as here. Without it libpng chooses a
+    // filter per row, which undithered pixels gain from (docs/tonemap.md): left to it.
     const int filter = spec.get_int_attribute("png:filter", 0);
     return (spec.format == OIIO::TypeDesc::UINT8 || spec.format == OIIO::TypeDesc::UINT16) &&
            spec.channelformats.empty() && spec.nchannels >= 1 && spec.nchannels <= 4 &&
-           spec.width > 0 && spec.height > 0 && spec.depth <= 1 && (filter == 0 || filter == 8) &&
+           spec.width > 0 && spec.height > 0 && spec.depth <= 1 && filter == 8 &&
            (detail::pngAlphaChannel(spec) < 0 || detail::pngAlphaGamma(spec) == 1.0f);
 }
 

@@ -34,7 +34,8 @@ public:
     PngFileWriter& operator=(const PngFileWriter&) = delete;
 
     // Whether this writer gives for `spec` the pixels OpenImageIO's would: UINT8 or UINT16,
-    // 1-4 channels, rows written unfiltered ("png:filter" 0 or 8), one subimage.
+    // 1-4 channels, rows asked unfiltered ("png:filter" 8, libpng's PNG_FILTER_NONE: what
+    // dhdr-tonemap asks for dithered 8-bit output), one subimage.
     static bool handles(const OIIO::ImageSpec& spec);
     // Opens the temporary for an image of `spec` (as handles() accepts).
     bool open(const OIIO::ImageSpec& spec, const PngWriteOptions& options);
