@@ -145,6 +145,7 @@ assert all(raw[y * row] == 0 for y in range(h))
 struct Case {
     int w, h, channels;
     OIIO::TypeDesc type;
+    bool unassociated = false; // "oiio:UnassociatedAlpha": alpha stored as given
 };
 
 } // namespace
@@ -157,12 +158,14 @@ TEST(PngWriter, GivesOpenImageIOsChunksAndPixels) {
                           {31, 17, 4, OIIO::TypeDesc::UINT16},
                           {301, 211, 1, OIIO::TypeDesc::UINT8},
                           // Rows of 32 KiB: several groups of rows, each deflated apart.
-                          {4099, 101, 4, OIIO::TypeDesc::UINT16}};
+                          {4099, 101, 4, OIIO::TypeDesc::UINT16},
+                          {9, 5, 4, OIIO::TypeDesc::UINT8, true}};
     unsigned seed = 1;
     for (const Case& c : cases) {
         SCOPED_TRACE(std::to_string(c.w) + "x" + std::to_string(c.h) + "x" +
                      std::to_string(c.channels) + " " + c.type.c_str());
-        const OIIO::ImageSpec spec = pngSpec(c.w, c.h, c.channels, c.type);
+        OIIO::ImageSpec spec = pngSpec(c.w, c.h, c.channels, c.type);
+        if (c.unassociated) spec.attribute("oiio:UnassociatedAlpha", 1);
         const std::vector<unsigned char> pixels = randomPixels(spec, seed++);
         const fs::path ref = scratch() / "oiio.png", one = scratch() / "one.png",
                        three = scratch() / "three.png", whole = scratch() / "whole.png";
