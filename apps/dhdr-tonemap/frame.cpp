@@ -244,8 +244,9 @@ bool writeDisplay(const Tool& tool, const std::string& in, const std::string& ou
 bool writePng(const Tool& tool, const std::string& in, const std::string& out, OIIO::ImageSpec spec,
               const FrameRecipe& recipe, const OIIO::ImageBuf& hdr, SceneLinearStrips* strips,
               int nthreads) {
-    // What ImageFileOutput gives OpenImageIO (tool.cpp's outputOptions).
+    // What ImageFileOutput gives OpenImageIO (tool.cpp's outputOptions; one image, flat).
     spec.attribute("Software", tool.name() + " (dhdr " DHDR_VERSION ")");
+    spec.erase_attribute("oiio:subimages");
     PngFileWriter file(out);
     PngWriteOptions options;
     options.nthreads = nthreads > 0 ? nthreads : int(std::thread::hardware_concurrency());
@@ -256,7 +257,8 @@ bool writePng(const Tool& tool, const std::string& in, const std::string& out, O
     StripPipeline pipeline(OIIO::get_roi(spec), displayStrips(nthreads, false));
     if (strips) pipeline.addInput(strips->input(true));
     const bool written = pipeline.run([&](StripContext& strip) {
-        if (!encodeStrip(strip, in, out, spec, recipe, hdr, strips, nthreads)) return false;
+        if (!encodeStrip(strip, in, out, spec, recipe, hdr, strips != nullptr, nthreads))
+            return false;
         const OIIO::ImageBuf& rows = *strip.output;
         if (file.writeRows(strip.rows.ybegin, strip.rows.yend,
                            rows.pixeladdr(strip.rows.xbegin, strip.rows.ybegin)))
