@@ -8,6 +8,8 @@ packages=(
   libopenimageio-dev openimageio-tools libopenexr-dev libimath-dev python3-imath  # python3-imath: ImathTargets.cmake names its library
   libopencolorio-dev libembree-dev libglm-dev libassimp-dev
   nlohmann-json3-dev libgtest-dev python3
+  libdeflate-dev  # dhdr-tonemap's PNG writer deflates whole frames with it (libio)
+  pngcheck        # an independent PNG checker for test_png_writer
   python3-murmurhash  # an independent MurmurHash3_x86_32 for the Cryptomatte tests
   pybind11-dev python3-dev python3-numpy  # the dhdr Python module (python/)
   python3-pytest python3-openimageio      # its tests: pytest, and an independent EXR reader

@@ -5,11 +5,13 @@
 #include <cctype>
 #include <cstdio>
 #include <dhdr/io/layers.h>
+#include <dhdr/io/png_writer.h>
 #include <dhdr/io/sanitize.h>
 #include <dhdr/io/strip_pipeline.h>
 #include <dhdr/tonemap/frame_recipe.h>
 #include <dhdr/tonemap/metering.h>
 #include <filesystem>
+#include <thread>
 #include <vector>
 
 namespace dhdr::app {
@@ -184,47 +186,97 @@ OIIO::ImageSpec outputSpec(const FrameJob& job, const std::string& in, const OII
     return spec;
 }
 
-// Writes `out` a strip at a time: each strip of `hdr` (mapped already) encoded, or with
-// `strips` each strip read, mapped and encoded (toneMapFrame).
+// Maps and encodes the rows of one strip into strip.output: from `hdr` mapped already, or
+// from the strip `strips` read (toneMapFrame).
+bool encodeStrip(StripContext& strip, const std::string& in, const std::string& out,
+                 const OIIO::ImageSpec& spec, const FrameRecipe& recipe, const OIIO::ImageBuf& hdr,
+                 bool streaming, int nthreads) {
+    // EXR gets floats that OpenImageIO converts to half; the others their integer pixels.
+    OIIO::ImageSpec rows(strip.rows.width(), strip.rows.height(), spec.nchannels, recipe.type);
+    rows.x = strip.rows.xbegin;
+    rows.y = strip.rows.ybegin;
+    OIIO::ImageBuf& dst = *strip.output;
+    if (dst.spec().width != rows.width || dst.spec().height != rows.height ||
+        dst.spec().format != recipe.type)
+        dst.reset(rows);
+    dst.set_origin(rows.x, rows.y);
+    if (streaming && !toneMapFrame(dst, *strip.inputs[0], recipe, strip.rows, nthreads)) {
+        strip.error = in + ": " + dst.geterror();
+        return false;
+    }
+    if (!streaming && !encodeFrame(dst, hdr, recipe, strip.rows, nthreads)) {
+        strip.error = out + ": " + dst.geterror();
+        return false;
+    }
+    return true;
+}
+
+StripPipelineParams displayStrips(int nthreads, bool writeBehind) {
+    StripPipelineParams params;
+    params.rows = kStripRows;
+    params.writeBehind = writeBehind && nthreads != 1;
+    params.nthreads = nthreads;
+    return params;
+}
+
+// Writes `out` a strip at a time through OpenImageIO: each strip of `hdr` (mapped already)
+// encoded, or with `strips` each strip read, mapped and encoded.
 bool writeDisplay(const Tool& tool, const std::string& in, const std::string& out,
                   const OIIO::ImageSpec& spec, const FrameRecipe& recipe, const OIIO::ImageBuf& hdr,
                   SceneLinearStrips* strips, int nthreads) {
     AtomicOutput file(tool, out);
     if (!file.open(spec, {spec.format})) return false;
-    // EXR gets floats that OpenImageIO converts to half; the others their integer pixels.
-    const OIIO::TypeDesc buffer = recipe.type;
-    StripPipelineParams streamingParams;
-    streamingParams.rows = kStripRows;
-    streamingParams.writeBehind = nthreads != 1;
-    streamingParams.nthreads = nthreads;
-    StripPipeline pipeline(OIIO::get_roi(spec), streamingParams);
+    StripPipeline pipeline(OIIO::get_roi(spec), displayStrips(nthreads, true));
     if (strips) pipeline.addInput(strips->input(true));
     pipeline.setOutput(file.file());
-    const bool written = pipeline.run([&](StripContext& strip) {
-        OIIO::ImageSpec rows(strip.rows.width(), strip.rows.height(), spec.nchannels, buffer);
-        rows.x = strip.rows.xbegin;
-        rows.y = strip.rows.ybegin;
-        OIIO::ImageBuf& dst = *strip.output;
-        if (dst.spec().width != rows.width || dst.spec().height != rows.height ||
-            dst.spec().format != buffer)
-            dst.reset(rows);
-        dst.set_origin(rows.x, rows.y);
-        if (strips && !toneMapFrame(dst, *strip.inputs[0], recipe, strip.rows, nthreads)) {
-            strip.error = in + ": " + dst.geterror();
-            return false;
-        }
-        if (!strips && !encodeFrame(dst, hdr, recipe, strip.rows, nthreads)) {
-            strip.error = out + ": " + dst.geterror();
-            return false;
-        }
-        return true;
-    });
-    if (!written) {
+    if (!pipeline.run([&](StripContext& strip) {
+            return encodeStrip(strip, in, out, spec, recipe, hdr, strips != nullptr, nthreads);
+        })) {
         tool.fail(pipeline.error());
         return false;
     }
     if (strips) strips->report();
     return file.commit();
+}
+
+// As writeDisplay, through dhdr's PNG writer: the same chunks and pixels as OpenImageIO's,
+// its deflate spread over the threads (png_writer.h).
+bool writePng(const Tool& tool, const std::string& in, const std::string& out, OIIO::ImageSpec spec,
+              const FrameRecipe& recipe, const OIIO::ImageBuf& hdr, SceneLinearStrips* strips,
+              int nthreads) {
+    // What ImageFileOutput gives OpenImageIO (tool.cpp's outputOptions; one image, flat).
+    spec.attribute("Software", tool.name() + " (dhdr " DHDR_VERSION ")");
+    spec.erase_attribute("oiio:subimages");
+    PngFileWriter file(out);
+    PngWriteOptions options;
+    options.nthreads = nthreads > 0 ? nthreads : int(std::thread::hardware_concurrency());
+    // A frame held whole is deflated whole (libdeflate), a streamed one in groups of rows
+    // (zlib): chosen by size, never by threads, so that the bytes do not depend on them.
+    options.whole = !strips;
+    if (!file.open(spec, options)) return tool.fail(file.geterror()), false;
+    StripPipeline pipeline(OIIO::get_roi(spec), displayStrips(nthreads, false));
+    if (strips) pipeline.addInput(strips->input(true));
+    const bool written = pipeline.run([&](StripContext& strip) {
+        if (!encodeStrip(strip, in, out, spec, recipe, hdr, strips != nullptr, nthreads))
+            return false;
+        const OIIO::ImageBuf& rows = *strip.output;
+        if (file.writeRows(strip.rows.ybegin, strip.rows.yend,
+                           rows.pixeladdr(strip.rows.xbegin, strip.rows.ybegin)))
+            return true;
+        strip.error = file.geterror();
+        return false;
+    });
+    if (!written) return tool.fail(pipeline.error()), false;
+    if (strips) strips->report();
+    return file.commit() || (tool.fail(file.geterror()), false);
+}
+
+// Whether `out` goes through writePng: a PNG whose pixels it gives as OpenImageIO would,
+// without a --compression for OpenImageIO, unless --png-writer oiio asks for the reference.
+bool dhdrPng(const Tool& tool, const FrameJob& job, const std::string& out,
+             const OIIO::ImageSpec& spec) {
+    return job.pngWriter == "dhdr" && lowerExtension(out) == ".png" &&
+           tool.commandLine().compression().empty() && PngFileWriter::handles(spec);
 }
 
 } // namespace
@@ -276,7 +328,10 @@ bool mapFrame(const Tool& tool, const FrameJob& job, const std::string& in, cons
     recipe.dither = job.dither;
     const OIIO::ImageSpec spec =
         outputSpec(job, in, streaming ? strips.spec() : hdr.spec(), recipe, type, used);
-    return writeDisplay(tool, in, out, spec, recipe, hdr, streaming ? &strips : nullptr, nthreads);
+    SceneLinearStrips* rows = streaming ? &strips : nullptr;
+    if (dhdrPng(tool, job, out, spec))
+        return writePng(tool, in, out, spec, recipe, hdr, rows, nthreads);
+    return writeDisplay(tool, in, out, spec, recipe, hdr, rows, nthreads);
 }
 
 // Everything that decides a frame's metered luminance, so that statistics metered one way

@@ -20,6 +20,9 @@ struct FrameJob {
     std::string white, weights, metering, percentiles, layer;
     int bits = 8;
     bool dither = true;
+    // "dhdr": PNG through dhdr's parallel writer (png_writer.h); "oiio": through OpenImageIO,
+    // the reference it is tested against (--png-writer).
+    std::string pngWriter = "dhdr";
     // Frames whose float pixels need more bytes are streamed (--memory); reinhard-local,
     // whose blur reaches across the frame, always holds it whole.
     size_t wholeFrameBytes = size_t(512) << 20;

@@ -75,6 +75,9 @@ void declareOptions(app::CommandLine& cl, Options& o, FrameJob& job) {
     app::addParamOptions(cl, job.params.metering.luminance, kLuminanceFloatTable);
     cl.option("--bits", job.bits, "8|16", "bits per channel of PNG/TIFF output", 8, 16);
     cl.flag("--no-dither", o.noDither, "quantize 8-bit output without dithering");
+    cl.option("--png-writer", job.pngWriter, "dhdr|oiio",
+              "PNG through dhdr's writer, its deflate on every thread (default), or through "
+              "OpenImageIO's (the reference: the same chunks and pixels, slower)");
     cl.option("--ocio-config", o.display.config, "FILE",
               "OpenColorIO config (default: $OCIO, else a built-in one: scene-linear Rec.709 in, "
               "display sRGB, views Standard and ACES)");
@@ -170,6 +173,8 @@ int parseJob(const app::CommandLine& cl, Options& o, FrameJob& job) {
     if (const std::string ext = app::lowerExtension(cl.output());
         job.bits == 16 && (ext == ".jpg" || ext == ".jpeg"))
         return usage("--bits 16: JPEG holds 8 bits per channel; write PNG or TIFF for 16");
+    if (job.pngWriter != "dhdr" && job.pngWriter != "oiio")
+        return usage("--png-writer must be dhdr or oiio");
     job.dither = !o.noDither;
     job.wholeFrameBytes = size_t(o.memoryMiB * 1048576.0);
     return -1;
