@@ -10,6 +10,9 @@ faceted terminator. Reported for each renderer, over the objects' pixels the uns
 lights (luminance above 1 % of its largest):
   lost      the share of that light the shadowed frame loses,
   patches   the pixels darker than 90 % of their unshadowed value (facet-shaped patches),
+  spikes    pixels of the unshadowed frame brighter than each of their four neighbours on the
+            same object (one at least) by more than 10 % of its largest luminance (single
+            bright pixels);
   jump      the 99th percentile of the luminance step between neighbouring pixels on one
             object, shadowed frame, relative to its largest luminance (a facet's edge is a step).
 Writes terminator.png (dhdr shadowed | dhdr unshadowed | Cycles shadowed when run) and
@@ -30,7 +33,7 @@ import numpy as np
 import OpenImageIO as oiio
 
 ELEVATION = 8.0  # degrees: the sun's height above the horizon (grazing)
-AZIMUTH = 45.0   # degrees: the sun comes from the front left
+AZIMUTH = 80.0   # degrees: from the left, a little in front; the cylinder's terminator a third into a facet
 SUN_LUX = 3.0
 
 
@@ -146,6 +149,8 @@ def render_dhdr(tools, scene, out, size, angle):
 
 CYCLES_SCRIPT = r'''
 import bpy, math, sys
+import numpy
+numpy.bool = bool  # Blender 3.4's glTF importer uses the alias NumPy 1.24 removed
 argv = sys.argv[sys.argv.index("--") + 1:]
 scene_path, out, w, h, travel, angle, lux, shadows = argv[0], argv[1], int(argv[2]), int(argv[3]), \
     [float(v) for v in argv[4].split(",")], float(argv[5]), float(argv[6]), argv[7] == "1"
@@ -180,8 +185,10 @@ sun.energy = lux  # ratios only are compared: the units cancel
 sun.angle = math.radians(angle)
 so = bpy.data.objects.new("sun", sun); sc.collection.objects.link(so)
 from mathutils import Vector
-so.rotation_euler = Vector(travel).to_track_quat("-Z", "Y").to_euler()
-eye = Vector((%(eye)s)); target = Vector((%(target)s))
+def blender(v):  # glTF's y-up to Blender's z-up, as the importer turns the meshes
+    return Vector((v[0], -v[2], v[1]))
+so.rotation_euler = blender(travel).to_track_quat("-Z", "Y").to_euler()
+eye = blender((%(eye)s)); target = blender((%(target)s))
 cam = bpy.data.cameras.new("cam"); cam.sensor_fit = "VERTICAL"; cam.angle_y = math.radians(%(fov)s)
 co = bpy.data.objects.new("cam", cam); sc.collection.objects.link(co); sc.camera = co
 co.location = eye
@@ -225,13 +232,23 @@ def measure(frames, obj):
         same = (np.diff(obj, axis=axis) == 0) & (np.delete(obj, 0, axis=axis) > 0)
         steps.append(np.abs(np.diff(sh, axis=axis))[same])
     jump = float(np.percentile(np.concatenate(steps), 99) / sh.max())
+    # Against the neighbours on the same object only (a silhouette pixel has background ones).
+    c = un[1:-1, 1:-1]
+    brighter = obj[1:-1, 1:-1] > 0
+    neighbours = np.zeros(c.shape, dtype=int)
+    for dy, dx in ((-1, 0), (1, 0), (0, -1), (0, 1)):
+        n = un[1 + dy:un.shape[0] - 1 + dy, 1 + dx:un.shape[1] - 1 + dx]
+        same = obj[1 + dy:obj.shape[0] - 1 + dy, 1 + dx:obj.shape[1] - 1 + dx] == obj[1:-1, 1:-1]
+        neighbours += same
+        brighter &= ~same | (c > n + 0.1 * un.max())
+    spikes = int((brighter & (neighbours > 0)).sum())
     per_object = {}
     # OpenImageIO hands the uint ids back converted; their order is the objects' order.
     for rank, k in enumerate(sorted(set(np.unique(obj)) - {0})):
         m = lit & (obj == k)
         per_object[OBJECTS[rank]] = {"lost": float((un[m] - sh[m]).clip(min=0).sum() / un[m].sum()),
                               "patches": int(((sh < 0.9 * un) & m).sum()), "pixels": int(m.sum())}
-    return {"lost": lost, "patches": patches, "lit_pixels": int(lit.sum()), "jump_p99": jump,
+    return {"lost": lost, "patches": patches, "lit_pixels": int(lit.sum()), "spikes": spikes, "jump_p99": jump,
             "objects": per_object}
 
 
@@ -243,6 +260,34 @@ def to_png(images, path):
     out.write(path)
 
 
+def labelled(rgb, text):
+    buf = oiio.ImageBuf(oiio.ImageSpec(rgb.shape[1], rgb.shape[0], 3, oiio.FLOAT))
+    buf.set_pixels(oiio.ROI(), np.ascontiguousarray(rgb.astype(np.float32)))
+    if not oiio.ImageBufAlgo.render_text(buf, 8, 22, text, 18, "DejaVuSans", (1.0, 0.8, 0.2)):
+        print("no label:", buf.geterror(), file=sys.stderr)
+    return buf.get_pixels(oiio.FLOAT)
+
+
+def docs_picture(before, after, path):
+    """docs/images/terminator.png: before | after (shadowed frames) over before unshadowed |
+    Cycles, cropped to the objects."""
+    crop = (slice(40, 220), slice(90, 430))
+    frames = {name: read(os.path.join(d, f))[crop] for name, d, f in (
+        ("before", before, "dhdr_shadowed.exr"), ("after", after, "dhdr_shadowed.exr"),
+        ("unshadowed", before, "dhdr_unshadowed.exr"), ("cycles", after, "cycles_shadowed.exr"))}
+    top = max(float(np.percentile(luminance(f), 99.5)) for f in frames.values())
+    def tone(f):
+        return np.clip(f / top, 0, 1) ** (1 / 2.2)
+    rows = [np.concatenate([labelled(tone(frames["before"]), "before"),
+                            labelled(tone(frames["after"]), "after")], axis=1),
+            np.concatenate([labelled(tone(frames["unshadowed"]), "before, no shadows"),
+                            labelled(tone(frames["cycles"]), "Cycles")], axis=1)]
+    grid = np.concatenate(rows, axis=0)
+    out = oiio.ImageBuf(oiio.ImageSpec(grid.shape[1], grid.shape[0], 3, oiio.UINT8))
+    out.set_pixels(oiio.ROI(), (np.clip(grid, 0, 1) * 255 + 0.5).astype(np.uint8))
+    out.write(path)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--tools", default="build/apps")
@@ -250,11 +295,19 @@ def main():
     p.add_argument("--size", default="480x270")
     p.add_argument("--angle", type=float, default=0.0, help="the sun's angular diameter, degrees")
     p.add_argument("--cycles", action="store_true", help="also render with Blender's Cycles")
+    p.add_argument("--docs-picture", nargs=2, metavar=("BEFORE_DIR", "PNG"),
+                   help="compose the docs picture from an earlier run's --out (the tools before the "
+                        "fix) and this run's (with --cycles), then stop")
     a = p.parse_args()
+    if a.docs_picture:
+        docs_picture(a.docs_picture[0], a.out, a.docs_picture[1])
+        return
     os.makedirs(a.out, exist_ok=True)
     scene = os.path.join(a.out, "terminator.gltf")
-    write_gltf(scene, [("cylinder12", cylinder(-0.6, 0.0, 0.35, 0.8, 12)),
-                       ("sphere8x6", uv_sphere(0.6, 0.4, 0.0, 0.4, 6, 8))])
+    # The sun comes from the left: the cylinder stands behind, so that its shadow falls away
+    # from the sphere (each object lit alone).
+    write_gltf(scene, [("cylinder12", cylinder(-0.6, -0.4, 0.35, 0.8, 12)),
+                       ("sphere8x6", uv_sphere(0.6, 0.4, 0.4, 0.4, 6, 8))])
     frames, obj = render_dhdr(a.tools, scene, a.out, a.size, a.angle)
     report = {"sun": {"travel": sun_travel(), "elevation": ELEVATION, "angle": a.angle},
               "dhdr": measure(frames, obj)}

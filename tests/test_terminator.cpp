@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <dhdr/deferred/core/visibility.h>
+#include <dhdr/deferred/direct/shadows.h>
 #include <dhdr/deferred/gbuffer/gbuffer.h>
 #include <dhdr/deferred/gbuffer/shading_point.h>
 #include <dhdr/deferred/geometry/ray_caster.h>
@@ -227,6 +228,44 @@ TEST(Terminator, ACylindersShadowFollowsTheSmoothCosine) {
         std::printf("sun at %g°: largest |lit share − smooth share| of a facet %.3f\n", degrees,
                     worst);
     }
+}
+
+// A sun with a disk seen from the facet the terminator crosses, where every ray towards it
+// leaves below the triangle's plane. Such samples were left out, and with none left the point
+// counted as unshadowed: lit with a wall between it and the sun. Traced from the lifted
+// point, they find the wall; with the wall gone the point is lit as a hard sun lights it.
+TEST(Terminator, ASunsDiskDoesNotLightATerminatorFacetBehindAWall) {
+    const int n = 12;
+    const double delta = 2.0 * kPi / n;
+    Scene scene = cylinder(n, 1.0, 4.0);
+    const RayCaster open(scene);
+    // Towards the sun 95° from facet 0's middle, on B's side: the facet faces away by 5°, the
+    // part near B faces the sun by its normals.
+    const double az = delta / 2.0 + 95.0 * kPi / 180.0;
+    const glm::dvec3 L(std::cos(az), 0.0, -std::sin(az));
+    const glm::dvec3 nA(1.0, 0.0, 0.0), nB(std::cos(delta), 0.0, -std::sin(delta));
+    const glm::dvec3 Pt = 0.2 * nA + 0.8 * nB;
+    const Seen s = seenFrom(scene, open, Pt + 3.0 * glm::normalize(nA + nB), Pt);
+    ASSERT_GT(glm::dot(glm::dvec3(s.sample.normal), L), 0.05);
+    ASSERT_LT(glm::dot(s.sample.geometric, L), 0.0);
+    Light sun;
+    sun.type = LightType::Directional;
+    sun.direction = glm::vec3(-L);
+    sun.angle = float(0.53 * kPi / 180.0);
+    Light hard = sun;
+    hard.angle = 0.0f;
+    const glm::vec3 N(s.sample.normal);
+    EXPECT_EQ(lightVisibility(sun, s.point, N, 1, 16, open), 1.0f);
+    EXPECT_EQ(lightVisibility(hard, s.point, N, 1, 16, open), 1.0f);
+    // A wall 3 units towards the sun, across its path.
+    const glm::dvec3 c = glm::dvec3(s.sample.position) + 3.0 * L;
+    const glm::dvec3 u = glm::normalize(glm::cross(L, glm::dvec3(0, 1, 0))) * 2.0;
+    const glm::dvec3 v(0.0, 2.0, 0.0);
+    addQuad(scene, glm::vec3(c - u - v), glm::vec3(c + u - v), glm::vec3(c + u + v),
+            glm::vec3(c - u + v));
+    const RayCaster walled(scene);
+    EXPECT_EQ(lightVisibility(sun, s.point, N, 1, 16, walled), 0.0f);
+    EXPECT_EQ(lightVisibility(hard, s.point, N, 1, 16, walled), 0.0f);
 }
 
 // Near a silhouette the interpolated normal of a front face can face away from the viewer.
