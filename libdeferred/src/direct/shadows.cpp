@@ -44,8 +44,7 @@ float sunDiskProbe(const Light& light, const SurfacePoint& at, const glm::vec3& 
     for (int c = 0; c < cells; ++c) {
         const LightLiSample s =
             sampleLi(light, at.P, sequence(std::uint32_t(pick[c]), std::uint32_t(samples)));
-        if (s.pdf == 0.0f || !(glm::dot(N, s.wi) > 0.0f) || !(glm::dot(at.Ng, s.wi) > 0.0f))
-            return -1.0f;
+        if (s.pdf == 0.0f || !(glm::dot(N, s.wi) > 0.0f) || !leavesSurface(at, s.wi)) return -1.0f;
         batch[c] = towards(at, s);
     }
     visibility.testCoherent(batch, size_t(cells), transmittance);
@@ -266,7 +265,7 @@ float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec
             const LightLiSample s =
                 sampleLi(light, at.P, sequence(std::uint32_t(i), std::uint32_t(samples)));
             const float cosTheta = glm::dot(N, s.wi);
-            if (s.pdf == 0.0f || !(cosTheta > 0.0f) || !(glm::dot(at.Ng, s.wi) > 0.0f)) continue;
+            if (s.pdf == 0.0f || !(cosTheta > 0.0f) || !leavesSurface(at, s.wi)) continue;
             weight[n] = (s.L.r + s.L.g + s.L.b) * cosTheta / s.pdf;
             batch[n++] = towards(at, s);
         }

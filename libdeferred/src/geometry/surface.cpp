@@ -27,7 +27,28 @@ double positionError(const glm::dvec3& P, const glm::dvec3 vertices[3],
     return ulp * size + kKernelUlps * 2.0 * ulp * kernel;
 }
 
+glm::dvec3 terminatorLift(const glm::dvec3 vertices[3], const glm::dvec3 normals[3],
+                          const glm::dvec3& w, const glm::dvec3& P, const glm::dvec3& geometric) {
+    if (normals[0] == normals[1] && normals[1] == normals[2]) return glm::dvec3(0.0);
+    glm::dvec3 lift(0.0);
+    for (int i = 0; i < 3; ++i)
+        lift += w[i] * std::max(0.0, glm::dot(vertices[i] - P, normals[i])) * normals[i];
+    const double below = glm::dot(lift, geometric);
+    if (below < 0.0) lift -= below * geometric;
+    return lift;
+}
+
 namespace {
+
+// `n` (unit) if it faces the viewer (`toViewer`, unit) by at least a cosine of kGrazing, else
+// bent towards it in their plane until it does; `fallback` when that leaves no direction.
+constexpr double kGrazing = 1e-3; // cosine left between a bent normal and the horizon
+glm::dvec3 facingViewer(glm::dvec3 n, const glm::dvec3& toViewer, const glm::dvec3& fallback) {
+    const double facing = glm::dot(n, toViewer);
+    if (facing >= kGrazing) return n;
+    n += (kGrazing - facing) * toViewer;
+    return glm::dot(n, n) > 1e-20 ? glm::normalize(n) : fallback;
+}
 
 // glTF 2.0 §3.9.3: n = normalize(T·x + B·y + N·z) with (x, y, z) = 2·texel − 1 and x, y
 // scaled by normalTexture.scale. A mapped normal that faces away from the viewer is bent back
@@ -45,15 +66,7 @@ glm::dvec3 mappedNormal(const Mesh& mesh, const glm::uvec3& tri, double w0, doub
     const glm::dvec3 t = glm::dvec3(texel) * 2.0 - 1.0;
     const glm::dvec3 mapped = T * (t.x * scale) + B * (t.y * scale) + s.interpolated * t.z;
     if (!(glm::dot(mapped, mapped) > 1e-20)) return s.normal;
-    glm::dvec3 n = glm::normalize(mapped);
-    const glm::dvec3 toViewer = -direction;
-    const double facing = glm::dot(n, toViewer);
-    constexpr double kGrazing = 1e-3; // cosine left between the bent normal and the horizon
-    if (facing < kGrazing) {
-        n += (kGrazing - facing) * toViewer;
-        n = glm::dot(n, n) > 1e-20 ? glm::normalize(n) : s.normal;
-    }
-    return n;
+    return facingViewer(glm::normalize(mapped), -direction, s.normal);
 }
 
 // The roughness of a surface whose normal map was filtered over the pixel's footprint to
@@ -189,16 +202,28 @@ SurfaceSample surfaceGeometryAt(const Scene& scene, const Ray& ray, const RayHit
     face = glm::dot(face, face) > 0.0 ? glm::normalize(face) : -ray.direction;
     s.geometric = glm::dot(face, ray.direction) > 0.0 ? -face : face;
     const glm::dvec3 n0(mesh.normals[tri[0]]), n1(mesh.normals[tri[1]]), n2(mesh.normals[tri[2]]);
-    s.normal = w0 * n0 + w1 * n1 + w2 * n2;
+    glm::dvec3 n = w0 * n0 + w1 * n1 + w2 * n2;
     // A vertex without a normal (zero in the file), or normals that cancel: the triangle's own.
-    const auto missing = [](const glm::dvec3& n) { return glm::dot(n, n) < 0.25; };
-    if (missing(n0) || missing(n1) || missing(n2) || glm::dot(s.normal, s.normal) < 1e-20)
-        s.normal = face;
-    s.normal = glm::normalize(s.normal);
-    // The contract's normals face the camera: a back face is shaded as seen.
-    s.backFace = glm::dot(s.normal, ray.direction) > 0.0;
-    if (s.backFace) s.normal = -s.normal;
+    const auto missing = [](const glm::dvec3& v) { return glm::dot(v, v) < 0.25; };
+    const bool flat = missing(n0) || missing(n1) || missing(n2) || !(glm::dot(n, n) >= 1e-20);
+    n = flat ? face : glm::normalize(n);
+    // Which side of its triangle the ray met, by the triangle (its face turned to the side the
+    // file's normals are on), not by the interpolated normal: near a silhouette that one can
+    // face away from a ray that meets the front, and turning it round shaded the front as the
+    // back (single bright pixels where the light is behind the silhouette).
+    const glm::dvec3 outward = glm::dot(face, n) < 0.0 ? -face : face;
+    s.backFace = glm::dot(outward, ray.direction) > 0.0;
+    const double side = s.backFace ? -1.0 : 1.0;
+    // The contract's normals face the camera: bent to just in front of the viewer where the
+    // interpolation leaves them behind (as mappedNormal, and Cycles' ensure_valid_reflection).
+    s.normal = facingViewer(side * n, -ray.direction, s.geometric);
     s.interpolated = s.normal;
+    if (!flat) {
+        const glm::dvec3 normals[3] = {side * glm::normalize(n0), side * glm::normalize(n1),
+                                       side * glm::normalize(n2)};
+        const glm::dvec3 w(w0, w1, w2);
+        s.lift = terminatorLift(vertices, normals, w, s.position, s.geometric);
+    }
 
     s.material = &scene.materials[size_t(mesh.material)];
     return s;

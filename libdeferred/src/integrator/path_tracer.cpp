@@ -118,7 +118,7 @@ glm::vec3 PathTracer::sampleLights(const Vertex& v, Random& random, long long& r
         LightLiSample s = sampleLi(light, v.P, u);
         if (!(s.pdf > 0.0f)) continue;
         const float cosTheta = glm::dot(v.N, s.wi);
-        if (!(cosTheta > 0.0f) || !(glm::dot(v.origin.Ng, s.wi) > 0.0f)) continue;
+        if (!(cosTheta > 0.0f) || !leavesSurface(v.origin, s.wi)) continue;
         const glm::vec3 f = evaluateBrdf(v.surface, v.N, v.V, s.wi) * cosTheta;
         if (f == glm::vec3(0.0f)) continue;
         // The environment as the BRDF-sampled rays see it (full resolution), so that both

@@ -114,6 +114,9 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
         out[layout.emission + c] = s.emission[c];
     }
     out[layout.positionError] = float(s.positionError) * (1.0f + 0x1p-20f); // rounded up
+    if (layout.lift >= 0)
+        for (int c = 0; c < 3; ++c)
+            out[layout.lift + c] = float(s.lift[c]);
     out[layout.roughness] = s.roughness;
     out[layout.metallic] = s.metallic;
     if (layout.occlusion >= 0) out[layout.occlusion] = s.occlusion;
@@ -140,9 +143,23 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
     }
 }
 
-// The WhenUsed channels the scene's materials ask for.
+// Whether a triangle of `mesh` has vertex normals that differ: its surface is curved, and
+// shadow rays start from a lifted point (Plift).
+bool smoothShaded(const Mesh& mesh) {
+    for (const glm::uvec3& t : mesh.triangles)
+        if (mesh.normals[t[0]] != mesh.normals[t[1]] || mesh.normals[t[1]] != mesh.normals[t[2]])
+            return true;
+    return false;
+}
+
+// The WhenUsed channels the scene's materials (and meshes) ask for.
 unsigned channelUses(const Scene& scene) {
     unsigned uses = 0;
+    for (const Mesh& mesh : scene.meshes)
+        if (smoothShaded(mesh)) {
+            uses |= gbuffer::kUsesSmoothNormals;
+            break;
+        }
     for (const Material& m : scene.materials) {
         if (m.occlusionTexture.texture >= 0) uses |= gbuffer::kUsesOcclusion;
         if (m.dielectricSet) uses |= gbuffer::kUsesSpecular;

@@ -20,7 +20,9 @@ namespace dhdr {
 //   none does.
 // Samples below the horizon, of N or of the triangle's own plane (at.Ng: a smooth normal at
 // a silhouette or a terminator leans past it), weigh nothing and are not traced; with none
-// above it the light's unshadowed value stands (1).
+// above it the light's unshadowed value stands (1). On a smooth-shaded triangle (at.lift) a
+// sample below its plane but above N's horizon is traced from the lifted point
+// (leavesSurface, docs/lighting.md#the-shadow-terminator), as a delta light's one ray is.
 // Each ray starts at offsetRayOrigin(at, its direction) and stops kShadowRayShortening short
 // of the light.
 // `rays` (optional) counts the rays traced.

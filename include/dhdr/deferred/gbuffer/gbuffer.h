@@ -22,6 +22,7 @@ inline constexpr const char* kPosition[3] = {"P.X", "P.Y", "P.Z"};
 inline constexpr const char* kNormal[3] = {"N.X", "N.Y", "N.Z"};
 inline constexpr const char* kGeometricNormal[3] = {"Ng.X", "Ng.Y", "Ng.Z"};
 inline constexpr const char* kPositionError = "Perr";
+inline constexpr const char* kLift[3] = {"Plift.X", "Plift.Y", "Plift.Z"};
 inline constexpr const char* kAlbedo[3] = {"albedo.R", "albedo.G", "albedo.B"};
 inline constexpr const char* kRoughness = "roughness";
 inline constexpr const char* kMetallic = "metallic";
@@ -54,7 +55,7 @@ inline constexpr const char* kShadowCatcher = "dhdr:shadowCatcher";
 // 3-vectors, whose components must follow in X Y Z / R G B order).
 struct Layout {
     int coverage = -1, depth = -1, depthBack = -1, position = -1, normal = -1, albedo = -1;
-    int geometricNormal = -1, positionError = -1;
+    int geometricNormal = -1, positionError = -1, lift = -1;
     int roughness = -1, metallic = -1, occlusion = -1, specular = -1, specularWeight = -1;
     int clearcoat = -1, clearcoatRoughness = -1, clearcoatNormal = -1;
     int emission = -1, objectId = -1, materialId = -1;
@@ -81,10 +82,11 @@ enum class Need {
 
 // What a scene's materials use, which decides the WhenUsed channels written (bits).
 enum ChannelUse : unsigned {
-    kUsesOcclusion = 1u, // an occlusion texture
-    kUsesSpecular = 2u,  // KHR_materials_ior, _specular or _unlit
-    kUsesClearcoat = 4u, // KHR_materials_clearcoat
-    kAllUses = 7u
+    kUsesOcclusion = 1u,     // an occlusion texture
+    kUsesSpecular = 2u,      // KHR_materials_ior, _specular or _unlit
+    kUsesClearcoat = 4u,     // KHR_materials_clearcoat
+    kUsesSmoothNormals = 8u, // a triangle whose vertex normals differ (Plift)
+    kAllUses = 15u
 };
 
 // One entry of the contract: a scalar, a 3-vector or a Cryptomatte layer, in the order
@@ -146,6 +148,14 @@ inline constexpr ContractChannel kContract[] = {
      &Layout::positionError,
      "bound on the absolute error of each coordinate of P, scene units: how far secondary rays "
      "start off the surface"},
+    {{kLift[0], kLift[1], kLift[2]},
+     3,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::lift,
+     "world-space offset from P to the smooth surface its triangle's vertex normals describe "
+     "(Hanika 2021), never below the triangle: where shadow rays near the terminator start",
+     kUsesSmoothNormals},
     {{kAlbedo[0], kAlbedo[1], kAlbedo[2]},
      3,
      FileType::Half,

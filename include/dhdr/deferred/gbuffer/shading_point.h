@@ -93,6 +93,8 @@ public:
         s.origin.error = m_layout.positionError >= 0 ? g[m_layout.positionError] : -1.0f;
         if (!(s.origin.error >= 0.0f && s.origin.error < INFINITY))
             s.origin.error = fallbackPositionError(s.P, glm::vec3(m_camera.position));
+        if (m_layout.lift >= 0) readLift(g, s.origin);
+        s.origin.N = s.N;
         s.surface.baseColor =
             glm::vec3(g[m_layout.albedo], g[m_layout.albedo + 1], g[m_layout.albedo + 2]);
         s.surface.roughness = std::clamp(g[m_layout.roughness], 0.0f, 1.0f);
@@ -129,6 +131,15 @@ public:
     }
 
 private:
+    // Plift: finite, and never below the triangle (a half's rounding, or a file another
+    // program wrote); a point whose Ng the file does not give is not lifted.
+    void readLift(const float* g, SurfacePoint& o) const {
+        const glm::vec3 lift(g[m_layout.lift], g[m_layout.lift + 1], g[m_layout.lift + 2]);
+        if (m_layout.geometricNormal < 0 || !std::isfinite(lift.x + lift.y + lift.z)) return;
+        const float below = glm::dot(lift, o.Ng);
+        o.lift = below < 0.0f ? lift - below * o.Ng : lift;
+    }
+
     // KHR_materials_clearcoat's channels; the coat sits over the emission too (its
     // "Emission" section: emission × (1 − clearcoat · clearcoat_fresnel)).
     void readCoat(const float* g, ShadingPoint& s) const {

@@ -18,7 +18,10 @@ struct SurfaceSample {
     glm::dvec3 normal;       // shading normal, facing the ray's origin (mapped by a normal map)
     glm::dvec3 interpolated; // the interpolated normal before the normal map, facing the same way
     glm::dvec3 geometric;    // the triangle's own unit normal, facing the ray's origin
-    bool backFace = false;   // the ray came from behind the file's normals (inside a closed mesh)
+    // From `position` to the smooth surface the vertex normals describe, on the side the ray
+    // came from (terminatorLift); 0 on a flat-shaded triangle.
+    glm::dvec3 lift{0.0};
+    bool backFace = false; // the ray came from behind the file's normals (inside a closed mesh)
     // The material there, its textures and vertex colour applied (glTF 2.0 §3.9).
     glm::vec3 albedo;                        // baseColorFactor × base-colour texture × COLOR_0
     glm::vec3 emission;                      // emissive factor × strength × emissive texture
@@ -75,6 +78,16 @@ SurfaceSample surfaceGeometryAt(const Scene& scene, const Ray& ray, const RayHit
 //   ulps of |P| + |b| more.
 double positionError(const glm::dvec3& P, const glm::dvec3 vertices[3],
                      const glm::dmat4* instance = nullptr);
+
+// Where a shadow ray from P = Σ wᵢ pᵢ on a smooth-shaded triangle starts (Hanika 2021, "Hacking
+// the Shadow Terminator", Ray Tracing Gems II ch. 4, eq. 4.3): P projected onto the tangent
+// plane of each vertex (pᵢ, unit nᵢ) that it lies below, the projections interpolated,
+//     P' − P = Σ wᵢ max(0, (pᵢ − P)·nᵢ) nᵢ,
+// returned as that offset, less any part along −`geometric` (the triangle's unit normal on the
+// normals' side): it never goes below the triangle. 0 where the normals are all equal (a flat
+// face) and on a concave patch, which lies above its vertices' tangent planes.
+glm::dvec3 terminatorLift(const glm::dvec3 vertices[3], const glm::dvec3 normals[3],
+                          const glm::dvec3& w, const glm::dvec3& P, const glm::dvec3& geometric);
 
 // Ulps of the vertices' magnitude that Embree's float triangle test may be off by, with a
 // margin of 4× over the sum of the roundings of its Möller-Trumbore / Plücker forms.
