@@ -244,10 +244,11 @@ float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec
     if (disk) {
         // Where nothing can lie towards the disk (the scene's bounds behind the point), every
         // ray would be open: the same 1 without them. The rays leave within the offset of
-        // offsetRayOrigin (and an ulp per coordinate) of P.
+        // offsetRayOrigin (and an ulp per coordinate) of P, or of P lifted by at most at.lift.
         const float offset =
             at.error * (std::abs(at.Ng.x) + std::abs(at.Ng.y) + std::abs(at.Ng.z)) +
-            1e-6f * (1.0f + std::max({std::abs(at.P.x), std::abs(at.P.y), std::abs(at.P.z)}));
+            1e-6f * (1.0f + std::max({std::abs(at.P.x), std::abs(at.P.y), std::abs(at.P.z)})) +
+            glm::length(at.lift);
         if (!visibility.mayBlockCone(at.P, offset, -light.direction, 0.5f * light.angle))
             return 1.0f;
         const float decided = sunDiskProbe(light, at, N, sequence, samples, visibility, rays);
