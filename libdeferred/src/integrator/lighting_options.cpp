@@ -107,8 +107,8 @@ ProbePlan planProbes(const LightingOptions& options, const LightingContext& cont
         return {ProbeSource::None,
                 w.set("--gi", "gi", "auto") + ": no probes baked " +
                     (environment ? "under an environment light" : "over a shadow catcher") +
-                    " (in the open they darken the catcher's shadows): the light the objects "
-                    "bounce between themselves is left out; " +
+                    " (in the open they move the catcher's shadows by up to 100 %): the light "
+                    "the objects bounce between themselves is left out; " +
                     give + " to add it anyway"};
     return {ProbeSource::Bake,
             w.set("--gi", "gi", "auto") +
