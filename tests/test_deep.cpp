@@ -594,8 +594,16 @@ TEST(GBufferContract, DocsListTheTable) {
     for (unsigned uses = 0; uses <= gbuffer::kAllUses; ++uses) {
         std::vector<std::string> deep = gbuffer::deepChannelNames(uses),
                                  flat = gbuffer::channelNames(uses);
-        deep.erase(std::find(deep.begin(), deep.end(), std::string(gbuffer::kDepthBack)));
+        for (const char* deepOnly :
+             {gbuffer::kDepthBack, gbuffer::kSampleId, gbuffer::kSampleWeight})
+            if (const auto it = std::find(deep.begin(), deep.end(), std::string(deepOnly));
+                it != deep.end())
+                deep.erase(it);
         EXPECT_EQ(deep, flat);
+        // The rays' channels only in deep G-buffers of several rays a pixel.
+        const std::vector<std::string> all = gbuffer::deepChannelNames(uses);
+        EXPECT_EQ(std::count(all.begin(), all.end(), std::string(gbuffer::kSampleWeight)),
+                  uses & gbuffer::kUsesPixelSamples ? 1 : 0);
         EXPECT_TRUE(gbuffer::isWrittenLayout(flat, false)) << uses;
         // The WhenUsed channels only when asked for.
         EXPECT_EQ(std::count(flat.begin(), flat.end(), std::string(gbuffer::kOcclusion)),

@@ -145,7 +145,9 @@ TEST_F(Params, FloatTablesAndChoicesAgreeWithDocsAndHelp) {
     const std::string light = run("dhdr-light --help").out;
     checkFloatTable(kLightingFloatTable, "tools.md", light);
     checkChoiceTable(kLightingChoiceTable, "tools.md", light);
-    checkChoiceTable(kGBufferChoiceTable, "tools.md", run("dhdr-gbuffer --help").out);
+    const std::string gbuffer = run("dhdr-gbuffer --help").out;
+    checkChoiceTable(kGBufferChoiceTable, "tools.md", gbuffer);
+    checkFloatTable(kGBufferFloatTable, "tools.md", gbuffer);
     for (const FlagParam<LightingOptions>& p : kLightingFlagTable)
         EXPECT_NE(light.find(p.option), std::string::npos) << p.option;
     const std::string tonemap = run("dhdr-tonemap --help").out;

@@ -62,6 +62,7 @@ void declareOptions(app::CommandLine& cl, Options& o) {
             "never write a deep EXR: each pixel's first surface, transparent or not");
     app::addParamOptions(cl, o.limits, kGBufferParamTable);
     app::addParamOptions(cl, o.limits, kGBufferChoiceTable);
+    app::addParamOptions(cl, o.limits, kGBufferFloatTable);
     cl.flagWithNumber("--ground-plane", o.groundPlane, o.groundY, "Y",
                       "add an infinite horizontal plane at height Y (default: the scene's lowest "
                       "point) that dhdr-light treats as a shadow catcher for compositing "
@@ -98,6 +99,14 @@ int parseImage(const Options& o, GBufferParams& params) {
     if (o.deep && o.flat) return usage("--deep and --flat exclude each other");
     params.maxLayers = o.limits.maxLayers;
     params.textureFilter = o.limits.textureFilter;
+    params.samples = o.limits.samples;
+    params.allPixels = o.limits.allPixels;
+    params.pixelFilter = o.limits.pixelFilter;
+    params.filterWidth = o.limits.filterWidth;
+    if (const std::string e = samplesError(params.samples); !e.empty()) return usage(e);
+    if (o.flat && params.samples > 1)
+        return usage("--flat holds one ray a pixel; --samples " + std::to_string(params.samples) +
+                     " needs the deep format (give --samples 1 with --flat)");
     if (!app::parseSize(o.size, params.width, params.height))
         return usage("--size '" + o.size + "' is not WxH");
     if (const std::string e = pixelLimitError(params.width, params.height); !e.empty())
@@ -277,11 +286,11 @@ bool GBufferFrames::frame(int frame, const std::string& scenePath, const std::st
     const std::optional<gbuffer::Moment> moment = m_loaded.moment(time, m_o.timing.moment.fps);
     OIIO::ImageSpec spec = renderer.spec();
     gbuffer::stampGBuffer(spec, scenePath, moment);
-    if (tracesLayers(m_depth, scene)) {
+    if (tracesLayers(m_depth, scene) || (m_params.samples > 1 && m_depth != GBufferDepth::Flat)) {
         // Without --deep, a deep file is written only when some pixel holds a partly
-        // transparent surface: the layers are traced strip by strip until one is found (all
-        // of them when none is), then traced again (or taken from those kept) and written a
-        // strip at a time, so memory stays at one strip whatever the image size.
+        // transparent surface or several rays: the layers are traced strip by strip until one is
+        // found (all of them when none is), then traced again (or taken from those kept) and
+        // written a strip at a time, so memory stays at one strip whatever the image size.
         const auto s0 = std::chrono::steady_clock::now();
         std::vector<std::pair<DeepGBuffer, long long>> kept; // and its transparent samples
         bool deep = m_depth == GBufferDepth::Deep;
@@ -290,7 +299,10 @@ bool GBufferFrames::frame(int frame, const std::string& scenePath, const std::st
             return writeDeep(renderer, scenePath, outPath, moment, kept, s0) &&
                    writeLightsOut(frame, scene, scenePath);
         }
-        m_tool.info("no partly transparent surface in view: writing a flat G-buffer");
+        m_tool.info(m_params.samples > 1 ? "no partly transparent surface in view and no pixel "
+                                           "of several rays: writing a flat G-buffer"
+                                         : "no partly transparent surface in view: writing a "
+                                           "flat G-buffer");
     }
     double traceMs = 0.0;
     if (!writeFlat(renderer, scenePath, outPath, spec, traceMs)) return false;

@@ -174,7 +174,7 @@ bool DeepGBufferReader::open(const std::string& path, int subimage, std::string&
     // The WhenUsed channels the file has (occlusion, the dielectric's, the coat's) are kept.
     unsigned uses = 0;
     for (const gbuffer::ContractChannel& c : gbuffer::kContract)
-        if (c.need == gbuffer::Need::WhenUsed && file.channelindex(c.names[0]) >= 0) uses |= c.use;
+        if (c.use != 0 && file.channelindex(c.names[0]) >= 0) uses |= c.use;
     const std::vector<std::string> names = gbuffer::deepChannelNames(uses);
     m_file->source.assign(names.size(), -1);
     for (size_t c = 0; c < names.size(); ++c)

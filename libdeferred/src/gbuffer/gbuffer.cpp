@@ -18,7 +18,7 @@ namespace {
 std::vector<std::string> namesOf(bool deep, unsigned uses) {
     std::vector<std::string> names;
     for (const ContractChannel& c : kContract)
-        if ((deep || c.need != Need::DeepOnly) && (c.need != Need::WhenUsed || (c.use & uses)))
+        if ((deep || c.need != Need::DeepOnly) && (c.use == 0 || (c.use & uses)))
             for (int i = 0; i < c.components; ++i)
                 names.push_back(c.names[i]);
     return names;

@@ -99,6 +99,7 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     choose(pass, infinite);
     if (!pass.any()) return;
     allocate(pass, read);
+    findDonors(view, layout);
     const std::vector<float*> raw = planes();
     takeCarried(pass, previous.get(), raw);
     estimateRows(pass, nthreads);
@@ -192,7 +193,7 @@ void FilteredEstimates::estimateRows(Pass& pass, int nthreads) {
         for (int x = m_held.xbegin; x < m_held.xend; ++x) {
             const int samples = pass.view.samples(x, y);
             for (int k = 0; k < samples; ++k)
-                estimateSample(pass, x, y, k, carried, rays);
+                if (m_sampleLayers->own(x, y, k)) estimateSample(pass, x, y, k, carried, rays);
         }
         shadowCount += rays.shadow;
         aoCount += rays.ao;
@@ -297,10 +298,62 @@ void FilteredEstimates::filter(Pass& pass, int nthreads) {
     }
 }
 
+// Each sample of a pixel's other rays takes the estimates of the nearest own sample of the same
+// layer and object in the pixel or its 8 neighbours (of any object when none is of its own; of
+// its pixel's front sample's layer 0 when no neighbour reaches its layer): a ray a fraction of
+// a pixel from its donor, on the same surface, where the filtered estimates are smooth.
+void FilteredEstimates::findDonors(const GBufferView& view, const gbuffer::Layout& layout) {
+    m_view = &view;
+    if (!view.severalRays()) return;
+    const SampleLayers& layers = *m_sampleLayers;
+    auto position = [&](int x, int y, int k) {
+        const float* g = view.channels(x, y, k) + layout.position;
+        return glm::vec3(g[0], g[1], g[2]);
+    };
+    auto object = [&](int x, int y, int k) {
+        return layout.objectId >= 0 ? view.channels(x, y, k)[layout.objectId] : 0.0f;
+    };
+    for (int y = m_held.ybegin; y < m_held.yend; ++y)
+        for (int x = m_held.xbegin; x < m_held.xend; ++x)
+            for (int k = 0; k < view.samples(x, y); ++k) {
+                if (layers.own(x, y, k)) continue;
+                const int layer = layers.layer(x, y, k);
+                const glm::vec3 P = position(x, y, k);
+                const float id = object(x, y, k);
+                Place best{0, index(x, y)};
+                float bestDistance = INFINITY;
+                bool sameObject = false;
+                for (int ny = std::max(y - 1, m_held.ybegin); ny < std::min(y + 2, m_held.yend);
+                     ++ny)
+                    for (int nx = std::max(x - 1, m_held.xbegin); nx < std::min(x + 2, m_held.xend);
+                         ++nx)
+                        for (int j = 0; j < view.samples(nx, ny); ++j) {
+                            if (!layers.own(nx, ny, j) || layers.layer(nx, ny, j) != layer)
+                                continue;
+                            const bool same = object(nx, ny, j) == id;
+                            const float d = glm::length(position(nx, ny, j) - P);
+                            if ((same && !sameObject) || (same == sameObject && d < bestDistance)) {
+                                best = {size_t(layer), index(nx, ny)};
+                                bestDistance = d;
+                                sameObject = same;
+                            }
+                        }
+                m_donors[view.sampleIndex(x, y, k)] = best;
+            }
+}
+
+FilteredEstimates::Place FilteredEstimates::placeOf(int x, int y, int k) const {
+    if (!m_donors.empty() && !m_sampleLayers->own(x, y, k))
+        if (const auto it = m_donors.find(m_view->sampleIndex(x, y, k)); it != m_donors.end())
+            return it->second;
+    return {size_t(m_sampleLayers->layer(x, y, k)), index(x, y)};
+}
+
 EnvironmentVisibility FilteredEstimates::visibility(std::uint32_t light, int x, int y,
                                                     int k) const {
-    const Planes& planes = layerOf(x, y, k);
-    const size_t p = index(x, y), slot = size_t(m_slot[light]);
+    const Place at = placeOf(x, y, k);
+    const Planes& planes = m_layers[at.layer];
+    const size_t p = at.pixel, slot = size_t(m_slot[light]);
     // The specular ratio counts occluders' light and may pass 1 (shadows.h).
     auto ratio = [&](const std::vector<float>& sums, float most) {
         const size_t n = sums.size() / 2;
@@ -311,7 +364,8 @@ EnvironmentVisibility FilteredEstimates::visibility(std::uint32_t light, int x, 
 }
 
 float FilteredEstimates::ambientOcclusion(int x, int y, int k) const {
-    return std::clamp(layerOf(x, y, k).ao[index(x, y)], 0.0f, 1.0f);
+    const Place at = placeOf(x, y, k);
+    return std::clamp(m_layers[at.layer].ao[at.pixel], 0.0f, 1.0f);
 }
 
 } // namespace dhdr

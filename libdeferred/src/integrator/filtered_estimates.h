@@ -15,6 +15,7 @@
 #include <dhdr/deferred/integrator/lighting_params.h>
 #include <dhdr/deferred/scene/lights.h>
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 namespace dhdr {
@@ -62,11 +63,14 @@ public:
     // apply).
     EnvironmentVisibility visibility(std::uint32_t light, int x, int y, int k) const;
     float ambientOcclusion(int x, int y, int k) const;
-    float catcherBounce(int x, int y, int k) const { return layerOf(x, y, k).bounce[index(x, y)]; }
+    float catcherBounce(int x, int y, int k) const {
+        const Place at = placeOf(x, y, k);
+        return m_layers[at.layer].bounce[at.pixel];
+    }
     glm::vec3 specularIndirect(int x, int y, int k) const {
-        const Planes& l = layerOf(x, y, k);
-        const size_t p = index(x, y);
-        return {l.specular[0][p], l.specular[1][p], l.specular[2][p]};
+        const Place at = placeOf(x, y, k);
+        const Planes& l = m_layers[at.layer];
+        return {l.specular[0][at.pixel], l.specular[1][at.pixel], l.specular[2][at.pixel]};
     }
     // The rays traced.
     long long shadowRayCount = 0, aoRayCount = 0, bounceRayCount = 0, specularRayCount = 0;
@@ -98,9 +102,13 @@ private:
         std::vector<float> specular[3]; // the specular indirect light, R, G, B
         std::vector<float> ao, bounce;
     };
-    const Planes& layerOf(int x, int y, int k) const {
-        return m_layers[size_t(m_sampleLayers->layer(x, y, k))];
-    }
+    // Where a sample's estimates are: its own layer and pixel, or its donor's (the samples of
+    // a pixel's other rays, sample_layers.h).
+    struct Place {
+        size_t layer, pixel;
+    };
+    Place placeOf(int x, int y, int k) const;
+    void findDonors(const GBufferView& view, const gbuffer::Layout& layout);
 
     OIIO::ROI m_held;
     std::vector<int> m_slot; // per light, its pair of sums (−1: not filtered)
@@ -109,6 +117,9 @@ private:
     // (16 × filtered lights + 4 AO + 4 bounce + 12 specular) bytes a held pixel, and while it
     // is estimated and filtered ~45 bytes of guide a pixel more.
     std::vector<Planes> m_layers;
+    // The donors of the samples without their own place, by GBufferView::sampleIndex.
+    std::unordered_map<size_t, Place> m_donors;
+    const GBufferView* m_view = nullptr;
 };
 
 } // namespace dhdr

@@ -61,9 +61,38 @@ struct PixelStages {
     std::vector<float>* sampleRGBA; // optional: each deep sample's own RGBA
 };
 
+// A pixel of several rays (GBufferView::severalRays): each ray's samples composited "over"
+// each other front to back, times the ray's share of the pixel, summed. Each sample's own RGBA
+// (`sampleRGBA`) is what makes a front-to-back "over" of all the pixel's samples, in depth order
+// (OpenEXR's flatten), give that sum: its contribution C_k over 1 − Σ_{j<k} alpha(C_j).
+glm::vec4 resolveRays(const PixelStages& s, float* aovs, int x, int y, LightingStats& local) {
+    const GBufferView& view = s.view;
+    const int samples = view.samples(x, y);
+    // The transmittance left along each ray so far; a pixel holds a few dozen rays at most.
+    std::vector<std::pair<std::uint32_t, float>> left;
+    glm::vec4 sum(0.0f);
+    for (int k = 0; k < samples; ++k) {
+        const glm::vec4 c = s.shader.shade(x, y, k, local, k == 0 ? aovs : nullptr);
+        const std::uint32_t ray = view.ray(x, y, k);
+        auto it =
+            std::find_if(left.begin(), left.end(), [&](const auto& r) { return r.first == ray; });
+        if (it == left.end()) it = left.insert(left.end(), {ray, 1.0f});
+        const glm::vec4 contribution = view.rayWeight(x, y, k) * it->second * c;
+        it->second *= 1.0f - std::clamp(c.a, 0.0f, 1.0f);
+        if (s.sampleRGBA) {
+            const float behind = 1.0f - sum.a;
+            const glm::vec4 own = behind > 1e-6f ? contribution / behind : glm::vec4(0.0f);
+            std::copy(&own[0], &own[0] + 4, &(*s.sampleRGBA)[4 * view.sampleIndex(x, y, k)]);
+        }
+        sum += contribution;
+    }
+    sum.a = std::min(sum.a, 1.0f); // a file's weights may add up to more than 1
+    return sum;
+}
+
 // Pixel (x, y) into `out`: its samples front to back, each lit like an opaque surface and
-// composited premultiplied "over" the ones before it (a flat pixel: its one sample as is),
-// then what shows behind them.
+// composited premultiplied "over" the ones before it (a flat pixel: its one sample as is; a
+// pixel of several rays: resolveRays), then what shows behind them.
 void shadePixel(const PixelStages& s, float* out, int x, int y, LightingStats& local) {
     const GBufferView& view = s.view;
     const int samples = view.samples(x, y);
@@ -75,16 +104,20 @@ void shadePixel(const PixelStages& s, float* out, int x, int y, LightingStats& l
         return;
     }
     glm::vec4 sum(0.0f);
-    for (int k = 0; k < samples; ++k) {
-        const glm::vec4 c =
-            s.shader.shade(x, y, k, local, k == 0 && s.plan.aovs ? out + 4 : nullptr);
-        if (s.sampleRGBA)
-            std::copy(&c[0], &c[0] + 4, &(*s.sampleRGBA)[4 * view.sampleIndex(x, y, k)]);
-        if (!view.deep()) {
-            sum = c;
-            break;
+    if (view.severalRays()) {
+        sum = resolveRays(s, s.plan.aovs ? out + 4 : nullptr, x, y, local);
+    } else {
+        for (int k = 0; k < samples; ++k) {
+            const glm::vec4 c =
+                s.shader.shade(x, y, k, local, k == 0 && s.plan.aovs ? out + 4 : nullptr);
+            if (s.sampleRGBA)
+                std::copy(&c[0], &c[0] + 4, &(*s.sampleRGBA)[4 * view.sampleIndex(x, y, k)]);
+            if (!view.deep()) {
+                sum = c;
+                break;
+            }
+            sum += (1.0f - sum.a) * c;
         }
-        sum += (1.0f - sum.a) * c;
     }
     ++local.coveredPixels;
     out[0] = sum.r;

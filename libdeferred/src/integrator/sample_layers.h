@@ -2,9 +2,12 @@
 // opaque sample (a flat pixel's one sample), layers 1, 2, … its transparent samples front to
 // back. A layer is then an image whose neighbouring pixels are the same kind of surface (the
 // floor behind a pane and beside it are both in layer 0), and the filter runs on each alone.
+// A pixel of several rays (GBufferView::severalRays) places the samples of one ray, its front
+// sample's, in the layers; its other rays' samples are estimated by a neighbour's (donor).
 #pragma once
 
 #include <algorithm>
+#include <cstdint>
 #include <dhdr/deferred/gbuffer/shading_point.h>
 
 namespace dhdr {
@@ -14,17 +17,33 @@ public:
     // `coverage`: the G-buffer's coverage channel (gbuffer::Layout::coverage).
     SampleLayers(const GBufferView& view, int coverage) : m_view(view), m_coverage(coverage) {}
 
-    // The layer of sample k of pixel (x, y).
+    // Whether sample k of pixel (x, y) has its own place in the layers: always, but in a pixel
+    // of several rays only the samples along the ray of its front sample.
+    bool own(int x, int y, int k) const {
+        return !m_view.severalRays() || m_view.ray(x, y, k) == m_view.ray(x, y, 0);
+    }
+    // The layer of sample k of pixel (x, y): 0 for the opaque sample that ends its ray, else
+    // 1 + its place among its ray's samples.
     int layer(int x, int y, int k) const {
         if (!m_view.deep()) return 0;
-        const int n = m_view.samples(x, y);
-        return k == n - 1 && opaque(x, y, k) ? 0 : k + 1;
+        if (!m_view.severalRays()) {
+            const int n = m_view.samples(x, y);
+            return k == n - 1 && opaque(x, y, k) ? 0 : k + 1;
+        }
+        const std::uint32_t ray = m_view.ray(x, y, k);
+        int before = 0, after = 0;
+        for (int j = 0; j < m_view.samples(x, y); ++j)
+            (j < k ? before : after) += j != k && m_view.ray(x, y, j) == ray;
+        return after == 0 && opaque(x, y, k) ? 0 : before + 1;
     }
-    // How many layers pixel (x, y) reaches into: 1 + its transparent samples (0 uncovered).
+    // How many layers pixel (x, y) reaches into: 1 + its own transparent samples (0 uncovered).
     int count(int x, int y) const {
         const int n = m_view.samples(x, y);
         if (n == 0 || !m_view.deep()) return n;
-        return opaque(x, y, n - 1) ? n : n + 1;
+        int most = 0;
+        for (int k = 0; k < n; ++k)
+            if (own(x, y, k)) most = std::max(most, layer(x, y, k) + 1);
+        return std::max(most, 1);
     }
     // The layers of the rows [ybegin, yend) of columns [xbegin, xend): at least 1.
     int count(int xbegin, int xend, int ybegin, int yend) const {

@@ -1,4 +1,5 @@
 #include "render/motion_vectors.h"
+#include "render/pixel_samples.h"
 
 #include <OpenImageIO/imagebufalgo_util.h>
 #include <algorithm>
@@ -73,11 +74,15 @@ int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int
     return n;
 }
 
-// Where a sample's primary ray came from: the camera and the pixel, whose neighbours' rays give
-// the footprint of the pixel in the textures.
+// Where a sample's primary ray came from: the camera and the image position (px, py) of a
+// width × height image, whose rays `step` pixels across and down give the ray's footprint in
+// the textures (a pixel's centre: step 1; one of n × n rays: 1 / n, at least ⅛, as pbrt-v4
+// scales its differentials).
 struct PixelOf {
     const Camera& camera;
-    int x, y, width, height;
+    double px, py;
+    int width, height;
+    double step = 1.0;
 };
 
 bool textured(const Material& m) {
@@ -95,9 +100,9 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
         textured(scene.materials[size_t(scene.meshes[size_t(hit.mesh)].material)]);
     if (filtered) {
         const PixelOf& p = pixel;
-        footprint =
-            uvFootprint(scene, hit, ray, p.camera.primaryRay(p.x + 1, p.y, p.width, p.height),
-                        p.camera.primaryRay(p.x, p.y + 1, p.width, p.height), filter);
+        footprint = uvFootprint(
+            scene, hit, ray, p.camera.rayThrough(p.px + p.step, p.py, p.width, p.height),
+            p.camera.rayThrough(p.px, p.py + p.step, p.width, p.height), filter);
     }
     const SurfaceSample s = surfaceAt(scene, ray, hit, filtered ? &footprint : nullptr);
     const bool ground = hit.mesh == kGroundPlaneHit;
@@ -187,7 +192,8 @@ GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
 GBufferRenderer::GBufferRenderer(const Scene& scene, const Camera& camera,
                                  const GBufferParams& params,
                                  std::shared_ptr<const RayCaster> caster)
-    : m_scene(scene), m_camera(camera), m_params(params), m_uses(channelUses(scene)),
+    : m_scene(scene), m_camera(camera), m_params(params),
+      m_uses(channelUses(scene) | (params.samples > 1 ? gbuffer::kUsesPixelSamples : 0u)),
       m_caster(std::move(caster)) {
     std::vector<std::string> names = gbuffer::channelNames(m_uses);
     if (params.motion)
@@ -279,7 +285,7 @@ bool GBufferRenderer::render(OIIO::ImageBuf& dst, OIIO::ROI roi, int nthreads) c
             for (int x = r.xbegin; x < r.xend; ++x) {
                 float* px = static_cast<float*>(dst.pixeladdr(x, y));
                 const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
-                const PixelOf pixel{m_camera, x, y, m_params.width, m_params.height};
+                const PixelOf pixel{m_camera, x + 0.5, y + 0.5, m_params.width, m_params.height};
                 Layer front;
                 if (traceLayers(m_scene, *m_caster, ray, 1, &front, true) == 0) {
                     std::fill(px, px + nch, 0.0f);
@@ -311,7 +317,7 @@ std::vector<std::string> GBufferRenderer::deepChannelNames() const {
 }
 
 bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
-                                 long long* transparentSamples) const {
+                                 long long* deepSamples) const {
     if (!ok()) return false;
     if (m_params.maxLayers < 1) return false;
     const OIIO::ROI frame = OIIO::get_roi_full(m_spec);
@@ -334,35 +340,69 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
     // Each row's samples apart, joined in row order after: the same buffer for any threads.
     std::vector<std::vector<std::uint32_t>> counts(size_t(roi.height()));
     std::vector<std::vector<float>> values(size_t(roi.height()));
-    std::atomic<long long> transparent{0};
+    std::atomic<long long> deepOnly{0};
     std::atomic<int> rowsDone{0};
+    const int W = m_params.width, H = m_params.height;
+    const int grid = int(std::lround(std::sqrt(double(m_params.samples))));
+    const bool several = m_params.samples > 1;
+    std::optional<PixelFilterSampler> filter;
+    std::vector<std::uint8_t> refine;
+    if (several) {
+        filter.emplace(m_params.pixelFilter, m_params.filterWidth);
+        if (!m_params.allPixels) refine = refinedPixels(roi, nthreads);
+    }
     parallelImageRows(roi, nthreads, [&](OIIO::ROI r) {
         std::vector<Layer> layers(size_t(m_params.maxLayers));
         long long local = 0;
+        // The surfaces along `ray`, ray `id` of its pixel with `weight` of it: their samples.
+        auto trace = [&](const Ray& ray, const PixelOf& pixel, int id, float weight,
+                         std::vector<float>& rowValues) {
+            const int n = traceLayers(m_scene, *m_caster, ray, m_params.maxLayers, layers.data());
+            for (int k = 0; k < n; ++k) {
+                rowValues.resize(rowValues.size() + nch);
+                float* out = &rowValues[rowValues.size() - nch];
+                fillSample(m_scene, worldToCamera, layout, *m_crypto, ray, pixel,
+                           m_params.textureFilter, layers[size_t(k)].hit, layers[size_t(k)].alpha,
+                           out);
+                if (layout.sampleId >= 0) {
+                    out[layout.sampleId] = float(id);
+                    out[layout.sampleWeight] = weight;
+                }
+                if (motion) motion->at(ray, layers[size_t(k)].hit, out + nch - 4);
+                local += layers[size_t(k)].alpha < 1.0f;
+            }
+            return n;
+        };
         for (int y = r.ybegin; y < r.yend && !cancelled(); ++y) {
             std::vector<std::uint32_t>& rowCounts = counts[size_t(y - roi.ybegin)];
             std::vector<float>& rowValues = values[size_t(y - roi.ybegin)];
             for (int x = r.xbegin; x < r.xend; ++x) {
-                const Ray ray = m_camera.primaryRay(x, y, m_params.width, m_params.height);
-                const PixelOf pixel{m_camera, x, y, m_params.width, m_params.height};
-                const int n =
-                    traceLayers(m_scene, *m_caster, ray, m_params.maxLayers, layers.data());
-                rowCounts.push_back(std::uint32_t(n));
-                for (int k = 0; k < n; ++k) {
-                    rowValues.resize(rowValues.size() + nch);
-                    fillSample(m_scene, worldToCamera, layout, *m_crypto, ray, pixel,
-                               m_params.textureFilter, layers[size_t(k)].hit,
-                               layers[size_t(k)].alpha, &rowValues[rowValues.size() - nch]);
-                    if (motion)
-                        motion->at(ray, layers[size_t(k)].hit, &rowValues[rowValues.size() - 4]);
-                    local += layers[size_t(k)].alpha < 1.0f;
+                const bool rays =
+                    several &&
+                    (m_params.allPixels ||
+                     refine[size_t(y - roi.ybegin) * size_t(W) + size_t(x - roi.xbegin)]);
+                int n = 0;
+                if (!rays) {
+                    n = trace(m_camera.primaryRay(x, y, W, H),
+                              PixelOf{m_camera, x + 0.5, y + 0.5, W, H}, 0, 1.0f, rowValues);
+                } else {
+                    const double step = std::max(0.125, 1.0 / grid);
+                    for (int k = 0; k < m_params.samples; ++k) {
+                        const glm::vec2 o = filter->rayOffset(x, y, k, grid);
+                        const double px = x + 0.5 + double(o.x), py = y + 0.5 + double(o.y);
+                        n += trace(m_camera.rayThrough(px, py, W, H),
+                                   PixelOf{m_camera, px, py, W, H, step}, k,
+                                   1.0f / float(m_params.samples), rowValues);
+                    }
+                    local += n; // a flat G-buffer holds none of these rays
                 }
+                rowCounts.push_back(std::uint32_t(n));
             }
             const int done = ++rowsDone;
             if (m_params.progress && (done % 64 == 0 || done == roi.height()))
                 m_params.progress(float(done) / float(roi.height()));
         }
-        transparent += local;
+        deepOnly += local;
     });
     if (cancelled()) return false;
     dst.first.assign(1, 0);
@@ -372,8 +412,39 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
             dst.first.push_back(dst.first.back() + n);
         dst.values.insert(dst.values.end(), values[row].begin(), values[row].end());
     }
-    if (transparentSamples) *transparentSamples = transparent;
+    if (deepSamples) *deepSamples = deepOnly;
     return true;
+}
+
+std::vector<std::uint8_t> GBufferRenderer::refinedPixels(OIIO::ROI rows, int nthreads) const {
+    const int W = m_params.width, H = m_params.height;
+    return pixelsToRefine(
+        rows, W, H,
+        [&](double px, double py) {
+            ProbeHit probe;
+            const Ray ray = m_camera.rayThrough(px, py, W, H);
+            Layer front;
+            if (traceLayers(m_scene, *m_caster, ray, 1, &front, true) == 0) return probe;
+            const RayHit& hit = front.hit;
+            const SurfaceSample s = surfaceGeometryAt(m_scene, ray, hit);
+            const bool ground = hit.mesh == kGroundPlaneHit;
+            probe.hit = true;
+            probe.object = ground ? m_scene.groundObject : m_scene.meshes[size_t(hit.mesh)].object;
+            probe.material =
+                ground ? m_scene.groundMaterial : m_scene.meshes[size_t(hit.mesh)].material;
+            probe.position = s.position;
+            probe.normal = glm::dvec3(s.geometric);
+            return probe;
+        },
+        nthreads);
+}
+
+std::string samplesError(int samples) {
+    const int n = int(std::lround(std::sqrt(double(samples))));
+    if (n * n == samples) return {};
+    return "--samples " + std::to_string(samples) +
+           ": the rays of a pixel are an n x n grid of strata; give a square (1, 4, 9, 16, 25, "
+           "36, 49 or 64)";
 }
 
 bool renderGBuffer(OIIO::ImageBuf& dst, const Scene& scene, const Camera& camera,

@@ -82,10 +82,14 @@ std::string Camera::problem() const {
 }
 
 Ray Camera::primaryRay(int x, int y, int width, int height) const {
+    return rayThrough(x + 0.5, y + 0.5, width, height);
+}
+
+Ray Camera::rayThrough(double px, double py, int width, int height) const {
     const double aspect = double(width) / double(height);
     const double half = orthographic ? ymag : std::tan(0.5 * yfov);
-    const double sx = (2.0 * (x + 0.5) / width - 1.0) * half * aspect;
-    const double sy = (1.0 - 2.0 * (y + 0.5) / height) * half;
+    const double sx = (2.0 * px / width - 1.0) * half * aspect;
+    const double sy = (1.0 - 2.0 * py / height) * half;
     if (orthographic)
         return {glm::dvec3(cameraToWorld * glm::dvec4(sx, sy, 0.0, 1.0)),
                 glm::normalize(glm::dvec3(cameraToWorld * glm::dvec4(0.0, 0.0, -1.0, 0.0)))};

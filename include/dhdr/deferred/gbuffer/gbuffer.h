@@ -35,6 +35,8 @@ inline constexpr const char* kClearcoatNormal[3] = {"clearcoatN.X", "clearcoatN.
 inline constexpr const char* kEmission[3] = {"emission.R", "emission.G", "emission.B"};
 inline constexpr const char* kObjectId = "id.object";
 inline constexpr const char* kMaterialId = "id.material";
+inline constexpr const char* kSampleId = "sample.id";
+inline constexpr const char* kSampleWeight = "sample.weight";
 
 // The motion layer of a G-buffer rendered with animation (float, after the contract's
 // channels; not in kContract, which every G-buffer has): Blender's Vector pass, in pixels with
@@ -60,6 +62,7 @@ struct Layout {
     int clearcoat = -1, clearcoatRoughness = -1, clearcoatNormal = -1;
     int emission = -1, objectId = -1, materialId = -1;
     int cryptoObject = -1, cryptoMaterial = -1;
+    int sampleId = -1, sampleWeight = -1;
 };
 
 // Cryptomatte (spec 1.2): one layer of two ranks (id, coverage, id, coverage) for objects and
@@ -86,7 +89,8 @@ enum ChannelUse : unsigned {
     kUsesSpecular = 2u,      // KHR_materials_ior, _specular or _unlit
     kUsesClearcoat = 4u,     // KHR_materials_clearcoat
     kUsesSmoothNormals = 8u, // a triangle whose vertex normals differ (Plift)
-    kAllUses = 15u
+    kUsesPixelSamples = 32u, // deep: several primary rays in some pixel (sample.id, .weight)
+    kAllUses = 47u
 };
 
 // One entry of the contract: a scalar, a 3-vector or a Cryptomatte layer, in the order
@@ -250,6 +254,22 @@ inline constexpr ContractChannel kContract[] = {
      Need::Optional,
      &Layout::cryptoMaterial,
      "Cryptomatte of the materials: rank 0 id and coverage, rank 1 id and coverage"},
+    {{kSampleId},
+     1,
+     FileType::Uint,
+     Need::DeepOnly,
+     &Layout::sampleId,
+     "deep samples of a pixel of several primary rays: which ray (0, 1, …); the samples of one "
+     "ray composite over each other front to back, those of different rays are side by side",
+     kUsesPixelSamples},
+    {{kSampleWeight},
+     1,
+     FileType::Float,
+     Need::DeepOnly,
+     &Layout::sampleWeight,
+     "deep samples of a pixel of several primary rays: the ray's share of the pixel (1 / the "
+     "pixel's rays, whose positions follow the pixel filter); a ray's samples share it",
+     kUsesPixelSamples},
 };
 
 // A name's Cryptomatte id: MurmurHash3_x86_32 (seed 0) of its UTF-8 bytes, as the float with

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <OpenImageIO/imagebuf.h>
+#include <cstdint>
 #include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/core/visibility.h>
 #include <dhdr/deferred/gbuffer/deep_gbuffer.h>
@@ -124,6 +125,21 @@ public:
     const float* channels(int x, int y, int sample = 0) const {
         if (m_first) return m_data + (size_t(m_first[pixel(x, y)]) + size_t(sample)) * m_nch;
         return m_data + pixel(x, y) * m_nch;
+    }
+    // Whether the pixels may hold several rays (a deep G-buffer with sample.id and
+    // sample.weight, docs/gbuffer.md): each ray's samples composite over each other, the rays
+    // side by side, each its share of the pixel.
+    bool severalRays() const {
+        return m_first && m_layout.sampleId >= 0 && m_layout.sampleWeight >= 0;
+    }
+    // Sample k's ray (severalRays; any other value a file holds is ray 0) and the ray's share
+    // of the pixel, in [0, 1] (NaN: 0).
+    std::uint32_t ray(int x, int y, int k) const {
+        const float id = channels(x, y, k)[m_layout.sampleId];
+        return id >= 0.0f && id < 4294967040.0f ? std::uint32_t(id) : 0u;
+    }
+    float rayWeight(int x, int y, int k) const {
+        return unitOr(channels(x, y, k)[m_layout.sampleWeight], 0.0f);
     }
     // The index of a sample among all of a deep G-buffer's (for per-sample outputs).
     size_t sampleIndex(int x, int y, int sample) const {

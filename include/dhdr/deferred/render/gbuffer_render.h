@@ -3,7 +3,9 @@
 
 #include <OpenImageIO/imagebuf.h>
 #include <atomic>
+#include <cstdint>
 #include <dhdr/common/param_table.h>
+#include <dhdr/deferred/render/pixel_filter.h>
 #include <dhdr/deferred/scene/camera.h>
 #include <dhdr/deferred/scene/frame_motion.h>
 #include <dhdr/deferred/scene/texture.h>
@@ -32,6 +34,17 @@ struct GBufferParams {
     // checker, RMS 0.022 against 0.079 trilinear and 0.249 bilinear, bench/texture_filtering.py);
     // bilinear reads the full-size texture at the pixel's centre only.
     TextureFilter textureFilter = TextureFilter::Anisotropic;
+    // Deep G-buffers: the primary rays of a pixel that takes several (docs/gbuffer.md, "Samples
+    // and the pixel filter"), a square (1, 4, 9, … 64), stratified and drawn from the pixel
+    // filter, each ray's surfaces a share 1 / samples of the pixel. 1: one ray through each
+    // pixel's centre (a flat G-buffer's pixels).
+    int samples = 1;
+    // With samples > 1: every pixel takes them (true), or only the pixels whose centre ray sees
+    // another surface than a neighbour's or a corner's (render/pixel_samples.h); the others
+    // take one ray through the centre, the one-ray frame's pixel bit for bit.
+    bool allPixels = false;
+    PixelFilter pixelFilter = PixelFilter::BlackmanHarris; // Cycles' default
+    float filterWidth = 1.5f; // pixels, the filter's whole support (Cycles' default)
     // Called now and then from the rendering threads with the fraction of rows done of the
     // region being rendered, in [0, 1].
     std::function<void(float)> progress;
@@ -50,7 +63,24 @@ inline constexpr IntParam<GBufferParams> kGBufferParamTable[] = {
      "deep G-buffers: at most N samples a pixel; the opaque surface keeps its place, Blend "
      "surfaces beyond the first N-1 are left out",
      "max_layers"},
+    {"--samples", &GBufferParams::samples, 1, 64, "N",
+     "primary rays a pixel takes where it needs more than one (a square: 1, 4, 9, 16, …), "
+     "drawn from the pixel filter; 1 is one ray through each pixel's centre",
+     "samples"},
 };
+
+inline constexpr FloatParam<GBufferParams> kGBufferFloatTable[] = {
+    {"--filter-width",
+     "filter_width",
+     &GBufferParams::filterWidth,
+     {0.5, 6.0},
+     "PX",
+     "the pixel filter's whole width in pixels: a ray lands up to half of it from the pixel's "
+     "centre"},
+};
+
+// The error when `samples` is not a square (its strata are a grid), else empty.
+std::string samplesError(int samples);
 
 // GBufferParams' choices.
 inline constexpr ChoiceParam<GBufferParams> kGBufferChoiceTable[] = {
@@ -61,6 +91,17 @@ inline constexpr ChoiceParam<GBufferParams> kGBufferChoiceTable[] = {
      "texture at the pixel's centre (distant textures shimmer); trilinear, the two mip levels "
      "of the footprint's longer side (blurs floors seen at grazing angles); or anisotropic, up "
      "to 8 trilinear lookups along a slanted footprint at the level of its shorter side"},
+    {"--sample-pixels", "sample_pixels", "adaptive|all",
+     [](const GBufferParams& p) { return int(p.allPixels); },
+     [](GBufferParams& p, int i) { p.allPixels = i == 1; },
+     "which pixels take --samples rays: those whose centre ray sees another surface than a "
+     "neighbour's or a corner's (an edge, a crease, a step in depth, something thin), the others "
+     "one ray through the centre; or all of them"},
+    {"--pixel-filter", "pixel_filter", "box|gaussian|blackman-harris",
+     [](const GBufferParams& p) { return int(p.pixelFilter); },
+     [](GBufferParams& p, int i) { p.pixelFilter = PixelFilter(i); },
+     "the filter rays are drawn from: box, a Gaussian of sigma width/6, or Blackman-Harris "
+     "(Cycles' default); each ray is an equal share of its own pixel"},
 };
 
 // Casts primary rays through each pixel centre and writes the channels of the G-buffer
@@ -95,11 +136,15 @@ public:
 
     // Every surface of each pixel of `roi` front to back, up to and including the first
     // opaque one (GBufferParams::maxLayers), A being each one's alpha: a deep G-buffer of
-    // those rows. `transparentSamples` counts the samples with A < 1.
+    // those rows; along each of a pixel's rays where it takes several (GBufferParams::samples,
+    // sample.id and sample.weight). `deepSamples` counts the samples a flat G-buffer could not
+    // hold: those with A < 1 and those of pixels of several rays.
     bool renderDeep(DeepGBuffer& dst, OIIO::ROI roi = {}, int nthreads = 0,
-                    long long* transparentSamples = nullptr) const;
+                    long long* deepSamples = nullptr) const;
 
 private:
+    // Whether each pixel of `rows` takes several rays (pixel_samples.h), row after row.
+    std::vector<std::uint8_t> refinedPixels(OIIO::ROI rows, int nthreads) const;
     bool cancelled() const {
         return m_params.cancel && m_params.cancel->load(std::memory_order_relaxed);
     }

@@ -44,6 +44,9 @@ struct Camera {
 
     // The primary ray through the centre of pixel (x, y) of a width × height image, y down.
     Ray primaryRay(int x, int y, int width, int height) const;
+    // The ray through image position (px, py) of a width × height image, in pixels from its
+    // top-left corner (pixel (x, y)'s centre is (x + 0.5, y + 0.5)).
+    Ray rayThrough(double px, double py, int width, int height) const;
 };
 
 } // namespace dhdr
