@@ -155,7 +155,6 @@ TEST_F(Params, FloatTablesAndChoicesAgreeWithDocsAndHelp) {
     checkFloatTable(kLuminanceFloatTable, "tools.md", tonemap);
     checkFloatTable(kAdaptationFloatTable, "tools.md", tonemap);
     checkChoiceTable(kToneMapChoiceTable, "tools.md", tonemap);
-    const std::string gbuffer = run("dhdr-gbuffer --help").out;
     checkFloatTable(kMomentFloatTable, "tools.md", gbuffer);
     checkFloatTable(kCameraFloatTable, "tools.md", gbuffer);
     checkFloatTable(kProbeBakeFloatTable, "gi.md", run("dhdr-probes --help").out);

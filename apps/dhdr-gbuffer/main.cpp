@@ -105,8 +105,9 @@ int parseImage(const Options& o, GBufferParams& params) {
     params.filterWidth = o.limits.filterWidth;
     if (const std::string e = samplesError(params.samples); !e.empty()) return usage(e);
     if (o.flat && params.samples > 1)
-        return usage("--flat holds one ray a pixel; --samples " + std::to_string(params.samples) +
-                     " needs the deep format (give --samples 1 with --flat)");
+        return usage("--flat holds one ray a pixel; --pixel-samples " +
+                     std::to_string(params.samples) +
+                     " needs the deep format (give --pixel-samples 1 with --flat)");
     if (!app::parseSize(o.size, params.width, params.height))
         return usage("--size '" + o.size + "' is not WxH");
     if (const std::string e = pixelLimitError(params.width, params.height); !e.empty())

@@ -442,7 +442,7 @@ std::vector<std::uint8_t> GBufferRenderer::refinedPixels(OIIO::ROI rows, int nth
 std::string samplesError(int samples) {
     const int n = int(std::lround(std::sqrt(double(samples))));
     if (n * n == samples) return {};
-    return "--samples " + std::to_string(samples) +
+    return "--pixel-samples " + std::to_string(samples) +
            ": the rays of a pixel are an n x n grid of strata; give a square (1, 4, 9, 16, 25, "
            "36, 49 or 64)";
 }

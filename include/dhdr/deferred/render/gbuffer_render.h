@@ -63,10 +63,10 @@ inline constexpr IntParam<GBufferParams> kGBufferParamTable[] = {
      "deep G-buffers: at most N samples a pixel; the opaque surface keeps its place, Blend "
      "surfaces beyond the first N-1 are left out",
      "max_layers"},
-    {"--samples", &GBufferParams::samples, 1, 64, "N",
+    {"--pixel-samples", &GBufferParams::samples, 1, 64, "N",
      "primary rays a pixel takes where it needs more than one (a square: 1, 4, 9, 16, …), "
      "drawn from the pixel filter; 1 is one ray through each pixel's centre",
-     "samples"},
+     "pixel_samples"},
 };
 
 inline constexpr FloatParam<GBufferParams> kGBufferFloatTable[] = {
@@ -91,10 +91,10 @@ inline constexpr ChoiceParam<GBufferParams> kGBufferChoiceTable[] = {
      "texture at the pixel's centre (distant textures shimmer); trilinear, the two mip levels "
      "of the footprint's longer side (blurs floors seen at grazing angles); or anisotropic, up "
      "to 8 trilinear lookups along a slanted footprint at the level of its shorter side"},
-    {"--sample-pixels", "sample_pixels", "adaptive|all",
+    {"--pixel-sampling", "pixel_sampling", "adaptive|all",
      [](const GBufferParams& p) { return int(p.allPixels); },
      [](GBufferParams& p, int i) { p.allPixels = i == 1; },
-     "which pixels take --samples rays: those whose centre ray sees another surface than a "
+     "which pixels take --pixel-samples rays: those whose centre ray sees another surface than a "
      "neighbour's or a corner's (an edge, a crease, a step in depth, something thin), the others "
      "one ray through the centre; or all of them"},
     {"--pixel-filter", "pixel_filter", "box|gaussian|blackman-harris",
