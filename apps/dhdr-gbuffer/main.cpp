@@ -57,7 +57,8 @@ void declareOptions(app::CommandLine& cl, Options& o) {
               "also write the scene's punctual lights as a lights file (docs/lights.md)");
     cl.flag("--deep", o.deep,
             "always write a deep EXR: per pixel every surface up to the first opaque one "
-            "(default: only when some pixel holds a partly transparent surface)");
+            "(default: only when some pixel holds a partly transparent surface or, with "
+            "--pixel-samples, several rays)");
     cl.flag("--flat", o.flat,
             "never write a deep EXR: each pixel's first surface, transparent or not");
     app::addParamOptions(cl, o.limits, kGBufferParamTable);
@@ -402,7 +403,9 @@ bool GBufferFrames::writeDeep(const GBufferRenderer& renderer, const std::string
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - s0).count();
     m_tool.info("deep: " + std::to_string(samples) + " samples, " + std::to_string(transparent) +
-                " partly transparent; " + std::to_string(int(ms + 0.5)) + " ms");
+                (m_params.samples > 1 ? " partly transparent or of pixels of several rays; "
+                                      : " partly transparent; ") +
+                std::to_string(int(ms + 0.5)) + " ms");
     if (samples == 0) m_tool.warn(outPath + ": no surface in view: every pixel is background");
     return true;
 }

@@ -184,16 +184,31 @@ SceneHandle posed(const SceneHandle& h, const py::object& time, const py::object
     return out;
 }
 
-// render_gbuffer's size, max_layers and texture_filter, checked as dhdr-gbuffer checks
+// render_gbuffer's pixel_samples, pixel_sampling, pixel_filter and filter_width.
+struct PixelSampling {
+    int samples;
+    std::string pixels, filter;
+    float filterWidth;
+};
+
+// render_gbuffer's size, max_layers, texture_filter and pixel sampling, checked as dhdr-gbuffer
+// checks
 // --size, --max-layers and --texture-filter.
 GBufferParams gbufferParams(std::pair<int, int> size, int maxLayers,
-                            const std::string& textureFilter) {
+                            const std::string& textureFilter, const PixelSampling& sampling) {
     GBufferParams params;
     params.maxLayers = maxLayers;
+    params.samples = sampling.samples;
+    params.filterWidth = sampling.filterWidth;
     checkParams(params, kGBufferParamTable);
+    checkParams(params, kGBufferFloatTable);
+    if (const std::string e = samplesError(params.samples); !e.empty())
+        throw py::value_error("pixel_samples" + e.substr(e.find(' ')));
     std::string error;
-    if (!setChoice(kGBufferChoiceTable[0], params, textureFilter, Spelling::Keyword, error))
-        throw py::value_error(error);
+    const std::string* choices[] = {&textureFilter, &sampling.pixels, &sampling.filter};
+    for (size_t i = 0; i < 3; ++i)
+        if (!setChoice(kGBufferChoiceTable[i], params, *choices[i], Spelling::Keyword, error))
+            throw py::value_error(error);
     params.width = size.first;
     params.height = size.second;
     if (params.width <= 0 || params.height <= 0)
@@ -263,7 +278,7 @@ void trace(const SceneHandle& h, const Scene& scene, std::shared_ptr<const RayCa
         out.error = h.path + ": " + renderer.error();
         return;
     }
-    if (tracesLayers(depth, scene)) {
+    if (tracesLayers(depth, scene) || (params.samples > 1 && depth != GBufferDepth::Flat)) {
         long long transparent = 0;
         out.ok = renderer.renderDeep(*out.layers.g, {}, nthreads, &transparent);
         if (!out.ok) out.error = h.path + ": cannot render the layers";
@@ -277,10 +292,16 @@ void trace(const SceneHandle& h, const Scene& scene, std::shared_ptr<const RayCa
 
 py::object render(const SceneHandle& h, const std::string& camera, const py::object& lookat,
                   double fov, std::pair<int, int> size, bool frameAll, const py::object& deepGiven,
-                  int maxLayers, const std::string& textureFilter, const py::object& time,
-                  const py::object& frame, double fps, const py::object& animation, int nthreads) {
+                  int maxLayers, const std::string& textureFilter, int pixelSamples,
+                  const std::string& pixelSampling, const std::string& pixelFilter,
+                  float filterWidth, const py::object& time, const py::object& frame, double fps,
+                  const py::object& animation, int nthreads) {
     const GBufferDepth depth = depthOf(deepGiven);
-    GBufferParams params = gbufferParams(size, maxLayers, textureFilter);
+    GBufferParams params = gbufferParams(size, maxLayers, textureFilter,
+                                         {pixelSamples, pixelSampling, pixelFilter, filterWidth});
+    if (depth == GBufferDepth::Flat && params.samples > 1)
+        throw py::value_error("pixel_samples " + std::to_string(params.samples) +
+                              ": several rays a pixel need a deep G-buffer (deep=True or 'auto')");
     const Moment moment =
         momentOf(h, animation, frameOf(frame),
                  time.is_none() ? std::nullopt : std::optional<double>(time.cast<double>()), fps);
@@ -402,8 +423,14 @@ animations. light(scene=...) then traces shadows from the posed geometry.)")
           "max_layers"_a = GBufferParams{}.maxLayers,
           "texture_filter"_a =
               choiceName(kGBufferChoiceTable[0].names, kGBufferChoiceTable[0].get(GBufferParams{})),
-          "time"_a = py::none(), "frame"_a = py::none(), "fps"_a = MomentChoice{}.fps,
-          "animation"_a = py::none(), "nthreads"_a = 0,
+          "pixel_samples"_a = GBufferParams{}.samples,
+          "pixel_sampling"_a =
+              choiceName(kGBufferChoiceTable[1].names, kGBufferChoiceTable[1].get(GBufferParams{})),
+          "pixel_filter"_a =
+              choiceName(kGBufferChoiceTable[2].names, kGBufferChoiceTable[2].get(GBufferParams{})),
+          "filter_width"_a = GBufferParams{}.filterWidth, "time"_a = py::none(),
+          "frame"_a = py::none(), "fps"_a = MomentChoice{}.fps, "animation"_a = py::none(),
+          "nthreads"_a = 0,
           R"(A flat G-buffer of the scene (dhdr-gbuffer): one primary ray per pixel, the channels of
 docs/gbuffer.md as float32 by name, the header (camera matrices, name tables, Cryptomatte
 manifests) in attributes. camera: a scene camera by name (default the first); lookat:
@@ -413,6 +440,10 @@ deep=True (--deep): a DeepGBuffer, per pixel every surface up to the first opaqu
 most max_layers (--max-layers) samples a pixel; deep='auto' (the tool's default): a
 DeepGBuffer when a partly transparent surface is in view, else the flat Image.
 texture_filter (--texture-filter): 'anisotropic' (default), 'trilinear' or 'bilinear'.
+pixel_samples (--pixel-samples, a square): rays a pixel takes where it needs several, drawn
+from pixel_filter ('blackman-harris', 'gaussian' or 'box') filter_width pixels wide, in the
+pixels pixel_sampling says ('adaptive': edges, creases, steps, thin things; 'all'); over 1
+needs deep=True or 'auto' and gives a DeepGBuffer (docs/gbuffer.md).
 A scene with animations is posed as dhdr-gbuffer --frame/--time poses it: at time seconds,
 or frame / fps (frame 0, time 0, by default); animation: the one that plays, by name or
 index, or 'all' (default the file's first, --animation). Its G-buffer has the motion layer

@@ -175,3 +175,28 @@ def test_auto_deep_is_the_tools_default(glass, tool_deep, tmp_path):
     assert isinstance(box, dhdr.Image)
     with pytest.raises(ValueError, match="deep must be"):
         dhdr.render_gbuffer(glass, size=(8, 8), deep="yes")
+
+
+def test_pixel_samples_equal_tool(glass, tmp_path):
+    # Several rays a pixel (--pixel-samples): the tool's deep file and render_gbuffer's samples,
+    # bit for bit, each ray's share in sample.weight; lit, the same frame as dhdr-light's.
+    run_tool("dhdr-gbuffer", GLASS, "--pixel-samples", "16", "--size", f"{SIZE[0]}x{SIZE[1]}",
+             "-o", tmp_path / "rays.exr")
+    g = dhdr.render_gbuffer(glass, size=SIZE, deep="auto", pixel_samples=16)
+    assert isinstance(g, dhdr.DeepGBuffer) and "sample.weight" in g.channels
+    names, counts, samples, _ = read_deep(tmp_path / "rays.exr", g.channels)
+    same_bits(g.counts, counts)
+    for c in ["Z", "P.X", "sample.id", "sample.weight"]:
+        same_bits(np.ascontiguousarray(g[c]), samples[:, g.channels.index(c)])
+    w = g["sample.weight"]
+    assert set(np.unique(w)) <= {1.0, 1.0 / 16.0} and (w < 1).sum() > 16
+    run_tool("dhdr-light", tmp_path / "rays.exr", "--scene", GLASS, "--gi", "direct", "--type",
+             "float", "-o", tmp_path / "lit.exr")
+    lit = dhdr.light(dhdr.read_gbuffer(str(tmp_path / "rays.exr")), scene=glass, gi="direct")
+    same_bits(lit.pixels, read_file(tmp_path / "lit.exr"))
+    for bad, message in [(dict(pixel_samples=15), "a square"),
+                         (dict(pixel_samples=16, deep=False), "deep G-buffer"),
+                         (dict(pixel_filter="tent"), "pixel_filter"),
+                         (dict(filter_width=0.1), "filter_width")]:
+        with pytest.raises(ValueError, match=message):
+            dhdr.render_gbuffer(glass, size=SIZE, **{"deep": True, **bad})
