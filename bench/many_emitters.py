@@ -10,6 +10,10 @@ Without the labels the scene has no light, so every frame here but "as shipped" 
 (directional, 2° wide: soft shadows of its own) from a lights file.
 
     python3 bench/many_emitters.py --bin build/apps [--size 960x540] [--repeats 3]
+        [--docs-picture docs/images/many_emitters.png]
+
+--docs-picture composes the labels as shipped, each its own rays and shared, and each one's
+error against the reference (x2), cropped to the objects (docs/lighting.md#many-emitters).
 """
 import argparse
 import json
@@ -56,6 +60,38 @@ def noise(path, reference):
     return float(np.sqrt((d ** 2).mean()) / ref[..., :3][covered].mean())
 
 
+def docs_picture(work, png):
+    ref = pixels(os.path.join(work, "ref_shipped.exr"))
+    frames = [pixels(os.path.join(work, f)) for f in ("shipped_all.exr", "shipped_shared.exr")]
+    x0, x1, y0, y1 = 440, 660, 75, 445  # the objects, at 960 x 540
+    covered = ref[..., 3] > 0
+    # One exposure for every panel: the reference's log-average to 0.18, Reinhard, sRGB.
+    scale = 0.18 / np.exp(np.log(1e-4 + ref[..., :3].mean(-1)[covered]).mean())
+
+    def tone(img):
+        v = img[..., :3] * scale
+        v = v / (1.0 + v)
+        return np.where(v <= 0.0031308, 12.92 * v, 1.055 * np.power(v, 1 / 2.4) - 0.055)
+
+    def error(img):
+        e = np.abs(img[..., :3] - ref[..., :3]).mean(-1, keepdims=True) * (2.0 * scale)
+        return np.repeat(np.clip(e, 0.0, 1.0), 3, -1)
+
+    panels = [tone(f) for f in frames] + [error(f) for f in frames]
+    names = ["each label its own 16 rays", "shared: 32 rays a pixel (default)",
+             "|error| x2, each its own", "|error| x2, shared"]
+    w, top, gap = x1 - x0, 24, 4
+    canvas = np.ones((y1 - y0 + top, 4 * w + 3 * gap, 3), np.float32)
+    for i, p in enumerate(panels):
+        canvas[top:, i * (w + gap):i * (w + gap) + w] = p[y0:y1, x0:x1]
+    buf = oiio.ImageBuf(oiio.ImageSpec(canvas.shape[1], canvas.shape[0], 3, oiio.FLOAT))
+    buf.set_pixels(oiio.ROI(), canvas)
+    for i, n in enumerate(names):
+        oiio.ImageBufAlgo.render_text(buf, i * (w + gap) + 4, 17, n, 13, "DejaVuSans", (0, 0, 0))
+    if not buf.write(png, "uint8"):
+        sys.exit("bench: %s: %s" % (png, buf.geterror()))
+
+
 def rays_per_sample(err):
     m = re.search(r"(\d+) samples over \d+ covered pixels; (\d+) shadow rays", err)
     if not m:
@@ -72,6 +108,7 @@ def main():
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--ref-samples", type=int, default=512)
     ap.add_argument("--keep", help="keep the frames in this folder")
+    ap.add_argument("--docs-picture", metavar="PNG", help="compose docs/images/many_emitters.png")
     a = ap.parse_args()
     tool = lambda name: os.path.join(a.bin, name)  # noqa: E731
     work = a.keep or tempfile.mkdtemp(prefix="dhdr-many-")
@@ -138,6 +175,8 @@ def main():
         print("| %s | %s | %.2f | %.2f | %.2f | %.0f | %.1f | %.4f |"
               % (frame, path, min(wall), min(cpu), min(shade), peak, rays_per_sample(err),
                  noise(out, os.path.join(work, "ref_%s.exr" % ref))))
+    if a.docs_picture:
+        docs_picture(work, a.docs_picture)
     if not a.keep:
         shutil.rmtree(work)
 
