@@ -250,3 +250,30 @@ TEST(ManyLights, TheFrameHasLessNoiseThanEachLightsOwnRaysAtEqualRays) {
     EXPECT_LT(rmsShared, rmsOwn);
     EXPECT_GT(rmsShared, 1e-3 * mean); // there is noise to compare
 }
+
+// The budget never takes rays from a light that would have them alone: with 64 samples a
+// light, one light gets its 64 (the exhaustive path's bits) and two share 64, not 32.
+TEST(ManyLights, TheBudgetIsAtLeastOneLightsSamples) {
+    const ManyLightScene m;
+    const RayCaster caster(m.scene);
+    const Camera camera = Camera::lookAt({0.0, 2.2, 2.2}, {0.0, 0.0, 0.0}, {0, 1, 0}, 0.9);
+    const ImageBuf gbuf = gbufferOf(m.scene, camera, 40, 30);
+    LightingParams p;
+    p.shadowSamples = 64;
+    const std::vector<Light> one = {m.lights.back()};
+    LightingStats shared, own;
+    const ImageBuf a = shade(gbuf, one, &caster, p, 2, &shared);
+    p.areaLightBudget = 0;
+    const ImageBuf b = shade(gbuf, one, &caster, p, 2, &own);
+    EXPECT_EQ(shared.shadowRays, own.shadowRays);
+    for (int y = 0; y < 30; ++y)
+        for (int x = 0; x < 40; ++x)
+            for (int c = 0; c < 4; ++c)
+                ASSERT_EQ(px(a, x, y)[c], px(b, x, y)[c]) << x << "," << y;
+    p.areaLightBudget = 32;
+    const std::vector<Light> two = {m.lights[m.lights.size() - 2], m.lights.back()};
+    LightingStats pair;
+    shade(gbuf, two, &caster, p, 2, &pair);
+    EXPECT_GT(pair.shadowRays, 40LL * own.shadowRays / 64); // more than 32 a reached pixel
+    EXPECT_LE(pair.shadowRays, 64LL * 40 * 30);
+}

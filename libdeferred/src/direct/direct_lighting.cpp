@@ -94,8 +94,8 @@ void DirectLighting::addAreaLights(const std::uint32_t* lights, size_t count, co
     if (chosen.empty()) return;
     lit.direct +=
         sharedLightVisibility(chosen.data(), unshadowed.data(), chosen.size(), p.origin, p.N,
-                              sampleSeed(key.a, key.b, kSharedShadowsLight, key.stream),
-                              m_options.areaLightBudget, *m_options.shadows, rays);
+                              sampleSeed(key.a, key.b, kSharedShadowsLight, key.stream), budget(),
+                              *m_options.shadows, rays);
 }
 
 DirectTerms DirectLighting::sum(const LitPoint& p, const SeedKey& key, const glm::vec3& emission,

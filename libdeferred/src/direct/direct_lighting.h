@@ -4,6 +4,7 @@
 // probe's ray sees a surface lit exactly as the camera does.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/core/sampling.h>
@@ -54,7 +55,8 @@ struct DirectLightingOptions {
     const Visibility* shadows = nullptr; // null: every light unshadowed
     int shadowSamples = 1;               // rays per area light or sun disk, ≥ 1
     // Shadow rays a point's sphere, rectangle and emissive-mesh lights share when each taking
-    // shadowSamples would trace more (sharedLightVisibility); 0: each takes shadowSamples.
+    // shadowSamples would trace more (sharedLightVisibility); never fewer than shadowSamples,
+    // so that one light keeps its own rays. 0: each takes shadowSamples.
     int areaLightBudget = 0;
     int environmentSamples = 0; // rays per environment light; 0: unshadowed
     // Environments' diffuse light; off when probes bring it (their rays see the sky).
@@ -94,15 +96,17 @@ public:
              long long* rays = nullptr) const;
 
     // Adds the area lights `lights[0..count)` at p as add() does, each with its own
-    // shadowSamples rays while they take no more than options().areaLightBudget, else sharing
-    // that many (sharedLightVisibility, seeded by light kSharedShadowsLight).
+    // shadowSamples rays while they take no more than budget(), else sharing that many
+    // (sharedLightVisibility, seeded by light kSharedShadowsLight).
     void addAreaLights(const std::uint32_t* lights, size_t count, const LitPoint& p,
                        const SeedKey& key, DirectTerms& lit, DirectTerms* open,
                        long long* rays = nullptr) const;
+    // The rays a point's area lights share: areaLightBudget, or shadowSamples if more.
+    int budget() const { return std::max(m_options.areaLightBudget, m_options.shadowSamples); }
     // Whether `count` area lights at a point share the budget.
     bool sharesBudget(size_t count) const {
         return m_options.shadows && m_options.areaLightBudget > 0 &&
-               count * size_t(m_options.shadowSamples) > size_t(m_options.areaLightBudget);
+               count * size_t(m_options.shadowSamples) > size_t(budget());
     }
 
     // Le + Σ V_i L_i over every light in order, shadowed (the probe bake's hits).
