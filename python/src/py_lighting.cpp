@@ -78,7 +78,7 @@ struct LightCall {
     int aoSamples;
     py::object background, plate;
     bool bruteForce;
-    int tile, shadowSamples;
+    int tile, shadowSamples, lightBudget;
     std::string envSpecular, diffuse;
     bool radiometric, denoise, aovs;
     std::string gi;
@@ -107,6 +107,7 @@ auto lightKeywords() {
         py::arg("ao_samples") = d.params.aoSamples, py::arg("background") = py::none(),
         py::arg("plate") = py::none(), py::arg("brute_force") = d.params.bruteForce,
         py::arg("tile") = d.params.tileSize, py::arg("shadow_samples") = d.params.shadowSamples,
+        py::arg("light_budget") = d.params.areaLightBudget,
         py::arg("env_specular") = choice("--env-specular"), py::arg("diffuse") = "lambert",
         py::arg("radiometric") = false, py::arg("denoise") = d.params.denoise,
         py::arg("aovs") = d.aovs, py::arg("gi") = choice("--gi"),
@@ -131,6 +132,7 @@ LightingOptions LightCall::options() const {
     o.params.bruteForce = bruteForce;
     o.params.tileSize = tile;
     o.params.shadowSamples = shadowSamples;
+    o.params.areaLightBudget = lightBudget;
     o.params.denoise = denoise;
     o.params.shadows = shadows;
     o.params.environmentSamples = envSamples;
@@ -374,8 +376,8 @@ struct LightForms {
 using LightSignature =
     LightForms<const py::object&, const py::object&, bool, bool, int, int, int, const py::object&,
                const std::string&, float, int, const py::object&, const py::object&, bool, int, int,
-               const std::string&, const std::string&, bool, bool, bool, const std::string&, int,
-               int>;
+               int, const std::string&, const std::string&, bool, bool, bool, const std::string&,
+               int, int>;
 
 // light()'s two forms with a DeepGBuffer as src, registered before the flat ones (whose src
 // takes any object): the result is flat, so they run through runNew and runInto with a
@@ -430,7 +432,7 @@ specular_samples and catcher_bounce trace it. probes: a dhdr-probes file or a dh
 (indirect diffuse). ao: 'off', 'rt' (ao_samples rays within ao_distance; needs scene) or
 'ssao' (from the G-buffer, ao_samples kernel points within ao_distance).
 background: (R, G, B[, A]) or 'env'; plate: an image of the frame's size to composite over,
-or 'env'. shadow_samples, tile, env_specular ('auto', 'split-sum', 'quadrature'), denoise,
+or 'env'. shadow_samples, light_budget, tile, env_specular ('auto', 'split-sum', 'quadrature'), denoise,
 diffuse ('lambert', 'burley') and brute_force are dhdr-light's options of those names.
 gi='auto' (the default), with scene and no probes: light probes baked for the frame as
 dhdr-light bakes them (none under an environment light or over a shadow catcher);

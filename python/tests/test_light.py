@@ -121,3 +121,24 @@ def test_blender_passes_equal_tool(gbuffer, tmp_path):
               expected)
     with pytest.raises(ValueError, match="Depth.Z"):
         dhdr.import_gbuffer(dhdr.Image(passes.pixels[..., :4].copy(), passes.channels[:4]))
+
+
+def test_light_budget_equals_tool(gbuffer, tmp_path):
+    """Twenty small sphere lights in the box: the shared budget (the default) and each light its
+    own rays (light_budget=0) are dhdr-light's --light-budget, and differ."""
+    rng = np.random.default_rng(7)
+    spheres = [{"type": "sphere", "position": [float(v) for v in rng.uniform(0.1, 0.45, 3)],
+                "radius": 0.02, "intensity": 0.05, "range": 1.0} for _ in range(20)]
+    lights = tmp_path / "spheres.json"
+    lights.write_text(json.dumps({"lights": spheres}))
+    scene = str(TESTDATA / "cornell_box.gltf")
+    g = dhdr.read_gbuffer(str(gbuffer))
+    shared = dhdr.light(g, str(lights), scene=dhdr.Scene(scene), gi="direct")
+    own = dhdr.light(g, str(lights), scene=dhdr.Scene(scene), gi="direct", light_budget=0)
+    same_bits(shared.pixels, light_tool(gbuffer, tmp_path / "shared.exr", "--lights", lights,
+                                        "--scene", scene, "--gi", "direct"))
+    same_bits(own.pixels, light_tool(gbuffer, tmp_path / "own.exr", "--lights", lights,
+                                     "--scene", scene, "--gi", "direct", "--light-budget", "0"))
+    assert not np.array_equal(shared.pixels, own.pixels)
+    with pytest.raises(ValueError, match=r"light_budget: -1 is outside \[0, 65536\]"):
+        dhdr.light(g, str(lights), light_budget=-1)

@@ -68,6 +68,36 @@ void DirectLighting::add(std::uint32_t i, const LitPoint& p, const SeedKey& key,
     if (open) (isAmbient(light) && o.occludable ? open->ambient : open->direct) += c;
 }
 
+void DirectLighting::addAreaLights(const std::uint32_t* lights, size_t count, const LitPoint& p,
+                                   const SeedKey& key, DirectTerms& lit, DirectTerms* open,
+                                   long long* rays) const {
+    if (!sharesBudget(count)) {
+        for (size_t k = 0; k < count; ++k)
+            add(lights[k], p, key, lit, open, nullptr, rays);
+        return;
+    }
+    // The lights that bring anything, and their unshadowed values (per thread: no allocation
+    // per pixel).
+    thread_local std::vector<const Light*> chosen;
+    thread_local std::vector<glm::vec3> unshadowed;
+    chosen.clear();
+    unshadowed.clear();
+    for (size_t k = 0; k < count; ++k) {
+        const Light& light = m_lights[lights[k]];
+        const glm::vec3 c =
+            shadeLight(light, p.surface, p.P, p.N, p.V, p.reflectionSpread, p.footprintRadius);
+        if (c == glm::vec3(0.0f)) continue;
+        chosen.push_back(&light);
+        unshadowed.push_back(c);
+        if (open) open->direct += c;
+    }
+    if (chosen.empty()) return;
+    lit.direct +=
+        sharedLightVisibility(chosen.data(), unshadowed.data(), chosen.size(), p.origin, p.N,
+                              sampleSeed(key.a, key.b, kSharedShadowsLight, key.stream), budget(),
+                              *m_options.shadows, rays);
+}
+
 DirectTerms DirectLighting::sum(const LitPoint& p, const SeedKey& key, const glm::vec3& emission,
                                 long long* rays) const {
     DirectTerms t{emission};

@@ -4,6 +4,7 @@
 // probe's ray sees a surface lit exactly as the camera does.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <dhdr/deferred/core/brdf.h>
 #include <dhdr/deferred/core/sampling.h>
@@ -53,7 +54,11 @@ struct DirectTerms {
 struct DirectLightingOptions {
     const Visibility* shadows = nullptr; // null: every light unshadowed
     int shadowSamples = 1;               // rays per area light or sun disk, ≥ 1
-    int environmentSamples = 0;          // rays per environment light; 0: unshadowed
+    // Shadow rays a point's sphere, rectangle and emissive-mesh lights share when each taking
+    // shadowSamples would trace more (sharedLightVisibility); never fewer than shadowSamples,
+    // so that one light keeps its own rays. 0: each takes shadowSamples.
+    int areaLightBudget = 0;
+    int environmentSamples = 0; // rays per environment light; 0: unshadowed
     // Environments' diffuse light; off when probes bring it (their rays see the sky).
     bool environmentDiffuse = true;
     // How environments' specular light is integrated (ibl.h).
@@ -68,6 +73,10 @@ struct DirectLightingOptions {
 };
 
 // Which sequence a light's shadow rays draw: sampleSeed(a, b, light index, stream).
+// The light index of the sequence that area lights sharing a budget draw (AO is −1, a
+// catcher's bounce −2, the specular indirect light −4).
+inline constexpr std::int64_t kSharedShadowsLight = -5;
+
 struct SeedKey {
     std::int64_t a = 0, b = 0, stream = 0;
 };
@@ -85,6 +94,20 @@ public:
     void add(std::uint32_t i, const LitPoint& p, const SeedKey& key, DirectTerms& lit,
              DirectTerms* open, const EnvironmentVisibility* given = nullptr,
              long long* rays = nullptr) const;
+
+    // Adds the area lights `lights[0..count)` at p as add() does, each with its own
+    // shadowSamples rays while they take no more than budget(), else sharing that many
+    // (sharedLightVisibility, seeded by light kSharedShadowsLight).
+    void addAreaLights(const std::uint32_t* lights, size_t count, const LitPoint& p,
+                       const SeedKey& key, DirectTerms& lit, DirectTerms* open,
+                       long long* rays = nullptr) const;
+    // The rays a point's area lights share: areaLightBudget, or shadowSamples if more.
+    int budget() const { return std::max(m_options.areaLightBudget, m_options.shadowSamples); }
+    // Whether `count` area lights at a point share the budget.
+    bool sharesBudget(size_t count) const {
+        return m_options.shadows && m_options.areaLightBudget > 0 &&
+               count * size_t(m_options.shadowSamples) > size_t(budget());
+    }
 
     // Le + Σ V_i L_i over every light in order, shadowed (the probe bake's hits).
     DirectTerms sum(const LitPoint& p, const SeedKey& key, const glm::vec3& emission,

@@ -126,32 +126,50 @@ LitPoint SampleShader::litPoint(const ShadingPoint& sp, const At& at) const {
 }
 
 // Direct light: the lights of the pixel's tile and depth slice that reach the point (every
-// light with bruteForce), in the order of the lights.
+// light with bruteForce), in the order of the lights; where more area lights reach it than the
+// budget of shadow rays allows them each, they share it (DirectLighting::addAreaLights).
 void SampleShader::directLight(const ShadingPoint& sp, const LitPoint& point, const At& at,
                                DirectTerms& lit, DirectTerms& open) const {
     const SeedKey key{at.x, at.y, streamOf(SampleStream::Shadow, at.k)};
     LightingStats& stats = at.stats;
+    // The lights to add and, apart, the area lights among them that reach the point (per
+    // thread: no allocation per pixel).
+    thread_local std::vector<std::uint32_t> candidates, area;
+    candidates.clear();
+    area.clear();
     if (m_params.bruteForce) {
         // The reference: every light's full evaluation, which is exactly zero where it does
         // not reach.
         const std::vector<Light>& lights = m_inputs.lights;
         for (std::uint32_t i = 0; i < lights.size(); ++i) {
-            stats.lightsReaching += m_reach.reaches(i, sp.P);
-            addLight(i, point, key, at, lit, open);
+            const bool reaches = m_reach.reaches(i, sp.P);
+            stats.lightsReaching += reaches;
+            candidates.push_back(i);
+            if (reaches && lights[i].isArea()) area.push_back(i);
         }
         stats.lightEvaluations += (long long)lights.size();
+    } else {
+        const int px = at.x - m_frame.xbegin, py = at.y - m_frame.ybegin;
+        const std::uint32_t slice = m_tiles.sliceBit(px, py, sp.depth);
+        for (const TileLightLists::Entry& e : m_tiles.at(px, py)) {
+            if (!(e.depthMask & slice)) continue;
+            ++stats.lightEvaluations;
+            // Out of range, the window is exactly zero: skip before reading more.
+            if (!m_reach.reaches(e.light, sp.P)) continue;
+            ++stats.lightsReaching;
+            candidates.push_back(e.light);
+            if (m_inputs.lights[e.light].isArea()) area.push_back(e.light);
+        }
+    }
+    const DirectLighting& direct = m_estimators.direct;
+    if (!direct.sharesBudget(area.size())) {
+        for (const std::uint32_t i : candidates)
+            addLight(i, point, key, at, lit, open);
         return;
     }
-    const int px = at.x - m_frame.xbegin, py = at.y - m_frame.ybegin;
-    const std::uint32_t slice = m_tiles.sliceBit(px, py, sp.depth);
-    for (const TileLightLists::Entry& e : m_tiles.at(px, py)) {
-        if (!(e.depthMask & slice)) continue;
-        ++stats.lightEvaluations;
-        // Out of range, the window is exactly zero: skip before reading more.
-        if (!m_reach.reaches(e.light, sp.P)) continue;
-        ++stats.lightsReaching;
-        addLight(e.light, point, key, at, lit, open);
-    }
+    for (const std::uint32_t i : candidates)
+        if (!m_inputs.lights[i].isArea()) addLight(i, point, key, at, lit, open);
+    direct.addAreaLights(area.data(), area.size(), point, key, lit, &open, &at.stats.shadowRays);
 }
 
 // Light i, shadowed into `lit` and unshadowed into `open`; with the denoiser, an environment's

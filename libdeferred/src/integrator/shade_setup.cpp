@@ -26,6 +26,7 @@ DirectLightingOptions pixelLighting(const ShadeSetup& s, const LightingParams& p
     DirectLightingOptions o;
     o.shadows = s.shadowRays;
     o.shadowSamples = params.shadowSamples;
+    o.areaLightBudget = params.areaLightBudget;
     o.environmentSamples = params.environmentSamples;
     // With probes, the environment's diffuse light comes through them (their rays see the sky
     // where nothing blocks it); its specular light stays the IBL's.

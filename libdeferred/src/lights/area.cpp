@@ -179,6 +179,38 @@ bool viewMesh(const Light& light, const glm::vec3& P, const glm::vec3& Lc, const
 
 } // namespace
 
+float areaLightIrradiance(const Light& light, const glm::vec3& P, const glm::vec3& N) {
+    const glm::vec3 toCentre = light.position - P;
+    if (light.type == LightType::Sphere)
+        return glm::dot(toCentre, toCentre) > light.radius * light.radius
+                   ? sphereIrradiance(N, toCentre, light.radius)
+                   : 0.0f;
+    if (light.type == LightType::Rectangle) {
+        if (!(glm::dot(-toCentre, light.direction) > planeTolerance(P, light.position)))
+            return 0.0f;
+        glm::vec3 corners[4];
+        rectangleCorners(light, corners);
+        for (glm::vec3& c : corners)
+            c -= P;
+        return polygonIrradiance(N, corners, 4);
+    }
+    if (light.type != LightType::Mesh || !light.mesh) return 0.0f;
+    // Both faces of every triangle, as sampleAreaLight draws them; edge-on ones subtend nothing.
+    const EmitterMesh& m = *light.mesh;
+    float sum = 0.0f;
+    for (size_t t = 0; t < m.triangles(); ++t) {
+        glm::vec3 tri[3] = {m.vertices[3 * t] - P, m.vertices[3 * t + 1] - P,
+                            m.vertices[3 * t + 2] - P};
+        const glm::vec3 n = glm::cross(tri[1] - tri[0], tri[2] - tri[0]);
+        const float nl = glm::length(n);
+        if (!(nl > 0.0f) ||
+            !(std::abs(glm::dot(n, tri[0])) > nl * planeTolerance(P, m.vertices[3 * t])))
+            continue;
+        sum += polygonIrradiance(N, tri, 3);
+    }
+    return sum;
+}
+
 glm::vec3 shadeAreaLight(const Light& light, const PbrSurface& s, const glm::vec3& P,
                          const glm::vec3& N, const glm::vec3& V) {
     const glm::vec3 toCentre = light.position - P;

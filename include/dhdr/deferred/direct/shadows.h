@@ -30,6 +30,21 @@ float lightVisibility(const Light& light, const SurfacePoint& at, const glm::vec
                       std::uint64_t seed, int samples, const Visibility& visibility,
                       long long* rays = nullptr);
 
+// The shadowed light Σ c_i V_i of `count` sphere, rectangle or emissive-mesh lights at the
+// surface point `at` (shading normal N), c_i their unshadowed values (shadeLight), sharing
+// `samples` shadow rays (docs/lighting.md, "Many emitters"): each ray picks light i with
+// probability p_i ∝ luminance(c_i) (u.x of a stratified set, Hammersley rotated by `seed`,
+// rescaled within its light and passed on with u.y to sampleAreaLight) and weighs, per colour
+// channel, c_i / p_i · (cos θ / pdf) / E_i, E_i = areaLightIrradiance (the weight's mean over
+// light i is 1). Per channel, Σ c_i times the weighted sum of the visible rays over the sum of
+// all: a ratio estimator (Heitz et al. 2018) that converges to Σ c_i V_i, V_i lightVisibility's
+// limit; exactly Σ c_i when every ray gets through and 0 when none does. Samples below the
+// horizon are skipped as lightVisibility skips them. `rays` (optional) counts the rays traced.
+glm::vec3 sharedLightVisibility(const Light* const* lights, const glm::vec3* unshadowed,
+                                size_t count, const SurfacePoint& at, const glm::vec3& N,
+                                std::uint64_t seed, int samples, const Visibility& visibility,
+                                long long* rays = nullptr);
+
 // The sums a ratio estimator divides (Heitz, Hill & McGuire 2018): seen = Σ w V and
 // total = Σ w over the samples traced, how many of them there were and how many got through
 // wholly. The lighting pass filters seen and total over neighbouring pixels before

@@ -37,6 +37,10 @@ struct LightingParams {
     // Points sampled on each sphere, rectangle or emissive-mesh light per pixel for its soft
     // shadow. The counts' ranges are kLightingParamTable's (below), checked by validate().
     int shadowSamples = 16;
+    // Shadow rays per pixel that the area lights reaching it share, picked by each one's
+    // unshadowed light, when shadowSamples each would trace more (docs/lighting.md, "Many
+    // emitters"); shadowSamples when that is more; 0: every area light takes shadowSamples.
+    int areaLightBudget = 32;
     // With a Visibility: directions drawn from each environment light per pixel for its
     // shadows (0: none, the environment is unshadowed). 16, denoised, is clean
     // (docs/ibl.md, "Denoising").
@@ -91,6 +95,11 @@ inline constexpr IntParam<LightingParams> kLightingParamTable[] = {
     {"--shadow-samples", &LightingParams::shadowSamples, 1, 4096, "N",
      "points per pixel on each sphere, rectangle or emissive light, for soft shadows",
      "shadow_samples"},
+    {"--light-budget", &LightingParams::areaLightBudget, 0, 65536, "N",
+     "shadow rays per pixel shared by the area and emissive lights that reach it, chosen by "
+     "their light, when --shadow-samples each would trace more (at least --shadow-samples; 0: "
+     "every light its own --shadow-samples)",
+     "light_budget"},
     {"--env-samples", &LightingParams::environmentSamples, 0, 4096, "N",
      "with --scene, shadow rays per pixel drawn from each environment light by its luminance, "
      "the cosine and the glossy lobe, so that the sky casts soft shadows (0: none)",

@@ -22,6 +22,11 @@ float polygonIrradiance(const glm::vec3& N, const glm::vec3* vertices, int count
 // The four corners of a rectangle light, counter-clockwise seen from the side it emits to.
 void rectangleCorners(const Light& light, glm::vec3 corners[4]);
 
+// ∫ cos⁺θ dω over the directions from P (normal N) that sampleAreaLight draws on the light:
+// its irradiance at unit radiance, before the range window. The mean of cos θ / pdf over
+// sampleAreaLight's samples, so that each sample's share of it weighs a shadow ray.
+float areaLightIrradiance(const Light& light, const glm::vec3& P, const glm::vec3& N);
+
 // Radiance reflected towards V from a sphere, rectangle or mesh light at a surface point: the
 // diffuse lobe from the exact irradiance, the specular lobe from the point of the light
 // nearest the reflected ray, scaled by (α / α′)² with α′ = min(1, α + r / (2 d)) so that the
