@@ -97,8 +97,12 @@ TEST(MultipleScattering, OneMaterialUnderEveryLight) {
             coloured.roughness = roughness;
             PbrSurface burley = coloured;
             burley.diffuse = DiffuseModel::Burley;
-            for (const PbrSurface& s :
-                 {metal(glm::vec3(1.0f, 0.78f, 0.34f), roughness), dielectric, coloured, burley}) {
+            // KHR_materials_sheen over it: the sheen's share of uniform light (shadeEnvironment,
+            // the ambient light's layering) against the layered BRDF integrated.
+            PbrSurface sheened = coloured;
+            sheened.sheen = {glm::vec3(0.9f, 0.6f, 0.3f), 0.5f};
+            for (const PbrSurface& s : {metal(glm::vec3(1.0f, 0.78f, 0.34f), roughness), dielectric,
+                                        coloured, burley, sheened}) {
                 const glm::dvec3 exact = albedo(s, mu);
                 const glm::vec3 underSky = shadeLight(sky, s, glm::vec3(0.0f), N, V);
                 const glm::vec3 underAmbient = shadeLight(ambient, s, glm::vec3(0.0f), N, V);

@@ -236,6 +236,35 @@ TEST(PathTracer, WhiteFurnaceUnderAClearcoatIsOne) {
     EXPECT_NEAR(sum / n, 1.0, 0.01);
 }
 
+// The furnace once more with a white sheen over the white metal (KHR_materials_sheen, colour
+// 1, roughness 0.5): the base keeps 1 − E_sheen(N·V) and the sheen lobe reflects E_sheen(N·V),
+// so every bounce still returns all it receives (the mean within 1 %).
+TEST(PathTracer, WhiteFurnaceUnderASheenIsOne) {
+    Scene scene = emptyScene();
+    scene.materials[0].baseColor = glm::vec3(1.0f);
+    scene.materials[0].metallic = 1.0f;
+    scene.materials[0].roughness = 0.6f;
+    scene.materials[0].sheenColor = glm::vec3(1.0f);
+    scene.materials[0].sheenRoughness = 0.5f;
+    addFloor(scene, 2.0f);
+    addBox(scene, {-0.4f, 0.0f, -0.4f}, {0.4f, 0.8f, 0.4f});
+    const Camera camera = Camera::lookAt({0.5, 1.2, 2.5}, {0.0, 0.4, 0.0}, {0, 1, 0}, 0.9);
+    const ImageBuf gbuf = gbufferOf(scene, camera, 32, 24);
+    ASSERT_GE(gbuf.spec().channelindex("sheenRoughness"), 0);
+    const RayCaster caster(scene);
+    const ImageBuf lit = pathTraced(gbuf, {uniformSky()}, caster, 256, 16);
+    double sum = 0.0;
+    int n = 0;
+    for (int y = 0; y < 24; ++y)
+        for (int x = 0; x < 32; ++x)
+            if (covered(gbuf, x, y))
+                for (int c = 0; c < 3; ++c, ++n)
+                    sum += px(lit, x, y)[c];
+    std::printf("sheened white furnace: mean %.4f\n", sum / n);
+    EXPECT_GT(n, 3 * 300);
+    EXPECT_NEAR(sum / n, 1.0, 0.01);
+}
+
 // One bounce: a wall at x = d (2 × 4 m, facing −x) lit head-on by a sun travelling +x, which
 // grazes the floor and lights it not at all. A floor point's radiance towards the camera is
 // then ∫_wall f_floor(V, ω) L_wall(−ω) cos θ dω with L_wall(−ω) = f_wall(−ω, −sun) E: a

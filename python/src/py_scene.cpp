@@ -89,7 +89,9 @@ py::list materials(const SceneHandle& h) {
                    "roughness"_a = m.roughness,
                    "emission"_a = py::make_tuple(m.emission.r, m.emission.g, m.emission.b),
                    "normal_scale"_a = m.normalScale, "clearcoat"_a = m.clearcoat,
-                   "clearcoat_roughness"_a = m.clearcoatRoughness, "textures"_a = textures,
+                   "clearcoat_roughness"_a = m.clearcoatRoughness,
+                   "sheen_color"_a = py::make_tuple(m.sheenColor.r, m.sheenColor.g, m.sheenColor.b),
+                   "sheen_roughness"_a = m.sheenRoughness, "textures"_a = textures,
                    "extensions"_a = extensions, "extensions_not_read"_a = notRead);
         out.append(d);
     }
@@ -387,7 +389,8 @@ lowest point) or a height adds dhdr-gbuffer --ground-plane's shadow catcher.)")
             "--info lists them: name, base_color, alpha, alpha_mode ('opaque', 'mask', "
             "'blend'), alpha_cutoff, metallic, roughness, emission (linear radiance), "
             "normal_scale, clearcoat and clearcoat_roughness (KHR_materials_clearcoat; 0 without "
-            "a coat), textures (by slot: base_color, emissive, normal; each its name and "
+            "a coat), sheen_color and sheen_roughness (KHR_materials_sheen; 0 without a sheen), "
+            "textures (by slot: base_color, emissive, normal; each its name and "
             "KHR_texture_transform offset, rotation, scale), extensions (the glTF extensions the "
             "material names) and extensions_not_read (those dhdr does not render).")
         .def_property_readonly("bounds",

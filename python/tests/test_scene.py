@@ -36,6 +36,7 @@ def test_materials_are_those_in_use_as_dicts(cornell):
     assert white["roughness"] == pytest.approx(0.9)
     assert white["textures"] == {} and white["extensions"] == []
     assert (white["clearcoat"], white["clearcoat_roughness"]) == (0.0, 0.0)
+    assert (white["sheen_color"], white["sheen_roughness"]) == ((0.0, 0.0, 0.0), 0.0)
     # The ceiling panel's KHR_materials_emissive_strength is read: in its emission, not unread.
     assert light["extensions"] == ["KHR_materials_emissive_strength"]
     assert light["extensions_not_read"] == []
@@ -115,3 +116,27 @@ def test_path_tracer_equals_tool(cornell, gbuffer, tmp_path):
         dhdr.light(dhdr.read_gbuffer(str(gbuffer)), str(LIGHTS), gi="path")
     with pytest.raises(ValueError, match="are for gi='path'"):
         dhdr.light(dhdr.read_gbuffer(str(gbuffer)), str(LIGHTS), spp=4)
+
+
+def test_sheen_is_read_and_has_its_channels(cornell, tmp_path):
+    """KHR_materials_sheen (testdata/make_sheen_spheres.py): its factors in Scene.materials, its
+    channels in the G-buffer render_gbuffer gives (and the tool), none in a scene without."""
+    import subprocess
+    import sys
+    subprocess.run([sys.executable, str(TESTDATA / "make_sheen_spheres.py"), str(tmp_path)],
+                   check=True)
+    path = str(tmp_path / "sheen_spheres.gltf")
+    scene = dhdr.Scene(path)
+    by_name = {m["name"]: m for m in scene.materials}
+    assert by_name["sheen_1"]["sheen_color"] == pytest.approx((0.25, 0.25, 0.25))
+    assert by_name["sheen_1"]["sheen_roughness"] == pytest.approx(0.5)
+    assert by_name["sheen_5"]["sheen_roughness"] == pytest.approx(0.1)
+    assert by_name["sheen_1"]["extensions_not_read"] == []
+    g = dhdr.render_gbuffer(scene, size=(64, 32))
+    assert ["sheen.R", "sheen.G", "sheen.B", "sheenRoughness"] == [
+        c for c in g.channels if c.startswith("sheen")]
+    run_tool("dhdr-gbuffer", path, "--size", "64x32", "-o", tmp_path / "tool.exr")
+    dhdr.write_gbuffer(str(tmp_path / "py.exr"), g)
+    assert dhdr.read_gbuffer(str(tmp_path / "tool.exr")).channels == dhdr.read_gbuffer(
+        str(tmp_path / "py.exr")).channels
+    assert not [c for c in dhdr.render_gbuffer(cornell, size=(8, 8)).channels if "sheen" in c]

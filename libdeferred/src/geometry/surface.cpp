@@ -119,6 +119,8 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
     s.clearcoat = m.clearcoat;
     s.clearcoatRoughness = m.clearcoatRoughness;
     s.clearcoatNormal = s.interpolated;
+    s.sheenColor = m.sheenColor;
+    s.sheenRoughness = m.sheenRoughness;
     if (mesh.uvs.empty()) return;
     MeshUvs uvs = meshUvs(mesh, triangle, w1, w2);
     uvs.footprint = footprint;
@@ -133,6 +135,9 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
     if (m.occlusionTexture.texture >= 0)
         s.occlusion = 1.0f + m.occlusionStrength * (sample(m.occlusionTexture).r - 1.0f);
     if (m.clearcoat > 0.0f) applyClearcoat(scene, mesh, triangle, w1, w2, ray, uvs, s);
+    // KHR_materials_sheen's textures: the colour (RGB) and the roughness (A).
+    if (m.sheenColorTexture.texture >= 0) s.sheenColor *= glm::vec3(sample(m.sheenColorTexture));
+    if (m.sheenRoughnessTexture.texture >= 0) s.sheenRoughness *= sample(m.sheenRoughnessTexture).a;
     if (m.normalTexture.texture >= 0 && !mesh.tangents.empty()) {
         const glm::uvec3 tri = mesh.triangles[size_t(triangle)];
         const glm::vec4 texel = sample(m.normalTexture);

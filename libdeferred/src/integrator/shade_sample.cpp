@@ -198,8 +198,14 @@ glm::vec3 SampleShader::probeIndirect(const ShadingPoint& sp, const LitPoint& po
                                       float occlusion) const {
     glm::vec3 indirect(0.0f);
     if (m_setup.probes) {
-        indirect = m_setup.probes->reflectedAt(sp.surface, sp.P, sp.N, sp.V,
+        const PbrSurface& s = sp.surface;
+        indirect = m_setup.probes->reflectedAt(s.sheened() ? s.bare() : s, sp.P, sp.N, sp.V,
                                                point.specularFromProbes, m_inputs.visibility);
+        // KHR_materials_sheen over the base, as for environments (shadeEnvironment).
+        if (s.sheened())
+            indirect = indirect * s.sheenScaling(sp.N, sp.V) +
+                       m_setup.probes->reflectedAt(s.sheenLobe(), sp.P, sp.N, sp.V, false,
+                                                   m_inputs.visibility);
         if (m_setup.aoActive) indirect *= occlusion;
         if (sp.occlusion != 1.0f) indirect *= sp.occlusion;
         if (sp.surface.coated()) indirect *= 1.0f - sp.surface.coatBlend(sp.V);

@@ -21,6 +21,20 @@ IblShading shadeEnvironment(const Light& light, const PbrSurface& s, const glm::
         r.specular = r.specular * (1.0f - b) + (c.diffuse + c.specular) * b;
         return r;
     }
+    if (s.sheened()) {
+        // KHR_materials_sheen over the base: the base's light × its albedo scaling, plus the
+        // sheen lobe's share of the irradiance, sheenColor E_sheen(N·V) E / π (exact for a
+        // uniform sky; the Charlie lobe is broad). It joins the diffuse part: AO and the
+        // environment's diffuse visibility scale it.
+        const float k = s.sheenScaling(N, V);
+        IblShading r = shadeEnvironment(light, s.bare(), N, V, method, spread);
+        const float NdotV = std::max(glm::dot(N, V), 1e-4f);
+        r.diffuse = r.diffuse * k + diffuseAlbedo(s.sheenLobe(), NdotV) *
+                                        light.ibl->irradiance(intoEnvironment(light, N)) *
+                                        (light.color * light.intensity / kPi);
+        r.specular *= k;
+        return r;
+    }
     IblShading r = shadeIbl(*light.ibl, s, intoEnvironment(light, N), intoEnvironment(light, V),
                             method, spread);
     const glm::vec3 k = light.color * light.intensity;

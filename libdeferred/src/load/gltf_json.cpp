@@ -291,6 +291,8 @@ struct TextureSlots {
     // KHR_materials_clearcoat's.
     const nlohmann::json *clearcoat = nullptr, *clearcoatRoughness = nullptr,
                          *clearcoatNormal = nullptr;
+    // KHR_materials_sheen's.
+    const nlohmann::json *sheenColor = nullptr, *sheenRoughness = nullptr;
 };
 
 TextureSlots textureSlots(const nlohmann::json& m) {
@@ -314,6 +316,13 @@ TextureSlots textureSlots(const nlohmann::json& m) {
         t.clearcoatRoughness = at(c, "clearcoatRoughnessTexture");
         t.clearcoatNormal = at(c, "clearcoatNormalTexture");
     }
+    if (m.contains("extensions") && m["extensions"].is_object() &&
+        m["extensions"].contains("KHR_materials_sheen") &&
+        m["extensions"]["KHR_materials_sheen"].is_object()) {
+        const nlohmann::json& c = m["extensions"]["KHR_materials_sheen"];
+        t.sheenColor = at(c, "sheenColorTexture");
+        t.sheenRoughness = at(c, "sheenRoughnessTexture");
+    }
     return t;
 }
 
@@ -330,9 +339,10 @@ std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann:
             return ref ? textureInfo(*ref) : GltfTextureInfo{};
         };
         out[m["name"].get<std::string>()] = {
-            info(slots.baseColor),          info(slots.emissive),       info(slots.normal),
-            info(slots.metallicRoughness),  info(slots.occlusion),      info(slots.clearcoat),
-            info(slots.clearcoatRoughness), info(slots.clearcoatNormal)};
+            info(slots.baseColor),          info(slots.emissive),        info(slots.normal),
+            info(slots.metallicRoughness),  info(slots.occlusion),       info(slots.clearcoat),
+            info(slots.clearcoatRoughness), info(slots.clearcoatNormal), info(slots.sheenColor),
+            info(slots.sheenRoughness)};
     }
     return out;
 }
@@ -389,8 +399,8 @@ bool isGltf1(const nlohmann::json& doc) {
 
 bool gltfExtensionRendered(const nlohmann::json& doc, const std::string& name) {
     // Assimp 5.2 decodes Draco meshes (Debian's is built with libdraco); dhdr reads the others
-    // itself or through Assimp (which reads the sheen, transmission and volume extensions too,
-    // but dhdr renders none of them yet).
+    // itself or through Assimp (which reads the transmission and volume extensions too,
+    // but dhdr renders neither yet).
     static const char* const kGltf2[] = {"KHR_draco_mesh_compression",
                                          "KHR_lights_punctual",
                                          "KHR_materials_emissive_strength",
@@ -399,6 +409,7 @@ bool gltfExtensionRendered(const nlohmann::json& doc, const std::string& name) {
                                          "KHR_materials_specular",
                                          "KHR_materials_unlit",
                                          "KHR_materials_clearcoat",
+                                         "KHR_materials_sheen",
                                          "KHR_materials_pbrSpecularGlossiness"};
     // Assimp's glTF 1.0 importer reads the binary container and the common materials' colours.
     static const char* const kGltf1[] = {"KHR_binary_glTF", "KHR_materials_common"};
@@ -497,7 +508,7 @@ std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
             const TextureSlots t = textureSlots(m);
             for (const nlohmann::json* ref :
                  {t.baseColor, t.metallicRoughness, t.normal, t.occlusion, t.emissive, t.clearcoat,
-                  t.clearcoatRoughness, t.clearcoatNormal})
+                  t.clearcoatRoughness, t.clearcoatNormal, t.sheenColor, t.sheenRoughness})
                 if (ref)
                     highestSet =
                         std::max({highestSet, texCoordOf(*ref), textureInfo(*ref).texCoord});

@@ -58,6 +58,7 @@ struct GltfTextureInfo {
 struct GltfMaterialTextures {
     GltfTextureInfo baseColor, emissive, normal, metallicRoughness, occlusion;
     GltfTextureInfo clearcoat, clearcoatRoughness, clearcoatNormal;
+    GltfTextureInfo sheenColor, sheenRoughness;
 };
 
 // Per material name, from a .gltf or .glb file; empty for other files.

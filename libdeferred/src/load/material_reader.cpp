@@ -156,6 +156,24 @@ void readClearcoat(const aiMaterial& am, const GltfMaterialTextures& info, Textu
     if (!std::isfinite(m.clearcoatNormalScale)) m.clearcoatNormalScale = 1.0f;
 }
 
+// KHR_materials_sheen, as Assimp 5.2 reads it: the colour and roughness factors (clamped to the
+// schema's [0, 1]) and the two textures of aiTextureType_SHEEN (colour sRGB, roughness in A).
+void readSheen(const aiMaterial& am, const GltfMaterialTextures& info, TextureTable& textures,
+               Material& m) {
+    aiColor3D color(0.0f, 0.0f, 0.0f);
+    if (am.Get(AI_MATKEY_SHEEN_COLOR_FACTOR, color) != AI_SUCCESS) return;
+    float roughness = 0.0f;
+    am.Get(AI_MATKEY_SHEEN_ROUGHNESS_FACTOR, roughness);
+    auto unit = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f; };
+    m.sheenColor = glm::vec3(unit(color.r), unit(color.g), unit(color.b));
+    m.sheenRoughness = unit(roughness);
+    if (!m.sheen()) return; // a black sheen is none
+    readSlot(am, aiTextureType_SHEEN, info.sheenColor, true, "sheen colour", textures,
+             m.sheenColorTexture, 0);
+    readSlot(am, aiTextureType_SHEEN, info.sheenRoughness, false, "sheen roughness", textures,
+             m.sheenRoughnessTexture, 1);
+}
+
 // glTF's dielectric layer: KHR_materials_ior (Assimp 5.2 reports it as AI_MATKEY_REFRACTI),
 // KHR_materials_specular (from the file, `specular`), and KHR_materials_unlit (Assimp's
 // unlit shading model). False when the material's specular extension names textures, which
@@ -230,9 +248,12 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
         const auto t = transforms.find(m.name);
         readTextures(am, gltf, t != transforms.end() ? t->second : GltfMaterialTextures{}, textures,
                      m);
-        if (gltf)
-            readClearcoat(am, t != transforms.end() ? t->second : GltfMaterialTextures{}, textures,
-                          m);
+        if (gltf) {
+            const GltfMaterialTextures info =
+                t != transforms.end() ? t->second : GltfMaterialTextures{};
+            readClearcoat(am, info, textures, m);
+            readSheen(am, info, textures, m);
+        }
         if (gltf && !readDielectric(am, specular, m))
             specularTextures += (specularTextures.empty() ? "'" : ", '") + m.name + "'";
         if (gltf && !readSpecGloss(am, specGloss, textures, m))

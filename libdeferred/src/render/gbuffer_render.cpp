@@ -136,6 +136,11 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
         for (int c = 0; c < 3; ++c)
             out[layout.clearcoatNormal + c] = float(s.clearcoatNormal[c]);
     }
+    if (layout.sheen >= 0) {
+        for (int c = 0; c < 3; ++c)
+            out[layout.sheen + c] = s.sheenColor[c];
+        out[layout.sheenRoughness] = s.sheenRoughness;
+    }
     out[layout.objectId] = float(object + 1);
     out[layout.materialId] = float(material + 1);
     // Cryptomatte: rank 0 is this surface, covering what its alpha covers; rank 1 is empty
@@ -169,6 +174,7 @@ unsigned channelUses(const Scene& scene) {
         if (m.occlusionTexture.texture >= 0) uses |= gbuffer::kUsesOcclusion;
         if (m.dielectricSet) uses |= gbuffer::kUsesSpecular;
         if (m.clearcoat > 0.0f) uses |= gbuffer::kUsesClearcoat;
+        if (m.sheen()) uses |= gbuffer::kUsesSheen;
     }
     return uses;
 }

@@ -28,6 +28,9 @@ std::string describeMaterial(const Scene& scene, int index) {
         out += format(", emission (%.3g, %.3g, %.3g)", m.emission.r, m.emission.g, m.emission.b);
     if (m.clearcoat > 0.0f)
         out += format(", clearcoat %.3g (roughness %.3g)", m.clearcoat, m.clearcoatRoughness);
+    if (m.sheen())
+        out += format(", sheen (%.3g, %.3g, %.3g) (roughness %.3g)", m.sheenColor.r, m.sheenColor.g,
+                      m.sheenColor.b, m.sheenRoughness);
     out += "\n";
     std::string textures;
     for (const MaterialTexture& t : materialTextures(m)) {
@@ -81,7 +84,9 @@ std::vector<MaterialTexture> materialTextures(const Material& m) {
         {"occlusion", "occlusion", &m.occlusionTexture},
         {"clearcoat", "clearcoat", &m.clearcoatTexture},
         {"clearcoat roughness", "clearcoat_roughness", &m.clearcoatRoughnessTexture},
-        {"clearcoat normal", "clearcoat_normal", &m.clearcoatNormalTexture}};
+        {"clearcoat normal", "clearcoat_normal", &m.clearcoatNormalTexture},
+        {"sheen colour", "sheen_color", &m.sheenColorTexture},
+        {"sheen roughness", "sheen_roughness", &m.sheenRoughnessTexture}};
     std::vector<MaterialTexture> out;
     for (const MaterialTexture& t : all)
         if (t.ref->texture >= 0) out.push_back(t);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <glm/glm.hpp>
 
 namespace dhdr {
@@ -60,6 +61,36 @@ struct Clearcoat {
     glm::vec3 normal{0.0f}; // unit, world space, facing the viewer as the shading normal does
 };
 
+// KHR_materials_sheen's layer: the Charlie lobe over the base, which keeps 1 − max(colour) ·
+// E_sheen(N·V) of the light (the extension's albedo scaling).
+struct Sheen {
+    glm::vec3 color{0.0f};  // sheenColorFactor × sheenColorTexture's RGB; 0: no sheen
+    float roughness = 0.0f; // sheenRoughnessFactor × sheenRoughnessTexture's A
+};
+
+// Below this sheen roughness the Charlie lobe is a sliver at grazing half vectors that the
+// albedo table cannot resolve; such a sheen is shaded as this (Filament clamps alike).
+inline constexpr float kMinSheenRoughness = 0.07f;
+
+// The Charlie sheen distribution (Estevez & Kulla 2017; KHR_materials_sheen's D):
+// (2 + 1/α) sin(θh)^(1/α) / (2π), α = sheenRoughness².
+inline float charlieDistribution(float NdotH, float roughness) {
+    const float r = std::max(roughness, kMinSheenRoughness);
+    const float invAlpha = 1.0f / (r * r);
+    const float sin2 = std::max(1.0f - NdotH * NdotH, 0.0f);
+    return (2.0f + invAlpha) * std::pow(sin2, 0.5f * invAlpha) / (2.0f * kPi);
+}
+
+// The sheen visibility KHR_materials_sheen allows in place of Charlie's fitted one (Neubelt &
+// Pettineo 2013, "Ashikhmin"): 1 / (4 (N·L + N·V − N·L N·V)).
+inline float neubeltVisibility(float NdotL, float NdotV) {
+    return 1.0f / (4.0f * (NdotL + NdotV - NdotL * NdotV));
+}
+
+// E_sheen(μ, roughness) = ∫ D V cos θl dω, the directional albedo of the sheen lobe with
+// colour 1, from a table computed once per process (sheen_albedo.cpp).
+float sheenAlbedo(float NdotV, float roughness);
+
 // The surface a BRDF is evaluated for, in glTF's parameters.
 struct PbrSurface {
     glm::vec3 baseColor{1.0f};
@@ -72,6 +103,10 @@ struct PbrSurface {
     glm::vec3 dielectricF0{0.04f};
     float dielectricF90 = 1.0f;
     Clearcoat coat;
+    Sheen sheen;
+    // A surface that is only KHR_materials_sheen's lobe (sheenLobe()): diffuseBrdf and
+    // diffuseAlbedo return the sheen's, and its Fresnel is 0, so every specular term is 0.
+    bool sheenOnly = false;
 
     float alpha() const { return std::max(roughness * roughness, kMinAlpha); }
     // Normal-incidence reflectance: the dielectric's, the base colour for metals.
@@ -104,6 +139,36 @@ struct PbrSurface {
         b.coat.weight = 0.0f;
         return b;
     }
+    bool sheened() const {
+        return !sheenOnly && std::max({sheen.color.r, sheen.color.g, sheen.color.b}) > 0.0f;
+    }
+    // KHR_materials_sheen's sheen_albedo_scaling towards V: 1 − max(sheenColor) · E_sheen(N·V),
+    // the share of light the sheen leaves to the base (whatever the light's direction, as the
+    // coat's blend).
+    float sheenScaling(const glm::vec3& N, const glm::vec3& V) const {
+        if (!sheened()) return 1.0f;
+        const float m = std::max({sheen.color.r, sheen.color.g, sheen.color.b});
+        return std::max(0.0f,
+                        1.0f - m * sheenAlbedo(std::max(glm::dot(N, V), 0.0f), sheen.roughness));
+    }
+    // The surface under its coat and its sheen.
+    PbrSurface bare() const {
+        PbrSurface b = uncoated();
+        b.sheen.color = glm::vec3(0.0f);
+        return b;
+    }
+    // The sheen's sheen_brdf as a surface of its own: no Fresnel (no specular lobe), its
+    // diffuse layer the Charlie lobe.
+    PbrSurface sheenLobe() const {
+        PbrSurface c;
+        c.baseColor = glm::vec3(0.0f);
+        c.metallic = 0.0f;
+        c.dielectricF0 = glm::vec3(0.0f);
+        c.dielectricF90 = 0.0f;
+        c.sheen = sheen;
+        c.sheenOnly = true;
+        return c;
+    }
     // The coat's clearcoat_brdf as a surface of its own: the GGX lobe of α = roughness² with
     // F = 1 (its Fresnel sits in coatBlend), no diffuse layer, no coat.
     PbrSurface coatLobe() const {
@@ -116,13 +181,29 @@ struct PbrSurface {
 };
 
 // `shade(surface, N)` (any light's or the environment's reflection, linear in the BRDF) of a
-// coated surface: (1 − b) × the base's + b × the coat lobe's about the coat's normal, b =
-// s.coatBlend(V) (KHR_materials_clearcoat's mix(material, clearcoat_brdf, b)).
+// layered surface. The sheen over the base (KHR_materials_sheen's sheen_brdf + material ·
+// sheen_albedo_scaling): the bare base's × s.sheenScaling + the sheen lobe's; the coat over
+// both (KHR_materials_clearcoat's mix(material, clearcoat_brdf, b)): (1 − b) × that + b ×
+// the coat lobe's about the coat's normal, b = s.coatBlend(V).
 template <class Shade>
 auto withCoat(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V, Shade shade) {
-    if (!s.coated()) return shade(s, N);
+    if (!s.coated() && !s.sheened()) return shade(s, N);
+    auto base = shade(s.bare(), N);
+    if (s.sheened()) base = base * s.sheenScaling(N, V) + shade(s.sheenLobe(), N);
+    if (!s.coated()) return base;
     const float b = s.coatBlend(V);
-    return shade(s.uncoated(), N) * (1.0f - b) + shade(s.coatLobe(), s.coat.normal) * b;
+    return base * (1.0f - b) + shade(s.coatLobe(), s.coat.normal) * b;
+}
+
+// KHR_materials_sheen's sheen_brdf, sheenColor · D_charlie · V_neubelt, in 1/sr (N·L > 0,
+// N·V > 0).
+inline glm::vec3 sheenBrdf(const Sheen& sheen, const glm::vec3& N, const glm::vec3& V,
+                           const glm::vec3& L) {
+    const float NdotL = std::max(glm::dot(N, L), 0.0f), NdotV = std::max(glm::dot(N, V), 0.0f);
+    if (NdotL <= 0.0f || NdotV <= 0.0f) return glm::vec3(0.0f);
+    const float NdotH = glm::dot(N, glm::normalize(L + V));
+    return sheen.color *
+           (charlieDistribution(NdotH, sheen.roughness) * neubeltVisibility(NdotL, NdotV));
 }
 
 // The multiple-scattering lobe of Kulla & Conty 2017 (multiple_scattering.h).
@@ -132,6 +213,7 @@ glm::vec3 multipleScatteringBrdf(const PbrSurface& s, float NdotV, float NdotL);
 // layer's Fresnel reflectance at L's half vector (what glTF's Lambert layer does not get).
 inline glm::vec3 diffuseBrdf(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V,
                              const glm::vec3& L, const glm::vec3& F) {
+    if (s.sheenOnly) return sheenBrdf(s.sheen, N, V, L);
     if (s.diffuse == DiffuseModel::Burley) {
         const float NdotL = std::max(glm::dot(N, L), 0.0f), NdotV = std::max(glm::dot(N, V), 0.0f);
         const float a = 1.0f - NdotL, b = 1.0f - NdotV;

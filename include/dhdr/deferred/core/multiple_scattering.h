@@ -41,7 +41,10 @@ glm::vec3 multipleScatteringAlbedo(const PbrSurface& s, float NdotV);
 // over μ and roughness computed once per process.
 float diffuseFresnelTransmission(float NdotV);
 float burleyDiffuseAlbedo(float NdotV, float roughness);
+// A sheen lobe (PbrSurface::sheenLobe) reflects sheenColor E_sheen(μo) of uniform light, its
+// albedo (brdf.h).
 inline glm::vec3 diffuseAlbedo(const PbrSurface& s, float NdotV) {
+    if (s.sheenOnly) return s.sheen.color * sheenAlbedo(NdotV, s.sheen.roughness);
     if (s.diffuse == DiffuseModel::Burley)
         return s.diffuseColor() * burleyDiffuseAlbedo(NdotV, s.roughness);
     // With f90 < 1, 1 − F = (1 − F0)(1 − (1 − v·h)⁵) + (1 − f90)(1 − v·h)⁵.

@@ -32,6 +32,8 @@ inline constexpr const char* kSpecularWeight = "specularWeight";
 inline constexpr const char* kClearcoat = "clearcoat";
 inline constexpr const char* kClearcoatRoughness = "clearcoatRoughness";
 inline constexpr const char* kClearcoatNormal[3] = {"clearcoatN.X", "clearcoatN.Y", "clearcoatN.Z"};
+inline constexpr const char* kSheen[3] = {"sheen.R", "sheen.G", "sheen.B"};
+inline constexpr const char* kSheenRoughness = "sheenRoughness";
 inline constexpr const char* kEmission[3] = {"emission.R", "emission.G", "emission.B"};
 inline constexpr const char* kObjectId = "id.object";
 inline constexpr const char* kMaterialId = "id.material";
@@ -60,6 +62,7 @@ struct Layout {
     int geometricNormal = -1, positionError = -1, lift = -1;
     int roughness = -1, metallic = -1, occlusion = -1, specular = -1, specularWeight = -1;
     int clearcoat = -1, clearcoatRoughness = -1, clearcoatNormal = -1;
+    int sheen = -1, sheenRoughness = -1;
     int emission = -1, objectId = -1, materialId = -1;
     int cryptoObject = -1, cryptoMaterial = -1;
     int sampleId = -1, sampleWeight = -1;
@@ -89,8 +92,9 @@ enum ChannelUse : unsigned {
     kUsesSpecular = 2u,      // KHR_materials_ior, _specular or _unlit
     kUsesClearcoat = 4u,     // KHR_materials_clearcoat
     kUsesSmoothNormals = 8u, // a triangle whose vertex normals differ (Plift)
+    kUsesSheen = 16u,        // KHR_materials_sheen
     kUsesPixelSamples = 32u, // deep: several primary rays in some pixel (sample.id, .weight)
-    kAllUses = 47u
+    kAllUses = 63u
 };
 
 // One entry of the contract: a scalar, a 3-vector or a Cryptomatte layer, in the order
@@ -224,6 +228,21 @@ inline constexpr ContractChannel kContract[] = {
      "world-space normal of the coat, unit length, facing the camera: clearcoatNormalTexture's, "
      "else the interpolated normal (the base's normal map does not bend the coat)",
      kUsesClearcoat},
+    {{kSheen[0], kSheen[1], kSheen[2]},
+     3,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::sheen,
+     "KHR_materials_sheen's colour, linear: sheenColorFactor × sheenColorTexture's RGB; 0: no "
+     "sheen",
+     kUsesSheen},
+    {{kSheenRoughness},
+     1,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::sheenRoughness,
+     "the sheen's roughness: sheenRoughnessFactor × sheenRoughnessTexture's A",
+     kUsesSheen},
     {{kEmission[0], kEmission[1], kEmission[2]},
      3,
      FileType::Half,

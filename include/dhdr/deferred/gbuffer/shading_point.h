@@ -112,6 +112,11 @@ public:
         if (m_layout.clearcoat >= 0 && m_layout.clearcoatRoughness >= 0 &&
             m_layout.clearcoatNormal >= 0)
             readCoat(g, s);
+        if (m_layout.sheen >= 0 && m_layout.sheenRoughness >= 0)
+            s.surface.sheen = {glm::vec3(unitOr(g[m_layout.sheen], 0.0f),
+                                         unitOr(g[m_layout.sheen + 1], 0.0f),
+                                         unitOr(g[m_layout.sheen + 2], 0.0f)),
+                               unitOr(g[m_layout.sheenRoughness], 0.0f)};
         if (m_layout.occlusion >= 0) {
             const float o = g[m_layout.occlusion];
             s.occlusion = std::isnan(o) ? 1.0f : std::clamp(o, 0.0f, 1.0f);

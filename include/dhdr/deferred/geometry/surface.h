@@ -35,6 +35,10 @@ struct SurfaceSample {
     // normal (its own normal map's, else `interpolated`); weight 0 without a coat.
     float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
     glm::dvec3 clearcoatNormal{0.0};
+    // KHR_materials_sheen: the sheen's colour and roughness (factors × textures); colour 0
+    // without a sheen.
+    glm::vec3 sheenColor{0.0f};
+    float sheenRoughness = 0.0f;
     const Material* material;
 
     // The BSDF's parameters there, with the diffuse layer `diffuse`.
@@ -47,6 +51,7 @@ struct SurfaceSample {
         p.dielectricF90 = dielectricF90;
         p.diffuse = diffuse;
         p.coat = {clearcoat, clearcoatRoughness, glm::vec3(clearcoatNormal)};
+        p.sheen = {sheenColor, sheenRoughness};
         return p;
     }
 };

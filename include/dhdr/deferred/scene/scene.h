@@ -2,6 +2,7 @@
 // metallic-roughness materials, cameras and punctual lights.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <dhdr/deferred/scene/camera.h>
 #include <dhdr/deferred/scene/lights.h>
@@ -58,6 +59,12 @@ struct Material {
     float clearcoat = 0.0f, clearcoatRoughness = 0.0f;
     TextureRef clearcoatTexture, clearcoatRoughnessTexture, clearcoatNormalTexture;
     float clearcoatNormalScale = 1.0f;
+    // KHR_materials_sheen: the sheen's colour (0: none; × its texture's RGB, sRGB) and
+    // roughness (× its texture's A, linear).
+    glm::vec3 sheenColor{0.0f};
+    float sheenRoughness = 0.0f;
+    TextureRef sheenColorTexture, sheenRoughnessTexture;
+    bool sheen() const { return std::max({sheenColor.r, sheenColor.g, sheenColor.b}) > 0.0f; }
 
     // KHR_materials_specular's dielectric_f0: min(((ior − 1) / (ior + 1))² · specularColor, 1)
     // · specularFactor; 4 % when the file sets none of them.
