@@ -361,7 +361,8 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
         std::vector<Layer> layers(size_t(m_params.maxLayers));
         long long local = 0;
         // The surfaces along `ray`, ray `id` of its pixel with `weight` of it: their samples.
-        auto trace = [&](const Ray& ray, const PixelOf& pixel, int id, float weight,
+        // Counted as deep-only: partly transparent samples, and all of a pixel of several rays.
+        auto trace = [&](const Ray& ray, const PixelOf& pixel, int id, float weight, bool ofSeveral,
                          std::vector<float>& rowValues) {
             const int n = traceLayers(m_scene, *m_caster, ray, m_params.maxLayers, layers.data());
             for (int k = 0; k < n; ++k) {
@@ -375,7 +376,7 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
                     out[layout.sampleWeight] = weight;
                 }
                 if (motion) motion->at(ray, layers[size_t(k)].hit, out + nch - 4);
-                local += layers[size_t(k)].alpha < 1.0f;
+                local += ofSeveral || layers[size_t(k)].alpha < 1.0f;
             }
             return n;
         };
@@ -390,7 +391,7 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
                 int n = 0;
                 if (!rays) {
                     n = trace(m_camera.primaryRay(x, y, W, H),
-                              PixelOf{m_camera, x + 0.5, y + 0.5, W, H}, 0, 1.0f, rowValues);
+                              PixelOf{m_camera, x + 0.5, y + 0.5, W, H}, 0, 1.0f, false, rowValues);
                 } else {
                     const double step = std::max(0.125, 1.0 / grid);
                     for (int k = 0; k < m_params.samples; ++k) {
@@ -398,9 +399,8 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
                         const double px = x + 0.5 + double(o.x), py = y + 0.5 + double(o.y);
                         n += trace(m_camera.rayThrough(px, py, W, H),
                                    PixelOf{m_camera, px, py, W, H, step}, k,
-                                   1.0f / float(m_params.samples), rowValues);
+                                   1.0f / float(m_params.samples), true, rowValues);
                     }
-                    local += n; // a flat G-buffer holds none of these rays
                 }
                 rowCounts.push_back(std::uint32_t(n));
             }
