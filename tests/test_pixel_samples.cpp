@@ -191,7 +191,7 @@ TEST(PixelSamples, AnEdgesCoverageIsTheFiltersIntegral) {
         EXPECT_EQ(g.samples(10, 5), 1);
         EXPECT_EQ(channel(g, 10, 5, 0, gbuffer::kSampleWeight), 1.0f);
         EXPECT_EQ(g.samples(50, 5), 0);
-        EXPECT_EQ(g.samples(32, 5), 16 * 0 + int(g.samples(32, 5))); // some of 16 rays hit
+        // The edge's pixel: some of its 16 rays hit the quad, not all.
         EXPECT_GT(g.samples(32, 5), 0);
         EXPECT_LT(g.samples(32, 5), 16);
     }
