@@ -91,8 +91,9 @@ py::list materials(const SceneHandle& h) {
                    "normal_scale"_a = m.normalScale, "clearcoat"_a = m.clearcoat,
                    "clearcoat_roughness"_a = m.clearcoatRoughness,
                    "sheen_color"_a = py::make_tuple(m.sheenColor.r, m.sheenColor.g, m.sheenColor.b),
-                   "sheen_roughness"_a = m.sheenRoughness, "textures"_a = textures,
-                   "extensions"_a = extensions, "extensions_not_read"_a = notRead);
+                   "sheen_roughness"_a = m.sheenRoughness, "transmission"_a = m.transmission,
+                   "textures"_a = textures, "extensions"_a = extensions,
+                   "extensions_not_read"_a = notRead);
         out.append(d);
     }
     return out;
@@ -390,6 +391,7 @@ lowest point) or a height adds dhdr-gbuffer --ground-plane's shadow catcher.)")
             "'blend'), alpha_cutoff, metallic, roughness, emission (linear radiance), "
             "normal_scale, clearcoat and clearcoat_roughness (KHR_materials_clearcoat; 0 without "
             "a coat), sheen_color and sheen_roughness (KHR_materials_sheen; 0 without a sheen), "
+            "transmission (KHR_materials_transmission; 0: opaque), "
             "textures (by slot: base_color, emissive, normal; each its name and "
             "KHR_texture_transform offset, rotation, scale), extensions (the glTF extensions the "
             "material names) and extensions_not_read (those dhdr does not render).")

@@ -6,8 +6,9 @@ namespace dhdr {
 
 bool tracesLayers(GBufferDepth depth, const Scene& scene) {
     if (depth != GBufferDepth::Auto) return depth == GBufferDepth::Deep;
-    return std::any_of(scene.materials.begin(), scene.materials.end(),
-                       [](const Material& m) { return m.alphaMode == AlphaMode::Blend; });
+    return std::any_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) {
+        return m.alphaMode == AlphaMode::Blend || m.transmission > 0.0f;
+    });
 }
 
 } // namespace dhdr

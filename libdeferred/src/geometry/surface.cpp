@@ -121,6 +121,7 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
     s.clearcoatNormal = s.interpolated;
     s.sheenColor = m.sheenColor;
     s.sheenRoughness = m.sheenRoughness;
+    s.transmission = m.transmission;
     if (mesh.uvs.empty()) return;
     MeshUvs uvs = meshUvs(mesh, triangle, w1, w2);
     uvs.footprint = footprint;
@@ -138,6 +139,7 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
     // KHR_materials_sheen's textures: the colour (RGB) and the roughness (A).
     if (m.sheenColorTexture.texture >= 0) s.sheenColor *= glm::vec3(sample(m.sheenColorTexture));
     if (m.sheenRoughnessTexture.texture >= 0) s.sheenRoughness *= sample(m.sheenRoughnessTexture).a;
+    if (m.transmissionTexture.texture >= 0) s.transmission *= sample(m.transmissionTexture).r;
     if (m.normalTexture.texture >= 0 && !mesh.tangents.empty()) {
         const glm::uvec3 tri = mesh.triangles[size_t(triangle)];
         const glm::vec4 texel = sample(m.normalTexture);

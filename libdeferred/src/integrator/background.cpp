@@ -36,15 +36,16 @@ void Background::uncovered(float* out, int x, int y) const {
     }
 }
 
-void Background::behind(float* out, float alpha, int x, int y) const {
+void Background::behind(float* out, float alpha, const glm::vec3& through, int x, int y) const {
     if (m_skyBehind) {
         const glm::vec3 L = skyRadiance(x, y);
         for (int c = 0; c < 3; ++c)
-            out[c] += (1.0f - alpha) * L[c];
+            out[c] += through[c] * L[c];
         out[3] = 1.0f;
     } else {
-        for (int c = 0; c < 4; ++c)
-            out[c] += (1.0f - alpha) * m_colour[c];
+        for (int c = 0; c < 3; ++c)
+            out[c] += through[c] * m_colour[c];
+        out[3] += (1.0f - alpha) * m_colour[3];
     }
 }
 

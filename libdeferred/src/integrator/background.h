@@ -20,8 +20,9 @@ public:
 
     // The RGBA of pixel (x, y) where the G-buffer has no surface.
     void uncovered(float* out, int x, int y) const;
-    // Added behind a deep pixel's samples composited to RGBA `out` of alpha `alpha` < 1.
-    void behind(float* out, float alpha, int x, int y) const;
+    // Added behind a deep pixel's samples composited to RGBA `out` of alpha `alpha`, which
+    // pass `through` of it per channel (1 − alpha unless light passes a sample).
+    void behind(float* out, float alpha, const glm::vec3& through, int x, int y) const;
     // Whether everything is composited over a plate (overPlate).
     bool plated() const { return m_plated; }
     // `out` composited over the plate: RGB + plate × (1 − A), A = 1.

@@ -13,6 +13,7 @@
 #include <dhdr/deferred/integrator/lighting.h>
 #include <dhdr/deferred/lights/light_culling.h>
 #include <mutex>
+#include <optional>
 
 namespace dhdr {
 
@@ -61,24 +62,48 @@ struct PixelStages {
     std::vector<float>* sampleRGBA; // optional: each deep sample's own RGBA
 };
 
+// What passes to the samples behind, along one ray: the coverage left (1 − the alpha
+// composited so far) and, once a sample that light passes is met, per channel (`through`).
+struct Passing {
+    float left = 1.0f;
+    glm::vec3 through{1.0f};
+    bool tinted = false;
+
+    // The factor of sample `c`'s RGB, and what passes on behind it.
+    glm::vec3 onto(const ShadedSample& c) {
+        const glm::vec3 t = tinted ? through : glm::vec3(left);
+        left *= 1.0f - std::clamp(c.rgba.a, 0.0f, 1.0f);
+        through = t * glm::clamp(c.behind, 0.0f, 1.0f);
+        tinted = tinted || c.passes;
+        return t;
+    }
+    glm::vec3 behind() const { return tinted ? through : glm::vec3(left); }
+};
+
 // A pixel of several rays (GBufferView::severalRays): each ray's samples composited "over"
 // each other front to back, times the ray's share of the pixel, summed. Each sample's own RGBA
 // (`sampleRGBA`) is what makes a front-to-back "over" of all the pixel's samples, in depth order
 // (OpenEXR's flatten), give that sum: its contribution C_k over 1 − Σ_{j<k} alpha(C_j).
-glm::vec4 resolveRays(const PixelStages& s, float* aovs, int x, int y, LightingStats& local) {
+// `through`: set where light passes some sample, what passes behind all of them per channel.
+glm::vec4 resolveRays(const PixelStages& s, float* aovs, int x, int y, LightingStats& local,
+                      std::optional<glm::vec3>& through) {
     const GBufferView& view = s.view;
     const int samples = view.samples(x, y);
-    // The transmittance left along each ray so far; a pixel holds a few dozen rays at most.
-    std::vector<std::pair<std::uint32_t, float>> left;
+    // What passes along each ray so far, and the ray's weight; a pixel holds a few dozen rays.
+    struct Ray {
+        std::uint32_t id;
+        float weight;
+        Passing passing;
+    };
+    std::vector<Ray> left;
     glm::vec4 sum(0.0f);
     for (int k = 0; k < samples; ++k) {
-        const glm::vec4 c = s.shader.shade(x, y, k, local, k == 0 ? aovs : nullptr);
+        const ShadedSample c = s.shader.shade(x, y, k, local, k == 0 ? aovs : nullptr);
         const std::uint32_t ray = view.ray(x, y, k);
-        auto it =
-            std::find_if(left.begin(), left.end(), [&](const auto& r) { return r.first == ray; });
-        if (it == left.end()) it = left.insert(left.end(), {ray, 1.0f});
-        const glm::vec4 contribution = view.rayWeight(x, y, k) * it->second * c;
-        it->second *= 1.0f - std::clamp(c.a, 0.0f, 1.0f);
+        auto it = std::find_if(left.begin(), left.end(), [&](const Ray& r) { return r.id == ray; });
+        if (it == left.end()) it = left.insert(left.end(), {ray, view.rayWeight(x, y, k), {}});
+        const float w = it->weight, a = it->passing.left;
+        const glm::vec4 contribution(w * it->passing.onto(c) * glm::vec3(c.rgba), w * a * c.rgba.a);
         if (s.sampleRGBA) {
             const float behind = 1.0f - sum.a;
             const glm::vec4 own = behind > 1e-6f ? contribution / behind : glm::vec4(0.0f);
@@ -87,6 +112,17 @@ glm::vec4 resolveRays(const PixelStages& s, float* aovs, int x, int y, LightingS
         sum += contribution;
     }
     sum.a = std::min(sum.a, 1.0f); // a file's weights may add up to more than 1
+    // Behind: each ray's share of the pixel passes what passes along it; the rest of the pixel
+    // (a ray that missed has no sample) all of it.
+    if (std::any_of(left.begin(), left.end(), [](const Ray& r) { return r.passing.tinted; })) {
+        glm::vec3 behind(0.0f);
+        float weights = 0.0f;
+        for (const Ray& r : left) {
+            behind += r.weight * r.passing.behind();
+            weights += r.weight;
+        }
+        through = behind + std::max(0.0f, 1.0f - weights);
+    }
     return sum;
 }
 
@@ -104,27 +140,50 @@ void shadePixel(const PixelStages& s, float* out, int x, int y, LightingStats& l
         return;
     }
     glm::vec4 sum(0.0f);
+    std::optional<glm::vec3> through; // set where light passes a sample (transmission)
     if (view.severalRays()) {
-        sum = resolveRays(s, s.plan.aovs ? out + 4 : nullptr, x, y, local);
+        sum = resolveRays(s, s.plan.aovs ? out + 4 : nullptr, x, y, local, through);
     } else {
+        // What passes behind the samples so far, per channel, once one tints it; until then
+        // 1 − A, as "over" composites.
+        glm::vec3 passed(1.0f);
+        bool tinted = false;
         for (int k = 0; k < samples; ++k) {
-            const glm::vec4 c =
+            const ShadedSample c =
                 s.shader.shade(x, y, k, local, k == 0 && s.plan.aovs ? out + 4 : nullptr);
-            if (s.sampleRGBA)
-                std::copy(&c[0], &c[0] + 4, &(*s.sampleRGBA)[4 * view.sampleIndex(x, y, k)]);
             if (!view.deep()) {
-                sum = c;
+                sum = c.rgba;
+                if (s.sampleRGBA)
+                    std::copy(&sum[0], &sum[0] + 4,
+                              &(*s.sampleRGBA)[4 * view.sampleIndex(x, y, 0)]);
                 break;
             }
-            sum += (1.0f - sum.a) * c;
+            const glm::vec3 t = tinted ? passed : glm::vec3(1.0f - sum.a);
+            const glm::vec4 contribution(t * glm::vec3(c.rgba), (1.0f - sum.a) * c.rgba.a);
+            // Its own RGBA: as lit, unless a sample before it tints what passes, when its
+            // contribution over what the samples before it leave (resolveRays' form).
+            if (s.sampleRGBA) {
+                const float behind = 1.0f - sum.a;
+                const glm::vec4 own = !tinted          ? c.rgba
+                                      : behind > 1e-6f ? contribution / behind
+                                                       : glm::vec4(0.0f);
+                std::copy(&own[0], &own[0] + 4, &(*s.sampleRGBA)[4 * view.sampleIndex(x, y, k)]);
+            }
+            sum += contribution;
+            passed = t * glm::clamp(c.behind, 0.0f, 1.0f);
+            tinted = tinted || c.passes;
         }
+        if (tinted) through = passed;
     }
     ++local.coveredPixels;
     out[0] = sum.r;
     out[1] = sum.g;
     out[2] = sum.b;
     out[3] = sum.a;
-    if (view.deep() && sum.a < 1.0f) s.background.behind(out, sum.a, x, y);
+    if (view.deep() && through)
+        s.background.behind(out, sum.a, *through, x, y);
+    else if (view.deep() && sum.a < 1.0f)
+        s.background.behind(out, sum.a, glm::vec3(1.0f - sum.a), x, y);
     if (s.background.plated()) s.background.overPlate(out, x, y);
 }
 

@@ -62,7 +62,7 @@ SampleShader::SampleShader(const ShadeSource& source, const LightingInputs& inpu
       m_estimators(estimators), m_filtered(*estimators.filtered), m_plan(plan), m_tiles(tiles),
       m_reach(inputs.lights), m_frame(frame) {}
 
-glm::vec4 SampleShader::shade(int x, int y, int k, LightingStats& stats, float* aovs) const {
+ShadedSample SampleShader::shade(int x, int y, int k, LightingStats& stats, float* aovs) const {
     const ShadingPoint sp = m_source.view.at(x, y, k);
     stats.repairedNormals += sp.normalRepaired;
     const At at{x, y, k, stats};
@@ -79,12 +79,15 @@ glm::vec4 SampleShader::shade(int x, int y, int k, LightingStats& stats, float* 
     const glm::vec3 reflected = specularIndirect(point, at);
     const glm::vec3 Lo = shaded + indirect + reflected;
     if (aovs) m_plan.write(aovs, occlusion, indirect, reflected);
-    if (onCatcher(at)) return shadowCatcher(sp, shaded, open, at);
+    if (onCatcher(at)) {
+        const glm::vec4 c = shadowCatcher(sp, shaded, open, at);
+        return {c, glm::vec3(1.0f - c.a)};
+    }
     return premultiplied(sp, Lo);
 }
 
 // The reference: the path tracer's estimate plus the sample's emission; no AOV of its own.
-glm::vec4 SampleShader::pathTraced(const ShadingPoint& sp, const At& at, float* aovs) const {
+ShadedSample SampleShader::pathTraced(const ShadingPoint& sp, const At& at, float* aovs) const {
     const glm::vec3 Lo =
         sp.emission + m_estimators.tracer->radiance({sp.surface, sp.P, sp.N, sp.V, sp.origin}, at.x,
                                                     at.y, at.k, &at.stats.pathRays);
@@ -252,9 +255,12 @@ float SampleShader::catcherBounce(const ShadingPoint& sp, const At& at) const {
                                                        &at.stats.bounceRays));
 }
 
-glm::vec4 SampleShader::premultiplied(const ShadingPoint& sp, const glm::vec3& Lo) const {
-    return m_source.view.deep() ? glm::vec4(Lo * sp.coverage, sp.coverage)
-                                : glm::vec4(Lo, sp.coverage);
+ShadedSample SampleShader::premultiplied(const ShadingPoint& sp, const glm::vec3& Lo) const {
+    if (!m_source.view.deep()) return {glm::vec4(Lo, sp.coverage), glm::vec3(1.0f - sp.coverage)};
+    const float a = sp.coverage;
+    if (sp.surface.transmission <= 0.0f) return {glm::vec4(Lo * a, a), glm::vec3(1.0f - a)};
+    const glm::vec3 behind = (1.0f - a) + a * transmittance(sp.surface, sp.N, sp.V);
+    return {glm::vec4(Lo * a, 1.0f - (behind.r + behind.g + behind.b) / 3.0f), behind, true};
 }
 
 } // namespace dhdr

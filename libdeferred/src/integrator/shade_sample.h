@@ -28,6 +28,16 @@ struct LightReach {
     }
 };
 
+// A sample lit: its RGBA, and what it lets through of the light behind it, per channel: 1 − A
+// for a surface that only covers part of the pixel; where light passes the surface
+// (KHR_materials_transmission, `passes`), also its transmittance, tinted, and then A is
+// 1 − the mean of `behind` (what a reader of one alpha sees of it).
+struct ShadedSample {
+    glm::vec4 rgba;
+    glm::vec3 behind;
+    bool passes = false;
+};
+
 class SampleShader {
 public:
     // The pixels of `frame` (the whole frame; its tiles are `tiles`, unused with bruteForce).
@@ -39,12 +49,12 @@ public:
     // Sample k of pixel (x, y) lit: RGBA, premultiplied by the sample's alpha in a deep
     // G-buffer (a flat pixel keeps its RGB and its coverage as A). `aovs` (optional, after A)
     // receives its AOVs; `stats` counts what was evaluated and traced.
-    glm::vec4 shade(int x, int y, int k, LightingStats& stats, float* aovs) const;
+    ShadedSample shade(int x, int y, int k, LightingStats& stats, float* aovs) const;
 
 private:
     struct At; // the sample, and its thread's counters
 
-    glm::vec4 pathTraced(const ShadingPoint& sp, const At& at, float* aovs) const;
+    ShadedSample pathTraced(const ShadingPoint& sp, const At& at, float* aovs) const;
     float ambientOcclusion(const ShadingPoint& sp, const At& at) const;
     LitPoint litPoint(const ShadingPoint& sp, const At& at) const;
     void directLight(const ShadingPoint& sp, const LitPoint& point, const At& at, DirectTerms& lit,
@@ -58,7 +68,7 @@ private:
     glm::vec4 shadowCatcher(const ShadingPoint& sp, const glm::vec3& shaded,
                             const DirectTerms& open, const At& at) const;
     float catcherBounce(const ShadingPoint& sp, const At& at) const;
-    glm::vec4 premultiplied(const ShadingPoint& sp, const glm::vec3& Lo) const;
+    ShadedSample premultiplied(const ShadingPoint& sp, const glm::vec3& Lo) const;
 
     const ShadeSource& m_source;
     const LightingInputs& m_inputs;

@@ -293,6 +293,8 @@ struct TextureSlots {
                          *clearcoatNormal = nullptr;
     // KHR_materials_sheen's.
     const nlohmann::json *sheenColor = nullptr, *sheenRoughness = nullptr;
+    // KHR_materials_transmission's.
+    const nlohmann::json* transmission = nullptr;
 };
 
 TextureSlots textureSlots(const nlohmann::json& m) {
@@ -323,6 +325,10 @@ TextureSlots textureSlots(const nlohmann::json& m) {
         t.sheenColor = at(c, "sheenColorTexture");
         t.sheenRoughness = at(c, "sheenRoughnessTexture");
     }
+    if (m.contains("extensions") && m["extensions"].is_object() &&
+        m["extensions"].contains("KHR_materials_transmission") &&
+        m["extensions"]["KHR_materials_transmission"].is_object())
+        t.transmission = at(m["extensions"]["KHR_materials_transmission"], "transmissionTexture");
     return t;
 }
 
@@ -342,7 +348,7 @@ std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann:
             info(slots.baseColor),          info(slots.emissive),        info(slots.normal),
             info(slots.metallicRoughness),  info(slots.occlusion),       info(slots.clearcoat),
             info(slots.clearcoatRoughness), info(slots.clearcoatNormal), info(slots.sheenColor),
-            info(slots.sheenRoughness)};
+            info(slots.sheenRoughness),     info(slots.transmission)};
     }
     return out;
 }
@@ -399,8 +405,8 @@ bool isGltf1(const nlohmann::json& doc) {
 
 bool gltfExtensionRendered(const nlohmann::json& doc, const std::string& name) {
     // Assimp 5.2 decodes Draco meshes (Debian's is built with libdraco); dhdr reads the others
-    // itself or through Assimp (which reads the transmission and volume extensions too,
-    // but dhdr renders neither yet).
+    // itself or through Assimp (which reads the volume extension too, but dhdr does not
+    // render it yet).
     static const char* const kGltf2[] = {"KHR_draco_mesh_compression",
                                          "KHR_lights_punctual",
                                          "KHR_materials_emissive_strength",
@@ -410,6 +416,7 @@ bool gltfExtensionRendered(const nlohmann::json& doc, const std::string& name) {
                                          "KHR_materials_unlit",
                                          "KHR_materials_clearcoat",
                                          "KHR_materials_sheen",
+                                         "KHR_materials_transmission",
                                          "KHR_materials_pbrSpecularGlossiness"};
     // Assimp's glTF 1.0 importer reads the binary container and the common materials' colours.
     static const char* const kGltf1[] = {"KHR_binary_glTF", "KHR_materials_common"};
@@ -508,7 +515,8 @@ std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
             const TextureSlots t = textureSlots(m);
             for (const nlohmann::json* ref :
                  {t.baseColor, t.metallicRoughness, t.normal, t.occlusion, t.emissive, t.clearcoat,
-                  t.clearcoatRoughness, t.clearcoatNormal, t.sheenColor, t.sheenRoughness})
+                  t.clearcoatRoughness, t.clearcoatNormal, t.sheenColor, t.sheenRoughness,
+                  t.transmission})
                 if (ref)
                     highestSet =
                         std::max({highestSet, texCoordOf(*ref), textureInfo(*ref).texCoord});

@@ -59,6 +59,7 @@ struct GltfMaterialTextures {
     GltfTextureInfo baseColor, emissive, normal, metallicRoughness, occlusion;
     GltfTextureInfo clearcoat, clearcoatRoughness, clearcoatNormal;
     GltfTextureInfo sheenColor, sheenRoughness;
+    GltfTextureInfo transmission;
 };
 
 // Per material name, from a .gltf or .glb file; empty for other files.

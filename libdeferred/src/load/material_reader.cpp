@@ -174,6 +174,18 @@ void readSheen(const aiMaterial& am, const GltfMaterialTextures& info, TextureTa
              m.sheenRoughnessTexture, 1);
 }
 
+// KHR_materials_transmission, as Assimp 5.2 reads it: the factor (clamped to the schema's
+// [0, 1]) and its texture (the first of aiTextureType_TRANSMISSION, R linear).
+void readTransmission(const aiMaterial& am, const GltfMaterialTextures& info,
+                      TextureTable& textures, Material& m) {
+    float factor = 0.0f;
+    if (am.Get(AI_MATKEY_TRANSMISSION_FACTOR, factor) != AI_SUCCESS) return;
+    m.transmission = std::isfinite(factor) ? std::clamp(factor, 0.0f, 1.0f) : 0.0f;
+    if (m.transmission <= 0.0f) return;
+    readSlot(am, aiTextureType_TRANSMISSION, info.transmission, false, "transmission", textures,
+             m.transmissionTexture, 0);
+}
+
 // glTF's dielectric layer: KHR_materials_ior (Assimp 5.2 reports it as AI_MATKEY_REFRACTI),
 // KHR_materials_specular (from the file, `specular`), and KHR_materials_unlit (Assimp's
 // unlit shading model). False when the material's specular extension names textures, which
@@ -253,6 +265,7 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
                 t != transforms.end() ? t->second : GltfMaterialTextures{};
             readClearcoat(am, info, textures, m);
             readSheen(am, info, textures, m);
+            readTransmission(am, info, textures, m);
         }
         if (gltf && !readDielectric(am, specular, m))
             specularTextures += (specularTextures.empty() ? "'" : ", '") + m.name + "'";

@@ -35,11 +35,20 @@ void setNameTable(OIIO::ImageSpec& spec, const char* name, const std::vector<std
                    pointers.data());
 }
 
-// A surface along a primary ray and its alpha.
+// A surface along a primary ray, its alpha and whether light passes it (a transmissive
+// material's: KHR_materials_transmission).
 struct Layer {
     RayHit hit;
     float alpha = 1.0f;
+    bool passes = false;
 };
+
+// Whether light passes the surfaces of `mesh` (a transmission factor over 0; a texel of 0 in
+// its texture makes one opaque, which the lighting pass composites alike).
+bool transmissive(const Scene& scene, int mesh) {
+    return mesh != kGroundPlaneHit &&
+           scene.materials[size_t(scene.meshes[size_t(mesh)].material)].transmission > 0.0f;
+}
 
 // The surfaces along `ray` front to back up to and including the first opaque one (with
 // `firstOnly`, the first surface of any kind): Mask cut-outs are no surface; Blend surfaces
@@ -67,8 +76,9 @@ int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int
         if (hit.mesh != kGroundPlaneHit)
             c = surfaceCoverage(scene, hit.mesh, hit.triangle, hit.u, hit.v);
         if (!c.present) continue;
-        const bool opaque = c.alpha >= 1.0f || firstOnly;
-        if (opaque || n < maxLayers - 1) out[n++] = {hit, c.alpha};
+        const bool passes = transmissive(scene, hit.mesh);
+        const bool opaque = (c.alpha >= 1.0f && !passes) || firstOnly;
+        if (opaque || n < maxLayers - 1) out[n++] = {hit, c.alpha, passes};
         if (opaque) break;
     }
     return n;
@@ -141,6 +151,7 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
             out[layout.sheen + c] = s.sheenColor[c];
         out[layout.sheenRoughness] = s.sheenRoughness;
     }
+    if (layout.transmission >= 0) out[layout.transmission] = s.transmission;
     out[layout.objectId] = float(object + 1);
     out[layout.materialId] = float(material + 1);
     // Cryptomatte: rank 0 is this surface, covering what its alpha covers; rank 1 is empty
@@ -175,6 +186,7 @@ unsigned channelUses(const Scene& scene) {
         if (m.dielectricSet) uses |= gbuffer::kUsesSpecular;
         if (m.clearcoat > 0.0f) uses |= gbuffer::kUsesClearcoat;
         if (m.sheen()) uses |= gbuffer::kUsesSheen;
+        if (m.transmission > 0.0f) uses |= gbuffer::kUsesTransmission;
     }
     return uses;
 }
@@ -376,7 +388,7 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
                     out[layout.sampleWeight] = weight;
                 }
                 if (motion) motion->at(ray, layers[size_t(k)].hit, out + nch - 4);
-                local += ofSeveral || layers[size_t(k)].alpha < 1.0f;
+                local += ofSeveral || layers[size_t(k)].alpha < 1.0f || layers[size_t(k)].passes;
             }
             return n;
         };

@@ -31,6 +31,7 @@ std::string describeMaterial(const Scene& scene, int index) {
     if (m.sheen())
         out += format(", sheen (%.3g, %.3g, %.3g) (roughness %.3g)", m.sheenColor.r, m.sheenColor.g,
                       m.sheenColor.b, m.sheenRoughness);
+    if (m.transmission > 0.0f) out += format(", transmission %.3g", m.transmission);
     out += "\n";
     std::string textures;
     for (const MaterialTexture& t : materialTextures(m)) {
@@ -86,7 +87,8 @@ std::vector<MaterialTexture> materialTextures(const Material& m) {
         {"clearcoat roughness", "clearcoat_roughness", &m.clearcoatRoughnessTexture},
         {"clearcoat normal", "clearcoat_normal", &m.clearcoatNormalTexture},
         {"sheen colour", "sheen_color", &m.sheenColorTexture},
-        {"sheen roughness", "sheen_roughness", &m.sheenRoughnessTexture}};
+        {"sheen roughness", "sheen_roughness", &m.sheenRoughnessTexture},
+        {"transmission", "transmission", &m.transmissionTexture}};
     std::vector<MaterialTexture> out;
     for (const MaterialTexture& t : all)
         if (t.ref->texture >= 0) out.push_back(t);

@@ -107,6 +107,10 @@ struct PbrSurface {
     // A surface that is only KHR_materials_sheen's lobe (sheenLobe()): diffuseBrdf and
     // diffuseAlbedo return the sheen's, and its Fresnel is 0, so every specular term is 0.
     bool sheenOnly = false;
+    // KHR_materials_transmission: the dielectric's base is mix(diffuse_brdf, specular_btdf ·
+    // baseColor, transmission); the diffuse layer keeps 1 − transmission (diffuseColor), the
+    // rest passes through (transmittance()).
+    float transmission = 0.0f;
 
     float alpha() const { return std::max(roughness * roughness, kMinAlpha); }
     // Normal-incidence reflectance: the dielectric's, the base colour for metals.
@@ -121,7 +125,9 @@ struct PbrSurface {
     glm::vec3 lobeReflectance(const glm::vec2& e) const {
         return F0() * (e.y - e.x) + glm::vec3(e.x) * f90();
     }
-    glm::vec3 diffuseColor() const { return baseColor * (1.0f - metallic); }
+    glm::vec3 diffuseColor() const {
+        return baseColor * ((1.0f - metallic) * (1.0f - transmission));
+    }
 
     bool coated() const { return coat.weight > 0.0f; }
     // fresnel_coat's layer weight towards V (KHR_materials_clearcoat, "Layering"): clearcoat ·

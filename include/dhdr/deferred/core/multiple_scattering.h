@@ -61,4 +61,20 @@ inline glm::vec3 specularAlbedo(const PbrSurface& s, float NdotV) {
     return s.lobeReflectance(e) + multipleScatteringAlbedo(s, NdotV);
 }
 
+// KHR_materials_transmission, thin walled: the share of the light from behind the surface
+// that passes it towards V, per channel. The extension's base is mix(diffuse_brdf,
+// specular_btdf · baseColor, transmission) under fresnel_mix, which leaves the base what the
+// dielectric's lobe does not reflect (1 − its albedo, specularAlbedo); the sheen's albedo
+// scaling and the coat's 1 − b dim it as they dim the base. No refraction: what lies behind
+// is seen straight through, as the extension's thin-walled case says.
+inline glm::vec3 transmittance(const PbrSurface& s, const glm::vec3& N, const glm::vec3& V) {
+    if (s.transmission <= 0.0f) return glm::vec3(0.0f);
+    PbrSurface dielectric = s.bare();
+    dielectric.metallic = 0.0f;
+    const float NdotV = std::min(std::abs(glm::dot(N, V)), 1.0f);
+    const glm::vec3 passed = glm::max(glm::vec3(1.0f) - specularAlbedo(dielectric, NdotV), 0.0f);
+    const float layers = s.sheenScaling(N, V) * (1.0f - s.coatBlend(V));
+    return s.baseColor * (s.transmission * (1.0f - s.metallic) * layers) * passed;
+}
+
 } // namespace dhdr

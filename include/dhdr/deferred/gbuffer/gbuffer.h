@@ -34,6 +34,7 @@ inline constexpr const char* kClearcoatRoughness = "clearcoatRoughness";
 inline constexpr const char* kClearcoatNormal[3] = {"clearcoatN.X", "clearcoatN.Y", "clearcoatN.Z"};
 inline constexpr const char* kSheen[3] = {"sheen.R", "sheen.G", "sheen.B"};
 inline constexpr const char* kSheenRoughness = "sheenRoughness";
+inline constexpr const char* kTransmission = "transmission";
 inline constexpr const char* kEmission[3] = {"emission.R", "emission.G", "emission.B"};
 inline constexpr const char* kObjectId = "id.object";
 inline constexpr const char* kMaterialId = "id.material";
@@ -63,6 +64,7 @@ struct Layout {
     int roughness = -1, metallic = -1, occlusion = -1, specular = -1, specularWeight = -1;
     int clearcoat = -1, clearcoatRoughness = -1, clearcoatNormal = -1;
     int sheen = -1, sheenRoughness = -1;
+    int transmission = -1;
     int emission = -1, objectId = -1, materialId = -1;
     int cryptoObject = -1, cryptoMaterial = -1;
     int sampleId = -1, sampleWeight = -1;
@@ -94,7 +96,8 @@ enum ChannelUse : unsigned {
     kUsesSmoothNormals = 8u, // a triangle whose vertex normals differ (Plift)
     kUsesSheen = 16u,        // KHR_materials_sheen
     kUsesPixelSamples = 32u, // deep: several primary rays in some pixel (sample.id, .weight)
-    kAllUses = 63u
+    kUsesTransmission = 64u, // KHR_materials_transmission
+    kAllUses = 127u
 };
 
 // One entry of the contract: a scalar, a 3-vector or a Cryptomatte layer, in the order
@@ -243,6 +246,14 @@ inline constexpr ContractChannel kContract[] = {
      &Layout::sheenRoughness,
      "the sheen's roughness: sheenRoughnessFactor × sheenRoughnessTexture's A",
      kUsesSheen},
+    {{kTransmission},
+     1,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::transmission,
+     "KHR_materials_transmission's share of the dielectric's base that passes through, thin "
+     "walled: transmissionFactor × transmissionTexture's R; 0: opaque",
+     kUsesTransmission},
     {{kEmission[0], kEmission[1], kEmission[2]},
      3,
      FileType::Half,

@@ -117,6 +117,8 @@ public:
                                          unitOr(g[m_layout.sheen + 1], 0.0f),
                                          unitOr(g[m_layout.sheen + 2], 0.0f)),
                                unitOr(g[m_layout.sheenRoughness], 0.0f)};
+        if (m_layout.transmission >= 0)
+            s.surface.transmission = unitOr(g[m_layout.transmission], 0.0f);
         if (m_layout.occlusion >= 0) {
             const float o = g[m_layout.occlusion];
             s.occlusion = std::isnan(o) ? 1.0f : std::clamp(o, 0.0f, 1.0f);

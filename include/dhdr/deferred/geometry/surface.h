@@ -39,6 +39,8 @@ struct SurfaceSample {
     // without a sheen.
     glm::vec3 sheenColor{0.0f};
     float sheenRoughness = 0.0f;
+    // KHR_materials_transmission: factor × texture; 0 for an opaque surface.
+    float transmission = 0.0f;
     const Material* material;
 
     // The BSDF's parameters there, with the diffuse layer `diffuse`.
@@ -52,6 +54,7 @@ struct SurfaceSample {
         p.diffuse = diffuse;
         p.coat = {clearcoat, clearcoatRoughness, glm::vec3(clearcoatNormal)};
         p.sheen = {sheenColor, sheenRoughness};
+        p.transmission = transmission;
         return p;
     }
 };

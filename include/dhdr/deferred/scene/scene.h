@@ -65,6 +65,10 @@ struct Material {
     float sheenRoughness = 0.0f;
     TextureRef sheenColorTexture, sheenRoughnessTexture;
     bool sheen() const { return std::max({sheenColor.r, sheenColor.g, sheenColor.b}) > 0.0f; }
+    // KHR_materials_transmission: the share of the dielectric's base that passes through (0:
+    // opaque; × its texture's R, linear), thin walled (no refraction).
+    float transmission = 0.0f;
+    TextureRef transmissionTexture;
 
     // KHR_materials_specular's dielectric_f0: min(((ior − 1) / (ior + 1))² · specularColor, 1)
     // · specularFactor; 4 % when the file sets none of them.
