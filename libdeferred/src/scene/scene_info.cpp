@@ -31,6 +31,11 @@ std::string describeMaterial(const Scene& scene, int index) {
     if (m.sheen())
         out += format(", sheen (%.3g, %.3g, %.3g) (roughness %.3g)", m.sheenColor.r, m.sheenColor.g,
                       m.sheenColor.b, m.sheenRoughness);
+    // Converted per texel: the base colour above is the diffuse colour, not yet dimmed.
+    if (m.specularGlossinessTexture.texture >= 0)
+        out +=
+            format(", specular-glossiness per texel: specular (%.3g, %.3g, %.3g), glossiness %.3g",
+                   m.glossSpecular.r, m.glossSpecular.g, m.glossSpecular.b, m.glossiness);
     out += "\n";
     std::string textures;
     for (const MaterialTexture& t : materialTextures(m)) {
@@ -86,7 +91,10 @@ std::vector<MaterialTexture> materialTextures(const Material& m) {
         {"clearcoat roughness", "clearcoat_roughness", &m.clearcoatRoughnessTexture},
         {"clearcoat normal", "clearcoat_normal", &m.clearcoatNormalTexture},
         {"sheen colour", "sheen_color", &m.sheenColorTexture},
-        {"sheen roughness", "sheen_roughness", &m.sheenRoughnessTexture}};
+        {"sheen roughness", "sheen_roughness", &m.sheenRoughnessTexture},
+        {"specular", "specular", &m.specularTexture},
+        {"specular colour", "specular_color", &m.specularColorTexture},
+        {"specular-glossiness", "specular_glossiness", &m.specularGlossinessTexture}};
     std::vector<MaterialTexture> out;
     for (const MaterialTexture& t : all)
         if (t.ref->texture >= 0) out.push_back(t);
