@@ -113,8 +113,9 @@ bool readSlot(const aiMaterial& am, aiTextureType type, const GltfTextureInfo& i
     return true;
 }
 
-// A texture reference that Assimp 5.2 does not report (KHR_materials_specular's), read from
-// the file's JSON as readSlot reads Assimp's: the textureInfo `json` (its index into the file's
+// A texture reference that Assimp 5.2 does not report (KHR_materials_specular's; and
+// KHR_materials_pbrSpecularGlossiness's unless extensionsUsed names it), read from the file's
+// JSON as readSlot reads Assimp's: the textureInfo `json` (its index into the file's
 // textures, that texture's image and sampler, its texCoord) with its KHR_texture_transform
 // (`info`). A reference that leads to no image is an unread texture (TextureTable::report warns,
 // naming the material). False when `json` is absent.
