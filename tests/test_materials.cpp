@@ -486,7 +486,7 @@ TEST_F(Materials, UnlitShowsItsBaseColourUnderAnyLight) {
 // KHR_materials_pbrSpecularGlossiness as its README's BRDF: c_diff = diffuse · (1 − max(specular)),
 // F0 = specular, α = (1 − glossiness)², i.e. metallic 0, roughness 1 − glossiness, F90 1; the
 // metal-rough fallback (red, metallic, its texture) is not the material; the diffuse texture
-// multiplies the diffuse colour; a specularGlossinessTexture is named as not read.
+// multiplies the diffuse colour, the specularGlossinessTexture the specular one.
 TEST_F(Materials, SpecularGlossinessBecomesItsMetalRoughEquivalent) {
     writePng("sg_diffuse.png", {{255, 128, 64, 255}});
     nlohmann::json doc = square();
@@ -524,9 +524,15 @@ TEST_F(Materials, SpecularGlossinessBecomesItsMetalRoughEquivalent) {
                     albedo[c] * texel[c], 2e-3)
             << c;
 
+    // The specularGlossinessTexture (sRGB RGB) scales the specular colour, F0, and dims the
+    // diffuse by 1 − its largest component (SpecularTextures.* test it texel by texel).
     doc["materials"][0]["extensions"]["KHR_materials_pbrSpecularGlossiness"]
        ["specularGlossinessTexture"] = {{"index", 0}};
-    gbuffer("specgloss_sgtex", doc);
-    EXPECT_NE(m_err.find("specularGlossinessTexture is not read (material"), std::string::npos)
-        << m_err;
+    const ImageBuf sg = gbuffer("specgloss_sgtex", doc);
+    EXPECT_EQ(m_err.find("not read"), std::string::npos) << m_err;
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(channel(sg, 32, 32, (std::string("specular.") + rgb[c]).c_str()),
+                    f0[c] * texel[c], 1e-3)
+            << c;
+    EXPECT_NEAR(channel(sg, 32, 32, "albedo.R"), 0.5 * texel[0] * (1.0 - 0.2), 2e-3);
 }

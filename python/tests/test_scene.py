@@ -140,3 +140,72 @@ def test_sheen_is_read_and_has_its_channels(cornell, tmp_path):
     assert dhdr.read_gbuffer(str(tmp_path / "tool.exr")).channels == dhdr.read_gbuffer(
         str(tmp_path / "py.exr")).channels
     assert not [c for c in dhdr.render_gbuffer(cornell, size=(8, 8)).channels if "sheen" in c]
+
+
+def _textured_square(tmp_path, extensions):
+    """A 2 x 2 square at z = 0 facing +Z, TEXCOORD_0 u along +X, its material "shiny" with
+    `extensions`; images spec.png (RGBA, 4 x 1) and the file written beside it."""
+    import base64
+    import json
+    import struct
+    import OpenImageIO as oiio
+    texels = np.array([[[255, 128, 64, 255], [64, 255, 128, 191], [128, 64, 255, 128],
+                        [200, 200, 200, 32]]], dtype=np.uint8)
+    spec = oiio.ImageSpec(4, 1, 4, "uint8")
+    spec.attribute("oiio:UnassociatedAlpha", 1)
+    out = oiio.ImageOutput.create(str(tmp_path / "spec.png"))
+    assert out.open(str(tmp_path / "spec.png"), spec) and out.write_image(texels) and out.close()
+    pos = [-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0]
+    uv = [0, 1, 1, 1, 1, 0, 0, 0]
+    data = struct.pack("12f", *pos) + struct.pack("8f", *uv) + struct.pack("6I", 0, 1, 2, 0, 2, 3)
+    doc = {
+        "asset": {"version": "2.0"},
+        "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64,"
+                     + base64.b64encode(data).decode()}],
+        "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
+                        {"buffer": 0, "byteOffset": 48, "byteLength": 32},
+                        {"buffer": 0, "byteOffset": 80, "byteLength": 24}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
+                       "min": [-1, -1, 0], "max": [1, 1, 0]},
+                      {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
+                      {"bufferView": 2, "componentType": 5125, "count": 6, "type": "SCALAR"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1},
+                                    "indices": 2, "material": 0}]}],
+        "materials": [{"name": "shiny", "extensions": extensions,
+                       "pbrMetallicRoughness": {"metallicFactor": 0.0}}],
+        "images": [{"uri": "spec.png"}],
+        "samplers": [{"magFilter": 9728}],
+        "textures": [{"source": 0, "sampler": 0}],
+        "nodes": [{"name": "square", "mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+        "extensionsUsed": list(extensions),
+    }
+    path = tmp_path / "square.gltf"
+    path.write_text(json.dumps(doc))
+    return str(path), texels
+
+
+def test_specular_textures_are_listed_and_sampled(tmp_path):
+    """KHR_materials_specular's textures (issue 44): in Scene.materials' textures by slot, and
+    in render_gbuffer's specularWeight, the texel's A times specularFactor, as the tool's."""
+    path, texels = _textured_square(tmp_path, {"KHR_materials_specular": {
+        "specularFactor": 0.5, "specularTexture": {"index": 0},
+        "specularColorTexture": {"index": 0}}})
+    scene = dhdr.Scene(path)
+    shiny = scene.materials[0]
+    assert sorted(shiny["textures"]) == ["specular", "specular_color"]
+    assert shiny["textures"]["specular"]["name"].endswith("spec.png")
+    assert shiny["extensions_not_read"] == []
+    assert not [w for w in scene.warnings if "not read" in w]
+    g = dhdr.render_gbuffer(scene, size=(64, 64), lookat=(0, 0, 3, 0, 0, 0), fov=60)
+    weight, x = g["specularWeight"][32], g["P.X"][32]
+    for i, a in enumerate(texels[0, :, 3]):
+        u = (x + 1) / 2 * 4 - i  # inside texel i: 0 < u < 1, away from its edges
+        inside = (u > 0.2) & (u < 0.8) & (g["A"][32] == 1)
+        assert inside.any()
+        assert np.allclose(weight[inside], 0.5 * a / 255, rtol=1e-3)
+    run_tool("dhdr-gbuffer", path, "--size", "64x64", "--lookat", "0,0,3,0,0,0", "--fov", "60",
+             "-o", tmp_path / "tool.exr")
+    dhdr.write_gbuffer(str(tmp_path / "py.exr"), g)
+    same_bits(dhdr.read_gbuffer(str(tmp_path / "py.exr")).pixels,
+              dhdr.read_gbuffer(str(tmp_path / "tool.exr")).pixels)

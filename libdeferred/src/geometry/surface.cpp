@@ -104,6 +104,31 @@ void applyClearcoat(const Scene& scene, const Mesh& mesh, int triangle, double w
     }
 }
 
+// KHR_materials_specular's textures (its README, "Implementation"): specularTexture's A scales
+// specularFactor and specularColorTexture's RGB specularColorFactor, in F0 and F90 alike.
+void applySpecular(const Scene& scene, const MeshUvs& uvs, SurfaceSample& s) {
+    const Material& m = *s.material;
+    float specular = m.specularFactor;
+    glm::vec3 color = m.specularColor;
+    if (m.specularTexture.texture >= 0) specular *= sampleTexture(scene, m.specularTexture, uvs).a;
+    if (m.specularColorTexture.texture >= 0)
+        color *= glm::vec3(sampleTexture(scene, m.specularColorTexture, uvs));
+    s.dielectricF0 = dielectricF0(m.ior, color, specular);
+    s.dielectricF90 = specular;
+}
+
+// KHR_materials_pbrSpecularGlossiness with its specularGlossinessTexture: the conversion to
+// metal-rough made with this texel (1 where the mesh has no UVs) scaling the factors, over the
+// diffuse colour already in s.albedo (× vertex colour × diffuse texture, as its README says).
+void applySpecularGlossiness(const Material& m, const glm::vec4& texel, SurfaceSample& s) {
+    const MetalRoughFromSpecGloss c =
+        specGlossAsMetalRough(s.albedo, m.glossSpecular * glm::vec3(texel), m.glossiness * texel.a);
+    s.albedo = c.baseColor;
+    s.roughness = c.roughness;
+    s.dielectricF0 = c.f0;
+    s.dielectricF90 = 1.0f;
+}
+
 // The material's factors at the hit times its textures (on their UV sets) and the vertex
 // colour, into `s`.
 void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1, double w2,
@@ -122,7 +147,11 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
     s.sheenColor = m.sheenColor;
     s.sheenRoughness = m.sheenRoughness;
     s.transmission = m.transmission;
-    if (mesh.uvs.empty()) return;
+    if (mesh.uvs.empty()) {
+        if (m.specularGlossinessTexture.texture >= 0)
+            applySpecularGlossiness(m, glm::vec4(1.0f), s);
+        return;
+    }
     MeshUvs uvs = meshUvs(mesh, triangle, w1, w2);
     uvs.footprint = footprint;
     auto sample = [&](const TextureRef& ref) { return sampleTexture(scene, ref, uvs); };
@@ -135,6 +164,10 @@ void applyMaterial(const Scene& scene, const Mesh& mesh, int triangle, double w1
     }
     if (m.occlusionTexture.texture >= 0)
         s.occlusion = 1.0f + m.occlusionStrength * (sample(m.occlusionTexture).r - 1.0f);
+    if (m.specularTexture.texture >= 0 || m.specularColorTexture.texture >= 0)
+        applySpecular(scene, uvs, s);
+    if (m.specularGlossinessTexture.texture >= 0)
+        applySpecularGlossiness(m, sample(m.specularGlossinessTexture), s);
     if (m.clearcoat > 0.0f) applyClearcoat(scene, mesh, triangle, w1, w2, ray, uvs, s);
     // KHR_materials_sheen's textures: the colour (RGB) and the roughness (A).
     if (m.sheenColorTexture.texture >= 0) s.sheenColor *= glm::vec3(sample(m.sheenColorTexture));

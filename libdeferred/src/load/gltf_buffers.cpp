@@ -196,6 +196,51 @@ bool GltfBuffers::buffer(size_t index, const std::vector<std::uint8_t>*& bytes,
     return true;
 }
 
+bool GltfBuffers::readImage(size_t index, std::vector<std::uint8_t>& out, std::string& error) {
+    const nlohmann::json& images = m_doc.value("images", nlohmann::json::array());
+    if (!images.is_array() || index >= images.size() || !images[index].is_object()) {
+        error = "image " + std::to_string(index) + " does not exist";
+        return false;
+    }
+    const nlohmann::json& image = images[index];
+    const std::string name = "image " + std::to_string(index);
+    if (image.contains("uri")) {
+        const std::string uri = image["uri"].is_string() ? image["uri"].get<std::string>() : "";
+        const size_t comma = uri.find(";base64,");
+        bool ok = uri.rfind("data:", 0) == 0 && comma != std::string::npos;
+        if (ok) out = fromBase64(uri, comma + 8, ok);
+        if (!ok) error = name + ": its uri is no base64 data URI";
+        return ok;
+    }
+    size_t viewIndex = 0, bufferIndex = 0, offset = 0, length = 0;
+    const nlohmann::json& views = m_doc.value("bufferViews", nlohmann::json::array());
+    if (!unsignedField(image, "bufferView", viewIndex) || !views.is_array() ||
+        viewIndex >= views.size() || !views[viewIndex].is_object()) {
+        error = name + " has neither a uri nor a bufferView that exists";
+        return false;
+    }
+    const nlohmann::json& view = views[viewIndex];
+    const std::string viewName = "bufferView " + std::to_string(viewIndex);
+    if (!unsignedField(view, "buffer", bufferIndex) || !unsignedField(view, "byteLength", length) ||
+        (view.contains("byteOffset") && !unsignedField(view, "byteOffset", offset))) {
+        error = name + ": " + viewName + " has no buffer, byteLength or whole byteOffset";
+        return false;
+    }
+    const std::vector<std::uint8_t>* bytes = nullptr;
+    if (!buffer(bufferIndex, bytes, error)) {
+        error = name + ": " + error;
+        return false;
+    }
+    // Subtracting from the size known to be larger: no offset or length can wrap round.
+    if (offset > bytes->size() || length > bytes->size() - offset) {
+        error = name + ": " + viewName + " runs past buffer " + std::to_string(bufferIndex) +
+                "'s " + std::to_string(bytes->size()) + " bytes";
+        return false;
+    }
+    out.assign(bytes->begin() + long(offset), bytes->begin() + long(offset + length));
+    return true;
+}
+
 bool GltfBuffers::locate(const nlohmann::json& a, size_t count, int components, Span& span,
                          std::string& error) {
     span = Span{};

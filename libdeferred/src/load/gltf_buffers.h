@@ -26,6 +26,11 @@ public:
     // The elements of an index accessor (unsigned byte, short or int SCALARs), exactly.
     bool readIndices(size_t index, std::vector<std::uint32_t>& out, std::string& error);
 
+    // The encoded bytes (PNG, JPEG...) of image `index` when the file holds them itself, in a
+    // bufferView or a base64 data URI. False with `error` saying what is wrong (no such image, one
+    // that names an outside file, a bufferView past its buffer...).
+    bool readImage(size_t index, std::vector<std::uint8_t>& out, std::string& error);
+
 private:
     // Where an accessor's elements lie: null `base` for an accessor without a bufferView.
     struct Span {

@@ -96,7 +96,8 @@ std::map<std::string, GltfSpecular> gltfSpecular(const nlohmann::json& doc) {
         if (c.is_array() && c.size() == 3 && isFloat(c[0]) && isFloat(c[1]) && isFloat(c[2]))
             s.color = glm::max(glm::vec3(c[0].get<float>(), c[1].get<float>(), c[2].get<float>()),
                                glm::vec3(0.0f));
-        s.textures = k.contains("specularTexture") || k.contains("specularColorTexture");
+        if (k.contains("specularTexture")) s.texture = k["specularTexture"];
+        if (k.contains("specularColorTexture")) s.colorTexture = k["specularColorTexture"];
         out[m["name"].get<std::string>()] = s;
     }
     return out;
@@ -131,8 +132,9 @@ std::map<std::string, GltfSpecGloss> gltfSpecGloss(const nlohmann::json& doc) {
         factor(k, "diffuseFactor", &s.diffuse[0], 4);
         factor(k, "specularFactor", &s.specular[0], 3);
         factor(k, "glossinessFactor", &s.glossiness, 1);
-        s.diffuseTexture = k.contains("diffuseTexture");
-        s.specularGlossinessTexture = k.contains("specularGlossinessTexture");
+        if (k.contains("diffuseTexture")) s.diffuseTexture = k["diffuseTexture"];
+        if (k.contains("specularGlossinessTexture"))
+            s.specularGlossinessTexture = k["specularGlossinessTexture"];
         out[m["name"].get<std::string>()] = s;
     }
     return out;
@@ -293,8 +295,20 @@ struct TextureSlots {
                          *clearcoatNormal = nullptr;
     // KHR_materials_sheen's.
     const nlohmann::json *sheenColor = nullptr, *sheenRoughness = nullptr;
+    // KHR_materials_specular's.
+    const nlohmann::json *specular = nullptr, *specularColor = nullptr;
+    // KHR_materials_pbrSpecularGlossiness's.
+    const nlohmann::json *diffuse = nullptr, *specularGlossiness = nullptr;
+
     // KHR_materials_transmission's.
     const nlohmann::json* transmission = nullptr;
+
+    // Each of them, for what applies to every slot.
+    std::vector<const nlohmann::json*> all() const {
+        return {baseColor, metallicRoughness,  normal,          occlusion,          emissive,
+                clearcoat, clearcoatRoughness, clearcoatNormal, sheenColor,         sheenRoughness,
+                specular,  specularColor,      diffuse,         specularGlossiness, transmission};
+    }
 };
 
 TextureSlots textureSlots(const nlohmann::json& m) {
@@ -325,10 +339,22 @@ TextureSlots textureSlots(const nlohmann::json& m) {
         t.sheenColor = at(c, "sheenColorTexture");
         t.sheenRoughness = at(c, "sheenRoughnessTexture");
     }
-    if (m.contains("extensions") && m["extensions"].is_object() &&
-        m["extensions"].contains("KHR_materials_transmission") &&
-        m["extensions"]["KHR_materials_transmission"].is_object())
-        t.transmission = at(m["extensions"]["KHR_materials_transmission"], "transmissionTexture");
+    auto extension = [&](const char* name) -> const nlohmann::json* {
+        if (!m.contains("extensions") || !m["extensions"].is_object() ||
+            !m["extensions"].contains(name) || !m["extensions"][name].is_object())
+            return nullptr;
+        return &m["extensions"][name];
+    };
+    if (const nlohmann::json* c = extension("KHR_materials_specular")) {
+        t.specular = at(*c, "specularTexture");
+        t.specularColor = at(*c, "specularColorTexture");
+    }
+    if (const nlohmann::json* c = extension("KHR_materials_pbrSpecularGlossiness")) {
+        t.diffuse = at(*c, "diffuseTexture");
+        t.specularGlossiness = at(*c, "specularGlossinessTexture");
+    }
+    if (const nlohmann::json* c = extension("KHR_materials_transmission"))
+        t.transmission = at(*c, "transmissionTexture");
     return t;
 }
 
@@ -344,11 +370,21 @@ std::map<std::string, GltfMaterialTextures> gltfMaterialTextures(const nlohmann:
         auto info = [](const nlohmann::json* ref) {
             return ref ? textureInfo(*ref) : GltfTextureInfo{};
         };
-        out[m["name"].get<std::string>()] = {
-            info(slots.baseColor),          info(slots.emissive),        info(slots.normal),
-            info(slots.metallicRoughness),  info(slots.occlusion),       info(slots.clearcoat),
-            info(slots.clearcoatRoughness), info(slots.clearcoatNormal), info(slots.sheenColor),
-            info(slots.sheenRoughness),     info(slots.transmission)};
+        out[m["name"].get<std::string>()] = {info(slots.baseColor),
+                                             info(slots.emissive),
+                                             info(slots.normal),
+                                             info(slots.metallicRoughness),
+                                             info(slots.occlusion),
+                                             info(slots.clearcoat),
+                                             info(slots.clearcoatRoughness),
+                                             info(slots.clearcoatNormal),
+                                             info(slots.sheenColor),
+                                             info(slots.sheenRoughness),
+                                             info(slots.specular),
+                                             info(slots.specularColor),
+                                             info(slots.diffuse),
+                                             info(slots.specularGlossiness),
+                                             info(slots.transmission)};
     }
     return out;
 }
@@ -509,20 +545,24 @@ std::vector<std::string> gltfIgnoredFeatures(const nlohmann::json& doc) {
                                                  : "morph targets") +
                       " are not applied: meshes are rendered in their rest pose");
     // TEXCOORD_0 and _1 are read; a texture on a later set falls back to the first.
-    int highestSet = 0;
+    std::string pastSecondSet; // the materials that name one
     if (doc.contains("materials") && doc["materials"].is_array())
-        for (const auto& m : doc["materials"]) {
-            const TextureSlots t = textureSlots(m);
-            for (const nlohmann::json* ref :
-                 {t.baseColor, t.metallicRoughness, t.normal, t.occlusion, t.emissive, t.clearcoat,
-                  t.clearcoatRoughness, t.clearcoatNormal, t.sheenColor, t.sheenRoughness,
-                  t.transmission})
+        for (size_t i = 0; i < doc["materials"].size(); ++i) {
+            const nlohmann::json& m = doc["materials"][i];
+            int highestSet = 0;
+            for (const nlohmann::json* ref : textureSlots(m).all())
                 if (ref)
                     highestSet =
                         std::max({highestSet, texCoordOf(*ref), textureInfo(*ref).texCoord});
+            if (highestSet <= 1) continue;
+            const bool named = m.contains("name") && m["name"].is_string();
+            pastSecondSet += (pastSecondSet.empty() ? "" : ", ") +
+                             (named ? "'" + m["name"].get<std::string>() + "'"
+                                    : "materials[" + std::to_string(i) + "]");
         }
-    if (highestSet > 1)
-        out.push_back("textures on UV sets past TEXCOORD_1 are sampled with TEXCOORD_0");
+    if (!pastSecondSet.empty())
+        out.push_back("textures on UV sets past TEXCOORD_1 are sampled with TEXCOORD_0 (material " +
+                      pastSecondSet + ")");
     return out;
 }
 

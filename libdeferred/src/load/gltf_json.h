@@ -23,12 +23,13 @@ std::string glbJsonChunk(const std::vector<char>& bytes);
 // other files, or when no material uses the extension.
 std::map<std::string, float> gltfEmissiveStrengths(const nlohmann::json& doc);
 
-// KHR_materials_specular of a material (Assimp 5.2 does not read it): its factors, and whether
-// it names textures (not read yet).
+// KHR_materials_specular of a material (Assimp 5.2 does not read it): its factors, and its
+// textures' textureInfo objects as the file writes them (null where absent; read by
+// readMaterials, which resolves them to images itself).
 struct GltfSpecular {
     float factor = 1.0f;
     glm::vec3 color{1.0f};
-    bool textures = false;
+    nlohmann::json texture, colorTexture;
 };
 
 // Per material name, for the materials that use it; empty for other files.
@@ -40,7 +41,9 @@ struct GltfSpecGloss {
     glm::vec4 diffuse{1.0f};
     glm::vec3 specular{1.0f};
     float glossiness = 1.0f;
-    bool diffuseTexture = false, specularGlossinessTexture = false;
+    // The textures' textureInfo objects as the file writes them (null where absent): Assimp 5.2
+    // reports them only when extensionsUsed names the extension, dhdr reads them from here.
+    nlohmann::json diffuseTexture, specularGlossinessTexture;
 };
 
 // Per material name, for the materials that use it; empty for other files.
@@ -59,7 +62,9 @@ struct GltfMaterialTextures {
     GltfTextureInfo baseColor, emissive, normal, metallicRoughness, occlusion;
     GltfTextureInfo clearcoat, clearcoatRoughness, clearcoatNormal;
     GltfTextureInfo sheenColor, sheenRoughness;
-    GltfTextureInfo transmission;
+    GltfTextureInfo specular, specularColor;     // KHR_materials_specular's
+    GltfTextureInfo diffuse, specularGlossiness; // KHR_materials_pbrSpecularGlossiness's
+    GltfTextureInfo transmission;                // KHR_materials_transmission's
 };
 
 // Per material name, from a .gltf or .glb file; empty for other files.

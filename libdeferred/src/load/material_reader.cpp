@@ -113,6 +113,62 @@ bool readSlot(const aiMaterial& am, aiTextureType type, const GltfTextureInfo& i
     return true;
 }
 
+// A texture reference that Assimp 5.2 does not report (KHR_materials_specular's; and
+// KHR_materials_pbrSpecularGlossiness's unless extensionsUsed names it), read from the file's
+// JSON as readSlot reads Assimp's: the textureInfo `json` (its index into the file's
+// textures, that texture's image and sampler, its texCoord) with its KHR_texture_transform
+// (`info`). A reference that leads to no image is an unread texture (TextureTable::report warns,
+// naming the material). False when `json` is absent.
+bool readJsonSlot(const nlohmann::json& doc, const nlohmann::json& json,
+                  const GltfTextureInfo& info, bool srgb, const char* slot, TextureTable& textures,
+                  TextureRef& ref) {
+    if (json.is_null()) return false;
+    const nlohmann::json* list = doc.contains("textures") ? &doc["textures"] : nullptr;
+    const nlohmann::json* texture = nullptr;
+    if (!json.is_object() || !json.contains("index") || !json["index"].is_number_unsigned()) {
+        ref.texture = textures.unreadable(
+            "its textureInfo " + json.dump().substr(0, 60) + " has no index", slot);
+    } else if (const size_t index = json["index"].get<size_t>();
+               !list || !list->is_array() || index >= list->size() || !(*list)[index].is_object()) {
+        ref.texture =
+            textures.unreadable("texture " + std::to_string(index) + " does not exist", slot);
+    } else if (texture = &(*list)[index];
+               !texture->contains("source") || !(*texture)["source"].is_number_unsigned()) {
+        ref.texture = textures.unreadable(
+            "texture " + std::to_string(index) + " names no image (no \"source\")", slot);
+    } else {
+        ref.texture = textures.loadGltfImage(doc, (*texture)["source"].get<size_t>(), srgb, slot);
+    }
+    ref.transform = info.transform;
+    // TEXCOORD_0 and _1 are kept; a later set falls back to the first (gltfIgnoredFeatures).
+    const bool second =
+        info.texCoord >= 0 ? info.texCoord == 1
+                           : json.is_object() && json.contains("texCoord") && json["texCoord"] == 1;
+    ref.texCoord = second ? 1 : 0;
+    // The sampler (glTF 2.0 §5.26): wrap modes as Assimp 5.2 maps them (an unknown one is
+    // REPEAT), the mag filter NEAREST or not.
+    const nlohmann::json* samplers = doc.contains("samplers") ? &doc["samplers"] : nullptr;
+    if (texture && texture->contains("sampler") && (*texture)["sampler"].is_number_unsigned() &&
+        samplers && samplers->is_array() &&
+        (*texture)["sampler"].get<size_t>() < samplers->size()) {
+        const nlohmann::json& sampler = (*samplers)[(*texture)["sampler"].get<size_t>()];
+        auto mode = [&](const char* key) {
+            return sampler.is_object() && sampler.contains(key) ? sampler[key]
+                                                                : nlohmann::json(nullptr);
+        };
+        auto wrap = [&](const char* key) {
+            return mode(key) == 33071   ? TextureWrap::ClampToEdge
+                   : mode(key) == 33648 ? TextureWrap::MirroredRepeat
+                                        : TextureWrap::Repeat;
+        };
+        ref.sampler.wrapS = wrap("wrapS");
+        ref.sampler.wrapT = wrap("wrapT");
+        constexpr int kNearest = 9728; // glTF's (and OpenGL's) NEAREST
+        ref.sampler.nearest = mode("magFilter") == kNearest;
+    }
+    return true;
+}
+
 // Every texture slot of the material (glTF 2.0 §3.9), with the file's texture-transform data.
 void readTextures(const aiMaterial& am, bool gltf, const GltfMaterialTextures& info,
                   TextureTable& textures, Material& m) {
@@ -187,11 +243,11 @@ void readTransmission(const aiMaterial& am, const GltfMaterialTextures& info,
 }
 
 // glTF's dielectric layer: KHR_materials_ior (Assimp 5.2 reports it as AI_MATKEY_REFRACTI),
-// KHR_materials_specular (from the file, `specular`), and KHR_materials_unlit (Assimp's
-// unlit shading model). False when the material's specular extension names textures, which
-// are not read.
-bool readDielectric(const aiMaterial& am, const std::map<std::string, GltfSpecular>& specular,
-                    Material& m) {
+// KHR_materials_specular (from the file, `specular`, its textures resolved from the file's JSON
+// `doc`), and KHR_materials_unlit (Assimp's unlit shading model).
+void readDielectric(const aiMaterial& am, const nlohmann::json& doc,
+                    const std::map<std::string, GltfSpecular>& specular,
+                    const GltfMaterialTextures& info, TextureTable& textures, Material& m) {
     float ior = 1.5f;
     if (am.Get(AI_MATKEY_REFRACTI, ior) == AI_SUCCESS) {
         // The schema's range: 1 or more (0, "infinitely refractive", is not a dielectric).
@@ -202,41 +258,52 @@ bool readDielectric(const aiMaterial& am, const std::map<std::string, GltfSpecul
     if (am.Get(AI_MATKEY_SHADING_MODEL, shading) == AI_SUCCESS && shading == aiShadingMode_Unlit)
         m.unlit = m.dielectricSet = true;
     const auto it = specular.find(m.name);
-    if (it == specular.end()) return true;
+    if (it == specular.end()) return;
     m.specularFactor = it->second.factor;
     m.specularColor = it->second.color;
     m.dielectricSet = true;
-    return !it->second.textures;
+    // specularTexture's A is linear, specularColorTexture's RGB sRGB-encoded (the README's
+    // table): the data texture's alpha and the colour texture's decoded RGB.
+    readJsonSlot(doc, it->second.texture, info.specular, false, "specular", textures,
+                 m.specularTexture);
+    readJsonSlot(doc, it->second.colorTexture, info.specularColor, true, "specular colour",
+                 textures, m.specularColorTexture);
 }
 
 // KHR_materials_pbrSpecularGlossiness as the metal-rough model with KHR_materials_specular's
-// dielectric that the extension's own BRDF is (its README, "Specular - Glossiness"):
-// c_diff = diffuse · (1 − max(specular)), F0 = specular, α = (1 − glossiness)²; so metallic 0,
-// roughness 1 − glossiness, F90 1, and the diffuse texture (or none: the metal-rough fallback
-// texture is not the material's) in the base colour's place. False when the material names a
-// specularGlossinessTexture, which is not read.
-bool readSpecGloss(const aiMaterial& am, const std::map<std::string, GltfSpecGloss>& specGloss,
-                   TextureTable& textures, Material& m) {
+// dielectric that the extension's own BRDF is (specGlossAsMetalRough): metallic 0, F90 1, and
+// the diffuse texture (or none: the metal-rough fallback texture is not the material's) in the
+// base colour's place. Its specularGlossinessTexture (RGB sRGB, A linear: one sRGB texture, whose
+// alpha stays linear) makes the conversion one per texel (surface.cpp).
+void readSpecGloss(const nlohmann::json& doc, const std::map<std::string, GltfSpecGloss>& specGloss,
+                   const GltfMaterialTextures& info, TextureTable& textures, Material& m) {
     const auto it = specGloss.find(m.name);
-    if (it == specGloss.end()) return true;
+    if (it == specGloss.end()) return;
     const GltfSpecGloss& sg = it->second;
-    const float specularMax = std::max({sg.specular.r, sg.specular.g, sg.specular.b});
-    m.baseColor = glm::vec3(sg.diffuse) * (1.0f - specularMax);
+    const MetalRoughFromSpecGloss c =
+        specGlossAsMetalRough(glm::vec3(sg.diffuse), sg.specular, sg.glossiness);
+    m.baseColor = c.baseColor;
     m.alpha = sg.diffuse.a;
     m.metallic = 0.0f;
-    m.roughness = 1.0f - sg.glossiness;
+    m.roughness = c.roughness;
     m.metallicRoughnessTexture = TextureRef{};
     // F0 = min(((ior − 1) / (ior + 1))² · specularColor, 1) · specularFactor with ior 1.5.
     m.ior = 1.5f;
     m.specularFactor = 1.0f;
-    m.specularColor = sg.specular / 0.04f;
+    m.specularColor = c.f0 / 0.04f;
     m.dielectricSet = true;
     m.baseColorTexture = TextureRef{};
-    // Assimp 5.2 puts the diffuse texture in the DIFFUSE slot (over the fallback's).
-    if (sg.diffuseTexture)
-        readSlot(am, aiTextureType_DIFFUSE, GltfTextureInfo{}, true, "diffuse", textures,
+    // From the file's JSON, as KHR_materials_specular's: Assimp 5.2 reports them only when
+    // extensionsUsed names the extension (and then the diffuse texture in the DIFFUSE slot,
+    // over the fallback's), where dhdr reads the factors regardless.
+    readJsonSlot(doc, sg.diffuseTexture, info.diffuse, true, "diffuse", textures,
                  m.baseColorTexture);
-    return !sg.specularGlossinessTexture;
+    if (readJsonSlot(doc, sg.specularGlossinessTexture, info.specularGlossiness, true,
+                     "specular-glossiness", textures, m.specularGlossinessTexture)) {
+        m.baseColor = glm::vec3(sg.diffuse);
+        m.glossSpecular = sg.specular;
+        m.glossiness = sg.glossiness;
+    }
 }
 
 } // namespace
@@ -248,8 +315,6 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
         gltf ? gltfMaterialTextures(doc) : std::map<std::string, GltfMaterialTextures>{};
     const auto specular = gltf ? gltfSpecular(doc) : std::map<std::string, GltfSpecular>{};
     const auto specGloss = gltf ? gltfSpecGloss(doc) : std::map<std::string, GltfSpecGloss>{};
-    std::string specularTextures; // materials whose specular textures are left out
-    std::string glossTextures;    // … whose specular-glossiness textures are
     for (unsigned i = 0; i < ai.mNumMaterials; ++i) {
         const aiMaterial& am = *ai.mMaterials[i];
         Material m;
@@ -258,29 +323,18 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
         readMetallicRoughness(am, gltf, m);
         readEmission(am, strengths, m);
         const auto t = transforms.find(m.name);
-        readTextures(am, gltf, t != transforms.end() ? t->second : GltfMaterialTextures{}, textures,
-                     m);
+        const GltfMaterialTextures info =
+            t != transforms.end() ? t->second : GltfMaterialTextures{};
+        readTextures(am, gltf, info, textures, m);
         if (gltf) {
-            const GltfMaterialTextures info =
-                t != transforms.end() ? t->second : GltfMaterialTextures{};
             readClearcoat(am, info, textures, m);
             readSheen(am, info, textures, m);
             readTransmission(am, info, textures, m);
+            readDielectric(am, doc, specular, info, textures, m);
+            readSpecGloss(doc, specGloss, info, textures, m);
         }
-        if (gltf && !readDielectric(am, specular, m))
-            specularTextures += (specularTextures.empty() ? "'" : ", '") + m.name + "'";
-        if (gltf && !readSpecGloss(am, specGloss, textures, m))
-            glossTextures += (glossTextures.empty() ? "'" : ", '") + m.name + "'";
         scene.materials.push_back(m);
     }
-    if (!glossTextures.empty())
-        scene.warnings.push_back(
-            "KHR_materials_pbrSpecularGlossiness's specularGlossinessTexture is not read "
-            "(material " +
-            glossTextures + "): its specular and glossiness factors alone are used");
-    if (!specularTextures.empty())
-        scene.warnings.push_back("KHR_materials_specular textures are not read (material " +
-                                 specularTextures + "): their factors alone are used");
     if (scene.materials.empty()) scene.materials.push_back(Material{});
 }
 

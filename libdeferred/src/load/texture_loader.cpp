@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <assimp/scene.h>
 #include <cmath>
+#include <cstring>
 #include <dhdr/io/exr_header.h>
 #include <filesystem>
 #include <limits>
@@ -130,17 +131,75 @@ bool loadTexture(Texture& texture, const std::string& name, const void* data, si
 
 int TextureTable::load(const std::string& ref, bool srgb, const char* slot) {
     // The same file can be a colour (sRGB) and a data texture: one decoding of each.
-    const std::string key = (srgb ? "srgb:" : "data:") + ref;
+    return cached((srgb ? "srgb:" : "data:") + ref, slot, [&](Texture& texture, std::string& why) {
+        return decode(ref, srgb, texture, why);
+    });
+}
+
+int TextureTable::cached(const std::string& key, const char* slot,
+                         const std::function<bool(Texture&, std::string&)>& decode) {
     if (auto it = m_unread.find(key); it != m_unread.end()) return unread(it->second, slot);
     if (auto it = m_index.find(key); it != m_index.end()) return it->second;
+    Texture texture;
     std::string why;
-    int index = -1;
-    if (!decode(ref, srgb, index, why)) {
+    if (!decode(texture, why)) {
         m_unread[key] = why;
         return unread(why, slot);
     }
+    const int index = int(m_scene.textures.size());
+    m_scene.textures.push_back(std::move(texture));
     m_index[key] = index;
     return index;
+}
+
+int TextureTable::loadGltfImage(const nlohmann::json& doc, size_t image, bool srgb,
+                                const char* slot) {
+    const nlohmann::json* images =
+        doc.is_object() && doc.contains("images") ? &doc["images"] : nullptr;
+    if (!images || !images->is_array() || image >= images->size() || !(*images)[image].is_object())
+        return unread("image " + std::to_string(image) + " does not exist", slot);
+    const nlohmann::json& entry = (*images)[image];
+    if (entry.contains("uri") && entry["uri"].is_string() &&
+        entry["uri"].get<std::string>().rfind("data:", 0) != 0)
+        return load(entry["uri"].get<std::string>(), srgb, slot);
+    if (!m_buffers) m_buffers = std::make_unique<GltfBuffers>(m_path, doc);
+    // An image Assimp holds too (its "*k", when another slot of the file names it) is the one
+    // texture: found by its bytes, once per image.
+    auto known = m_embeddedNames.find(image);
+    if (known == m_embeddedNames.end()) {
+        std::vector<std::uint8_t> bytes;
+        std::string name = "images[" + std::to_string(image) + "]", why;
+        if (m_buffers->readImage(image, bytes, why))
+            for (unsigned k = 0; k < m_ai.mNumTextures; ++k) {
+                const aiTexture& t = *m_ai.mTextures[k];
+                if (t.mHeight == 0 && t.mWidth == bytes.size() &&
+                    std::memcmp(t.pcData, bytes.data(), bytes.size()) == 0) {
+                    name = "*" + std::to_string(k);
+                    break;
+                }
+            }
+        known = m_embeddedNames.emplace(image, name).first;
+    }
+    const std::string& name = known->second;
+    if (name[0] == '*') return load(name, srgb, slot);
+    return cached((srgb ? "srgb:" : "data:") + name, slot, [&](Texture& texture, std::string& why) {
+        std::vector<std::uint8_t> bytes;
+        if (!m_buffers->readImage(image, bytes, why)) return false;
+        // OpenImageIO picks the decoder by the name's extension: the mimeType's,
+        // else the bytes' signature (glTF allows PNG and JPEG).
+        const std::string mime = entry.contains("mimeType") && entry["mimeType"].is_string()
+                                     ? entry["mimeType"].get<std::string>()
+                                     : "";
+        const bool jpeg = mime == "image/jpeg" || (mime.empty() && bytes.size() > 2 &&
+                                                   bytes[0] == 0xff && bytes[1] == 0xd8);
+        if (!loadTexture(texture, jpeg ? "embedded.jpg" : "embedded.png", bytes.data(),
+                         bytes.size(), srgb, why)) {
+            why = name + ": " + why;
+            return false;
+        }
+        texture.name = name;
+        return true;
+    });
 }
 
 // Records an unread texture of the material being loaded; the index to use in its place:
@@ -177,8 +236,7 @@ bool TextureTable::report(bool strict, std::string& error) {
     return true;
 }
 
-bool TextureTable::decode(const std::string& ref, bool srgb, int& index, std::string& error) {
-    Texture texture;
+bool TextureTable::decode(const std::string& ref, bool srgb, Texture& texture, std::string& error) {
     if (const aiTexture* embedded = m_ai.GetEmbeddedTexture(ref.c_str())) {
         if (embedded->mHeight != 0) {
             error = ref + ": uncompressed embedded textures are not supported";
@@ -188,19 +246,16 @@ bool TextureTable::decode(const std::string& ref, bool srgb, int& index, std::st
         if (!loadTexture(texture, hint, embedded->pcData, embedded->mWidth, srgb, error))
             return false;
         texture.name = ref;
-    } else {
-        auto file = std::filesystem::path(m_path).parent_path() / ref;
-        // Files written on Windows name textures with backslashes (".\\wall.jpg").
-        if (std::string unix = ref;
-            !std::filesystem::exists(file) && unix.find('\\') != std::string::npos) {
-            std::replace(unix.begin(), unix.end(), '\\', '/');
-            file = std::filesystem::path(m_path).parent_path() / unix;
-        }
-        if (!loadTexture(texture, file.string(), nullptr, 0, srgb, error)) return false;
+        return true;
     }
-    index = int(m_scene.textures.size());
-    m_scene.textures.push_back(std::move(texture));
-    return true;
+    auto file = std::filesystem::path(m_path).parent_path() / ref;
+    // Files written on Windows name textures with backslashes (".\\wall.jpg").
+    if (std::string unix = ref;
+        !std::filesystem::exists(file) && unix.find('\\') != std::string::npos) {
+        std::replace(unix.begin(), unix.end(), '\\', '/');
+        file = std::filesystem::path(m_path).parent_path() / unix;
+    }
+    return loadTexture(texture, file.string(), nullptr, 0, srgb, error);
 }
 
 } // namespace dhdr::detail

@@ -2,8 +2,13 @@
 // referenced file decoded once, embedded or beside the scene file; magenta for an unread one).
 #pragma once
 
+#include "load/gltf_buffers.h"
+
 #include <dhdr/deferred/scene/scene.h>
+#include <functional>
 #include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -33,6 +38,16 @@ public:
     // `slot` ("base colour", "emissive", "normal"): its index in Scene::textures, or −1.
     int load(const std::string& ref, bool srgb, const char* slot);
 
+    // The same for image `image` of the glTF file whose JSON is `doc`, for the slots Assimp 5.2
+    // does not report (KHR_materials_specular's): an image that names a file by its uri is
+    // load()ed by that name, as Assimp names it; one the file holds itself (a bufferView, a data
+    // URI) is decoded from its bytes, once (Assimp's own decoding when it holds the same bytes).
+    int loadGltfImage(const nlohmann::json& doc, size_t image, bool srgb, const char* slot);
+
+    // A texture reference of the material being read that leads to no image (`why`): reported
+    // as an unread texture is; the index to use in its place.
+    int unreadable(const std::string& why, const char* slot) { return unread(why, slot); }
+
     // After the materials have their names: one warning per unread texture use, naming the
     // texture (OpenImageIO's message names the file) and the material; with `strict`, false
     // with `error`.
@@ -40,7 +55,10 @@ public:
 
 private:
     int unread(const std::string& why, const char* slot);
-    bool decode(const std::string& ref, bool srgb, int& index, std::string& error);
+    // The texture of `key` ("srgb:" or "data:" and a name), decoded by `decode` the first time.
+    int cached(const std::string& key, const char* slot,
+               const std::function<bool(Texture&, std::string&)>& decode);
+    bool decode(const std::string& ref, bool srgb, Texture& texture, std::string& error);
 
     const aiScene& m_ai;
     const std::string& m_path;
@@ -54,7 +72,11 @@ private:
         std::string why;
     };
     std::vector<UnreadTexture> m_unreadUses;
-    int m_missingTexture = -1; // the magenta texture's index, once made
+    int m_missingTexture = -1;              // the magenta texture's index, once made
+    std::unique_ptr<GltfBuffers> m_buffers; // the glTF file's, once an image needs them
+    // Images the glTF file holds itself, by index: the name of their texture ("*k" when Assimp
+    // holds the same bytes, else "images[N]").
+    std::map<size_t, std::string> m_embeddedNames;
 };
 
 } // namespace dhdr::detail

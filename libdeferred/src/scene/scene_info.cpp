@@ -32,6 +32,11 @@ std::string describeMaterial(const Scene& scene, int index) {
         out += format(", sheen (%.3g, %.3g, %.3g) (roughness %.3g)", m.sheenColor.r, m.sheenColor.g,
                       m.sheenColor.b, m.sheenRoughness);
     if (m.transmission > 0.0f) out += format(", transmission %.3g", m.transmission);
+    // Converted per texel: the base colour above is the diffuse colour, not yet dimmed.
+    if (m.specularGlossinessTexture.texture >= 0)
+        out +=
+            format(", specular-glossiness per texel: specular (%.3g, %.3g, %.3g), glossiness %.3g",
+                   m.glossSpecular.r, m.glossSpecular.g, m.glossSpecular.b, m.glossiness);
     out += "\n";
     std::string textures;
     for (const MaterialTexture& t : materialTextures(m)) {
@@ -88,6 +93,9 @@ std::vector<MaterialTexture> materialTextures(const Material& m) {
         {"clearcoat normal", "clearcoat_normal", &m.clearcoatNormalTexture},
         {"sheen colour", "sheen_color", &m.sheenColorTexture},
         {"sheen roughness", "sheen_roughness", &m.sheenRoughnessTexture},
+        {"specular", "specular", &m.specularTexture},
+        {"specular colour", "specular_color", &m.specularColorTexture},
+        {"specular-glossiness", "specular_glossiness", &m.specularGlossinessTexture},
         {"transmission", "transmission", &m.transmissionTexture}};
     std::vector<MaterialTexture> out;
     for (const MaterialTexture& t : all)

@@ -42,10 +42,20 @@ glm::vec4 vertexColor(const Mesh& mesh, int triangle, double w1, double w2) {
            float(w2) * mesh.colors[t[2]];
 }
 
+glm::vec3 dielectricF0(float ior, const glm::vec3& specularColor, float specular) {
+    const float r = (ior - 1.0f) / (ior + 1.0f);
+    return glm::min(r * r * specularColor, glm::vec3(1.0f)) * specular;
+}
+
 glm::vec3 Material::dielectricF0() const {
     if (!dielectricSet) return glm::vec3(0.04f);
-    const float r = (ior - 1.0f) / (ior + 1.0f);
-    return glm::min(r * r * specularColor, glm::vec3(1.0f)) * specularFactor;
+    return dhdr::dielectricF0(ior, specularColor, specularFactor);
+}
+
+MetalRoughFromSpecGloss specGlossAsMetalRough(const glm::vec3& diffuse, const glm::vec3& specular,
+                                              float glossiness) {
+    const float specularMax = std::max({specular.r, specular.g, specular.b});
+    return {diffuse * (1.0f - specularMax), 1.0f - glossiness, specular};
 }
 
 float surfaceAlpha(const Scene& scene, int mesh, int triangle, float u, float v) {

@@ -199,15 +199,16 @@ inline constexpr ContractChannel kContract[] = {
      Need::WhenUsed,
      &Layout::specular,
      "the dielectric layer's reflectance at normal incidence: min(((ior − 1)/(ior + 1))² × "
-     "specularColorFactor, 1) × specularFactor (KHR_materials_ior, _specular); 0.04 without "
-     "them",
+     "specularColorFactor × specularColorTexture's RGB, 1) × specularFactor × specularTexture's "
+     "A (KHR_materials_ior, _specular; pbrSpecularGlossiness: its specular); 0.04 without them",
      kUsesSpecular},
     {{kSpecularWeight},
      1,
      FileType::Half,
      Need::WhenUsed,
      &Layout::specularWeight,
-     "the dielectric layer's reflectance at grazing incidence: specularFactor; 1 without it",
+     "the dielectric layer's reflectance at grazing incidence: specularFactor × "
+     "specularTexture's A; 1 without it",
      kUsesSpecular},
     {{kClearcoat},
      1,

@@ -44,10 +44,12 @@ struct Material {
     TextureRef occlusionTexture;
     float occlusionStrength = 1.0f;
     // The dielectric layer (KHR_materials_ior, KHR_materials_specular): its index of
-    // refraction, and the specular factor and colour that scale its reflectance.
+    // refraction, and the specular factor and colour that scale its reflectance, each × its
+    // texture (specularTexture's A, linear; specularColorTexture's RGB, sRGB).
     float ior = 1.5f;
     float specularFactor = 1.0f;
     glm::vec3 specularColor{1.0f};
+    TextureRef specularTexture, specularColorTexture;
     // The file sets any of them (or `unlit`): the G-buffer carries the dielectric's
     // reflectance (its specular channels).
     bool dielectricSet = false;
@@ -69,6 +71,13 @@ struct Material {
     // opaque; × its texture's R, linear), thin walled (no refraction).
     float transmission = 0.0f;
     TextureRef transmissionTexture;
+    // KHR_materials_pbrSpecularGlossiness's specularGlossinessTexture (RGB the specular colour,
+    // sRGB; A the glossiness, linear). The material is converted to metal-rough when it is read
+    // (specGlossAsMetalRough); with this texture the conversion is made per texel instead, from
+    // baseColor (then the diffuse colour, undimmed) and the two factors the texel scales.
+    TextureRef specularGlossinessTexture;
+    glm::vec3 glossSpecular{1.0f};
+    float glossiness = 1.0f;
 
     // KHR_materials_specular's dielectric_f0: min(((ior − 1) / (ior + 1))² · specularColor, 1)
     // · specularFactor; 4 % when the file sets none of them.
@@ -76,6 +85,23 @@ struct Material {
     // Its f90: specularFactor.
     float dielectricF90() const { return dielectricSet ? specularFactor : 1.0f; }
 };
+
+// KHR_materials_specular's dielectric_f0 (its README, "Implementation", with KHR_materials_ior):
+// min(((ior − 1) / (ior + 1))² · specularColor, 1) · specular, where each of specular and
+// specularColor is the factor × its texture.
+glm::vec3 dielectricF0(float ior, const glm::vec3& specularColor, float specular);
+
+// KHR_materials_pbrSpecularGlossiness's BRDF inputs (its README, "Specular - Glossiness":
+// c_diff = diffuse · (1 − max(specular)), F0 = specular, α = (1 − glossiness)²) as the
+// metal-rough model: metallic 0, the base colour c_diff, roughness 1 − glossiness (α = r²), and
+// a dielectric of F0 = specular and F90 = 1.
+struct MetalRoughFromSpecGloss {
+    glm::vec3 baseColor;
+    float roughness;
+    glm::vec3 f0;
+};
+MetalRoughFromSpecGloss specGlossAsMetalRough(const glm::vec3& diffuse, const glm::vec3& specular,
+                                              float glossiness);
 
 struct Mesh {
     std::vector<glm::vec3> positions; // world space
