@@ -100,12 +100,12 @@ protected:
 // 32-bit indices Assimp drops is an error that says so.
 TEST_F(SceneMessages, DracoIsNotReportedUnread) {
     nlohmann::json doc = dracoSquare(5123);
-    doc["extensionsUsed"].push_back("KHR_materials_volume");
+    doc["extensionsUsed"].push_back("KHR_materials_iridescence");
     writeJson(path("draco.gltf"), doc);
     Result r = run("dhdr-gbuffer " + path("draco.gltf") + " --lookat 0,0,3,0,0,0 --size 16x16 -o " +
                    path("draco.exr"));
     ASSERT_EQ(r.status, 0) << r.err;
-    EXPECT_TRUE(says(r, "glTF extensions not read: KHR_materials_volume\n")) << r.err;
+    EXPECT_TRUE(says(r, "glTF extensions not read: KHR_materials_iridescence\n")) << r.err;
     EXPECT_FALSE(says(r, "KHR_draco_mesh_compression")) << r.err;
     // The square fills the middle of the image: its geometry came through the decoder.
     const ImageBuf g = read("draco.exr");
@@ -131,7 +131,7 @@ TEST_F(SceneMessages, InfoListsTheMaterialsInUse) {
         {"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.4, 0.6, 0.5}}}},
         {"extensions",
          {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4.0}}},
-          {"KHR_materials_volume", {{"thicknessFactor", 0.5}}}}}};
+          {"KHR_materials_iridescence", {{"iridescenceFactor", 0.5}}}}}};
     writeJson(path("materials.gltf"), twoSquares(glowing, {{"name", "spare"}}));
     const Result r = run("dhdr-gbuffer " + path("materials.gltf") + " --info");
     ASSERT_EQ(r.status, 0) << r.err;
@@ -140,7 +140,7 @@ TEST_F(SceneMessages, InfoListsTheMaterialsInUse) {
           "    white: base colour (0.8, 0.8, 0.8), metallic 0, roughness 0.5\n",
           "    glowing: base colour (0.2, 0.4, 0.6), metallic 1, roughness 1, alpha 0.5 (blend), "
           "emission (4, 2, 1)\n",
-          "      extensions: KHR_materials_emissive_strength, KHR_materials_volume (not "
+          "      extensions: KHR_materials_emissive_strength, KHR_materials_iridescence (not "
           "read)\n"})
         EXPECT_NE(r.out.find(line), std::string::npos) << line << " in:\n" << r.out;
     EXPECT_EQ(r.out.find("spare"), std::string::npos) << r.out;

@@ -204,6 +204,68 @@ TEST_F(TransmissionFiles, DeepOutputFlattensToTheFrame) {
                 << x << " " << c;
 }
 
+// A 2 × 2 × 2 glass cube (KHR_materials_volume: thickness 1, attenuation colour C over
+// distance 1, white and without reflection) before the wall: the light crosses 2 of the medium,
+// Beer's law gives C², once (the far face does not absorb again); beside it, the wall.
+TEST_F(TransmissionFiles, TheVolumeAbsorbsAlongThePathInside) {
+    GltfMesh cube;
+    // Each face its own four vertices, wound counter-clockwise seen from outside.
+    const int faces[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 2, 0}, {1, 0, 2}, {2, 0, 1}, {2, 1, 0}};
+    for (int f = 0; f < 6; ++f) {
+        const int n = faces[f][0], u = faces[f][1], v = faces[f][2];
+        const float s = f % 2 == 0 ? 1.0f : -1.0f;
+        const auto base = std::uint32_t(cube.positions.size());
+        for (const auto& [a, b] : {std::pair{-1.f, -1.f}, {1.f, -1.f}, {1.f, 1.f}, {-1.f, 1.f}}) {
+            std::array<float, 3> p{}, normal{};
+            p[size_t(n)] = s;
+            p[size_t(u)] = a;
+            p[size_t(v)] = b * s;
+            normal[size_t(n)] = s;
+            cube.positions.push_back(p);
+            cube.normals.push_back(normal);
+        }
+        for (const std::uint32_t k : {0u, 1u, 2u, 0u, 2u, 3u})
+            cube.indices.push_back(base + k);
+    }
+    nlohmann::json doc = paneBeforeWall({{"transmissionFactor", 1.0}}, 1.0,
+                                        {{"KHR_materials_specular", {{"specularFactor", 0.0}}},
+                                         {"KHR_materials_volume",
+                                          {{"thicknessFactor", 1.0},
+                                           {"attenuationDistance", 1.0},
+                                           {"attenuationColor", {0.5, 0.8, 1.0}}}}});
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"] = {1, 1, 1, 1};
+    // Mesh 0 becomes the cube (its own buffer), the wall moved back to z = -3.
+    const nlohmann::json cubeDoc = gltfWithMesh(cube);
+    const size_t views = doc["bufferViews"].size(), accessors = doc["accessors"].size();
+    const size_t buffer = doc["buffers"].size();
+    doc["buffers"].push_back(cubeDoc["buffers"][0]);
+    for (nlohmann::json view : cubeDoc["bufferViews"]) {
+        view["buffer"] = buffer;
+        doc["bufferViews"].push_back(view);
+    }
+    for (nlohmann::json a : cubeDoc["accessors"]) {
+        a["bufferView"] = a["bufferView"].get<size_t>() + views;
+        doc["accessors"].push_back(a);
+    }
+    nlohmann::json primitive = cubeDoc["meshes"][0]["primitives"][0];
+    for (auto& [name, index] : primitive["attributes"].items())
+        index = index.get<size_t>() + accessors;
+    primitive["indices"] = primitive["indices"].get<size_t>() + accessors;
+    doc["meshes"][0]["primitives"] = {primitive};
+    doc["nodes"][1]["translation"] = {0, 0, -3};
+    doc["nodes"][1]["scale"] = {8, 8, 1};
+    const ImageBuf lit = render("cube", doc);
+    const double C[3] = {0.5, 0.8, 1.0};
+    for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(pixel(lit, 32, 32, c), C[c] * C[c], 3e-3) << c;
+        EXPECT_NEAR(pixel(lit, 1, 1, c), 1.0, 1e-3) << c;
+    }
+    const Result info = run("dhdr-gbuffer " + path("cube.gltf") + " --info");
+    EXPECT_NE(info.out.find("volume absorbing to (0.5, 0.8, 1) over 1"), std::string::npos)
+        << info.out;
+    EXPECT_EQ(info.err.find("not read"), std::string::npos) << info.err;
+}
+
 // A surface without the extension, or with a factor of 0, is no transmissive surface: no
 // channel, a flat G-buffer.
 TEST_F(TransmissionFiles, NoTransmissionNoChannel) {

@@ -92,8 +92,10 @@ py::list materials(const SceneHandle& h) {
                    "clearcoat_roughness"_a = m.clearcoatRoughness,
                    "sheen_color"_a = py::make_tuple(m.sheenColor.r, m.sheenColor.g, m.sheenColor.b),
                    "sheen_roughness"_a = m.sheenRoughness, "transmission"_a = m.transmission,
-                   "textures"_a = textures, "extensions"_a = extensions,
-                   "extensions_not_read"_a = notRead);
+                   "attenuation_color"_a = py::make_tuple(
+                       m.attenuationColor.r, m.attenuationColor.g, m.attenuationColor.b),
+                   "attenuation_distance"_a = m.attenuationDistance, "textures"_a = textures,
+                   "extensions"_a = extensions, "extensions_not_read"_a = notRead);
         out.append(d);
     }
     return out;
@@ -391,7 +393,8 @@ lowest point) or a height adds dhdr-gbuffer --ground-plane's shadow catcher.)")
             "'blend'), alpha_cutoff, metallic, roughness, emission (linear radiance), "
             "normal_scale, clearcoat and clearcoat_roughness (KHR_materials_clearcoat; 0 without "
             "a coat), sheen_color and sheen_roughness (KHR_materials_sheen; 0 without a sheen), "
-            "transmission (KHR_materials_transmission; 0: opaque), "
+            "transmission (KHR_materials_transmission; 0: opaque), attenuation_color and "
+            "attenuation_distance (KHR_materials_volume; inf: no absorption), "
             "textures (by slot: base_color, emissive, normal; each its name and "
             "KHR_texture_transform offset, rotation, scale), extensions (the glTF extensions the "
             "material names) and extensions_not_read (those dhdr does not render).")

@@ -259,7 +259,8 @@ ShadedSample SampleShader::premultiplied(const ShadingPoint& sp, const glm::vec3
     if (!m_source.view.deep()) return {glm::vec4(Lo, sp.coverage), glm::vec3(1.0f - sp.coverage)};
     const float a = sp.coverage;
     if (sp.surface.transmission <= 0.0f) return {glm::vec4(Lo * a, a), glm::vec3(1.0f - a)};
-    const glm::vec3 behind = (1.0f - a) + a * transmittance(sp.surface, sp.N, sp.V);
+    const glm::vec3 behind =
+        (1.0f - a) + a * transmittance(sp.surface, sp.N, sp.V) * sp.attenuation;
     return {glm::vec4(Lo * a, 1.0f - (behind.r + behind.g + behind.b) / 3.0f), behind, true};
 }
 

@@ -441,8 +441,7 @@ bool isGltf1(const nlohmann::json& doc) {
 
 bool gltfExtensionRendered(const nlohmann::json& doc, const std::string& name) {
     // Assimp 5.2 decodes Draco meshes (Debian's is built with libdraco); dhdr reads the others
-    // itself or through Assimp (which reads the volume extension too, but dhdr does not
-    // render it yet).
+    // itself or through Assimp.
     static const char* const kGltf2[] = {"KHR_draco_mesh_compression",
                                          "KHR_lights_punctual",
                                          "KHR_materials_emissive_strength",
@@ -453,6 +452,7 @@ bool gltfExtensionRendered(const nlohmann::json& doc, const std::string& name) {
                                          "KHR_materials_clearcoat",
                                          "KHR_materials_sheen",
                                          "KHR_materials_transmission",
+                                         "KHR_materials_volume",
                                          "KHR_materials_pbrSpecularGlossiness"};
     // Assimp's glTF 1.0 importer reads the binary container and the common materials' colours.
     static const char* const kGltf1[] = {"KHR_binary_glTF", "KHR_materials_common"};

@@ -242,6 +242,22 @@ void readTransmission(const aiMaterial& am, const GltfMaterialTextures& info,
              m.transmissionTexture, 0);
 }
 
+// KHR_materials_volume, as Assimp 5.2 reads it: the thickness factor (0: thin walled), the
+// attenuation distance (> 0; absent: infinite) and colour (each in [0, 1]). The thickness
+// texture is not needed: the distance light travels inside is measured along each ray.
+void readVolume(const aiMaterial& am, Material& m) {
+    float thickness = 0.0f, distance = INFINITY;
+    aiColor3D color(1.0f, 1.0f, 1.0f);
+    if (am.Get(AI_MATKEY_VOLUME_THICKNESS_FACTOR, thickness) != AI_SUCCESS) return;
+    m.thickness = std::isfinite(thickness) ? std::max(thickness, 0.0f) : 0.0f;
+    if (am.Get(AI_MATKEY_VOLUME_ATTENUATION_DISTANCE, distance) == AI_SUCCESS)
+        m.attenuationDistance = distance > 0.0f ? distance : INFINITY; // NaN too
+    if (am.Get(AI_MATKEY_VOLUME_ATTENUATION_COLOR, color) == AI_SUCCESS) {
+        auto unit = [](float v) { return std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 1.0f; };
+        m.attenuationColor = glm::vec3(unit(color.r), unit(color.g), unit(color.b));
+    }
+}
+
 // glTF's dielectric layer: KHR_materials_ior (Assimp 5.2 reports it as AI_MATKEY_REFRACTI),
 // KHR_materials_specular (from the file, `specular`, its textures resolved from the file's JSON
 // `doc`), and KHR_materials_unlit (Assimp's unlit shading model).
@@ -330,6 +346,7 @@ void readMaterials(const aiScene& ai, const nlohmann::json& doc, bool gltf, Text
             readClearcoat(am, info, textures, m);
             readSheen(am, info, textures, m);
             readTransmission(am, info, textures, m);
+            readVolume(am, m);
             readDielectric(am, doc, specular, info, textures, m);
             readSpecGloss(doc, specGloss, info, textures, m);
         }

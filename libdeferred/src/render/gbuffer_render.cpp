@@ -35,12 +35,13 @@ void setNameTable(OIIO::ImageSpec& spec, const char* name, const std::vector<std
                    pointers.data());
 }
 
-// A surface along a primary ray, its alpha and whether light passes it (a transmissive
-// material's: KHR_materials_transmission).
+// A surface along a primary ray, its alpha, whether light passes it (a transmissive
+// material's: KHR_materials_transmission) and whether the ray enters the material's volume
+// there (it meets the surface's front).
 struct Layer {
     RayHit hit;
     float alpha = 1.0f;
-    bool passes = false;
+    bool passes = false, entering = false;
 };
 
 // Whether light passes the surfaces of `mesh` (a transmission factor over 0; a texel of 0 in
@@ -48,6 +49,19 @@ struct Layer {
 bool transmissive(const Scene& scene, int mesh) {
     return mesh != kGroundPlaneHit &&
            scene.materials[size_t(scene.meshes[size_t(mesh)].material)].transmission > 0.0f;
+}
+
+// KHR_materials_volume's absorption behind layer k of the n along `ray`: where the ray enters
+// an absorbing medium, Beer's law over the distance to the next layer (the medium's far side,
+// or what lies inside it), or over the material's thickness when nothing follows; 1 elsewhere.
+glm::vec3 attenuationBehind(const Scene& scene, const Ray& ray, const Layer* layers, int k, int n) {
+    const Layer& l = layers[k];
+    if (!l.entering) return glm::vec3(1.0f);
+    const Material& m = scene.materials[size_t(scene.meshes[size_t(l.hit.mesh)].material)];
+    if (!m.absorbs()) return glm::vec3(1.0f);
+    const double d = k + 1 < n ? (layers[k + 1].hit.t - l.hit.t) * glm::length(ray.direction)
+                               : double(m.thickness);
+    return glm::pow(m.attenuationColor, glm::vec3(float(d) / m.attenuationDistance));
 }
 
 // The surfaces along `ray` front to back up to and including the first opaque one (with
@@ -78,7 +92,7 @@ int traceLayers(const Scene& scene, const RayCaster& caster, const Ray& ray, int
         if (!c.present) continue;
         const bool passes = transmissive(scene, hit.mesh);
         const bool opaque = (c.alpha >= 1.0f && !passes) || firstOnly;
-        if (opaque || n < maxLayers - 1) out[n++] = {hit, c.alpha, passes};
+        if (opaque || n < maxLayers - 1) out[n++] = {hit, c.alpha, passes, passes && !s.backFace};
         if (opaque) break;
     }
     return n;
@@ -152,6 +166,8 @@ void fillSample(const Scene& scene, const glm::dmat4& worldToCamera, const gbuff
         out[layout.sheenRoughness] = s.sheenRoughness;
     }
     if (layout.transmission >= 0) out[layout.transmission] = s.transmission;
+    // The volume's absorption needs the ray's next layer: set by the deep pass (attenuationBehind).
+    if (layout.attenuation >= 0) std::fill_n(out + layout.attenuation, 3, 1.0f);
     out[layout.objectId] = float(object + 1);
     out[layout.materialId] = float(material + 1);
     // Cryptomatte: rank 0 is this surface, covering what its alpha covers; rank 1 is empty
@@ -187,6 +203,7 @@ unsigned channelUses(const Scene& scene) {
         if (m.clearcoat > 0.0f) uses |= gbuffer::kUsesClearcoat;
         if (m.sheen()) uses |= gbuffer::kUsesSheen;
         if (m.transmission > 0.0f) uses |= gbuffer::kUsesTransmission;
+        if (m.absorbs()) uses |= gbuffer::kUsesVolume;
     }
     return uses;
 }
@@ -383,6 +400,11 @@ bool GBufferRenderer::renderDeep(DeepGBuffer& dst, OIIO::ROI roi, int nthreads,
                 fillSample(m_scene, worldToCamera, layout, *m_crypto, ray, pixel,
                            m_params.textureFilter, layers[size_t(k)].hit, layers[size_t(k)].alpha,
                            out);
+                if (layout.attenuation >= 0) {
+                    const glm::vec3 a = attenuationBehind(m_scene, ray, layers.data(), k, n);
+                    for (int c = 0; c < 3; ++c)
+                        out[layout.attenuation + c] = a[c];
+                }
                 if (layout.sampleId >= 0) {
                     out[layout.sampleId] = float(id);
                     out[layout.sampleWeight] = weight;

@@ -32,6 +32,9 @@ std::string describeMaterial(const Scene& scene, int index) {
         out += format(", sheen (%.3g, %.3g, %.3g) (roughness %.3g)", m.sheenColor.r, m.sheenColor.g,
                       m.sheenColor.b, m.sheenRoughness);
     if (m.transmission > 0.0f) out += format(", transmission %.3g", m.transmission);
+    if (m.absorbs())
+        out += format(", volume absorbing to (%.3g, %.3g, %.3g) over %.3g", m.attenuationColor.r,
+                      m.attenuationColor.g, m.attenuationColor.b, m.attenuationDistance);
     // Converted per texel: the base colour above is the diffuse colour, not yet dimmed.
     if (m.specularGlossinessTexture.texture >= 0)
         out +=

@@ -35,6 +35,7 @@ inline constexpr const char* kClearcoatNormal[3] = {"clearcoatN.X", "clearcoatN.
 inline constexpr const char* kSheen[3] = {"sheen.R", "sheen.G", "sheen.B"};
 inline constexpr const char* kSheenRoughness = "sheenRoughness";
 inline constexpr const char* kTransmission = "transmission";
+inline constexpr const char* kAttenuation[3] = {"attenuation.R", "attenuation.G", "attenuation.B"};
 inline constexpr const char* kEmission[3] = {"emission.R", "emission.G", "emission.B"};
 inline constexpr const char* kObjectId = "id.object";
 inline constexpr const char* kMaterialId = "id.material";
@@ -64,7 +65,7 @@ struct Layout {
     int roughness = -1, metallic = -1, occlusion = -1, specular = -1, specularWeight = -1;
     int clearcoat = -1, clearcoatRoughness = -1, clearcoatNormal = -1;
     int sheen = -1, sheenRoughness = -1;
-    int transmission = -1;
+    int transmission = -1, attenuation = -1;
     int emission = -1, objectId = -1, materialId = -1;
     int cryptoObject = -1, cryptoMaterial = -1;
     int sampleId = -1, sampleWeight = -1;
@@ -97,7 +98,8 @@ enum ChannelUse : unsigned {
     kUsesSheen = 16u,        // KHR_materials_sheen
     kUsesPixelSamples = 32u, // deep: several primary rays in some pixel (sample.id, .weight)
     kUsesTransmission = 64u, // KHR_materials_transmission
-    kAllUses = 127u
+    kUsesVolume = 128u,      // KHR_materials_volume with an attenuation
+    kAllUses = 255u
 };
 
 // One entry of the contract: a scalar, a 3-vector or a Cryptomatte layer, in the order
@@ -255,6 +257,15 @@ inline constexpr ContractChannel kContract[] = {
      "KHR_materials_transmission's share of the dielectric's base that passes through, thin "
      "walled: transmissionFactor × transmissionTexture's R; 0: opaque",
      kUsesTransmission},
+    {{kAttenuation[0], kAttenuation[1], kAttenuation[2]},
+     3,
+     FileType::Half,
+     Need::WhenUsed,
+     &Layout::attenuation,
+     "KHR_materials_volume: the share of light the medium behind a surface entering it lets "
+     "through to the ray's next surface, attenuationColor^(d / attenuationDistance), d the "
+     "distance between them; 1 elsewhere",
+     kUsesVolume},
     {{kEmission[0], kEmission[1], kEmission[2]},
      3,
      FileType::Half,

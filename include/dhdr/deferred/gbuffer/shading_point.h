@@ -28,7 +28,9 @@ struct ShadingPoint {
     // N was no direction (zero, NaN, ±Inf) and was replaced (GBufferView::at).
     bool normalRepaired = false;
     float coverage = 0.0f; // the pixel's A
-    float depth = 0.0f;    // Z
+    // KHR_materials_volume: what the medium behind the sample lets through to the next one.
+    glm::vec3 attenuation{1.0f};
+    float depth = 0.0f; // Z
 };
 
 // What every pass over a G-buffer needs first: its channels, its camera and its pixels as
@@ -119,6 +121,9 @@ public:
                                unitOr(g[m_layout.sheenRoughness], 0.0f)};
         if (m_layout.transmission >= 0)
             s.surface.transmission = unitOr(g[m_layout.transmission], 0.0f);
+        if (m_layout.attenuation >= 0)
+            for (int c = 0; c < 3; ++c)
+                s.attenuation[c] = unitOr(g[m_layout.attenuation + c], 1.0f);
         if (m_layout.occlusion >= 0) {
             const float o = g[m_layout.occlusion];
             s.occlusion = std::isnan(o) ? 1.0f : std::clamp(o, 0.0f, 1.0f);

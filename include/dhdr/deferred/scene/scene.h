@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <dhdr/deferred/scene/camera.h>
 #include <dhdr/deferred/scene/lights.h>
@@ -71,6 +72,15 @@ struct Material {
     // opaque; × its texture's R, linear), thin walled (no refraction).
     float transmission = 0.0f;
     TextureRef transmissionTexture;
+    // KHR_materials_volume: the medium inside (thickness above 0) absorbs as Beer's law with
+    // attenuationColor^(d / attenuationDistance) over a distance d; an infinite distance: none.
+    float thickness = 0.0f;
+    float attenuationDistance = INFINITY;
+    glm::vec3 attenuationColor{1.0f};
+    bool absorbs() const {
+        return transmission > 0.0f && thickness > 0.0f && std::isfinite(attenuationDistance) &&
+               attenuationColor != glm::vec3(1.0f);
+    }
     // KHR_materials_pbrSpecularGlossiness's specularGlossinessTexture (RGB the specular colour,
     // sRGB; A the glossiness, linear). The material is converted to metal-rough when it is read
     // (specGlossAsMetalRough); with this texture the conversion is made per texel instead, from
