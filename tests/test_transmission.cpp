@@ -266,6 +266,62 @@ TEST_F(TransmissionFiles, TheVolumeAbsorbsAlongThePathInside) {
     EXPECT_EQ(info.err.find("not read"), std::string::npos) << info.err;
 }
 
+// Hostile extension objects: each file renders (values clamped to the schema's ranges, a
+// broken member ignored as Assimp ignores it) or is refused naming the file, and no lit pixel
+// is NaN or infinite.
+TEST_F(TransmissionFiles, HostileFieldsAreClampedOrRefused) {
+    using J = nlohmann::json;
+    const std::pair<const char*, J> cases[] = {
+        {"factor_string", {{"KHR_materials_transmission", {{"transmissionFactor", "x"}}}}},
+        {"factor_big", {{"KHR_materials_transmission", {{"transmissionFactor", 7}}}}},
+        {"factor_negative", {{"KHR_materials_transmission", {{"transmissionFactor", -1}}}}},
+        {"texture_missing",
+         {{"KHR_materials_transmission",
+           {{"transmissionFactor", 1}, {"transmissionTexture", {{"index", 99}}}}}}},
+        {"not_an_object", {{"KHR_materials_transmission", J::array({1, 2})}}},
+        {"volume_distance_negative",
+         {{"KHR_materials_transmission", {{"transmissionFactor", 1}}},
+          {"KHR_materials_volume",
+           {{"thicknessFactor", 1},
+            {"attenuationDistance", -1},
+            {"attenuationColor", {.5, .5, .5}}}}}},
+        {"volume_extremes",
+         {{"KHR_materials_transmission", {{"transmissionFactor", 1}}},
+          {"KHR_materials_volume",
+           {{"thicknessFactor", 1e30},
+            {"attenuationDistance", 1e-30},
+            {"attenuationColor", {5, -1, 0}}}}}},
+        {"volume_colour_short",
+         {{"KHR_materials_transmission", {{"transmissionFactor", 1}}},
+          {"KHR_materials_volume",
+           {{"thicknessFactor", 1}, {"attenuationDistance", 1}, {"attenuationColor", {0.5}}}}}},
+    };
+    for (const auto& [name, extensions] : cases) {
+        nlohmann::json doc = paneBeforeWall({{"transmissionFactor", 0.5}}, 1.0);
+        doc["materials"][0]["extensions"] = extensions;
+        doc["extensionsUsed"] = {"KHR_materials_transmission", "KHR_materials_volume"};
+        const std::string file = path(std::string(name) + ".gltf");
+        writeJson(file, doc);
+        const Result g = run("dhdr-gbuffer " + file + " --lookat 0,0,3,0,0,0 --size 32x32 -o " +
+                             path(std::string(name) + ".exr"));
+        ASSERT_TRUE(g.status == 0 || g.status == 1) << name << ": " << g.err;
+        if (g.status == 1) {
+            EXPECT_NE(g.err.find(file), std::string::npos) << name << ": " << g.err;
+            EXPECT_FALSE(fs::exists(path(std::string(name) + ".exr"))) << name;
+            continue;
+        }
+        const Result l = run("dhdr-light " + path(std::string(name) + ".exr") + " --scene " + file +
+                             " --gi direct -o " + path(std::string(name) + "_lit.exr"));
+        ASSERT_EQ(l.status, 0) << name << ": " << l.err;
+        const ImageBuf lit = read(std::string(name) + "_lit.exr");
+        const auto stats = OIIO::ImageBufAlgo::computePixelStats(lit);
+        for (int c = 0; c < 4; ++c) {
+            EXPECT_EQ(stats.nancount[size_t(c)], 0u) << name;
+            EXPECT_EQ(stats.infcount[size_t(c)], 0u) << name;
+        }
+    }
+}
+
 // A surface without the extension, or with a factor of 0, is no transmissive surface: no
 // channel, a flat G-buffer.
 TEST_F(TransmissionFiles, NoTransmissionNoChannel) {
