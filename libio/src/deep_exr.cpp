@@ -65,7 +65,10 @@ bool DeepScanlineReader::open(const std::string& path, int part, const OIIO::Ima
     if (!detail::exrHeadersFit(path, error)) return false;
     try {
         m_impl = std::make_unique<Impl>();
-        m_impl->file = std::make_unique<Imf::MultiPartInputFile>(path.c_str());
+        // Line blocks decompressed in parallel, as the writer compresses them.
+        const int threads = detail::exrThreads();
+        if (Imf::globalThreadCount() != threads) Imf::setGlobalThreadCount(threads);
+        m_impl->file = std::make_unique<Imf::MultiPartInputFile>(path.c_str(), threads);
         m_impl->part = std::make_unique<Imf::DeepScanLineInputPart>(*m_impl->file, part);
         m_impl->spec = spec;
         std::error_code ec;

@@ -2,8 +2,10 @@
 #include <OpenImageIO/deepdata.h>
 #include <OpenImageIO/imageio.h>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
+#include <dhdr/common/parallel.h>
 #include <dhdr/deferred/gbuffer/deep_gbuffer.h>
 #include <dhdr/deferred/gbuffer/gbuffer.h>
 #include <dhdr/io/deep_exr.h>
@@ -45,13 +47,20 @@ namespace {
 
 // A band's deep samples read in place: each sample's channels lie together in the DeepData,
 // at fixed offsets from its first byte, read there rather than with one deep_value call (and
-// type switch) each.
+// type switch) each; the channels' types looked up once (DeepData::channeltype is a call).
 class DeepSamples {
 public:
     // `npix` pixels from pixel `skip` of `deep`, which has `nchannels` channels.
     DeepSamples(const OIIO::DeepData& deep, size_t skip, size_t npix, int nchannels)
         : m_deep(deep), m_skip(skip), m_sampleBytes(deep.samplesize()),
-          m_offset(size_t(nchannels), 0) {
+          m_offset(size_t(nchannels), 0), m_type(size_t(nchannels), Type::Other) {
+        for (int c = 0; c < nchannels; ++c) {
+            const OIIO::TypeDesc t = deep.channeltype(c);
+            m_type[size_t(c)] = t == OIIO::TypeDesc::FLOAT  ? Type::Float
+                                : t == OIIO::TypeDesc::HALF ? Type::Half
+                                : t == OIIO::TypeDesc::UINT ? Type::Uint
+                                                            : Type::Other;
+        }
         for (size_t p = 0; p < npix; ++p) {
             if (count(p) == 0) continue;
             const char* base = first(p);
@@ -68,21 +77,24 @@ public:
 
     float value(const char* sample, int c) const {
         const char* at = sample + m_offset[size_t(c)];
-        const OIIO::TypeDesc t = m_deep.channeltype(c);
-        if (t == OIIO::TypeDesc::FLOAT) {
+        switch (m_type[size_t(c)]) {
+        case Type::Float: {
             float v;
             std::memcpy(&v, at, sizeof v);
             return v;
         }
-        if (t == OIIO::TypeDesc::HALF) {
+        case Type::Half: {
             Imath::half h;
             std::memcpy(&h, at, sizeof h);
             return float(h);
         }
-        if (t == OIIO::TypeDesc::UINT) {
+        case Type::Uint: {
             std::uint32_t u;
             std::memcpy(&u, at, sizeof u);
             return float(u);
+        }
+        case Type::Other:
+            break;
         }
         return 0.0f;
     }
@@ -92,9 +104,11 @@ private:
         return static_cast<const char*>(m_deep.data_ptr(int64_t(m_skip + p), 0, 0));
     }
 
+    enum class Type { Float, Half, Uint, Other };
     const OIIO::DeepData& m_deep;
     size_t m_skip, m_sampleBytes;
     std::vector<std::ptrdiff_t> m_offset;
+    std::vector<Type> m_type;
 };
 
 // What is wrong with pixel p's samples for dhdr (channels zFile, zBackFile of the file; −1:
@@ -220,8 +234,6 @@ bool DeepGBufferReader::read(int ybegin, int yend, DeepGBuffer& out, std::string
         out.first[p + 1] = out.first[p] + std::uint32_t(samples.count(p));
     out.values.assign(size_t(out.first.back()) * size_t(nch), 0.0f);
     const int zFile = source[1], zBackFile = source[2];
-    std::vector<int> order;
-    long long fixed = 0;
     for (size_t p = 0; p < npix; ++p) {
         if (samples.count(p) == 0) continue;
         if (const char* problem = sampleProblem(samples, p, zFile, zBackFile)) {
@@ -229,10 +241,20 @@ bool DeepGBufferReader::read(int ybegin, int yend, DeepGBuffer& out, std::string
                     std::to_string(ybegin + int(p / size_t(file.width))) + ")" + problem;
             return false;
         }
-        depthOrder(samples, p, zFile, order);
-        fixed += copySamples(samples, p, order, source, nch,
-                             &out.values[size_t(out.first[p]) * size_t(nch)]);
     }
+    // Each pixel's samples apart, so rows go on every thread with the same values.
+    std::atomic<long long> fixed{0};
+    parallelBands(0, int64_t(npix), 0, [&](int64_t begin, int64_t end) {
+        std::vector<int> order;
+        long long local = 0;
+        for (size_t p = size_t(begin); p < size_t(end); ++p) {
+            if (samples.count(p) == 0) continue;
+            depthOrder(samples, p, zFile, order);
+            local += copySamples(samples, p, order, source, nch,
+                                 &out.values[size_t(out.first[p]) * size_t(nch)]);
+        }
+        fixed += local;
+    });
     if (replaced) *replaced += fixed;
     return true;
 }

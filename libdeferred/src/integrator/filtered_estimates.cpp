@@ -99,7 +99,7 @@ FilteredEstimates::FilteredEstimates(const GBufferView& view, const gbuffer::Lay
     choose(pass, infinite);
     if (!pass.any()) return;
     allocate(pass, read);
-    findDonors(view, layout);
+    findDonors(view, layout, nthreads);
     const std::vector<float*> raw = planes();
     takeCarried(pass, previous.get(), raw);
     estimateRows(pass, nthreads);
@@ -302,9 +302,10 @@ void FilteredEstimates::filter(Pass& pass, int nthreads) {
 // layer and object in the pixel or its 8 neighbours (of any object when none is of its own; of
 // its pixel's front sample's layer 0 when no neighbour reaches its layer): a ray a fraction of
 // a pixel from its donor, on the same surface, where the filtered estimates are smooth.
-void FilteredEstimates::findDonors(const GBufferView& view, const gbuffer::Layout& layout) {
+void FilteredEstimates::findDonors(const GBufferView& view, const gbuffer::Layout& layout,
+                                   int nthreads) {
     m_view = &view;
-    if (!view.severalRays()) return;
+    if (!view.severalRays() || m_held.npixels() == 0) return;
     const SampleLayers& layers = *m_sampleLayers;
     auto position = [&](int x, int y, int k) {
         const float* g = view.channels(x, y, k) + layout.position;
@@ -313,39 +314,62 @@ void FilteredEstimates::findDonors(const GBufferView& view, const gbuffer::Layou
     auto object = [&](int x, int y, int k) {
         return layout.objectId >= 0 ? view.channels(x, y, k)[layout.objectId] : 0.0f;
     };
+    // Each held pixel's own samples, in order, and their layers: the only candidates (a few a
+    // pixel of 16 rays; SampleLayers::layer counts through the pixel's samples).
+    const size_t n = m_held.npixels();
+    std::vector<std::uint32_t> ownFirst(n + 1, 0);
+    std::vector<std::array<std::uint16_t, 2>> ownSample; // k, layer
     for (int y = m_held.ybegin; y < m_held.yend; ++y)
-        for (int x = m_held.xbegin; x < m_held.xend; ++x)
-            for (int k = 0; k < view.samples(x, y); ++k) {
-                if (layers.own(x, y, k)) continue;
-                const int layer = layers.layer(x, y, k);
-                const glm::vec3 P = position(x, y, k);
-                const float id = object(x, y, k);
-                Place best{0, index(x, y)};
-                float bestDistance = INFINITY;
-                bool sameObject = false;
-                for (int ny = std::max(y - 1, m_held.ybegin); ny < std::min(y + 2, m_held.yend);
-                     ++ny)
-                    for (int nx = std::max(x - 1, m_held.xbegin); nx < std::min(x + 2, m_held.xend);
-                         ++nx)
-                        for (int j = 0; j < view.samples(nx, ny); ++j) {
-                            if (!layers.own(nx, ny, j) || layers.layer(nx, ny, j) != layer)
-                                continue;
-                            const bool same = object(nx, ny, j) == id;
-                            const float d = glm::length(position(nx, ny, j) - P);
-                            if ((same && !sameObject) || (same == sameObject && d < bestDistance)) {
-                                best = {size_t(layer), index(nx, ny)};
-                                bestDistance = d;
-                                sameObject = same;
+        for (int x = m_held.xbegin; x < m_held.xend; ++x) {
+            for (int k = 0; k < view.samples(x, y); ++k)
+                if (layers.own(x, y, k))
+                    ownSample.push_back({std::uint16_t(k), std::uint16_t(layers.layer(x, y, k))});
+            ownFirst[index(x, y) + 1] = std::uint32_t(ownSample.size());
+        }
+    m_donorBase = view.sampleIndex(m_held.xbegin, m_held.ybegin, 0);
+    const int lastX = m_held.xend - 1, lastY = m_held.yend - 1;
+    m_donors.assign(view.sampleIndex(lastX, lastY, view.samples(lastX, lastY)) - m_donorBase,
+                    {kOwnPlace, kOwnPlace});
+    parallelImageRows(m_held, nthreads, [&](OIIO::ROI rows) {
+        for (int y = rows.ybegin; y < rows.yend; ++y)
+            for (int x = m_held.xbegin; x < m_held.xend; ++x)
+                for (int k = 0; k < view.samples(x, y); ++k) {
+                    if (layers.own(x, y, k)) continue;
+                    const int layer = layers.layer(x, y, k);
+                    const glm::vec3 P = position(x, y, k);
+                    const float id = object(x, y, k);
+                    Place best{0, index(x, y)};
+                    float bestDistance = INFINITY;
+                    bool sameObject = false;
+                    for (int ny = std::max(y - 1, m_held.ybegin); ny < std::min(y + 2, m_held.yend);
+                         ++ny)
+                        for (int nx = std::max(x - 1, m_held.xbegin);
+                             nx < std::min(x + 2, m_held.xend); ++nx) {
+                            const size_t q = index(nx, ny);
+                            for (std::uint32_t i = ownFirst[q]; i < ownFirst[q + 1]; ++i) {
+                                const int j = ownSample[i][0];
+                                if (ownSample[i][1] != layer) continue;
+                                const bool same = object(nx, ny, j) == id;
+                                const float d = glm::length(position(nx, ny, j) - P);
+                                if ((same && !sameObject) ||
+                                    (same == sameObject && d < bestDistance)) {
+                                    best = {size_t(layer), q};
+                                    bestDistance = d;
+                                    sameObject = same;
+                                }
                             }
                         }
-                m_donors[view.sampleIndex(x, y, k)] = best;
-            }
+                    m_donors[view.sampleIndex(x, y, k) - m_donorBase] = {std::uint32_t(best.layer),
+                                                                         std::uint32_t(best.pixel)};
+                }
+    });
 }
 
 FilteredEstimates::Place FilteredEstimates::placeOf(int x, int y, int k) const {
-    if (!m_donors.empty() && !m_sampleLayers->own(x, y, k))
-        if (const auto it = m_donors.find(m_view->sampleIndex(x, y, k)); it != m_donors.end())
-            return it->second;
+    if (!m_donors.empty() && !m_sampleLayers->own(x, y, k)) {
+        const auto& donor = m_donors[m_view->sampleIndex(x, y, k) - m_donorBase];
+        if (donor[0] != kOwnPlace) return {donor[0], donor[1]};
+    }
     return {size_t(m_sampleLayers->layer(x, y, k)), index(x, y)};
 }
 

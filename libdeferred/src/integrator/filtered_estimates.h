@@ -7,6 +7,7 @@
 #include "integrator/sample_layers.h"
 
 #include <OpenImageIO/imagebuf.h>
+#include <array>
 #include <cstdint>
 #include <dhdr/deferred/direct/shadows.h>
 #include <dhdr/deferred/gbuffer/gbuffer.h>
@@ -15,7 +16,6 @@
 #include <dhdr/deferred/integrator/lighting_params.h>
 #include <dhdr/deferred/scene/lights.h>
 #include <optional>
-#include <unordered_map>
 #include <vector>
 
 namespace dhdr {
@@ -108,7 +108,7 @@ private:
         size_t layer, pixel;
     };
     Place placeOf(int x, int y, int k) const;
-    void findDonors(const GBufferView& view, const gbuffer::Layout& layout);
+    void findDonors(const GBufferView& view, const gbuffer::Layout& layout, int nthreads);
 
     OIIO::ROI m_held;
     std::vector<int> m_slot; // per light, its pair of sums (−1: not filtered)
@@ -117,8 +117,12 @@ private:
     // (16 × filtered lights + 4 AO + 4 bounce + 12 specular) bytes a held pixel, and while it
     // is estimated and filtered ~45 bytes of guide a pixel more.
     std::vector<Planes> m_layers;
-    // The donors of the samples without their own place, by GBufferView::sampleIndex.
-    std::unordered_map<size_t, Place> m_donors;
+    // The donors of the samples without their own place, by GBufferView::sampleIndex from
+    // m_donorBase (layer, pixel; kOwnPlace: the sample's own): 8 bytes a sample of a pixel of
+    // several rays, where a hash map of them took ~50 and most of the pass's time.
+    static constexpr std::uint32_t kOwnPlace = 0xffffffffu;
+    std::vector<std::array<std::uint32_t, 2>> m_donors;
+    size_t m_donorBase = 0;
     const GBufferView* m_view = nullptr;
 };
 
