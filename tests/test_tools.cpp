@@ -12,20 +12,22 @@ class Tools : public ToolTest {
 protected:
     static void SetUpTestSuite() {
         makeScratch();
-        ASSERT_EQ(
-            run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 96x72 -o " + path("g.exr"))
-                .status,
-            0);
-        ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kTestdata +
-                      "/cornell_box.lights.json --aovs --type float -o " + path("h.exr"))
-                      .status,
-                  0);
-        // A truncated copy of the HDR frame.
-        const std::string bytes = slurp(dir / "h.exr");
-        std::ofstream(dir / "truncated.exr", std::ios::binary)
-            .write(bytes.data(), std::streamsize(bytes.size() / 2));
-        std::ofstream(dir / "bad_lights.json")
-            << R"({"lights": [{"type": "point", "intensity": 1}]})";
+        sharedInputs([] {
+            ASSERT_EQ(run("dhdr-gbuffer " + kTestdata + "/cornell_box.gltf --size 96x72 -o " +
+                          path("g.exr"))
+                          .status,
+                      0);
+            ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kTestdata +
+                          "/cornell_box.lights.json --aovs --type float -o " + path("h.exr"))
+                          .status,
+                      0);
+            // A truncated copy of the HDR frame.
+            const std::string bytes = slurp(dir / "h.exr");
+            std::ofstream(dir / "truncated.exr", std::ios::binary)
+                .write(bytes.data(), std::streamsize(bytes.size() / 2));
+            std::ofstream(dir / "bad_lights.json")
+                << R"({"lights": [{"type": "point", "intensity": 1}]})";
+        });
     }
     static bool samePixels(const std::string& a, const std::string& b) {
         const ImageBuf A = read(a), B = read(b);
