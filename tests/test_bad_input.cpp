@@ -25,11 +25,14 @@ class BadInput : public ToolTest {
 protected:
     static void SetUpTestSuite() {
         makeScratch();
-        ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 32x24 -o " + path("g.exr")).status, 0);
-        ASSERT_EQ(
-            run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " + path("h.exr"))
-                .status,
-            0);
+        sharedInputs([] {
+            ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 32x24 -o " + path("g.exr")).status,
+                      0);
+            ASSERT_EQ(
+                run("dhdr-light " + path("g.exr") + " --lights " + kLights + " -o " + path("h.exr"))
+                    .status,
+                0);
+        });
     }
 
     // `r` failed with status `status`, saying `what`, and left neither `out` nor temporaries.

@@ -21,7 +21,10 @@ class HostileInput : public ToolTest {
 protected:
     static void SetUpTestSuite() {
         makeScratch();
-        ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 32x24 -o " + path("g.exr")).status, 0);
+        sharedInputs([] {
+            ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 32x24 -o " + path("g.exr")).status,
+                      0);
+        });
     }
 
     // `r` failed with status `status`, saying `what`, and left neither `out` nor temporaries.

@@ -21,7 +21,10 @@ class LightInputs : public ToolTest {
 protected:
     static void SetUpTestSuite() {
         makeScratch();
-        ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 24x24 -o " + path("g.exr")).status, 0);
+        sharedInputs([] {
+            ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 24x24 -o " + path("g.exr")).status,
+                      0);
+        });
     }
 
     static void write(const std::string& name, const std::string& text) {

@@ -20,7 +20,10 @@ class LightTools : public ToolTest {
 protected:
     static void SetUpTestSuite() {
         makeScratch();
-        ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 96x96 -o " + path("g.exr")).status, 0);
+        sharedInputs([] {
+            ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 96x96 -o " + path("g.exr")).status,
+                      0);
+        });
     }
 
     // Pixels of two images identical, channel by channel.

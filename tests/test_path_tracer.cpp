@@ -268,7 +268,7 @@ TEST(PathTracer, WhiteFurnaceUnderASheenIsOne) {
 // One bounce: a wall at x = d (2 × 4 m, facing −x) lit head-on by a sun travelling +x, which
 // grazes the floor and lights it not at all. A floor point's radiance towards the camera is
 // then ∫_wall f_floor(V, ω) L_wall(−ω) cos θ dω with L_wall(−ω) = f_wall(−ω, −sun) E: a
-// quadrature of that integral over the floor point's hemisphere (1024 × 2048 cells, in
+// quadrature of that integral over the floor point's hemisphere (512 × 1024 cells, in
 // double, the wall intersected analytically) against 4096 paths of one bounce: the mean
 // relative error over 64 pixels within 1 % (measured −0.3 %), its RMS within 4 % (the
 // paths' noise, about 2.5 % a pixel).
@@ -295,7 +295,10 @@ TEST(PathTracer, OneBounceBetweenAWallAndTheFloorMatchesAQuadrature) {
             ASSERT_TRUE(covered(gbuf, x, y));
             const glm::vec3 P = positionOf(gbuf, x, y);
             const glm::vec3 V = glm::normalize(glm::vec3(eye) - P);
-            constexpr int kTheta = 1024, kPhi = 2048;
+            // 512 × 1024 cells: against 1024 × 2048 the 64 pixels' values differ by 0.17 % at
+            // most and 0.013 % in the mean, a tenth of the paths' noise and of the mean's
+            // margin, at a quarter of the cost (the quadrature was most of the test's time).
+            constexpr int kTheta = 512, kPhi = 1024;
             double expected = 0.0;
             for (int i = 0; i < kTheta; ++i) {
                 const double theta = (i + 0.5) / kTheta * (kPi / 2.0);

@@ -33,11 +33,14 @@ class Robustness : public ToolTest {
 protected:
     static void SetUpTestSuite() {
         makeScratch();
-        ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 64x64 -o " + path("g.exr")).status, 0);
-        ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kLights + " --type float -o " +
-                      path("h.exr"))
-                      .status,
-                  0);
+        sharedInputs([] {
+            ASSERT_EQ(run("dhdr-gbuffer " + kCornell + " --size 64x64 -o " + path("g.exr")).status,
+                      0);
+            ASSERT_EQ(run("dhdr-light " + path("g.exr") + " --lights " + kLights +
+                          " --type float -o " + path("h.exr"))
+                          .status,
+                      0);
+        });
     }
 
     // Float pixels of `spec`'s size and channels (whatever its type), pixel (x, y) channel c

@@ -47,6 +47,36 @@ protected:
     }
     static void TearDownTestSuite() { fs::remove_all(dir); }
 
+    // The inputs every test of a suite reads (a G-buffer, a lit frame), which `make` writes
+    // into the scratch folder. ctest runs each test case as a process of its own, so a suite's
+    // setup ran the tools again for every test. Under ctest a fixture test
+    // (tests/CMakeLists.txt, dhdr_shared_inputs) runs `make` once per run with
+    // $DHDR_SHARED_INPUTS_MAKE set and keeps what it wrote in $DHDR_SHARED_INPUTS, and every
+    // other test copies those files into its own scratch folder. Run by hand, with neither
+    // variable, a test makes its own.
+    template <class Make>
+    static void sharedInputs(Make make) {
+        const char* shared = std::getenv("DHDR_SHARED_INPUTS");
+        if (!shared) {
+            make();
+            return;
+        }
+        const fs::path store(shared);
+        if (std::getenv("DHDR_SHARED_INPUTS_MAKE")) {
+            fs::remove_all(store);
+            make();
+            fs::create_directories(store);
+            for (const auto& e : fs::directory_iterator(dir))
+                if (e.is_regular_file()) fs::copy_file(e.path(), store / e.path().filename());
+            return;
+        }
+        ASSERT_TRUE(fs::is_directory(store))
+            << store << " is missing: its fixture test did not run or failed";
+        for (const auto& e : fs::directory_iterator(store))
+            fs::copy_file(e.path(), dir / e.path().filename(),
+                          fs::copy_options::overwrite_existing);
+    }
+
     static std::string path(const std::string& name) { return (dir / name).string(); }
 
     // Runs `args` (a tool name and its arguments) from the build tree.
