@@ -141,6 +141,27 @@ for k, (x, name) in enumerate(PANES):
 m = erode((first == 2) & (shadow_by == 0) & agree)
 print(f"  {'open wall':19s} dhdr {lum(dh[m]).std() / lum(dh[m]).mean():.3f}  Cycles {lum(cy[m]).std() / lum(cy[m]).mean():.3f}")
 
+# Cycles' variants (cycles_scene.py's modes), where rendered: each region's luminance, with dhdr's
+# sun-only frame (dhdr_sun.exr) beside the sun-only variant.
+import os
+variants = [v for v in ("nocaustics", "nomis", "opaquepanes", "sunonly") if os.path.exists(D + f"cycles_{v}.exr")]
+if variants:
+    print("shadows in Cycles' variants (luminance; dhdr: the frame, and its sun alone):")
+    vimg = {v: np.stack(read(D + f"cycles_{v}.exr", [pre + "Combined." + c for c in "RGB"]), -1) for v in variants}
+    dsun = np.stack(read(D + "dhdr_sun.exr", ["R", "G", "B"]), -1) if os.path.exists(D + "dhdr_sun.exr") else None
+    print(f"  {'region':48s} {'dhdr':>7s} {'dhdr sun':>8s} {'Cycles':>7s} " + " ".join(f"{v:>11s}" for v in variants))
+    for name, m, kind in regions:
+        if "shadow" not in name and "open: floor, sunlit" not in name:
+            continue
+        m = erode(m & agree)
+        if m.sum() < 6:
+            continue
+        ds = f"{lum(dsun[m].mean(0)):8.4f}" if dsun is not None else f"{'':8s}"
+        # Seen through a pane, the opaque (black) panes' variant shows the pane, not the floor.
+        print(f"  {name:48s} {lum(dh[m].mean(0)):7.4f} {ds} {lum(cy[m].mean(0)):7.4f} " +
+              " ".join(f"{'-':>11s}" if v == "opaquepanes" and name.startswith("pane")
+                       else f"{lum(vimg[v][m].mean(0)):11.4f}" for v in variants))
+
 # Side by side, sRGB.
 def srgb(c):
     c = np.clip(c, 0, 1)

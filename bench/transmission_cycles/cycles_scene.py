@@ -17,7 +17,9 @@
 #     (strength 1, no mapping: dhdr's equirect orientation, docs/ibl.md).
 # Cycles, direct light (as dhdr --gi direct): diffuse bounces 0, glossy 1 (the panes' mirror
 # images), transmission 8 (through the two faces of each pane), box filter 1 px, no denoising,
-# no clamping; GI: diffuse 4, glossy 4, caustics on (the light the panes let into their shadows).
+# no clamping. Variants: nocaustics (caustics off), nomis (the world not light-sampled: the sky
+# only through BSDF-sampled rays), sunonly (world strength 0), opaquepanes (black panes of
+# transmission 0 and roughness 1), gi (diffuse 4, glossy 4).
 import bpy, sys, math, os
 import numpy as np
 if not hasattr(np, "bool"): np.bool = bool  # the Debian glTF add-on (3.4) uses np.bool
@@ -25,7 +27,7 @@ from mathutils import Vector
 a = sys.argv[sys.argv.index("--") + 1:]
 work, hdri = a[0], a[1]
 samples, width, height, sun_e = int(a[2]), int(a[3]), int(a[4]), float(a[5])
-mode = a[6] if len(a) > 6 else "direct"     # direct | nocaustics | gi
+mode = a[6] if len(a) > 6 else "direct"     # direct | nocaustics | nomis | sunonly | opaquepanes | gi
 gi = mode == "gi"
 
 bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -73,7 +75,9 @@ PANES = [("paneA_clear_r0", -1.2, (1, 1, 1), 0.0), ("paneB_tint_r0", 0.0, (0.9, 
          ("paneC_clear_r03", 1.2, (1, 1, 1), 0.3)]
 for k, (n, x, base, rough) in enumerate(PANES):
     bpy.ops.mesh.primitive_cube_add(size=1, location=(x, 0, 0.7))
-    ob = add(bpy.context.object, n, principled(n, base, rough, transmission=1.0), 3 + k)
+    if mode == "opaquepanes":   # after the export: black, non-transmissive panes (their shadows opaque)
+        base, rough = (0, 0, 0), 1.0
+    ob = add(bpy.context.object, n, principled(n, base, rough, transmission=0.0 if mode == "opaquepanes" else 1.0), 3 + k)
     ob.scale = (1.0, 0.01, 1.4)
 SPHERES = [("sphere_red", (-1.2, 1.5), (0.8, 0.1, 0.1)), ("sphere_white", (0.0, 1.5), (0.8, 0.8, 0.8)),
            ("sphere_blue", (1.2, 1.5), (0.1, 0.2, 0.8)), ("sphere_green", (2.3, 1.0), (0.1, 0.7, 0.2))]
@@ -113,6 +117,10 @@ bg.inputs["Strength"].default_value = 1.0
 nt.links.new(env.outputs["Color"], bg.inputs["Color"])
 nt.links.new(bg.outputs["Background"], wo.inputs["Surface"])
 w.cycles.sampling_method = "MANUAL"; w.cycles.sample_map_resolution = 2048
+if mode == "nomis":      # the sky reached by BSDF-sampled rays only (no light sampling)
+    w.cycles.sampling_method = "NONE"
+if mode == "sunonly":
+    bg.inputs["Strength"].default_value = 0.0
 
 r = sc.render
 r.engine = "CYCLES"
@@ -129,6 +137,7 @@ r.resolution_x, r.resolution_y = width, height; r.resolution_percentage = 100
 r.threads_mode = "FIXED"; r.threads = 2
 vl = sc.view_layers[0]
 vl.use_pass_object_index = True
+vl.use_pass_diffuse_direct = vl.use_pass_diffuse_indirect = vl.use_pass_diffuse_color = True
 vl.use_pass_glossy_direct = vl.use_pass_glossy_indirect = vl.use_pass_glossy_color = True
 vl.use_pass_transmission_direct = vl.use_pass_transmission_indirect = vl.use_pass_transmission_color = True
 r.image_settings.file_format = "OPEN_EXR_MULTILAYER"

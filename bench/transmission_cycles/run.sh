@@ -25,4 +25,13 @@ CAM="--lookat 0,2.0,4.5,0,0.45,-1.2 --fov 40 --size 320x240 --threads 2 -q"
 (cd "$WORK" && "$TOOLS/dhdr-light" g.exr --scene scene.glb --lights lights.json --radiometric \
     --gi direct --diffuse burley --env-samples 64 --threads 2 --type float --background env -q \
     --deep-out dhdr.deep.exr -o dhdr.exr)
+printf '{"lights": [{"type": "directional", "name": "sun", "direction": [0.35, -1.0, -0.8], "intensity": %s}]}\n' \
+    "$(awk "BEGIN { print $SUN_E * 683 }")" > "$WORK/sun.json"
+(cd "$WORK" && "$TOOLS/dhdr-light" g.exr --scene scene.glb --lights sun.json --radiometric \
+    --gi direct --diffuse burley --threads 2 --type float -q -o dhdr_sun.exr)
+# Cycles' variants for the shadows (README.md), 128 samples each, kept and reused.
+for v in ${VARIANTS-opaquepanes sunonly}; do
+  [ -f "$WORK/cycles_$v.exr" ] || blender -b --python "$HERE/cycles_scene.py" -- \
+      "$WORK" "$HDRI" 128 320 240 "$SUN_E" $v > "$WORK/blender_$v.log" 2>&1
+done
 /usr/bin/python3 "$HERE/analyze.py" "$WORK"
