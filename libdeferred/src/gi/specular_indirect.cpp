@@ -9,6 +9,7 @@ namespace dhdr {
 bool SpecularIndirect::applies(const LitPoint& p) {
     const float NdotV = glm::dot(p.N, p.V);
     if (!(NdotV > 0.0f)) return false;
+    if (p.surface.transmission > 0.0f) return true;
     const glm::vec2 e = ggxAlbedoTerms(NdotV, p.surface.roughness);
     const glm::vec3 albedo =
         p.surface.lobeReflectance(e) + multipleScatteringAlbedo(p.surface, NdotV);
