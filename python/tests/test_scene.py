@@ -142,6 +142,28 @@ def test_sheen_is_read_and_has_its_channels(cornell, tmp_path):
     assert not [c for c in dhdr.render_gbuffer(cornell, size=(8, 8)).channels if "sheen" in c]
 
 
+def test_transmission_is_read_and_lit_as_the_tool(tmp_path):
+    """KHR_materials_transmission (testdata/make_cornell_transmission.py): the factor in
+    Scene.materials, render_gbuffer deep with its channel, and light() the tool's bits."""
+    import subprocess
+    import sys
+    subprocess.run([sys.executable, str(TESTDATA / "make_cornell_transmission.py"),
+                    str(tmp_path)], check=True)
+    path = str(tmp_path / "cornell_transmission.gltf")
+    glass = {m["name"]: m for m in dhdr.Scene(path).materials}["glass"]
+    assert glass["transmission"] == 1.0
+    assert glass["attenuation_distance"] == float("inf")
+    assert "KHR_materials_transmission" not in glass["extensions_not_read"]
+    g = dhdr.render_gbuffer(dhdr.Scene(path), size=(48, 48), deep="auto")
+    assert "transmission" in g.channels
+    run_tool("dhdr-gbuffer", path, "--size", "48x48", "-o", tmp_path / "g.exr")
+    run_tool("dhdr-light", tmp_path / "g.exr", "--lights", LIGHTS, "--gi", "direct", "--type",
+             "float", "-o",
+             tmp_path / "tool.exr")
+    mine = dhdr.light(dhdr.read_gbuffer(str(tmp_path / "g.exr")), str(LIGHTS), gi="direct")
+    same_bits(mine, read_file(tmp_path / "tool.exr"))
+
+
 def _textured_square(tmp_path, extensions):
     """A 2 x 2 square at z = 0 facing +Z, TEXCOORD_0 u along +X, its material "shiny" with
     `extensions`; images spec.png (RGBA, 4 x 1) and the file written beside it."""
