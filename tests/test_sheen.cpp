@@ -148,12 +148,6 @@ protected:
         return read(name + ".exr");
     }
 
-    static float channel(const ImageBuf& g, int x, int y, const char* name) {
-        const int c = g.spec().channelindex(name);
-        EXPECT_GE(c, 0) << name;
-        return c < 0 ? NAN : static_cast<const float*>(g.pixeladdr(x, y))[c];
-    }
-
     std::string m_err;
 };
 

@@ -92,12 +92,6 @@ protected:
         return read(name + ".exr");
     }
 
-    static float channel(const ImageBuf& g, int x, int y, const char* name) {
-        const int c = g.spec().channelindex(name);
-        EXPECT_GE(c, 0) << name;
-        return c < 0 ? NAN : static_cast<const float*>(g.pixeladdr(x, y))[c];
-    }
-
     // The pixels of row 32 on the square, each with its u; none within a tenth of a texel of a
     // texel's edge on a 4-texel row for any of the coordinates `edges` maps u to.
     template <class Edges>

@@ -92,6 +92,14 @@ protected:
         return r;
     }
 
+    // Channel `name` of pixel (x, y) of a flat float image read with read(); NaN (and a
+    // failure) where the image has no such channel.
+    static float channel(const ImageBuf& g, int x, int y, const char* name) {
+        const int c = g.spec().channelindex(name);
+        EXPECT_GE(c, 0) << name;
+        return c < 0 ? NAN : static_cast<const float*>(g.pixeladdr(x, y))[c];
+    }
+
     // A copy of the EXR `from` whose header claims a `size` × `size` image: its dataWindow and
     // displayWindow rewritten in place, room for the line offset table appended, the pixels
     // as they were (absent for most rows).
